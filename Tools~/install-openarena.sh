@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# OpenArena levels (GPL game data) from Debian: installed, never committed (idempotent).
+# Prints the path of the map pack.
+source "$(dirname "$0")/lib.sh"
+apt_install openarena-081-maps
+pak=/usr/share/games/openarena/baseoa/pak1-maps.pk3
+[ -f "$pak" ] || die "openarena-081-maps is installed but $pak is missing"
+echo "$pak"

@@ -1,0 +1,1 @@
+"""The `lpnn` command line. Each `*_cmd.py` module here adds one subcommand via `register`."""

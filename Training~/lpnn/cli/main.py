@@ -1,0 +1,53 @@
+"""Entry point of the `lpnn` console command.
+
+Subcommands live in `lpnn/cli/<name>_cmd.py`, each exposing `register(subparsers)`; they are found
+by name so adding a command never edits this file. Heavy libraries (TensorFlow, Embree) are imported
+inside the command functions, so `lpnn --help` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+
+from .. import __version__
+from ..core.capture import CaptureError
+from .errors import UserError
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+EXIT_CANCELLED = 130
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="lpnn",
+        description="LPNN Probes: captures, OpenArena scenes, placement quality, training and ONNX export.",
+    )
+    parser.add_argument("--version", action="version", version=f"lpnn {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    package = importlib.import_module(__package__)
+    for module in sorted(m.name for m in pkgutil.iter_modules(package.__path__) if m.name.endswith("_cmd")):
+        importlib.import_module(f"{__package__}.{module}").register(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        result = args.handler(args)
+    except (UserError, CaptureError) as exc:
+        print(f"lpnn {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        print(f"lpnn {args.command}: cancelled; nothing partial was written", file=sys.stderr)
+        return EXIT_CANCELLED
+    return EXIT_OK if result is None else int(result)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
