@@ -1,0 +1,57 @@
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Selection
+{
+    public enum SelectionPolicy
+    {
+        /// <summary>The thesis' threshold: p = 0.9 keeps the top 10 % (rounded, halves up).</summary>
+        Percentile,
+        /// <summary>Top-K: the K highest-ranked points.</summary>
+        Budget,
+        /// <summary>Points whose remapped score is at least t.</summary>
+        Threshold,
+    }
+
+    /// <summary>How to turn scores into probes (Documentation~/selection.md).</summary>
+    public struct SelectionSettings
+    {
+        public SelectionPolicy Policy;
+
+        /// <summary>p ∈ [0, 1] for Percentile, K ≥ 1 (whole number) for Budget, t ∈ [0, 1] for Threshold.</summary>
+        public double Value;
+
+        /// <summary>Also keep the grid points at the 8 corners of every box, so the probe hull encloses the volume.</summary>
+        public bool KeepBoundsCorners;
+
+        public static SelectionSettings Percentile(double p, bool keepCorners = false) =>
+            new SelectionSettings { Policy = SelectionPolicy.Percentile, Value = p, KeepBoundsCorners = keepCorners };
+
+        public static SelectionSettings Budget(int count, bool keepCorners = false) =>
+            new SelectionSettings { Policy = SelectionPolicy.Budget, Value = count, KeepBoundsCorners = keepCorners };
+
+        public static SelectionSettings Threshold(double t, bool keepCorners = false) =>
+            new SelectionSettings { Policy = SelectionPolicy.Threshold, Value = t, KeepBoundsCorners = keepCorners };
+
+        public void Validate()
+        {
+            string value = InvariantFormat.Number(Value);
+            switch (Policy)
+            {
+                case SelectionPolicy.Percentile:
+                    if (!(Value >= 0 && Value <= 1))
+                        throw new SelectionException("percentile " + value + " must be between 0 and 1 (0.9 keeps the top 10 %)");
+                    break;
+                case SelectionPolicy.Budget:
+                    if (!(Value >= 1) || Value != System.Math.Floor(Value) || Value > int.MaxValue)
+                        throw new SelectionException("probe budget " + value + " must be a whole number of at least 1");
+                    break;
+                case SelectionPolicy.Threshold:
+                    if (!(Value >= 0 && Value <= 1))
+                        throw new SelectionException("score threshold " + value + " must be between 0 and 1 (scores are remapped to [0, 1])");
+                    break;
+                default:
+                    throw new SelectionException("unknown selection policy " + Policy);
+            }
+        }
+    }
+}
