@@ -183,8 +183,14 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void AbsurdRowCountsFailFastWithAdvice()
         {
-            var error = Assert.Throws<GridException>(() => GridBuilder.Build(new[] { Box(0, 0, 0, 1000, 1000, 1000) }, 1e-3));
-            StringAssert.Contains("use a larger cell size", error.Message);
+            var boxes = new[] { Box(0, 0, 0, 1000, 1000, 1000) };
+            var error = Assert.Throws<GridException>(() => GridBuilder.Build(boxes, 1e-3));
+            StringAssert.Contains("candidate grid rows", error.Message);
+            var match = Regex.Match(error.Message, @"a cell size of ([0-9.]+) or larger would fit");
+            Assert.That(match.Success, Is.True, error.Message);
+            double fitting = double.Parse(match.Groups[1].Value, CultureInfo.InvariantCulture);
+            Assert.That(GridBuilder.CountPoints(boxes, fitting), Is.LessThanOrEqualTo(GridBuilder.DefaultPointLimit));
+            Assert.That(GridBuilder.FittingCellSize(boxes, fitting), Is.Null, "already fits");
         }
 
         [TestCase(0.0)]

@@ -133,7 +133,7 @@ namespace Lpnn.Probes.Tools
             scene.Boxes.Add(new GridBox(new Double3(4.6, 2.2, 0.7), Rotate(new Double3(0.6, 0, 0), 0.52, 0),
                 Rotate(new Double3(0, 0.4, 0), 0.52, 0), new Double3(0, 0, 0.5)));
             scene.Rays.Boxes.Add(new AxisBox(new Double3(-0.37, -0.41, -0.29), new Double3(5.83, 3.27, 2.43)));
-            scene.Rays.Boxes.Add(new AxisBox(new Double3(1.61, 0.63, -0.29), new Double3(2.13, 1.21, 1.37)));
+            scene.Rays.Boxes.Add(new AxisBox(new Double3(1.61, 0.69, -0.29), new Double3(2.17, 1.23, 1.37)));
             scene.Light.Base[0] = 0.05;
             scene.Light.Base[9] = 0.05;
             scene.Light.Base[18] = 0.06;
@@ -150,6 +150,7 @@ namespace Lpnn.Probes.Tools
         {
             var scene = GoldenScene();
             var grid = GridBuilder.Build(scene.Boxes, scene.CellSize);
+            CheckNoBorderlineRays(scene, grid);
             float[] sh = FeatureExtractor.SampleLighting(grid, scene.Light);
             var features = FeatureExtractor.Extract(grid, sh, scene.Rays);
             var points = JsonValue.NewArray();
@@ -183,6 +184,40 @@ namespace Lpnn.Probes.Tools
             golden.Set("lighting_scale", JsonValue.From(features.LightingScale));
             golden.Set("points", points);
             return golden;
+        }
+
+        /// <summary>Refuses a scene where a ray sits on a threshold (t within 1e-4 of h or 4h) or grazes an edge
+        /// (a tiny tilt flips hit/miss or moves t by more than 1e-3): there, float32 vs float64 rounding
+        /// between the languages could change a count.</summary>
+        private static void CheckNoBorderlineRays(AnalyticScene scene, EvaluationGrid grid)
+        {
+            double h = scene.CellSize, far = 4 * h;
+            int rays = DirectionSets.D26.GetLength(0);
+            var origin = new System.Numerics.Vector3[1];
+            var direction = new System.Numerics.Vector3[1];
+            var hit = new RayHit[1];
+            for (int n = 0; n < grid.Count; n++)
+            {
+                origin[0] = grid.GetPosition(n);
+                for (int d = 0; d < rays; d++)
+                {
+                    var exact = DirectionSets.Direction(DirectionSets.D26, d);
+                    direction[0] = exact;
+                    scene.Rays.Cast(origin, direction, (float)(2 * far), hit);
+                    double t = hit[0].Distance;
+                    if (Math.Abs(t - h) < 1e-4 || Math.Abs(t - far) < 1e-4)
+                        throw new InvalidOperationException("point " + n + " ray " + d + " hits at " + t + ", on a feature threshold");
+                    foreach (var tilt in new[] { new System.Numerics.Vector3(1e-5f, 2e-5f, -1e-5f), new System.Numerics.Vector3(-2e-5f, 1e-5f, 1e-5f) })
+                    {
+                        direction[0] = System.Numerics.Vector3.Normalize(exact + tilt);
+                        scene.Rays.Cast(origin, direction, (float)(2 * far), hit);
+                        double tilted = hit[0].Distance;
+                        bool sameKind = double.IsInfinity(t) == double.IsInfinity(tilted);
+                        if (!sameKind || (!double.IsInfinity(t) && Math.Abs(t - tilted) > 1e-3))
+                            throw new InvalidOperationException("point " + n + " ray " + d + " grazes an edge (t " + t + " vs " + tilted + " when tilted)");
+                    }
+                }
+            }
         }
 
         private static void WriteCaptureGolden(string data)

@@ -148,11 +148,16 @@ def write_capture(path: str | os.PathLike, capture: Capture) -> Path:
     return write_atomic(path, lambda handle: handle.write(data))
 
 
+def safe_file_stem(stem: str) -> str:
+    """A file name stem from free text (e.g. a scene name): letters, digits, '-', '_', '.' kept, others '_'."""
+    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem) or "capture"
+
+
 def append_capture(folder: str | os.PathLike, capture: Capture, stem: str) -> Path:
     """Append to a dataset folder: a new file `<stem>.lpnncap` (or `-2`, `-3`...), never replacing."""
     data = encode_capture(capture)
     base = Path(folder)
-    safe_stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem) or "capture"
+    safe_stem = safe_file_stem(stem)
     for number in range(1, 1_000_000):
         name = f"{safe_stem}{EXTENSION}" if number == 1 else f"{safe_stem}-{number}{EXTENSION}"
         if write_new_atomic(base / name, lambda handle: handle.write(data)):
@@ -404,8 +409,9 @@ def _content_problems(capture: Capture, name: str, stop_at_first: bool) -> list[
     def check_finite(key: str, array: np.ndarray, column_name) -> bool:
         bad_rows, bad_cols = np.nonzero(~np.isfinite(array))
         for row, col in list(zip(bad_rows, bad_cols))[: 1 if stop_at_first else 20]:
-            value = array[row, col]
-            if add(f"{_record(name, int(row), ids)}: field '{column_name(int(col))}': {value!r} is not finite"):
+            value = float(array[row, col])  # plain float: numpy 2 would print 'np.float32(nan)'
+            text = "NaN" if np.isnan(value) else repr(value)
+            if add(f"{_record(name, int(row), ids)}: field '{column_name(int(col))}': {text} is not finite"):
                 return True
         return False
 

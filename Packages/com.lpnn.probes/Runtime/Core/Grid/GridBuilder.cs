@@ -27,24 +27,29 @@ namespace Lpnn.Probes.Core.Grid
             }
         }
 
-        /// <summary>Exact number of grid points for these boxes and cell size (no per-point allocation).</summary>
+        /// <summary>Exact number of grid points for these boxes and cell size (no per-point allocation).
+        /// <paramref name="pointLimit"/> only sets the candidate-row bound; the count itself may exceed it.</summary>
         public static long CountPoints(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit = DefaultPointLimit)
         {
-            return Merge(CollectRuns(boxes, cellSize, pointLimit)).Total;
+            ValidateInputs(boxes, cellSize, pointLimit);
+            var coverages = Coverages(boxes, cellSize);
+            CheckRowBound(boxes, cellSize, coverages, pointLimit);
+            return Merge(CollectRuns(coverages)).Total;
         }
 
         /// <summary>Builds the grid, or throws <see cref="GridException"/> naming the problem and the fix.</summary>
         public static EvaluationGrid Build(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit = DefaultPointLimit)
         {
-            if (pointLimit < 1) throw new GridException("point limit " + pointLimit + " must be at least 1");
-            var merged = Merge(CollectRuns(boxes, cellSize, pointLimit));
+            ValidateInputs(boxes, cellSize, pointLimit);
+            var coverages = Coverages(boxes, cellSize);
+            CheckRowBound(boxes, cellSize, coverages, pointLimit);
+            var merged = Merge(CollectRuns(coverages));
             if (merged.Total > pointLimit)
             {
                 throw new GridException(
                     "the evaluation grid would have " + InvariantFormat.Count(merged.Total) + " points, over the limit of " +
-                    InvariantFormat.Count(pointLimit) + ", at cell size " + InvariantFormat.Number(cellSize) +
-                    "; a cell size of " + InvariantFormat.Number(FittingCellSize(boxes, cellSize, merged.Total, pointLimit)) +
-                    " or larger would fit (or shrink the boxes)");
+                    InvariantFormat.Count(pointLimit) + ", at cell size " + InvariantFormat.Number(cellSize) + "; " +
+                    Advice(SuggestCellSize(boxes, cellSize, coverages, pointLimit, merged.Total)) + " (or shrink the boxes)");
             }
             var ids = new int[merged.Total * 3];
             int n = 0;
@@ -62,34 +67,60 @@ namespace Lpnn.Probes.Core.Grid
             return new EvaluationGrid(cellSize, ids, boxCopy);
         }
 
-        private static void ValidateInputs(IReadOnlyList<GridBox> boxes, double cellSize)
+        /// <summary>The smallest cell size with 3 significant digits at which the grid fits the limits, or null
+        /// when it already fits at <paramref name="cellSize"/> or no size within 400 steps up fits.</summary>
+        public static double? FittingCellSize(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit = DefaultPointLimit)
+        {
+            ValidateInputs(boxes, cellSize, pointLimit);
+            var coverages = Coverages(boxes, cellSize);
+            bool rowsFit = CandidateRows(coverages) <= (double)pointLimit * RowsPerPointLimit;
+            return SuggestCellSize(boxes, cellSize, coverages, pointLimit, rowsFit ? Merge(CollectRuns(coverages)).Total : -1);
+        }
+
+        private static string Advice(double? suggestion) =>
+            suggestion.HasValue
+                ? "a cell size of " + InvariantFormat.Number(suggestion.Value) + " or larger would fit"
+                : "use a larger cell size";
+
+        private static void ValidateInputs(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit)
         {
             if (boxes == null || boxes.Count == 0)
                 throw new GridException("the volume has no boxes; add at least one box");
             if (!(cellSize > 0) || double.IsInfinity(cellSize))
                 throw new GridException("cell size " + InvariantFormat.Number(cellSize) + " must be a finite number greater than 0");
+            if (pointLimit < 1) throw new GridException("point limit " + pointLimit + " must be at least 1");
             for (int b = 0; b < boxes.Count; b++) boxes[b].Validate(b);
         }
 
-        private static List<RowRun> CollectRuns(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit)
+        /// <summary>Per-box coverage at this cell size; throws when lattice ids would pass ±2^30.</summary>
+        private static BoxCoverage[] Coverages(IReadOnlyList<GridBox> boxes, double cellSize)
         {
-            ValidateInputs(boxes, cellSize);
             var coverages = new BoxCoverage[boxes.Count];
+            for (int b = 0; b < boxes.Count; b++) coverages[b] = new BoxCoverage(boxes[b], cellSize);
+            return coverages;
+        }
+
+        /// <summary>Candidate rows: the (j, k) ranges of every box, summed (empty rows included).</summary>
+        private static double CandidateRows(BoxCoverage[] coverages)
+        {
             double rows = 0;
-            for (int b = 0; b < boxes.Count; b++)
-            {
-                coverages[b] = new BoxCoverage(boxes[b], cellSize);
-                rows += coverages[b].RowCount;
-            }
-            double rowLimit = (double)pointLimit * RowsPerPointLimit;
-            if (rows > rowLimit)
-            {
-                throw new GridException(
-                    "the boxes span " + InvariantFormat.Count((long)Math.Min(rows, long.MaxValue)) + " grid rows at cell size " +
-                    InvariantFormat.Number(cellSize) + " (limit " + InvariantFormat.Count((long)rowLimit) +
-                    "): the grid would be far over the point limit; use a larger cell size");
-            }
-            var runs = new List<RowRun>((int)Math.Min(rows, 1 << 20));
+            foreach (var coverage in coverages) rows += coverage.RowCount;
+            return rows;
+        }
+
+        private static void CheckRowBound(IReadOnlyList<GridBox> boxes, double cellSize, BoxCoverage[] coverages, int pointLimit)
+        {
+            double rows = CandidateRows(coverages), bound = (double)pointLimit * RowsPerPointLimit;
+            if (rows <= bound) return;
+            throw new GridException(
+                "cell size " + InvariantFormat.Number(cellSize) + " gives " + InvariantFormat.Count((long)Math.Min(rows, long.MaxValue)) +
+                " candidate grid rows, more than " + InvariantFormat.Count((long)bound) + " (4 × the point limit " +
+                InvariantFormat.Count(pointLimit) + "); " + Advice(SuggestCellSize(boxes, cellSize, coverages, pointLimit)));
+        }
+
+        private static List<RowRun> CollectRuns(BoxCoverage[] coverages)
+        {
+            var runs = new List<RowRun>((int)Math.Min(CandidateRows(coverages), 1 << 20));
             foreach (var coverage in coverages)
             {
                 for (long k = coverage.KMin; k <= coverage.KMax; k++)
@@ -136,18 +167,58 @@ namespace Lpnn.Probes.Core.Grid
             return new MergedRuns { Runs = merged, Total = total };
         }
 
-        /// <summary>The smallest cell size with 3 significant digits whose grid fits, found from the h·∛(count/limit)
-        /// estimate by stepping one unit of the third digit up (until it fits) or down (while it still fits).</summary>
-        private static double FittingCellSize(IReadOnlyList<GridBox> boxes, double cellSize, long count, int pointLimit)
+        private const int FittingSteps = 400;
+
+        /// <summary>grid.md "Limits": the search starts from h·∛(count/limit). When even the rows are over their
+        /// bound, the cell first grows until they fit (rows scale as 1/h²) and the count there is the cheap
+        /// candidate-point upper bound (exact for one axis-aligned box), so no huge grid is ever enumerated.</summary>
+        private static double? SuggestCellSize(IReadOnlyList<GridBox> boxes, double cellSize, BoxCoverage[] coverages, int pointLimit,
+            long exactCount = -1)
         {
-            double candidate = InvariantFormat.RoundUpSignificant(cellSize * Math.Pow((double)count / pointLimit, 1.0 / 3.0), 3);
-            const int MaxSteps = 400;
-            for (int step = 0; step < MaxSteps && !CountWithin(boxes, candidate, pointLimit); step++)
+            double countedAt = cellSize, bound = (double)pointLimit * RowsPerPointLimit;
+            double rows = CandidateRows(coverages);
+            for (int step = 0; step < FittingSteps && rows > bound; step++)
+            {
+                countedAt = InvariantFormat.RoundUpSignificant(countedAt * Math.Max(Math.Sqrt(rows / bound), 1.001), 3);
+                try
+                {
+                    coverages = Coverages(boxes, countedAt);
+                }
+                catch (GridException)
+                {
+                    return null;
+                }
+                rows = CandidateRows(coverages);
+            }
+            if (rows > bound) return null;
+            double count = countedAt == cellSize && exactCount >= 0 ? exactCount : CandidatePoints(coverages);
+            if (count <= pointLimit)
+                return countedAt == cellSize ? (double?)null : FromEstimate(boxes, cellSize, countedAt, pointLimit);
+            return FromEstimate(boxes, cellSize, countedAt * Math.Pow(count / pointLimit, 1.0 / 3.0), pointLimit);
+        }
+
+        /// <summary>Σ over boxes of the lattice points in the box's range: an upper bound of the grid's count.</summary>
+        private static double CandidatePoints(BoxCoverage[] coverages)
+        {
+            double points = 0;
+            foreach (var c in coverages)
+                points += c.IMax < c.IMin ? 0 : c.RowCount * (c.IMax - c.IMin + 1);
+            return points;
+        }
+
+        /// <summary>From the estimate rounded up to 3 digits, one third-digit unit up until the grid fits, then down
+        /// while it still fits (staying above the original cell size); null when 400 steps up never fit.</summary>
+        private static double? FromEstimate(IReadOnlyList<GridBox> boxes, double cellSize, double estimate, int pointLimit)
+        {
+            double candidate = InvariantFormat.RoundUpSignificant(estimate, 3);
+            int step = 0;
+            for (; step < FittingSteps && !Fits(boxes, candidate, pointLimit); step++)
                 candidate = InvariantFormat.RoundUpSignificant(candidate + ThirdDigit(candidate), 3);
-            for (int step = 0; step < MaxSteps; step++)
+            if (step == FittingSteps && !Fits(boxes, candidate, pointLimit)) return null;
+            for (step = 0; step < FittingSteps; step++)
             {
                 double lower = InvariantFormat.RoundUpSignificant(candidate - ThirdDigit(candidate * (1 - 1e-12)), 3);
-                if (!(lower < candidate) || lower <= cellSize || !CountWithin(boxes, lower, pointLimit)) break;
+                if (!(lower < candidate) || lower <= cellSize || !Fits(boxes, lower, pointLimit)) break;
                 candidate = lower;
             }
             return candidate;
@@ -156,15 +227,18 @@ namespace Lpnn.Probes.Core.Grid
         /// <summary>One unit of the third significant digit of a positive value (0.01 for 1.23).</summary>
         private static double ThirdDigit(double value) => Math.Pow(10, Math.Floor(Math.Log10(value)) - 2);
 
-        private static bool CountWithin(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit)
+        /// <summary>Whether this cell size passes every limit (ids, rows, points).</summary>
+        private static bool Fits(IReadOnlyList<GridBox> boxes, double cellSize, int pointLimit)
         {
             try
             {
-                return CountPoints(boxes, cellSize, pointLimit) <= pointLimit;
+                var coverages = Coverages(boxes, cellSize);
+                return CandidateRows(coverages) <= (double)pointLimit * RowsPerPointLimit &&
+                       Merge(CollectRuns(coverages)).Total <= pointLimit;
             }
             catch (GridException)
             {
-                return false; // still too many rows at this size
+                return false;
             }
         }
     }

@@ -66,8 +66,8 @@ namespace Lpnn.Probes.Core.Selection
             for (int r = 0; r < count; r++) selected.Add(ranking[r]);
         }
 
-        /// <summary>The grid point whose cell holds each box corner (always a grid point, since that cell touches
-        /// the box); returns how many were not already selected.</summary>
+        /// <summary>The grid point whose cell holds each box corner (a grid point unless a filter such as "drop
+        /// points inside walls" removed it, in which case that corner is skipped); returns how many were added.</summary>
         private static int AddCorners(EvaluationGrid grid, ISet<int> selected)
         {
             if (grid.Boxes.Count == 0)
@@ -79,9 +79,7 @@ namespace Lpnn.Probes.Core.Selection
                 {
                     var corner = box.Corner(c);
                     int index = LatticeId.TryCellOf(corner, grid.CellSize, out var id) ? grid.IndexOf(id) : -1;
-                    if (index < 0)
-                        throw new InvalidOperationException("corner " + corner + " maps to id " + id + ", which is not a grid point: the coverage rule is broken");
-                    if (selected.Add(index)) added++;
+                    if (index >= 0 && selected.Add(index)) added++;
                 }
             }
             return added;
