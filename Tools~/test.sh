@@ -23,9 +23,9 @@ if step "build C# core and tests (mcs)" bash "Tools~/build-csharp.sh"; then
   tail -n 15 "$BUILD_DIR/reports/nunit-core.log" | grep -E "Tests run|Errors and Failures|^[0-9]+\)" || true
 fi
 
-if [ -f "Tools~/compile-unity-layer.sh" ]; then
-  step "compile Runtime, Editor and Tests/Editor against the declared Unity API surface" bash "Tools~/compile-unity-layer.sh"
-fi
+step "compile Runtime, Editor, Tests/Editor and the sample against the declared Unity API surface" \
+  bash "Tools~/compile-unity-layer.sh"
+step "package layout: .meta files, asmdefs, package.json" python3 "Tools~/check-package.py"
 
 if PY=$(bash "Tools~/setup-python.sh"); then
   echo "pass set up Python environment" >> "$checks"

@@ -1,0 +1,138 @@
+using System;
+using System.Collections.Generic;
+using System.IO;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Batch;
+using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Placement;
+using UnityEditor;
+using UnityEditor.SceneManagement;
+using UnityEngine;
+using Object = UnityEngine.Object;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>Batch-mode entry point: <c>Unity -batchmode -projectPath P -executeMethod Lpnn.Probes.Editor.LpnnBatch.Run
+    /// -lpnnScene Assets/…/Scene.unity [-lpnnMode place|export] [-lpnnOut folder] [-lpnnBake] …</c>
+    /// (arguments: Core.Batch.BatchOptions, Documentation~/ci.md). Runs the pipeline on every LPNN volume of the scene
+    /// and exits with EditorApplication.Exit (Editor/Mono/EditorApplication.bindings.cs): 0 when every volume succeeded,
+    /// 1 when a volume failed, 2 when the arguments or the scene are unusable.</summary>
+    public static class LpnnBatch
+    {
+        public const int ExitOk = 0;
+        public const int ExitVolumeFailed = 1;
+        public const int ExitBadInput = 2;
+
+        public static void Run()
+        {
+            int code;
+            try
+            {
+                code = Execute(Environment.GetCommandLineArgs());
+            }
+            catch (LpnnException e)
+            {
+                Debug.LogError("[LPNN batch] " + e.Message);
+                code = ExitBadInput;
+            }
+            catch (Exception e)
+            {
+                Debug.LogException(e);
+                code = ExitBadInput;
+            }
+            EditorApplication.Exit(code);
+        }
+
+        /// <summary>The whole run without exiting (tests call this); returns the exit code.</summary>
+        public static int Execute(IReadOnlyList<string> commandLine)
+        {
+            var options = BatchOptions.Parse(commandLine);
+            string scenePath = options.ScenePath.Replace('\\', '/');
+            if (!File.Exists(Path.Combine(LpnnPaths.ProjectRoot, scenePath)))
+                throw new LpnnException("-lpnnScene '" + scenePath + "' does not exist in the project " + LpnnPaths.ProjectRoot +
+                                        " (give the path from the project folder, e.g. Assets/Scenes/Level.unity)");
+            // EditorSceneManager.OpenScene: Editor/Mono/SceneManagement/EditorSceneManager.cs
+            var scene = EditorSceneManager.OpenScene(scenePath, OpenSceneMode.Single);
+            var volumes = new List<LpnnVolume>();
+            foreach (var volume in Object.FindObjectsByType<LpnnVolume>(FindObjectsSortMode.None))
+                if (options.VolumeName == null || volume.name == options.VolumeName) volumes.Add(volume);
+            if (volumes.Count == 0)
+                throw new LpnnException("scene " + scenePath + " has no LPNN volume" + (options.VolumeName == null ? "" : " named '" + options.VolumeName + "'") +
+                                        "; add one with GameObject > Light > LPNN Probes");
+            volumes.Sort((a, b) => string.CompareOrdinal(a.name, b.name));
+            LightProbeGroup truth = FindGroundTruth(options.LabelsGroupName);
+            string folder = options.OutputFolder ??
+                            Path.Combine(LpnnPaths.ProjectRoot, options.Mode == BatchMode.Export ? "LpnnDatasets" : "LpnnResults");
+            Directory.CreateDirectory(folder);
+
+            int failed = 0;
+            foreach (var volume in volumes)
+            {
+                try
+                {
+                    Debug.Log("[LPNN batch] " + volume.name + ": " + RunVolume(volume, options, truth, folder));
+                }
+                catch (LpnnException e)
+                {
+                    failed++;
+                    Debug.LogError("[LPNN batch] " + volume.name + ": " + e.Message);
+                }
+                catch (Exception e)
+                {
+                    failed++;
+                    Debug.LogError("[LPNN batch] " + volume.name + ": unexpected " + e.GetType().Name + " (stack trace follows)");
+                    Debug.LogException(e);
+                }
+            }
+            if (options.SaveScene && options.Mode == BatchMode.Place) EditorSceneManager.SaveScene(scene);
+            Debug.Log("[LPNN batch] " + (volumes.Count - failed) + " of " + volumes.Count + " volumes done; results in " + folder);
+            return failed == 0 ? ExitOk : ExitVolumeFailed;
+        }
+
+        private static string RunVolume(LpnnVolume volume, BatchOptions options, LightProbeGroup truth, string folder)
+        {
+            var session = LpnnSession.For(volume);
+            // Without -lpnnBake nothing is baked: the scene's existing probes are interpolated.
+            volume.SetLighting(options.Bake ? LightingSource.BakeAtEvaluationPoints : LightingSource.InterpolateSceneProbes);
+            volume.SetBackend(options.Backend);
+            if (truth != null) volume.SetGroundTruth(truth);
+            var log = new List<string>();
+            using (var progress = new EditorProgressScope("LPNN batch " + volume.name))
+            {
+                log.Add(LpnnPipeline.BuildGrid(volume, session));
+                log.Add(LpnnPipeline.SampleLighting(volume, session, options.Bake, progress.Callback, progress.Token));
+                log.Add(LpnnPipeline.ExtractFeatures(volume, session, progress.Callback, progress.Token, out string warning));
+                if (warning.Length > 0) Debug.LogWarning("[LPNN batch] " + volume.name + ": " + warning);
+            }
+            string stem = CaptureExport.DefaultStem(volume);
+            if (options.Mode == BatchMode.Export)
+            {
+                log.Add("capture " + CaptureExport.Append(volume, session, folder, stem, out string labels) + " (" + labels + ")");
+                return string.Join("; ", log);
+            }
+            log.Add(LpnnPipeline.Score(volume, session));
+            var positions = LpnnPipeline.SelectedPositions(volume, session, out var selection);
+            // The positions file is the batch result; the group is filled too when the volume has one.
+            if (volume.TargetGroup != null) ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
+            var source = JsonValue.NewObject();
+            source.Set("scene", JsonValue.From(volume.gameObject.scene.path));
+            source.Set("volume", JsonValue.From(volume.name));
+            source.Set("backend", JsonValue.From(volume.LastScores.Backend));
+            source.Set("model", JsonValue.From(volume.LastScores.Model));
+            string path = Path.Combine(folder, stem + ProbePositionsFile.Extension);
+            ProbePositionsFile.Save(path, positions, source);
+            log.Add(positions.Length + " probes" + LpnnPipeline.Extras(selection) + " → " + path);
+            return string.Join("; ", log);
+        }
+
+        private static LightProbeGroup FindGroundTruth(string name)
+        {
+            if (name == null) return null;
+            var holder = GameObject.Find(name);
+            var group = holder != null ? holder.GetComponent<LightProbeGroup>() : null;
+            if (group == null)
+                throw new LpnnException("-lpnnLabels '" + name + "': no active GameObject with that name holds a LightProbeGroup");
+            return group;
+        }
+    }
+}

@@ -1,0 +1,370 @@
+using System;
+using System.IO;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
+using UnityEditor;
+using UnityEngine;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>The LPNN volume inspector, in the order of the thesis' panel (§3.5): Volume, Lighting data, Features,
+    /// Scoring, Placement, Capture export. Settings are edited through SerializedProperty (Undo and prefab overrides
+    /// for free: UnityCsReference Editor/Mono/SerializedObject.bindings.cs); each step shows its state, last duration
+    /// and last error. The work itself is in <see cref="LpnnPipeline"/>.</summary>
+    [CustomEditor(typeof(LpnnVolume))]
+    public sealed class LpnnVolumeEditor : UnityEditor.Editor
+    {
+        private readonly LpnnBoxHandles _boxHandles = new LpnnBoxHandles();
+        private readonly PlacementPreview _preview = new PlacementPreview();
+        private string _countSignature;
+        private string _countText;
+        private MessageType _countType;
+        private long _countedPoints;
+        private int _uncoveredMeshes = -1;
+        private TextAsset _checkedCard;
+        private string _cardProblem;
+
+        private LpnnVolume Volume => (LpnnVolume)target;
+        private LpnnSession Session => LpnnSession.For(Volume);
+
+        private void OnEnable()
+        {
+            _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+        }
+
+        public override void OnInspectorGUI()
+        {
+            serializedObject.Update();
+            EditorGUILayout.HelpBox("Places light probes where baked lighting needs them: build the grid, get the lighting at every " +
+                                    "point, extract features, score them with the model, then place the best points as probes.", MessageType.None);
+            if (GUILayout.Button("Run all steps")) RunAll();
+            VolumeSection();
+            LightingSection();
+            FeaturesSection();
+            ScoringSection();
+            PlacementSection();
+            ExportSection();
+            serializedObject.ApplyModifiedProperties();
+        }
+
+        private void OnSceneGUI()
+        {
+            if (Volume.ShowGizmos) _boxHandles.Draw(Volume, serializedObject);
+        }
+
+        // ------------------------------------------------------------------------------------------ sections
+
+        private void VolumeSection()
+        {
+            Header("1. Volume");
+            Field(LpnnVolume.Fields.Boxes);
+            Field(LpnnVolume.Fields.CellSize);
+            Field(LpnnVolume.Fields.PointLimit);
+            Field(LpnnVolume.Fields.ShowGizmos);
+            serializedObject.ApplyModifiedProperties();
+            UpdatePointCount();
+            EditorGUILayout.HelpBox(_countText, _countType);
+            if (GUILayout.Button("Build grid") && ConfirmHeavy("build the grid"))
+                StepRunner.Run(Volume, Session.VolumeStep, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
+            Status(Session.VolumeStep);
+        }
+
+        private void LightingSection()
+        {
+            Header("2. Lighting data");
+            Field(LpnnVolume.Fields.LightingSource);
+            serializedObject.ApplyModifiedProperties();
+            EditorGUILayout.HelpBox(EvaluationLighting.Explain(Volume), MessageType.Info);
+            using (new EditorGUI.DisabledScope(Session.Grid == null))
+            {
+                if (GUILayout.Button("Sample lighting") && ConfirmHeavy("sample the lighting"))
+                {
+                    bool bake = !EvaluationLighting.RewritesSceneLighting(Volume) || ConfirmSceneBake();
+                    if (bake)
+                        StepRunner.Run(Volume, Session.LightingStep, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
+                }
+            }
+            Status(Session.LightingStep);
+        }
+
+        private void FeaturesSection()
+        {
+            Header("3. Features");
+            Field(LpnnVolume.Fields.AddTemporaryColliders);
+            serializedObject.ApplyModifiedProperties();
+            if (_uncoveredMeshes > 0)
+            {
+                EditorGUILayout.HelpBox(_uncoveredMeshes + " static renderers contributing to GI have no collider, so rays pass through them. " +
+                                        (Volume.AddTemporaryColliders
+                                            ? "Temporary mesh colliders will be added while rays are cast and removed afterwards."
+                                            : "Add colliders, or enable 'Add Temporary Colliders'."),
+                    Volume.AddTemporaryColliders ? MessageType.Info : MessageType.Warning);
+            }
+            using (new EditorGUI.DisabledScope(Session.Sh == null))
+            {
+                if (GUILayout.Button("Extract features"))
+                {
+                    string warning = "";
+                    if (StepRunner.Run(Volume, Session.FeaturesStep, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel, out warning)))
+                        ReportWarning(Session.FeaturesStep, warning);
+                    _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+                }
+            }
+            Status(Session.FeaturesStep);
+        }
+
+        private void ScoringSection()
+        {
+            Header("4. Scoring");
+            Field(LpnnVolume.Fields.Model);
+            Field(LpnnVolume.Fields.ModelCard);
+            Field(LpnnVolume.Fields.Backend);
+            Field(LpnnVolume.Fields.ScoringPointLimit);
+            serializedObject.ApplyModifiedProperties();
+            string problem = CardProblem();
+            if (problem != null) EditorGUILayout.HelpBox(problem, MessageType.Error);
+            using (new EditorGUI.DisabledScope(Session.Features == null))
+            {
+                if (GUILayout.Button("Score evaluation points"))
+                    StepRunner.Run(Volume, Session.ScoringStep, (progress, cancel) => LpnnPipeline.Score(Volume, Session));
+            }
+            Status(Session.ScoringStep);
+            var record = Volume.LastScores;
+            if (!record.IsEmpty)
+                EditorGUILayout.LabelField("Stored scores", InvariantFormat.Count(record.Count) + " points, " + record.Backend + ", model '" + record.Model + "'");
+        }
+
+        private void PlacementSection()
+        {
+            Header("5. Placement");
+            Field(LpnnVolume.Fields.TargetGroup);
+            var policy = Field(LpnnVolume.Fields.Policy);
+            switch ((SelectionPolicy)policy.enumValueIndex)
+            {
+                case SelectionPolicy.Budget: Field(LpnnVolume.Fields.Budget); break;
+                case SelectionPolicy.Threshold: Field(LpnnVolume.Fields.Threshold); break;
+                default: Field(LpnnVolume.Fields.Percentile); break;
+            }
+            Field(LpnnVolume.Fields.KeepBoundsCorners);
+            serializedObject.ApplyModifiedProperties();
+            PreviewCount();
+            using (new EditorGUILayout.HorizontalScope())
+            {
+                using (new EditorGUI.DisabledScope(Volume.LastScores.IsEmpty))
+                {
+                    if (GUILayout.Button("Apply"))
+                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => LpnnPipeline.Apply(Volume, Session));
+                }
+                if (GUILayout.Button("Clear"))
+                    StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => { ProbeGroupWriter.Clear(Volume.TargetGroup); return "probes cleared"; });
+                if (GUILayout.Button("Import .probes.json…")) ImportProbes();
+            }
+            Status(Session.PlacementStep);
+        }
+
+        private void ExportSection()
+        {
+            Header("6. Capture export (retraining)");
+            Field(LpnnVolume.Fields.GroundTruthGroup);
+            using (new EditorGUILayout.HorizontalScope())
+            {
+                Field(LpnnVolume.Fields.DatasetFolder);
+                if (GUILayout.Button("Choose…", GUILayout.Width(70)))
+                {
+                    string folder = EditorUtility.SaveFolderPanel("Dataset folder", LpnnPaths.DatasetFolderFor(Volume), "");
+                    if (!string.IsNullOrEmpty(folder)) serializedObject.FindProperty(LpnnVolume.Fields.DatasetFolder).stringValue = folder;
+                }
+            }
+            serializedObject.ApplyModifiedProperties();
+            string datasetFolder = LpnnPaths.DatasetFolderFor(Volume);
+            EditorGUILayout.LabelField("Dataset folder", datasetFolder, EditorStyles.wordWrappedMiniLabel);
+            if (LpnnPaths.IsInsideAssets(datasetFolder))
+                EditorGUILayout.HelpBox("This folder is inside Assets/: Unity will import every capture as an asset. A folder beside Assets " +
+                                        "(the default <project>/LpnnDatasets) keeps datasets out of the project.", MessageType.Warning);
+            using (new EditorGUI.DisabledScope(Session.Features == null))
+            using (new EditorGUILayout.HorizontalScope())
+            {
+                if (GUILayout.Button("Save capture…"))
+                {
+                    Directory.CreateDirectory(datasetFolder);
+                    string path = EditorUtility.SaveFilePanel("Save capture", datasetFolder, CaptureExport.DefaultStem(Volume), "lpnncap");
+                    if (!string.IsNullOrEmpty(path))
+                        StepRunner.Run(Volume, Session.ExportStep, (progress, cancel) =>
+                        {
+                            string written = CaptureExport.Save(Volume, Session, path, out string labels);
+                            return "saved " + written + "; " + labels;
+                        });
+                }
+                if (GUILayout.Button("Append to dataset"))
+                    StepRunner.Run(Volume, Session.ExportStep, (progress, cancel) =>
+                    {
+                        string written = CaptureExport.Append(Volume, Session, datasetFolder, CaptureExport.DefaultStem(Volume), out string labels);
+                        return "appended " + written + "; " + labels;
+                    });
+            }
+            Status(Session.ExportStep);
+        }
+
+        // ------------------------------------------------------------------------------------------ helpers
+
+        private void RunAll()
+        {
+            if (!ConfirmHeavy("run every step")) return;
+            if (EvaluationLighting.RewritesSceneLighting(Volume) && !ConfirmSceneBake()) return;
+            var session = Session;
+            bool ok = StepRunner.Run(Volume, session.VolumeStep, (p, c) => LpnnPipeline.BuildGrid(Volume, session))
+                      && StepRunner.Run(Volume, session.LightingStep, (p, c) => LpnnPipeline.SampleLighting(Volume, session, true, p, c));
+            string warning = "";
+            ok = ok && StepRunner.Run(Volume, session.FeaturesStep, (p, c) => LpnnPipeline.ExtractFeatures(Volume, session, p, c, out warning))
+                    && StepRunner.Run(Volume, session.ScoringStep, (p, c) => LpnnPipeline.Score(Volume, session))
+                    && StepRunner.Run(Volume, session.PlacementStep, (p, c) => LpnnPipeline.Apply(Volume, session));
+            ReportWarning(session.FeaturesStep, warning);
+        }
+
+        private void ReportWarning(StepState step, string warning)
+        {
+            step.Warn(warning);
+            if (warning.Length > 0) Debug.LogWarning("[LPNN] " + Volume.name + " — " + step.Name + ": " + warning, Volume);
+        }
+
+        private void ImportProbes()
+        {
+            string path = EditorUtility.OpenFilePanel("Import probe positions (*.probes.json)", LpnnPaths.DatasetFolderFor(Volume), "json");
+            if (string.IsNullOrEmpty(path)) return;
+            StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
+                ProbeGroupWriter.Import(Volume.TargetGroup, path) + " probes imported from " + Path.GetFileName(path));
+        }
+
+        private void UpdatePointCount()
+        {
+            string signature;
+            System.Collections.Generic.List<GridBox> boxes;
+            try
+            {
+                boxes = Volume.GetWorldBoxes();
+                signature = GridSignature.Of(boxes, Volume.CellSize) + "|" + Volume.PointLimit;
+            }
+            catch (LpnnException e)
+            {
+                _countText = e.Message;
+                _countType = MessageType.Error;
+                return;
+            }
+            if (signature == _countSignature) return;
+            _countSignature = signature;
+            try
+            {
+                _countedPoints = GridBuilder.CountPoints(boxes, Volume.CellSize, Volume.PointLimit);
+                _countText = InvariantFormat.Count(_countedPoints) + " evaluation points; about " +
+                             LpnnPipeline.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) + " through the pipeline.";
+                _countType = MessageType.Info;
+                if (_countedPoints > Volume.PointLimit)
+                {
+                    _countText += " Over the point limit of " + InvariantFormat.Count(Volume.PointLimit) + ": use a larger cell size or smaller boxes.";
+                    _countType = MessageType.Error;
+                }
+                else if (_countedPoints > LpnnPipeline.LargeGridWarning)
+                {
+                    _countText += " That is a large grid: lighting and features will take a while (you will be asked before they run).";
+                    _countType = MessageType.Warning;
+                }
+                if (Session.Grid != null && Session.GridSignature != GridSignature.Of(boxes, Volume.CellSize))
+                    _countText += "\nThe volume changed since the grid was built: build it again.";
+            }
+            catch (LpnnException e)
+            {
+                _countedPoints = 0;
+                _countText = e.Message;
+                _countType = MessageType.Error;
+            }
+        }
+
+        private void PreviewCount()
+        {
+            var record = Volume.LastScores;
+            if (record.IsEmpty)
+            {
+                EditorGUILayout.HelpBox("No scores yet: run the Scoring step (or import a .probes.json).", MessageType.None);
+                return;
+            }
+            string error;
+            SelectionResult result;
+            try
+            {
+                result = _preview.Get(LpnnPipeline.ScoredGrid(Volume, Session), record.Scores, Volume.GetSelectionSettings(), out error);
+            }
+            catch (LpnnException e)
+            {
+                result = null;
+                error = e.Message;
+            }
+            if (result == null)
+                EditorGUILayout.HelpBox(error, MessageType.Warning);
+            else
+                EditorGUILayout.HelpBox("Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
+                                        InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + ".", MessageType.Info);
+        }
+
+        private string CardProblem()
+        {
+            if (Volume.ModelCard == _checkedCard && _checkedCard != null) return _cardProblem;
+            _checkedCard = Volume.ModelCard;
+            try
+            {
+                LpnnScoring.CheckCard(Volume, FeatureExtractor.Schema);
+                _cardProblem = null;
+            }
+            catch (LpnnException e)
+            {
+                _cardProblem = e.Message;
+            }
+            return _cardProblem;
+        }
+
+        private bool ConfirmHeavy(string what)
+        {
+            if (_countedPoints <= LpnnPipeline.LargeGridWarning) return true;
+            // EditorUtility.DisplayDialog: Editor/Mono/EditorUtility.bindings.cs
+            return EditorUtility.DisplayDialog("LPNN Probes: large grid",
+                "The grid has " + InvariantFormat.Count(_countedPoints) + " points (about " +
+                LpnnPipeline.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) +
+                "). Do you want to " + what + " now? You can cancel from the progress bar.", "Continue", "Cancel");
+        }
+
+        private static bool ConfirmSceneBake()
+        {
+            return EditorUtility.DisplayDialog("LPNN Probes: bake the scene's lighting?",
+                "Unity 2022.3 can only bake lighting at arbitrary points as part of a full bake. This will run Generate Lighting with the " +
+                "scene's current Lighting Settings, replacing its lighting data (lightmaps, probes) with a fresh bake of those settings, " +
+                "and read the evaluation points from it.\n\nIf your current lighting was baked with other settings, save a copy first, " +
+                "or choose 'Interpolate Scene Probes', which writes nothing.", "Bake", "Cancel");
+        }
+
+        private SerializedProperty Field(string name)
+        {
+            var property = serializedObject.FindProperty(name);
+            EditorGUILayout.PropertyField(property, true);
+            return property;
+        }
+
+        private static void Header(string title)
+        {
+            EditorGUILayout.Space();
+            EditorGUILayout.LabelField(title, EditorStyles.boldLabel);
+        }
+
+        private static void Status(StepState step)
+        {
+            if (step.Done)
+                EditorGUILayout.LabelField("✓ " + step.Summary + Timing(step), EditorStyles.wordWrappedMiniLabel);
+            if (step.Warning.Length > 0) EditorGUILayout.HelpBox(step.Warning, MessageType.Warning);
+            if (step.Error.Length > 0) EditorGUILayout.HelpBox(step.Error + Timing(step), MessageType.Error);
+        }
+
+        private static string Timing(StepState step) =>
+            step.Seconds < 0 ? "" : " (" + InvariantFormat.Number(Math.Round(step.Seconds, 2)) + " s)";
+    }
+}

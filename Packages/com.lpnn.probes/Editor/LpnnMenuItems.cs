@@ -1,0 +1,44 @@
+using UnityEditor;
+using UnityEngine;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>GameObject > Light > LPNN Probes, next to Unity's Light Probe Group (priority 21 in UnityCsReference
+    /// Editor/Mono/Commands/GOCreationCommands.cs). Creates the volume with its LightProbeGroup and the shipped model.</summary>
+    public static class LpnnMenuItems
+    {
+        public const string MenuPath = "GameObject/Light/LPNN Probes";
+        public const int MenuPriority = 22;
+
+        [MenuItem(MenuPath, false, MenuPriority)]
+        private static void CreateFromMenu(MenuCommand command)
+        {
+            var volume = CreateVolume(command.context as GameObject);
+            // Selection.activeGameObject: Editor/Mono/Selection.bindings.cs
+            Selection.activeGameObject = volume.gameObject;
+        }
+
+        /// <summary>Creates "LPNN Probes" (the volume) with a child "LPNN Light Probes" (its LightProbeGroup), parented to
+        /// <paramref name="parent"/> when given, as one Undo step.</summary>
+        public static LpnnVolume CreateVolume(GameObject parent)
+        {
+            var root = new GameObject("LPNN Probes");
+            // GameObjectUtility.SetParentAndAlign / EnsureUniqueNameForSibling: Editor/Mono/GameObjectUtility.bindings.cs
+            GameObjectUtility.SetParentAndAlign(root, parent);
+            if (parent == null && SceneView.lastActiveSceneView != null) root.transform.position = SceneView.lastActiveSceneView.pivot;
+            GameObjectUtility.EnsureUniqueNameForSibling(root);
+            var volume = root.AddComponent<LpnnVolume>();
+
+            var probes = new GameObject("LPNN Light Probes");
+            GameObjectUtility.SetParentAndAlign(probes, root);
+            var group = probes.AddComponent<LightProbeGroup>();
+            group.probePositions = new Vector3[0];
+
+            var model = AssetDatabase.LoadAssetAtPath<Object>(LpnnPaths.ShippedModel);
+            var card = AssetDatabase.LoadAssetAtPath<TextAsset>(LpnnPaths.ShippedModelCard);
+            volume.Configure(group, model, card);
+            Undo.RegisterCreatedObjectUndo(root, "Create LPNN Probes");
+            return volume;
+        }
+    }
+}

@@ -1,0 +1,44 @@
+using Lpnn.Probes.Core.Features;
+using Unity.Collections;
+using UnityEngine;
+using NumericsVector3 = System.Numerics.Vector3;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>The core's IRaycaster on Unity physics: one batched RaycastCommand job per call, hitting faces of either
+    /// side (QueryParameters.hitBackfaces) and ignoring triggers (UnityCsReference 2022.3
+    /// Modules/Physics/ScriptBindings/QueryCommand.bindings.cs; 6000.0 same file). Call inside a <see cref="RaycastScope"/>
+    /// so transforms are synced and the volume's own colliders are out of the way.</summary>
+    public sealed class PhysicsRaycaster : IRaycaster
+    {
+        private const int MinCommandsPerJob = 256;
+
+        public void Cast(NumericsVector3[] origins, NumericsVector3[] directions, float maxDistance, RayHit[] results)
+        {
+            int count = origins.Length;
+            var query = new QueryParameters(Physics.DefaultRaycastLayers, false, QueryTriggerInteraction.Ignore, true);
+            // Plain locals + finally rather than `using`: elements are written, and C# forbids writing into a struct using-variable.
+            var commands = new NativeArray<RaycastCommand>(count, Allocator.TempJob);
+            var hits = new NativeArray<RaycastHit>(count, Allocator.TempJob);
+            try
+            {
+                for (int r = 0; r < count; r++)
+                    commands[r] = new RaycastCommand(origins[r].ToUnity(), directions[r].ToUnity(), query, maxDistance);
+                RaycastCommand.ScheduleBatch(commands, hits, MinCommandsPerJob, 1).Complete();
+                for (int r = 0; r < count; r++)
+                {
+                    var hit = hits[r];
+                    // An empty result slot has collider instance id 0 (RaycastHit.bindings.cs).
+                    results[r] = hit.colliderInstanceID == 0
+                        ? RayHit.Miss
+                        : new RayHit { Distance = hit.distance, Normal = hit.normal.ToNumerics() };
+                }
+            }
+            finally
+            {
+                commands.Dispose();
+                hits.Dispose();
+            }
+        }
+    }
+}

@@ -1,0 +1,156 @@
+using System.Threading;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
+using UnityEditor;
+using NumericsVector3 = System.Numerics.Vector3;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>The pipeline steps of one volume, shared by the inspector, batch mode, the demo and the tests:
+    /// grid → lighting → features → scores → selection → LightProbeGroup. Every algorithm is the core's; this class
+    /// only connects it to Unity. Each step publishes its result at the end, so a cancel or an error keeps the
+    /// previous state. Each returns the one-line summary the inspector shows.</summary>
+    public static class LpnnPipeline
+    {
+        /// <summary>Points above which the inspector asks before running a heavy step.</summary>
+        public const int LargeGridWarning = 250_000;
+
+        public static string BuildGrid(LpnnVolume volume, LpnnSession session)
+        {
+            var boxes = volume.GetWorldBoxes();
+            var grid = GridBuilder.Build(boxes, volume.CellSize, volume.PointLimit);
+            session.SetGrid(grid, GridSignature.Of(boxes, volume.CellSize));
+            return InvariantFormat.Count(grid.Count) + " evaluation points, about " +
+                   Megabytes(EvaluationGrid.EstimateBytes(grid.Count, FeatureExtractor.Schema.Count)) + " through the pipeline";
+        }
+
+        public static string SampleLighting(LpnnVolume volume, LpnnSession session, bool sceneBakeAllowed, ProgressCallback progress,
+            CancellationToken cancel)
+        {
+            using (var lighting = EvaluationLighting.Create(volume, sceneBakeAllowed))
+                return SampleLighting(volume, session, lighting, progress, cancel);
+        }
+
+        /// <summary>Samples with a given lighting implementation (the tests pass an analytic one).</summary>
+        public static string SampleLighting(LpnnVolume volume, LpnnSession session, IEvaluationLighting lighting, ProgressCallback progress,
+            CancellationToken cancel)
+        {
+            var grid = FreshGrid(volume, session);
+            float[] sh = lighting.Sample(grid, progress, cancel);
+            session.SetLighting(sh, lighting.Description);
+            return "SH at " + InvariantFormat.Count(grid.Count) + " points, " + lighting.Description;
+        }
+
+        /// <param name="warning">Set when static geometry without colliders was invisible to the rays.</param>
+        public static string ExtractFeatures(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel,
+            out string warning)
+        {
+            var grid = FreshGrid(volume, session);
+            if (session.Sh == null) throw new LpnnException("there is no lighting data for this grid; run the Lighting data step first");
+            FeatureSet features;
+            using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
+            {
+                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(), progress, cancel);
+                warning = physics.Uncovered.Count == 0 ? "" :
+                    physics.Uncovered.Count + " static renderers have no collider (e.g. '" + physics.Uncovered[0].name +
+                    "'), so the rays passed through them; add colliders or enable 'Add Temporary Colliders'";
+            }
+            session.SetFeatures(features);
+            return InvariantFormat.Count(features.PointCount) + " × " + features.Schema.Count + " features (" + features.Schema.Id + ")";
+        }
+
+        public static string Score(LpnnVolume volume, LpnnSession session)
+        {
+            var grid = FreshGrid(volume, session);
+            if (session.Features == null || session.Features.PointCount != grid.Count)
+                throw new LpnnException("there are no features for this grid; run the Features step first");
+            var outcome = LpnnScoring.Score(volume, session, session.Features, grid.CellSize);
+            string model = volume.Model != null ? volume.Model.name : "";
+            // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
+            Undo.RecordObject(volume, "Score LPNN evaluation points");
+            volume.LastScores.Set(grid.CopyIds(), outcome.Scores, grid.CellSize, outcome.DeviceName, model);
+            EditorUtility.SetDirty(volume);
+            return InvariantFormat.Count(outcome.Scores.Length) + " scores on " + outcome.DeviceName +
+                   (outcome.Fallback.Length > 0 ? " (after: " + outcome.Fallback + ")" : "");
+        }
+
+        /// <summary>The selection the current settings give on the last scores.</summary>
+        public static SelectionResult Select(LpnnVolume volume, LpnnSession session)
+        {
+            SelectedPositions(volume, session, out var selection);
+            return selection;
+        }
+
+        /// <summary>World positions of the probes the current settings select on the last scores.</summary>
+        public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, out SelectionResult selection)
+        {
+            var grid = ScoredGrid(volume, session);
+            selection = ProbeSelector.Select(grid, volume.LastScores.Scores, volume.GetSelectionSettings());
+            var positions = new NumericsVector3[selection.Indices.Length];
+            for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
+            return positions;
+        }
+
+        /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
+        public static string Apply(LpnnVolume volume, LpnnSession session)
+        {
+            var positions = SelectedPositions(volume, session, out var selection);
+            ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
+            return positions.Length + " probes placed" + Extras(selection);
+        }
+
+        public static string Extras(SelectionResult selection)
+        {
+            string text = "";
+            if (selection.CornersAdded > 0) text += ", " + selection.CornersAdded + " box corners";
+            if (selection.AddedForTetrahedron > 0) text += ", " + selection.AddedForTetrahedron + " added to form a tetrahedron";
+            return text.Length == 0 ? "" : " (incl." + text.Substring(1) + ")";
+        }
+
+        /// <summary>The session's grid when it still matches the volume; otherwise an error saying to rebuild it.</summary>
+        public static EvaluationGrid FreshGrid(LpnnVolume volume, LpnnSession session)
+        {
+            if (session.Grid == null) throw new LpnnException("there is no evaluation grid yet; run the Volume step (Build grid) first");
+            if (session.GridSignature != GridSignature.Of(volume))
+                throw new LpnnException("the boxes, the transform or the cell size changed since the grid was built; build the grid again");
+            return session.Grid;
+        }
+
+        /// <summary>The grid the stored scores belong to: the session's, or one rebuilt from the current boxes (after a
+        /// domain reload) when its ids are exactly the scored ids.</summary>
+        public static EvaluationGrid ScoredGrid(LpnnVolume volume, LpnnSession session)
+        {
+            var record = volume.LastScores;
+            if (record.IsEmpty) throw new LpnnException("the volume has no scores yet; run the Scoring step first");
+            var grid = session.Grid != null && session.GridSignature == GridSignature.Of(volume) ? session.Grid : null;
+            if (grid == null)
+            {
+                var boxes = volume.GetWorldBoxes();
+                grid = GridBuilder.Build(boxes, volume.CellSize, volume.PointLimit);
+                session.SetGrid(grid, GridSignature.Of(boxes, volume.CellSize));
+            }
+            if (session.ScoresVerifiedForGrid == record.Scores) return grid;
+            if (!SameIds(grid, record.Ids))
+                throw new LpnnException("the stored scores belong to another grid (" + InvariantFormat.Count(record.Count) + " points at cell size " +
+                                        InvariantFormat.Number(record.CellSize) + "); the volume changed since scoring: run Lighting, Features and Scoring again");
+            session.ScoresVerifiedForGrid = record.Scores;
+            return grid;
+        }
+
+        private static bool SameIds(EvaluationGrid grid, int[] ids)
+        {
+            if (ids.Length != 3 * grid.Count) return false;
+            for (int n = 0; n < grid.Count; n++)
+            {
+                var id = grid.GetId(n);
+                if (id.I != ids[3 * n] || id.J != ids[3 * n + 1] || id.K != ids[3 * n + 2]) return false;
+            }
+            return true;
+        }
+
+        public static string Megabytes(long bytes) => InvariantFormat.Number(System.Math.Round(bytes / 1048576.0, 1)) + " MB";
+    }
+}

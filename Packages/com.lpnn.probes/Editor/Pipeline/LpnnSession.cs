@@ -1,0 +1,99 @@
+using System;
+using System.Collections.Generic;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using UnityEditor;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>The transient results of one volume in this editor session: the grid, the lighting at its points, the
+    /// features and the model runner. Large, so never serialized: a domain reload drops them (the scores, which
+    /// are small and needed for gizmos and placement, live on the volume). Results are replaced only when a step
+    /// succeeds, so a cancelled or failed step leaves the previous state intact.</summary>
+    public sealed class LpnnSession : IDisposable
+    {
+        private static readonly Dictionary<int, LpnnSession> Sessions = new Dictionary<int, LpnnSession>();
+
+        static LpnnSession()
+        {
+            // The Sentis worker holds native/GPU memory: release it before scripts reload
+            // (AssemblyReloadEvents: UnityCsReference Editor/Mono/AssemblyReloadEvents.cs).
+            AssemblyReloadEvents.beforeAssemblyReload += DisposeAll;
+        }
+
+        public readonly StepState VolumeStep = new StepState("Volume");
+        public readonly StepState LightingStep = new StepState("Lighting data");
+        public readonly StepState FeaturesStep = new StepState("Features");
+        public readonly StepState ScoringStep = new StepState("Scoring");
+        public readonly StepState PlacementStep = new StepState("Placement");
+        public readonly StepState ExportStep = new StepState("Capture export");
+
+        public EvaluationGrid Grid { get; private set; }
+        /// <summary>The volume signature the grid was built for (GridSignature.Of).</summary>
+        public string GridSignature { get; private set; } = "";
+        /// <summary>27 floats per grid point (Documentation~/sh.md).</summary>
+        public float[] Sh { get; private set; }
+        public string LightingDescription { get; private set; } = "";
+        public FeatureSet Features { get; private set; }
+
+        /// <summary>The stored scores already matched against <see cref="Grid"/> (so the inspector's live preview does not
+        /// compare every id on every repaint).</summary>
+        internal float[] ScoresVerifiedForGrid { get; set; }
+
+        /// <summary>The cached model runner (a Sentis worker), owned by this session.</summary>
+        public IDisposable ModelRunner { get; set; }
+
+        public static LpnnSession For(LpnnVolume volume)
+        {
+            int key = volume.GetInstanceID();
+            if (!Sessions.TryGetValue(key, out var session))
+            {
+                session = new LpnnSession();
+                Sessions[key] = session;
+            }
+            return session;
+        }
+
+        public static void Forget(LpnnVolume volume)
+        {
+            int key = volume.GetInstanceID();
+            if (!Sessions.TryGetValue(key, out var session)) return;
+            session.Dispose();
+            Sessions.Remove(key);
+        }
+
+        public void SetGrid(EvaluationGrid grid, string signature)
+        {
+            Grid = grid;
+            GridSignature = signature ?? "";
+            ScoresVerifiedForGrid = null;
+            Sh = null;
+            LightingDescription = "";
+            Features = null;
+            LightingStep.Reset();
+            FeaturesStep.Reset();
+        }
+
+        public void SetLighting(float[] sh, string description)
+        {
+            Sh = sh;
+            LightingDescription = description ?? "";
+            Features = null;
+            FeaturesStep.Reset();
+        }
+
+        public void SetFeatures(FeatureSet features) => Features = features;
+
+        public void Dispose()
+        {
+            ModelRunner?.Dispose();
+            ModelRunner = null;
+        }
+
+        private static void DisposeAll()
+        {
+            foreach (var session in Sessions.Values) session.Dispose();
+            Sessions.Clear();
+        }
+    }
+}

@@ -1,0 +1,40 @@
+using System.Collections.Generic;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Placement;
+using UnityEditor;
+using UnityEngine;
+using NumericsVector3 = System.Numerics.Vector3;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>Writes probe positions into a LightProbeGroup with Undo and prefab-override support.
+    /// LightProbeGroup.probePositions is in the group's local space (UnityCsReference Runtime/Export/Graphics/LightProbeGroup.bindings.cs;
+    /// the group inspector converts with TransformPoint: Editor/Mono/Inspector/LightProbeGroupInspector.cs).</summary>
+    public static class ProbeGroupWriter
+    {
+        public static void Apply(LightProbeGroup group, IReadOnlyList<NumericsVector3> worldPositions, string undoName)
+        {
+            if (group == null)
+                throw new LpnnException("the volume has no target LightProbeGroup; assign one (GameObject > Light > LPNN Probes creates one)");
+            var local = UnityCoreConversions.WorldToLocal(group.transform, worldPositions);
+            // Undo.RecordObject before the change (Editor/Mono/Undo/Undo.bindings.cs); the prefab call keeps the change as an
+            // override on prefab instances (Editor/Mono/Prefabs/PrefabUtility.cs).
+            Undo.RecordObject(group, undoName);
+            group.probePositions = local;
+            PrefabUtility.RecordPrefabInstancePropertyModifications(group);
+            EditorUtility.SetDirty(group);
+        }
+
+        public static void Clear(LightProbeGroup group) => Apply(group, new NumericsVector3[0], "Clear LPNN probes");
+
+        /// <summary>Imports a *.probes.json (world positions) written by `lpnn place` or by batch mode; returns the count.</summary>
+        public static int Import(LightProbeGroup group, string path)
+        {
+            var content = ProbePositionsFile.Read(path);
+            if (content.Units != "m")
+                Debug.LogWarning("[LPNN] " + path + " states units '" + content.Units + "'; positions are used as they are (Unity units are metres)");
+            Apply(group, content.Positions, "Import LPNN probes");
+            return content.Positions.Length;
+        }
+    }
+}

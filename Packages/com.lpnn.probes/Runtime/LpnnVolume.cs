@@ -1,0 +1,174 @@
+using System.Collections.Generic;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Scoring;
+using Lpnn.Probes.Core.Selection;
+using UnityEngine;
+
+namespace Lpnn.Probes
+{
+    /// <summary>An LPNN volume: the boxes where light probes may go, the grid and selection settings, the model to
+    /// score with and the LightProbeGroup the chosen probes are written to. All work happens in the editor
+    /// (Lpnn.Probes.Editor); this component only holds settings and the last scores, so it works in prefabs and
+    /// costs nothing in a player build.</summary>
+    [AddComponentMenu("Rendering/LPNN Probes Volume")]
+    [DisallowMultipleComponent]
+    public sealed class LpnnVolume : MonoBehaviour
+    {
+        /// <summary>Serialized field names, for SerializedObject.FindProperty in the editor (one place, checked by nameof).</summary>
+        public static class Fields
+        {
+            public const string Boxes = nameof(boxes);
+            public const string CellSize = nameof(cellSize);
+            public const string PointLimit = nameof(pointLimit);
+            public const string LightingSource = nameof(lightingSource);
+            public const string AddTemporaryColliders = nameof(addTemporaryColliders);
+            public const string Model = nameof(model);
+            public const string ModelCard = nameof(modelCard);
+            public const string Backend = nameof(backend);
+            public const string ScoringPointLimit = nameof(scoringPointLimit);
+            public const string Policy = nameof(policy);
+            public const string Percentile = nameof(percentile);
+            public const string Budget = nameof(budget);
+            public const string Threshold = nameof(threshold);
+            public const string KeepBoundsCorners = nameof(keepBoundsCorners);
+            public const string TargetGroup = nameof(targetGroup);
+            public const string GroundTruthGroup = nameof(groundTruthGroup);
+            public const string DatasetFolder = nameof(datasetFolder);
+            public const string ShowGizmos = nameof(showGizmos);
+        }
+
+        public const float MinimumCellSize = 0.001f;
+
+        [Tooltip("Boxes in this object's local space; evaluation points fill their union.")]
+        [SerializeField] private LpnnBox[] boxes = { new LpnnBox(Vector3.zero, new Vector3(8, 3, 8), Vector3.zero) };
+
+        [Tooltip("Distance between evaluation points, in metres (world units).")]
+        [SerializeField] private float cellSize = 0.5f;
+
+        [Tooltip("The grid is refused above this many points (checked before anything is allocated).")]
+        [SerializeField] private int pointLimit = GridBuilder.DefaultPointLimit;
+
+        [SerializeField] private LightingSource lightingSource = LightingSource.BakeAtEvaluationPoints;
+
+        [Tooltip("Give static renderers without colliders a temporary MeshCollider while rays are cast (removed afterwards).")]
+        [SerializeField] private bool addTemporaryColliders = true;
+
+        [Tooltip("The ONNX model (a Sentis / Inference Engine ModelAsset).")]
+        [SerializeField] private Object model;
+
+        [Tooltip("The model card (.card.json beside the .onnx) that states which features the model reads.")]
+        [SerializeField] private TextAsset modelCard;
+
+        [SerializeField] private ScoringBackendPreference backend = ScoringBackendPreference.Auto;
+
+        [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
+        [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
+
+        [SerializeField] private SelectionPolicy policy = SelectionPolicy.Percentile;
+
+        [Tooltip("0.9 keeps the top 10 % of the evaluation points.")]
+        [Range(0, 1)] [SerializeField] private float percentile = 0.9f;
+
+        [Tooltip("Number of probes to keep (highest scores first).")]
+        [SerializeField] private int budget = 256;
+
+        [Tooltip("Keep points whose score, remapped to [0, 1], is at least this.")]
+        [Range(0, 1)] [SerializeField] private float threshold = 0.5f;
+
+        [Tooltip("Also keep the points at the 8 corners of every box, so the probes enclose the whole volume.")]
+        [SerializeField] private bool keepBoundsCorners = true;
+
+        [Tooltip("The LightProbeGroup that Apply writes the chosen probes to.")]
+        [SerializeField] private LightProbeGroup targetGroup;
+
+        [Tooltip("Optional ground-truth LightProbeGroup: exported captures get labels from it (a point is positive when a probe lies in its cell).")]
+        [SerializeField] private LightProbeGroup groundTruthGroup;
+
+        [Tooltip("Folder for exported captures; empty means <project>/LpnnDatasets.")]
+        [SerializeField] private string datasetFolder = "";
+
+        [SerializeField] private bool showGizmos = true;
+
+        [SerializeField, HideInInspector] private LpnnScoreRecord lastScores = new LpnnScoreRecord();
+
+        public IReadOnlyList<LpnnBox> Boxes => boxes ?? new LpnnBox[0];
+        public float CellSize => cellSize;
+        public int PointLimit => pointLimit;
+        public LightingSource Lighting => lightingSource;
+        public bool AddTemporaryColliders => addTemporaryColliders;
+        /// <summary>Kept as a plain Object so the runtime assembly never depends on Sentis; the editor checks its type.</summary>
+        public Object Model => model;
+        public TextAsset ModelCard => modelCard;
+        public ScoringBackendPreference Backend => backend;
+        public int ScoringPointLimit => scoringPointLimit;
+        public LightProbeGroup TargetGroup => targetGroup;
+        public LightProbeGroup GroundTruthGroup => groundTruthGroup;
+        public string DatasetFolder => datasetFolder ?? "";
+        public bool ShowGizmos => showGizmos;
+        public LpnnScoreRecord LastScores => lastScores ?? (lastScores = new LpnnScoreRecord());
+
+        /// <summary>The selection settings in the core's terms.</summary>
+        public SelectionSettings GetSelectionSettings()
+        {
+            switch (policy)
+            {
+                case SelectionPolicy.Budget: return SelectionSettings.Budget(budget, keepBoundsCorners);
+                case SelectionPolicy.Threshold: return SelectionSettings.Threshold(threshold, keepBoundsCorners);
+                default: return SelectionSettings.Percentile(percentile, keepBoundsCorners);
+            }
+        }
+
+        /// <summary>The boxes in world space, through this object's full transform (rotation and any scale).</summary>
+        public List<GridBox> GetWorldBoxes()
+        {
+            var world = new List<GridBox>(Boxes.Count);
+            var localToWorld = transform.localToWorldMatrix;
+            foreach (var box in Boxes) world.Add(UnityCoreConversions.ToWorldGridBox(box, localToWorld));
+            return world;
+        }
+
+        /// <summary>Assigns the target group and the model (used by the menu item, the demo and code).</summary>
+        public void Configure(LightProbeGroup target, Object modelAsset, TextAsset card)
+        {
+            targetGroup = target;
+            model = modelAsset;
+            modelCard = card;
+        }
+
+        public void SetBoxes(params LpnnBox[] newBoxes) => boxes = newBoxes ?? new LpnnBox[0];
+
+        public void SetCellSize(float size) => cellSize = Mathf.Max(MinimumCellSize, size);
+
+        public void SetSelection(SelectionSettings settings)
+        {
+            policy = settings.Policy;
+            keepBoundsCorners = settings.KeepBoundsCorners;
+            switch (settings.Policy)
+            {
+                case SelectionPolicy.Budget: budget = (int)settings.Value; break;
+                case SelectionPolicy.Threshold: threshold = (float)settings.Value; break;
+                default: percentile = (float)settings.Value; break;
+            }
+        }
+
+        public void SetLighting(LightingSource source) => lightingSource = source;
+        public void SetBackend(ScoringBackendPreference preference) => backend = preference;
+        public void SetScoringPointLimit(int limit) => scoringPointLimit = Mathf.Max(1, limit);
+        public void SetGroundTruth(LightProbeGroup group) => groundTruthGroup = group;
+        public void SetDatasetFolder(string folder) => datasetFolder = folder ?? "";
+
+        private void OnValidate()
+        {
+            cellSize = Mathf.Max(MinimumCellSize, cellSize);
+            pointLimit = Mathf.Max(1, pointLimit);
+            scoringPointLimit = Mathf.Max(1, scoringPointLimit);
+            budget = Mathf.Max(1, budget);
+            if (boxes == null) return;
+            for (int b = 0; b < boxes.Length; b++)
+            {
+                var s = boxes[b].size;
+                boxes[b].size = new Vector3(Mathf.Abs(s.x), Mathf.Abs(s.y), Mathf.Abs(s.z));
+            }
+        }
+    }
+}

@@ -1,0 +1,51 @@
+using Lpnn.Probes.Core.Batch;
+using Lpnn.Probes.Core.Scoring;
+using NUnit.Framework;
+
+namespace Lpnn.Probes.Core.Tests
+{
+    [TestFixture]
+    public class BatchOptionsTests
+    {
+        [Test]
+        public void SkipsUnityArgumentsAndReadsOurs()
+        {
+            var options = BatchOptions.Parse(new[]
+            {
+                "Unity", "-batchmode", "-projectPath", "/tmp/p", "-executeMethod", "Lpnn.Probes.Editor.LpnnBatch.Run",
+                "-lpnnScene", "Assets/Corridor.unity", "-lpnnMode", "export", "-lpnnOut", "/data/set", "-lpnnBake",
+                "-lpnnBackend", "CPU", "-lpnnVolume", "LPNN Probes", "-lpnnLabels", "Ground truth", "-logFile", "-",
+            });
+            Assert.That(options.ScenePath, Is.EqualTo("Assets/Corridor.unity"));
+            Assert.That(options.Mode, Is.EqualTo(BatchMode.Export));
+            Assert.That(options.OutputFolder, Is.EqualTo("/data/set"));
+            Assert.That(options.Bake, Is.True);
+            Assert.That(options.Backend, Is.EqualTo(ScoringBackendPreference.Cpu));
+            Assert.That(options.VolumeName, Is.EqualTo("LPNN Probes"));
+            Assert.That(options.LabelsGroupName, Is.EqualTo("Ground truth"));
+            Assert.That(options.SaveScene, Is.False);
+        }
+
+        [Test]
+        public void DefaultsArePlaceWithoutBakeOnAutoBackend()
+        {
+            var options = BatchOptions.Parse(new[] { "-lpnnScene", "Assets/A.unity" });
+            Assert.That(options.Mode, Is.EqualTo(BatchMode.Place));
+            Assert.That(options.Bake, Is.False);
+            Assert.That(options.Backend, Is.EqualTo(ScoringBackendPreference.Auto));
+            Assert.That(options.OutputFolder, Is.Null);
+        }
+
+        [TestCase(new[] { "-lpnnMode", "place" }, "missing -lpnnScene")]
+        [TestCase(new[] { "-lpnnScene" }, "-lpnnScene needs a value")]
+        [TestCase(new[] { "-lpnnScene", "-lpnnBake" }, "-lpnnScene needs a value")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMode", "train" }, "-lpnnMode 'train' must be place or export")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnBackend", "tpu" }, "-lpnnBackend 'tpu' must be auto, gpu or cpu")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnScenes", "B.unity" }, "unknown argument -lpnnScenes")]
+        public void BadArgumentsAreExplained(string[] args, string expected)
+        {
+            var error = Assert.Throws<LpnnException>(() => BatchOptions.Parse(args));
+            StringAssert.Contains(expected, error.Message);
+        }
+    }
+}

@@ -1,0 +1,221 @@
+using System.Collections;
+using System.IO;
+using System.Linq;
+using System.Threading;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Captures;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Placement;
+using Lpnn.Probes.Core.Scoring;
+using Lpnn.Probes.Core.Selection;
+using NUnit.Framework;
+using UnityEditor;
+using UnityEngine;
+using UnityEngine.TestTools;
+using NumericsVector3 = System.Numerics.Vector3;
+
+namespace Lpnn.Probes.Editor.Tests
+{
+    /// <summary>Edit Mode tests of the Unity layer on a room built from code. They need the Unity editor (they cannot run in
+    /// this repository's CI, which only compiles them) and the shipped model at <see cref="LpnnPaths.ShippedModel"/>.</summary>
+    [TestFixture]
+    public class LpnnEditorTests
+    {
+        private TestRoom _room;
+        private LpnnSession _session;
+        private string _folder;
+
+        [SetUp]
+        public void BuildRoom()
+        {
+            _room = TestRoom.Build();
+            _session = LpnnSession.For(_room.Volume);
+            _folder = Path.Combine(Path.GetTempPath(), "lpnn-editor-tests-" + System.Guid.NewGuid().ToString("N"));
+        }
+
+        [TearDown]
+        public void Cleanup()
+        {
+            LpnnSession.Forget(_room.Volume);
+            if (Directory.Exists(_folder)) Directory.Delete(_folder, true);
+        }
+
+        /// <summary>Grid → analytic lighting → features with real physics rays.</summary>
+        private void RunUpToFeatures()
+        {
+            LpnnPipeline.BuildGrid(_room.Volume, _session);
+            using (var lighting = _room.AnalyticLighting())
+                LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
+            string warning;
+            LpnnPipeline.ExtractFeatures(_room.Volume, _session, null, CancellationToken.None, out warning);
+            Assert.That(warning, Is.EqualTo(""), "every wall of the test room has a collider");
+        }
+
+        /// <summary>… then the model card check and the scores on the CPU.</summary>
+        private void RunUpToScores()
+        {
+            RunUpToFeatures();
+            LpnnPipeline.Score(_room.Volume, _session);
+        }
+
+        [Test]
+        public void ShippedModelAndCardAreAssignedByTheMenuItem()
+        {
+            Assert.That(AssetDatabase.LoadAssetAtPath<Object>(LpnnPaths.ShippedModel), Is.Not.Null, "missing " + LpnnPaths.ShippedModel);
+            Assert.That(_room.Volume.Model, Is.Not.Null);
+            Assert.That(_room.Volume.ModelCard, Is.Not.Null);
+            Assert.That(_room.Volume.TargetGroup, Is.Not.Null);
+            Assert.That(_room.Volume.TargetGroup.transform.parent, Is.EqualTo(_room.Volume.transform));
+        }
+
+        [Test]
+        public void MenuItemCreationIsOneUndoStep()
+        {
+            var parent = new GameObject("Parent");
+            Undo.IncrementCurrentGroup();
+            var volume = LpnnMenuItems.CreateVolume(parent);
+            Assert.That(volume.transform.parent, Is.EqualTo(parent.transform));
+            int id = volume.gameObject.GetInstanceID();
+            Undo.PerformUndo();
+            Assert.That(EditorUtility.InstanceIDToObject(id), Is.Null);
+        }
+
+        [Test]
+        public void WorldBoxesFollowRotationAndNonUniformScale()
+        {
+            var volume = _room.Volume;
+            volume.transform.SetPositionAndRotation(new Vector3(1, 2, 3), Quaternion.Euler(0, 90, 0));
+            volume.transform.localScale = new Vector3(2, 1, 1);
+            volume.SetBoxes(new LpnnBox(new Vector3(1, 0, 0), new Vector3(2, 4, 6), Vector3.zero));
+            var box = volume.GetWorldBoxes()[0];
+            // Local +x (scaled by 2) turns into world −z under a 90° yaw.
+            Assert.That(box.Center.X, Is.EqualTo(1).Within(1e-5));
+            Assert.That(box.Center.Z, Is.EqualTo(1).Within(1e-5));
+            Assert.That(box.U.Z, Is.EqualTo(-2).Within(1e-5));
+            Assert.That(box.V.Y, Is.EqualTo(2).Within(1e-5));
+            Assert.That(box.W.X, Is.EqualTo(3).Within(1e-5));
+        }
+
+        [Test]
+        public void FullPipelineOnTheCpuPlacesProbesInTheGroup()
+        {
+            RunUpToScores();
+            var record = _room.Volume.LastScores;
+            Assert.That(record.Count, Is.EqualTo(_session.Grid.Count));
+            Assert.That(record.Backend, Is.EqualTo("CPU"));
+            Assert.That(record.Scores.All(s => !float.IsNaN(s) && s >= 0 && s <= 1), Is.True, "importance must lie in [0, 1]");
+
+            _room.Volume.SetSelection(SelectionSettings.Percentile(0.9, true));
+            LpnnPipeline.Apply(_room.Volume, _session);
+            var expected = LpnnPipeline.Select(_room.Volume, _session);
+            var group = _room.Volume.TargetGroup;
+            Assert.That(group.probePositions.Length, Is.EqualTo(expected.Indices.Length));
+            Assert.That(group.probePositions.Length, Is.GreaterThanOrEqualTo(4));
+            var firstWorld = group.transform.TransformPoint(group.probePositions[0]);
+            var firstPoint = _session.Grid.GetPosition(expected.Indices[0]).ToUnity();
+            Assert.That(Vector3.Distance(firstWorld, firstPoint), Is.LessThan(1e-4f));
+        }
+
+        [Test]
+        public void ApplyIsUndoable()
+        {
+            RunUpToScores();
+            var group = _room.Volume.TargetGroup;
+            group.probePositions = new[] { Vector3.one };
+            Undo.IncrementCurrentGroup();
+            LpnnPipeline.Apply(_room.Volume, _session);
+            Assert.That(group.probePositions.Length, Is.GreaterThan(1));
+            Undo.PerformUndo();
+            Assert.That(group.probePositions, Is.EqualTo(new[] { Vector3.one }));
+        }
+
+        [Test]
+        public void SavedCaptureReadsBackWithLabelsAndAppendNeverOverwrites()
+        {
+            RunUpToScores();
+            string labels;
+            string saved = CaptureExport.Save(_room.Volume, _session, Path.Combine(_folder, "room"), out labels);
+            var capture = CaptureFile.Read(saved);
+            Assert.That(capture.PointCount, Is.EqualTo(_session.Grid.Count));
+            Assert.That(capture.Features, Is.EqualTo(_session.Features.Values));
+            Assert.That(capture.Schema, Is.EqualTo(FeatureSchema.LpnnV1.Id));
+            Assert.That(capture.Labels, Is.Not.Null);
+            Assert.That(capture.Labels.Count(l => l == 1), Is.EqualTo(4), "each of the 4 ground-truth probes lies in its own cell");
+
+            string first = CaptureExport.Append(_room.Volume, _session, _folder, "room", out labels);
+            byte[] before = File.ReadAllBytes(first);
+            string second = CaptureExport.Append(_room.Volume, _session, _folder, "room", out labels);
+            Assert.That(second, Is.Not.EqualTo(first));
+            Assert.That(File.ReadAllBytes(first), Is.EqualTo(before));
+        }
+
+        [Test]
+        public void CardOfAnotherSchemaStopsScoringWithBothSchemasNamed()
+        {
+            RunUpToFeatures();
+            var card = JsonParser.Parse(_room.Volume.ModelCard.text);
+            card.Set("schema", JsonValue.From("lpnn.thesis30"));
+            var wrongCard = new TextAsset(JsonWriter.Write(card)) { name = "wrong.card.json" };
+            _room.Volume.Configure(_room.Volume.TargetGroup, _room.Volume.Model, wrongCard);
+            var error = Assert.Throws<ModelCardException>(() => LpnnPipeline.Score(_room.Volume, _session));
+            StringAssert.Contains("lpnn.features.v1", error.Message);
+            StringAssert.Contains("lpnn.thesis30", error.Message);
+            Assert.That(_room.Volume.LastScores.IsEmpty, Is.True, "nothing is stored when scoring is refused");
+        }
+
+        [Test]
+        public void PointCountGuardStopsScoringBeforeTheModelRuns()
+        {
+            RunUpToFeatures();
+            _room.Volume.SetScoringPointLimit(10);
+            var error = Assert.Throws<ScoringException>(() => LpnnPipeline.Score(_room.Volume, _session));
+            StringAssert.Contains("scoring runs on at most 10", error.Message);
+        }
+
+        [Test]
+        public void ImportedProbesFileLandsInGroupLocalSpace()
+        {
+            var group = _room.Volume.TargetGroup;
+            group.transform.position = new Vector3(10, 0, 0);
+            string path = Path.Combine(_folder, "imported" + ProbePositionsFile.Extension);
+            ProbePositionsFile.Save(path, new[] { new NumericsVector3(11, 1, 0), new NumericsVector3(10, 2, 3) }, null);
+            Assert.That(ProbeGroupWriter.Import(group, path), Is.EqualTo(2));
+            Assert.That(Vector3.Distance(group.probePositions[0], new Vector3(1, 1, 0)), Is.LessThan(1e-5f));
+            Assert.That(Vector3.Distance(group.probePositions[1], new Vector3(0, 2, 3)), Is.LessThan(1e-5f));
+        }
+
+        [Test]
+        public void StaleScoresAreRefusedAfterTheVolumeChanges()
+        {
+            RunUpToScores();
+            _room.Volume.SetCellSize(0.25f);
+            var error = Assert.Throws<LpnnException>(() => LpnnPipeline.Apply(_room.Volume, _session));
+            StringAssert.Contains("the volume changed since scoring", error.Message);
+        }
+
+        [UnityTest]
+        public IEnumerator ScoresAndGizmosSurviveAnEditorFrame()
+        {
+            RunUpToScores();
+            Selection.activeGameObject = _room.Volume.gameObject;
+            SceneView.RepaintAll();
+            yield return null;
+            Assert.That(_room.Volume.LastScores.Count, Is.EqualTo(_session.Grid.Count));
+        }
+
+        /// <summary>The real thing: Unity's baker lights the evaluation points (Unity 6: LightTransport on the GPU;
+        /// 2022.3: a full bake of the test scene). Explicit because it is slow and needs a GPU on Unity 6.</summary>
+        [Test, Explicit("bakes lighting: slow, needs a saved scene and a GPU")]
+        public void BakedLightingGivesFiniteShAtEveryPoint()
+        {
+            UnityEditor.SceneManagement.EditorSceneManager.SaveScene(_room.Volume.gameObject.scene, "Assets/LpnnBakeTest.unity");
+            LpnnPipeline.BuildGrid(_room.Volume, _session);
+            _room.Volume.SetLighting(LightingSource.BakeAtEvaluationPoints);
+            LpnnPipeline.SampleLighting(_room.Volume, _session, true, null, CancellationToken.None);
+            Assert.That(_session.Sh.All(v => !float.IsNaN(v) && !float.IsInfinity(v)), Is.True);
+            Assert.That(_session.Sh.Max(), Is.GreaterThan(0f), "the lights must reach some evaluation points");
+            AssetDatabase.DeleteAsset("Assets/LpnnBakeTest.unity");
+        }
+    }
+}
