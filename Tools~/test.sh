@@ -8,13 +8,13 @@ rm -rf "$BUILD_DIR/reports"; mkdir -p "$BUILD_DIR/reports"
 checks="$BUILD_DIR/reports/checks.txt"; : > "$checks"
 reports=()
 
-step() {  # step NAME COMMAND... : records pass/fail of a non-runner step, keeps going
+step() {  # step NAME COMMAND... : records pass/fail of a non-runner step (callers add `|| true` to keep going)
   local name="$1"; shift
   if "$@"; then echo "pass $name" >> "$checks"; return 0; fi
   echo "fail $name" >> "$checks"; return 1
 }
 
-step "install system packages" bash "Tools~/install-system.sh"
+step "install system packages" bash "Tools~/install-system.sh" || true
 
 if step "build C# core and tests (mcs)" bash "Tools~/build-csharp.sh"; then
   reports+=("$BUILD_DIR/reports/nunit-core.xml")
@@ -24,8 +24,8 @@ if step "build C# core and tests (mcs)" bash "Tools~/build-csharp.sh"; then
 fi
 
 step "compile Runtime, Editor, Tests/Editor and the sample against the declared Unity API surface" \
-  bash "Tools~/compile-unity-layer.sh"
-step "package layout: .meta files, asmdefs, package.json" python3 "Tools~/check-package.py"
+  bash "Tools~/compile-unity-layer.sh" || true
+step "package layout: .meta files, asmdefs, package.json" python3 "Tools~/check-package.py" || true
 
 if PY=$(bash "Tools~/setup-python.sh"); then
   echo "pass set up Python environment" >> "$checks"

@@ -1,0 +1,7 @@
+"""The one error type of the scene importer."""
+
+from __future__ import annotations
+
+
+class BspError(ValueError):
+    """A level file cannot be used; the message names the file, the lump or record, and the value."""

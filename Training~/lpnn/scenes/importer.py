@@ -1,0 +1,159 @@
+"""Level -> capture: evaluation grid, removal of points in solid, SH from the light grid, features.
+
+Everything is in Unity axes and metres (coords.py); the capture is the one Unity would export for
+the same volume (file-formats.md), so training and evaluation run on real baked lighting.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .. import __version__
+from ..core.capture import Capture
+from ..core.features import extract_features
+from ..core.grid import Box, EvaluationGrid, GridError, build_grid
+from ..core.schema import LPNN_V1
+from .coords import quake_to_unity, unity_to_quake
+from .defaults import DEFAULT_CELL, DEFAULT_POINT_LIMIT
+from .errors import BspError
+from .levels import Level, load_level
+from .lightgrid import LightGrid
+from .patches import PATCH_LEVEL
+from .raycast import EmbreeRaycaster
+from .solid import SolidTester
+from .surfaces import ray_geometry
+
+BACKEND = "openarena"
+# The lattice before solid removal may hold this many times the point limit: only ids and
+# positions exist at that stage (~24 bytes a point), and big open levels lose most of it.
+LATTICE_FACTOR = 4
+
+Progress = Callable[[str, int, int], None]  # (step, done, total)
+
+
+@dataclass
+class ImportResult:
+    capture: Capture
+    level: Level
+    removed_solid: int
+    unlit_points: int  # points in the capture where every light grid corner is zero: black SH
+    removed_unlit: int  # unlit points dropped (drop_unlit)
+    lattice_points: int
+    rays: int
+    triangles: int
+    # read, grid, solid, sh, geometry, features (of which rays: time inside the raycaster); the CLI adds write
+    seconds: dict[str, float] = field(default_factory=dict)
+
+
+def auto_box(level: Level) -> Box:
+    """The light grid's extent as one axis-aligned box in Unity metres."""
+    layout = level.bsp.light_grid_layout
+    corners = quake_to_unity(np.stack([layout.origin, layout.maxs]))
+    return Box.axis_aligned(corners.min(axis=0), corners.max(axis=0))
+
+
+def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: list[Box] | None = None,
+                 point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
+                 drop_unlit: bool = False, timings_in_source: bool = True,
+                 progress: Progress | None = None) -> ImportResult:
+    """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
+    are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
+
+    Unlit points (all 8 grid corners zero: q3map2 found no light, or no open space, there) keep
+    black SH, unless drop_unlit removes them too: some levels enclose large dark voids that are
+    not in solid (hydronex, oa_koth1, czest3ctf: about two thirds of their open points).
+
+    timings_in_source=False leaves `feature_seconds` out of the capture, so the same level and cell
+    give byte-identical files.
+    """
+    if point_limit < 1:
+        raise ValueError(f"point_limit {point_limit} must be at least 1")
+    seconds: dict[str, float] = {}
+    clock = time.perf_counter()
+    level = load_level(source) if isinstance(source, str) else source
+    light_grid = LightGrid.from_bsp(level.bsp)
+    seconds["read"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    try:
+        lattice = build_grid(boxes if boxes is not None else [auto_box(level)], cell_size,
+                             point_limit=LATTICE_FACTOR * point_limit)
+    except GridError as exc:
+        raise GridError(f"{level.location}: before removing points in solid (the lattice may hold {LATTICE_FACTOR} x "
+                        f"the point limit {point_limit:,}): {exc}") from exc
+    seconds["grid"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    blocked = solid_mask(level, lattice, progress)
+    removed = int(np.count_nonzero(blocked))
+    remaining = lattice.point_count - removed
+    if remaining == 0:
+        raise BspError(f"{level.location}: all {lattice.point_count:,} evaluation points of the bounds are in solid "
+                       f"or outside the map: choose bounds inside the level (or --bounds auto)")
+    if remaining > point_limit:
+        suggestion = cell_size * (remaining / point_limit) ** (1.0 / 3.0)
+        raise BspError(f"{level.location}: {remaining:,} evaluation points remain at cell size {cell_size:g} m "
+                       f"(after removing {removed:,} in solid), more than the point limit {point_limit:,}: "
+                       f"use a cell of about {suggestion:.3g} m or a higher point limit")
+    grid = lattice.subset(~blocked)
+    seconds["solid"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    positions = grid.positions
+    sh, lit = light_grid.sh_at(positions, None if progress is None else
+                               (lambda done, total: progress("light grid", done, total)))
+    unlit = int(np.count_nonzero(~lit))
+    removed_unlit = 0
+    if drop_unlit and unlit:
+        if unlit == grid.point_count:
+            raise BspError(f"{level.location}: all {unlit:,} evaluation points left are unlit (every light grid "
+                           f"corner is zero); import without dropping unlit points to keep them with black SH")
+        grid, positions, sh, removed_unlit, unlit = grid.subset(lit), positions[lit], sh[lit], unlit, 0
+    sh = sh.astype(np.float32)  # what the capture stores: features are computed from exactly these values
+    seconds["sh"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    soup = ray_geometry(level.bsp)
+    raycaster = EmbreeRaycaster(quake_to_unity(soup.vertices), soup.triangles)
+    seconds["geometry"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    feature_progress = None if progress is None else (lambda done, total: progress("features", done, total))
+    features, scale = extract_features(grid, sh, raycaster, progress=feature_progress)
+    seconds["features"] = time.perf_counter() - clock
+    seconds["rays"] = raycaster.cast_seconds  # part of "features"
+    rays = raycaster.rays_cast
+
+    source_info: dict[str, str | int | float | bool] = {"backend": BACKEND, "level": level.name}
+    if level.pak is not None:
+        source_info["pak"] = level.pak.name
+    source_info.update({
+        "bsp_sha256": level.sha256,
+        "importer": f"lpnn {__version__}",
+        "bounds": bounds_label,
+        "patch_level": PATCH_LEVEL,
+        "rays": rays,
+        "removed_solid": removed,
+        "unlit_points": unlit,
+        "removed_unlit": removed_unlit,
+    })
+    if timings_in_source:
+        source_info["feature_seconds"] = round(seconds["features"], 3)
+    capture = Capture(
+        ids=grid.ids, positions=positions, sh=sh, features=features, schema=LPNN_V1.id,
+        feature_names=list(LPNN_V1.names), cell_size=float(cell_size), lighting_scale=float(scale), units="m",
+        source=source_info,
+    )
+    return ImportResult(capture=capture, level=level, removed_solid=removed, unlit_points=unlit,
+                        removed_unlit=removed_unlit, lattice_points=lattice.point_count, rays=rays,
+                        triangles=soup.triangle_count, seconds=seconds)
+
+
+def solid_mask(level: Level, grid: EvaluationGrid, progress: Progress | None = None) -> np.ndarray:
+    """(N,) bool: grid points in solid or outside the map."""
+    step_progress = None if progress is None else (lambda done, total: progress("solid test", done, total))
+    return SolidTester(level.bsp).solid_or_outside(unity_to_quake(grid.positions), step_progress)
