@@ -126,3 +126,17 @@ def test_missing_paths_are_user_errors(tmp_path, capsys):
     assert "no such capture file or dataset folder" in capsys.readouterr().err
     assert main(["dataset", "validate", str(tmp_path)]) == 1
     assert "no .lpnncap files found" in capsys.readouterr().err
+
+
+def test_atomic_writes_get_normal_file_permissions(tmp_path):
+    import os
+    import stat
+
+    from lpnn.core.atomic import write_bytes_atomic
+
+    old = os.umask(0o022)
+    try:
+        path = write_bytes_atomic(tmp_path / "model.card.json", b"{}")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
