@@ -1,0 +1,90 @@
+"""`lpnn label`: reference-placement labels for captures (Documentation~/quality.md §3).
+
+  lpnn label CAPTURES... (--budget FRACTION | --tolerance TAU) [--method fast|faithful]
+             (--out-dir DIR | --in-place)
+
+A point is positive when the reference placement keeps it: the top FRACTION of the reference
+ordering, or the smallest reference prefix whose mean error is <= TAU. The capture's
+`label_source` records method and parameter, e.g. "reference:fast-greedy budget=0.2". Files are
+written atomically; with --out-dir an existing file is never replaced, only --in-place rewrites.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    from ..quality.arguments import REFERENCE_METHODS, add_policy_arguments
+
+    parser = subparsers.add_parser("label", help="label captures with an error-driven reference placement",
+                                   description="Write reference-placement labels into captures (quality.md).")
+    parser.add_argument("captures", nargs="+", metavar="CAPTURE", help="capture files or dataset folders")
+    add_policy_arguments(parser)
+    parser.add_argument("--method", choices=REFERENCE_METHODS, default="fast",
+                        help="fast (exact greedy with local updates, default) or faithful (LumiProbes' "
+                             "exhaustive loop, <= 200 points)")
+    output = parser.add_mutually_exclusive_group(required=True)
+    output.add_argument("--out-dir", metavar="DIR", help="write labelled copies here (never replaces a file)")
+    output.add_argument("--in-place", action="store_true", help="rewrite each capture in place (atomically)")
+    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for the fast reference (default 1; 2 helps only on an idle second core)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(handler=run)
+
+
+def label_source(method: str, budget: float | None, tolerance: float | None) -> str:
+    name = "fast-greedy" if method == "fast" else "faithful-greedy"
+    parameter = f"budget={budget:g}" if budget is not None else f"tolerance={tolerance:g}"
+    return f"reference:{name} {parameter}"
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..core.atomic import write_new_atomic
+    from ..core.capture import dataset_files, encode_capture, read_capture, write_capture
+    from ..quality.cli_support import progress_bar, run_reference, user_errors
+    from ..quality.metric import ReferenceField
+    from ..quality.policies import budget_count, reference_count, reference_tolerance
+    from .errors import UserError
+
+    files = dataset_files(args.captures)
+    if not files:
+        raise UserError("no capture files found in " + ", ".join(args.captures))
+    out_dir = None if args.in_place else Path(args.out_dir)
+    if out_dir is not None:
+        names = [f.name for f in files]
+        duplicates = sorted({n for n in names if names.count(n) > 1})
+        if duplicates:
+            raise UserError(f"several inputs are named {duplicates[0]!r}; label them into separate --out-dir folders")
+        taken = [out_dir / n for n in names if (out_dir / n).exists()]
+        if taken:
+            raise UserError(f"{taken[0]} exists; choose an empty --out-dir or use --in-place (nothing was written)")
+    source = label_source(args.method, args.budget, args.tolerance)
+    for path in files:
+        capture = read_capture(path)
+        with user_errors(str(path)):
+            field = ReferenceField.from_capture(capture)
+            update, close = progress_bar(f"{path.name}: {args.method} reference", disable=args.quiet)
+            try:
+                decimation = run_reference(field, args.method, str(path), args.workers, update)
+            finally:
+                close()
+            if args.budget is not None:
+                placement = reference_count(decimation, budget_count(args.budget, field.point_count))
+            else:
+                placement = reference_tolerance(decimation, args.tolerance)
+        labels = np.zeros(field.point_count, dtype=np.uint8)
+        labels[placement.indices] = 1
+        labelled = capture.with_labels(labels, source)
+        if out_dir is None:
+            target = write_capture(path, labelled)
+        else:
+            target = out_dir / path.name
+            data = encode_capture(labelled)
+            if not write_new_atomic(target, lambda handle: handle.write(data)):
+                raise UserError(f"{target} appeared while labelling; nothing was replaced")
+        print(f"{path}: {placement.indices.shape[0]:,} of {field.point_count:,} points positive "
+              f"(mean error {placement.mean_error:.4g}, {decimation.seconds:.1f} s) -> {target}")
+    return 0

@@ -1,0 +1,50 @@
+"""Command-line argument types shared by `lpnn label`, `lpnn place` and `lpnn bench`.
+
+Light on purpose (argparse and math only): the commands register their options at `lpnn --help`
+time, before any heavy import.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+REFERENCE_METHODS = ("fast", "faithful")
+
+
+def fraction(text: str) -> float:
+    """argparse type: a budget fraction in (0, 1] written with '.' decimals."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 0.2)") from None
+    if not (math.isfinite(value) and 0.0 < value <= 1.0):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %")
+    return value
+
+
+def tolerance(text: str) -> float:
+    """argparse type: a mean error > 0 written with '.' decimals."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 0.02)") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a mean error > 0, e.g. 0.02 for 2 %")
+    return value
+
+
+def fractions(text: str) -> tuple[float, ...]:
+    """argparse type: comma-separated budget fractions, e.g. 0.1,0.2,0.3."""
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if not parts:
+        raise argparse.ArgumentTypeError("give at least one budget, e.g. 0.1,0.2,0.3")
+    return tuple(fraction(p) for p in parts)
+
+
+def add_policy_arguments(parser: argparse.ArgumentParser) -> None:
+    policy = parser.add_mutually_exclusive_group(required=True)
+    policy.add_argument("--budget", type=fraction, metavar="FRACTION",
+                        help="keep this fraction of the points (0.2 = the best 20 %%)")
+    policy.add_argument("--tolerance", type=tolerance, metavar="TAU",
+                        help="keep the fewest probes whose mean error is <= TAU (0.02 = 2 %%)")

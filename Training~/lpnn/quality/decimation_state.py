@@ -1,0 +1,449 @@
+"""The mutable state of the fast decimation: tetrahedra, hull, every point's stencil and error,
+and exact local removal costs (see reference_fast.py for the algorithm and why it is exact)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+from ..core import sh as shmath
+from .hull_projection import HullIndex, HullProjection, nearest_on_candidates
+from .location import INSIDE_TOLERANCE, locate_local
+from .metric import POINT_ERRORS, ReferenceField
+from .tet_geometry import barycentric_in, best_per_group, edge_frames, orient_and_invert, segment_pairs
+from .triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, flatness, lower_hull, tetrahedralize
+
+VOLUME_TOLERANCE = 1e-9  # the hole's volume must equal the star's to this relative tolerance
+CONFLICT_SLACK = 1e-9  # lifted units (extent ~1): conflicts closer to 0 than this count as possible
+OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+
+
+@dataclass
+class LocalRemoval:
+    """Everything needed to apply one removal without recomputing it."""
+
+    delta: float
+    star: np.ndarray  # (S,) tetrahedra removed
+    cavity: np.ndarray  # (C, 4) int64 point ids of the tetrahedra filling the hole
+    cavity_inverse: np.ndarray  # (C, 3, 3)
+    points: np.ndarray  # (A,) affected evaluation points (v included)
+    cell: np.ndarray  # (A,) index into cavity, or -1 when anchored on a surviving hull triangle
+    kept_cell: np.ndarray  # (A,) surviving tetrahedron owning that triangle (where cell == -1)
+    anchor: np.ndarray  # (A, 3) where each point's weights apply
+    errors: np.ndarray  # (A,) new errors
+    shrinks_hull: bool = False
+
+
+@dataclass
+class GlobalRemoval:
+    delta: float
+
+
+class DecimationState:
+    """The current probe set, its tetrahedra and hull, and every other point's cell, anchor and error."""
+
+    def __init__(self, field: ReferenceField, metric: str):
+        if field.point_count >= (1 << VERTEX_KEY_BITS):
+            raise ValueError(f"the fast reference handles fewer than {1 << VERTEX_KEY_BITS:,} candidates, "
+                             f"got {field.point_count:,}: use a larger cell size")
+        self.field = field
+        self.values = field.values(metric)
+        self.error_of = POINT_ERRORS[metric]
+        self.lifted = field.frame.lifted(field.world)
+        self.local = field.local
+        n = field.point_count
+        self.alive = np.ones(n, dtype=bool)
+        self.anchor = field.local.copy()
+        self.errors = np.zeros(n)
+        self.cell = np.full(n, -1, dtype=np.int64)
+        self._rebuild()
+
+    # ---------------------------------------------------------------------------- global state
+    def _rebuild(self) -> None:
+        """Tetrahedralise the alive probes and locate every other point from scratch."""
+        probes = np.flatnonzero(self.alive)
+        tri = tetrahedralize(self.field.world[probes], self.field.frame)
+        self.tets = probes[tri.tets]
+        self.inverse = tri.inverse
+        self.volume6 = np.abs(edge_frames(self.local, self.tets)[3])
+        self.tet_vertices: list[tuple[int, ...]] = [tuple(t) for t in self.tets.tolist()]  # fast Python access
+        self.tet_count = self.tets.shape[0]
+        self.live_tets = self.tet_count
+        self.star: list[set[int]] = [set() for _ in range(self.field.point_count)]
+        flat = self.tets.reshape(-1)
+        order = np.argsort(flat, kind="stable")
+        for group in np.split(order, np.flatnonzero(np.diff(flat[order])) + 1):
+            self.star[int(flat[group[0]])] = set((group // 4).tolist())
+        faces = probes[tri.hull_faces]
+        self.hull: dict[int, tuple[tuple[int, int, int], int]] = {}
+        self.hull_of_tet: dict[int, list[int]] = {}
+        for key, face, owner in zip(face_keys(faces, self.field.point_count).tolist(), faces.tolist(),
+                                    tri.hull_face_tets.tolist()):
+            self._add_hull_face(key, face, owner)
+        self.members: dict[int, list[int]] = {}
+        others = np.flatnonzero(~self.alive)
+        self.cell[:] = -1
+        self.errors[:] = 0.0
+        self.anchor[:] = self.local
+        if others.shape[0]:
+            stencil = locate_local(tri, self.local[others])
+            interpolated = shmath.blend(self.values[probes], stencil.vertices, stencil.weights)
+            self.errors[others] = self.error_of(interpolated, self.values[others], self.field.scale)
+            self.cell[others] = stencil.cell
+            self.anchor[others] = stencil.anchor
+            order = np.argsort(stencil.cell, kind="stable")
+            for group in np.split(order, np.flatnonzero(np.diff(stencil.cell[order])) + 1):
+                self.members[int(stencil.cell[group[0]])] = others[group].tolist()
+        self._hull_index: tuple[HullIndex, np.ndarray] | None = None
+        self._find_extreme()
+
+    def _add_hull_face(self, key: int, face: list[int], owner: int) -> None:
+        self.hull[key] = (tuple(face), owner)
+        self.hull_of_tet.setdefault(owner, []).append(key)
+
+    def _find_extreme(self) -> None:
+        probes = np.flatnonzero(self.alive)
+        self.extreme = np.zeros(self.field.point_count, dtype=bool)
+        self.extreme[probes[ConvexHull(self.local[probes]).vertices]] = True
+
+    def _append_tets(self, tets: np.ndarray, inverse: np.ndarray) -> np.ndarray:
+        """Store new tetrahedra (capacity doubles: amortised O(1)); returns their ids."""
+        start, stop = self.tet_count, self.tet_count + tets.shape[0]
+        if stop > self.tets.shape[0]:
+            grow = max(stop, 2 * self.tets.shape[0]) - self.tets.shape[0]
+            self.tets = np.concatenate([self.tets, np.zeros((grow, 4), dtype=np.int64)])
+            self.inverse = np.concatenate([self.inverse, np.zeros((grow, 3, 3))])
+            self.volume6 = np.concatenate([self.volume6, np.zeros(grow)])
+        self.tets[start:stop] = tets
+        self.tet_vertices.extend(tuple(t) for t in tets.tolist())
+        self.inverse[start:stop] = inverse
+        self.volume6[start:stop] = np.abs(edge_frames(self.local, tets)[3])
+        self.tet_count = stop
+        return np.arange(start, stop)
+
+    # ------------------------------------------------------------------------------ evaluation
+    def _star_of(self, v: int) -> np.ndarray:
+        return np.fromiter(self.star[v], dtype=np.int64, count=len(self.star[v]))
+
+    def _link_of(self, v: int) -> np.ndarray:
+        """v's neighbours, sorted (Python sets: much faster than np.unique on ~20 tetrahedra)."""
+        vertices = self.tet_vertices
+        link = set().union(*(vertices[t] for t in self.star[v]))
+        link.discard(v)
+        return np.fromiter(sorted(link), dtype=np.int64, count=len(link))
+
+    def _affected(self, v: int, star: np.ndarray) -> np.ndarray:
+        points = [p for t in star.tolist() for p in self.members.get(t, ())]
+        points.append(v)
+        return np.asarray(points, dtype=np.int64)
+
+    def _hole_candidates(self, v: int, star: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """Tetrahedra of link(v)'s triangulation (global ids) and how strongly each conflicts with v
+        (> 0: v lies inside its circumsphere, in lifted units).
+
+        The tetrahedra filling the hole all conflict with v (otherwise they would be in the mesh
+        already); when v keeps the hull they are exactly the conflicting ones. None when Qhull cannot
+        triangulate a solid link (use the safe path); no tetrahedra when the link is flat.
+        """
+        link = self._link_of(v)
+        try:
+            tets, planes = lower_hull(self.lifted[link])
+        except GeometryError:
+            if flatness(self.local[link]) is None:
+                return None
+            return np.zeros((0, 4), dtype=np.int64), np.zeros(0)
+        return link[tets], planes[:, :4] @ self.lifted[v] + planes[:, 4]
+
+    def _fill_holes(self, stars: list[np.ndarray], candidates: list[np.ndarray]
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The candidate tetrahedra (of one removal) whose centroid lies in the star: tets, inverses,
+        6 x volumes (used when the hull shrinks and the hole is only part of the star)."""
+        cavity, inverse, volume6, _ = orient_and_invert(self.local, np.concatenate(candidates))
+        star_ids = np.concatenate(stars)
+        centroids = self.local[cavity].mean(axis=1)
+        corners = self.local[self.tets[star_ids]]  # (S, 4, 3)
+        low, high = corners.min(axis=1) - INSIDE_TOLERANCE, corners.max(axis=1) + INSIDE_TOLERANCE
+        # Barycentric tests only where the centroid is inside the star tetrahedron's bounding box.
+        left, right = np.nonzero(np.all((centroids[:, None, :] >= low[None]) & (centroids[:, None, :] <= high[None]),
+                                        axis=2))
+        star_tets = star_ids[right]
+        lam = barycentric_in(self.local, self.tets[star_tets], self.inverse[star_tets], centroids[left])
+        inside = np.zeros(cavity.shape[0], dtype=bool)
+        inside[left[lam.min(axis=1) >= -INSIDE_TOLERANCE]] = True
+        return cavity[inside], inverse[inside], volume6[inside]
+
+    def removals(self, vertices: list[int]) -> list[LocalRemoval | GlobalRemoval]:
+        """Removal costs of several probes (evaluated independently, each against the current state)."""
+        results: list[LocalRemoval | GlobalRemoval | None] = [None] * len(vertices)
+        batch: list[int] = []
+        stars, candidates, cavities = [], [], []
+        for position, v in enumerate(vertices):
+            star = self._star_of(v)
+            holes = self._hole_candidates(v, star)
+            if self.extreme[v]:
+                # Near-zero conflicts are numerically ambiguous: keep them, the centroid test sorts them out.
+                results[position] = self._extreme_removal(
+                    v, star, None if holes is None else holes[0][holes[1] > -CONFLICT_SLACK])
+            elif holes is None:
+                results[position] = self._global_removal(v)
+            else:
+                batch.append(position)
+                stars.append(star)
+                candidates.append(holes[0])
+                cavities.append(holes[0][holes[1] > 0.0])
+        if batch:
+            batch_vertices = [vertices[p] for p in batch]
+            for k, result in enumerate(self._interior_removals(batch_vertices, stars, cavities)):
+                if result is None:  # near-degenerate link: select the hole by centroids instead
+                    cavity, _, _ = self._fill_holes([stars[k]], [candidates[k]])
+                    result = self._interior_removals([batch_vertices[k]], [stars[k]], [cavity])[0]
+                results[batch[k]] = result if result is not None else self._global_removal(batch_vertices[k])
+        return results  # type: ignore[return-value]
+
+    def _interior_removals(self, vertices: list[int], stars: list[np.ndarray], cavities: list[np.ndarray]
+                           ) -> list[LocalRemoval | None]:
+        """Batched costs of removals that keep the hull (the hole is exactly the star)."""
+        segments = len(vertices)
+        raw_segment = np.repeat(np.arange(segments), [c.shape[0] for c in cavities])
+        cavity, inverse, volume6, kept = orient_and_invert(self.local, np.concatenate(cavities))
+        segment = raw_segment[kept]
+        star_ids = np.concatenate(stars)
+        star_segment = np.repeat(np.arange(segments), [s.shape[0] for s in stars])
+        star_volume6 = np.bincount(star_segment, self.volume6[star_ids], segments)
+        filled = np.abs(np.bincount(segment, volume6, segments) - star_volume6) <= VOLUME_TOLERANCE * star_volume6
+        affected = [self._affected(v, star) for v, star in zip(vertices, stars)]
+        points = np.concatenate(affected)
+        point_segment = np.repeat(np.arange(len(vertices)), [a.shape[0] for a in affected])
+        cavity_count = np.bincount(segment, minlength=len(vertices))
+        cavity_start = np.cumsum(cavity_count) - cavity_count
+        left, right = segment_pairs(point_segment, cavity_start, cavity_count)
+        lam = barycentric_in(self.local, cavity[right], inverse[right], self.anchor[points[left]])
+        pick, best = best_per_group(left, lam.min(axis=1), points.shape[0])
+        located = best >= -INSIDE_TOLERANCE
+        ok = filled & (np.bincount(point_segment, ~located, len(vertices)) == 0)
+        pick = np.where(located, pick, 0)
+        weights = np.clip(lam[pick], 0.0, None)
+        weights /= weights.sum(axis=1, keepdims=True)
+        cell = right[pick]
+        errors = self.error_of(shmath.blend(self.values, cavity[cell], weights), self.values[points], self.field.scale)
+        delta = np.bincount(point_segment, errors - self.errors[points], len(vertices))
+        point_end = np.cumsum([a.shape[0] for a in affected])
+        out: list[LocalRemoval | None] = []
+        for k, star in enumerate(stars):
+            if not ok[k]:
+                out.append(None)
+                continue
+            mine = slice(cavity_start[k], cavity_start[k] + cavity_count[k])
+            rows = slice(point_end[k] - affected[k].shape[0], point_end[k])
+            out.append(LocalRemoval(
+                delta=float(delta[k]), star=star, cavity=cavity[mine], cavity_inverse=inverse[mine],
+                points=affected[k], cell=cell[rows] - cavity_start[k], kept_cell=np.full(affected[k].shape[0], -1),
+                anchor=self.anchor[affected[k]], errors=errors[rows]))
+        return out
+
+    def _extreme_removal(self, v: int, star: np.ndarray, holes: np.ndarray | None) -> LocalRemoval | GlobalRemoval:
+        """Cost of removing a hull vertex: the hull shrinks, points left outside are re-projected."""
+        if holes is None:
+            return self._global_removal(v)
+        if holes.shape[0]:
+            cavity, inverse, _ = self._fill_holes([star], [holes])
+        else:  # v was an "ear": its whole star leaves the hull
+            cavity, inverse = np.zeros((0, 4), dtype=np.int64), np.zeros((0, 3, 3))
+        if cavity.shape[0] == 0 and star.shape[0] == self.live_tets:
+            return GlobalRemoval(delta=float("inf"))  # every tetrahedron goes: the rest is flat
+        points = self._affected(v, star)
+        query = self.local[points]  # positions, not anchors: the hull itself changes
+        count = points.shape[0]
+        weights = np.zeros((count, 4))
+        vertices = np.zeros((count, 4), dtype=np.int64)
+        cell = np.full(count, -1, dtype=np.int64)
+        inside = np.zeros(count, dtype=bool)
+        if cavity.shape[0]:
+            lam = barycentric_in(self.local, np.tile(cavity, (count, 1)),
+                                 np.tile(inverse, (count, 1, 1)), np.repeat(query, cavity.shape[0], axis=0))
+            lam = lam.reshape(count, cavity.shape[0], 4)
+            smallest = lam.min(axis=2)
+            cell = np.argmax(smallest, axis=1)
+            inside = smallest[np.arange(count), cell] >= -INSIDE_TOLERANCE
+            chosen = np.clip(lam[np.arange(count), cell], 0.0, None)
+            weights[inside] = chosen[inside] / chosen[inside].sum(axis=1, keepdims=True)
+            vertices[inside] = cavity[cell[inside]]
+        kept_cell = np.full(count, -1, dtype=np.int64)
+        anchor = query.copy()
+        outside = np.flatnonzero(~inside)
+        if outside.shape[0]:
+            projection, faces, owner_cavity, owner_kept = self._project_onto_shrunken_hull(
+                v, star, cavity, query[outside])
+            vertices[outside, :3] = faces[projection.face]
+            weights[outside, :3] = projection.weights
+            anchor[outside] = projection.anchor
+            cell[outside] = owner_cavity[projection.face]
+            kept_cell[outside] = owner_kept[projection.face]
+        cell[~inside & (kept_cell >= 0)] = -1
+        errors = self.error_of(shmath.blend(self.values, vertices, weights), self.values[points], self.field.scale)
+        return LocalRemoval(delta=float(errors.sum() - self.errors[points].sum()), star=star, cavity=cavity,
+                             cavity_inverse=inverse, points=points, cell=cell, kept_cell=kept_cell, anchor=anchor,
+                             errors=errors, shrinks_hull=True)
+
+    def _hole_boundary(self, v: int, star: np.ndarray, cavity: np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, set[int]]:
+        """Hull triangles that appear when v goes (F, 3), each with its owner: a cavity row (else -1)
+        and a surviving tetrahedron (else -1); and the keys of hull triangles that the hole closes.
+
+        Two kinds appear: boundary triangles of the hole that do not face the rest of the mesh, and
+        (when the hull shrinks) triangles of link(v) that faced star(v) and now face the outside.
+        A hull triangle that a hole tetrahedron lands on becomes interior ("closed"): this only
+        happens with nearly coplanar hull points (float32 noise), where Qhull's local decision and
+        the mesh's disagree at the rounding level; the mesh then follows the local one.
+        """
+        n = self.field.point_count
+        star_set = set(star.tolist())
+        faces = cavity[:, OPPOSITE_FACES].reshape(-1, 3)
+        keys = face_keys(faces, n)
+        _, first, counts = np.unique(keys, return_index=True, return_counts=True)
+        cavity_keys = set(keys.tolist())
+        star_tets = self.tets[star]
+        link_faces = star_tets[star_tets != v].reshape(-1, 3)  # each star tetrahedron's face opposite v
+        link_keys = face_keys(link_faces, n).tolist()
+        inner = {k for k in link_keys if k not in self.hull}  # shared with a surviving tetrahedron
+        hole, closed = [], set()
+        for i in first[counts == 1].tolist():
+            key = int(keys[i])
+            if key in inner:
+                continue
+            if key in self.hull and self.hull[key][1] not in star_set:
+                closed.add(key)
+            else:
+                hole.append(i)
+        exposed = [i for i, k in enumerate(link_keys) if k in inner and k not in cavity_keys]
+        exposed_owner = []
+        for i in exposed:
+            a, b, c = link_faces[i].tolist()
+            exposed_owner.append(min((self.star[a] & self.star[b] & self.star[c]) - star_set))
+        out_faces = np.concatenate([faces[hole].reshape(-1, 3), link_faces[exposed].reshape(-1, 3)])
+        owner_cavity = np.concatenate([np.asarray(hole, dtype=np.int64) // 4, np.full(len(exposed), -1)])
+        owner_kept = np.concatenate([np.full(len(hole), -1), np.asarray(exposed_owner, dtype=np.int64)])
+        return out_faces.astype(np.int64), owner_cavity.astype(np.int64), owner_kept.astype(np.int64), closed
+
+    def _indexed_hull(self) -> tuple[HullIndex, np.ndarray]:
+        """The current hull triangles with a search tree (rebuilt only after the hull changed), and owners."""
+        if self._hull_index is None:
+            entries = list(self.hull.values())
+            faces = np.asarray([face for face, _ in entries], dtype=np.int64).reshape(-1, 3)
+            owners = np.asarray([owner for _, owner in entries], dtype=np.int64)
+            self._hull_index = (HullIndex(self.local, faces), owners)
+        return self._hull_index
+
+    def _project_onto_shrunken_hull(self, v: int, star: np.ndarray, cavity: np.ndarray, query: np.ndarray
+                                    ) -> tuple[HullProjection, np.ndarray, np.ndarray, np.ndarray]:
+        """Nearest points on the hull without v: the triangles not owned by star(v), plus the new ones.
+
+        Tries the triangles touching link(v) first (certified by the supporting-plane test against the
+        remaining extreme probes and link(v)); points that fail it use every hull triangle.
+        Returns the projection, the triangles (F, 3), and per triangle its cavity owner (or -1) and
+        surviving owner (or -1)."""
+        new_faces, new_cavity, new_kept, closed = self._hole_boundary(v, star, cavity)
+        link = self._link_of(v)
+        star_set = set(star.tolist())
+        nearby = {t for u in link.tolist() for t in self.star[u]} - star_set
+        keys = [key for t in nearby for key in self.hull_of_tet.get(t, ()) if key not in closed]
+        kept_faces = np.asarray([self.hull[key][0] for key in keys], dtype=np.int64).reshape(-1, 3)
+        kept_owner = np.asarray([self.hull[key][1] for key in keys], dtype=np.int64)
+        touching = np.isin(kept_faces, link).any(axis=1)  # the triangles around the hole
+        kept_faces, kept_owner = kept_faces[touching], kept_owner[touching]
+        hull_points = np.union1d(np.flatnonzero(self.extreme), link)
+        hull_points = self.local[hull_points[hull_points != v]]
+        faces = np.concatenate([kept_faces, new_faces])
+        owner_cavity = np.concatenate([np.full(kept_faces.shape[0], -1), new_cavity])
+        owner_kept = np.concatenate([kept_owner, new_kept])
+        projection, certified = nearest_on_candidates(self.local, faces, query, hull_points)
+        if not np.all(certified):
+            index, owners = self._indexed_hull()
+            allowed = ~np.isin(owners, star) & ~np.isin(face_keys(index.faces, self.field.point_count),
+                                                         np.fromiter(closed, dtype=np.int64, count=len(closed)))
+            everywhere = index.nearest(query[~certified], allowed, new_faces)
+            faces = np.concatenate([faces, index.faces])
+            owner_cavity = np.concatenate([owner_cavity, np.full(index.faces.shape[0], -1)])
+            owner_kept = np.concatenate([owner_kept, owners])
+            # everywhere numbers the indexed triangles first, then new_faces.
+            remap = np.concatenate([np.arange(index.faces.shape[0]) + kept_faces.shape[0] + new_faces.shape[0],
+                                    kept_faces.shape[0] + np.arange(new_faces.shape[0])])
+            face = projection.face.copy()
+            weights, anchor, distance = projection.weights.copy(), projection.anchor.copy(), projection.distance.copy()
+            rows = np.flatnonzero(~certified)
+            face[rows], weights[rows] = remap[everywhere.face], everywhere.weights
+            anchor[rows], distance[rows] = everywhere.anchor, everywhere.distance
+            projection = HullProjection(face=face, weights=weights, anchor=anchor, distance=distance)
+        return projection, faces, owner_cavity, owner_kept
+
+    def _global_removal(self, v: int) -> GlobalRemoval:
+        """Cost by re-tetrahedralising everything (the safe path); inf if the rest would be flat."""
+        self.alive[v] = False
+        probes = np.flatnonzero(self.alive)
+        try:
+            tri = tetrahedralize(self.field.world[probes], self.field.frame)
+        except GeometryError:
+            return GlobalRemoval(delta=float("inf"))
+        finally:
+            self.alive[v] = True
+        points = self._affected(v, self._star_of(v))
+        stencil = locate_local(tri, self.local[points])
+        interpolated = shmath.blend(self.values[probes], stencil.vertices, stencil.weights)
+        errors = self.error_of(interpolated, self.values[points], self.field.scale)
+        return GlobalRemoval(delta=float(errors.sum() - self.errors[points].sum()))
+
+    # -------------------------------------------------------------------------------- removing
+    def remove(self, v: int, removal: LocalRemoval | GlobalRemoval) -> tuple[np.ndarray, np.ndarray, bool]:
+        """Apply a fresh removal. Returns the probes whose star or points changed, the tetrahedra
+        that died, and whether the hull triangles changed."""
+        if isinstance(removal, GlobalRemoval):
+            self.alive[v] = False
+            self._rebuild()
+            return np.flatnonzero(self.alive), np.zeros(0, dtype=np.int64), True
+        star = removal.star
+        new_faces, new_cavity, new_kept, closed = self._hole_boundary(v, star, removal.cavity)
+        link = self._link_of(v)
+        for t in star.tolist():
+            self.members.pop(t, None)
+            for u in self.tet_vertices[t]:
+                self.star[u].discard(t)
+        new_ids = self._append_tets(removal.cavity, removal.cavity_inverse)
+        self.live_tets += removal.cavity.shape[0] - star.shape[0]
+        for t, vertices in zip(new_ids.tolist(), removal.cavity.tolist()):
+            for u in vertices:
+                self.star[u].add(t)
+        shrinks = bool(self.extreme[v])
+        hull_changed = new_faces.shape[0] > 0 or bool(closed)
+        for t in star.tolist():
+            for key in self.hull_of_tet.pop(t, ()):
+                del self.hull[key]
+                hull_changed = True
+        for key in closed:
+            owner = self.hull.pop(key)[1]
+            self.hull_of_tet[owner].remove(key)
+        if hull_changed:
+            self._hull_index = None
+        new_owner = new_kept.copy()
+        new_owner[new_cavity >= 0] = new_ids[new_cavity[new_cavity >= 0]]
+        for key, face, owner in zip(face_keys(new_faces, self.field.point_count).tolist(), new_faces.tolist(),
+                                    new_owner.tolist()):
+            self._add_hull_face(key, face, owner)
+        cells = removal.kept_cell.copy()
+        cells[removal.cell >= 0] = new_ids[removal.cell[removal.cell >= 0]]
+        self.cell[removal.points] = cells
+        self.errors[removal.points] = removal.errors
+        self.anchor[removal.points] = removal.anchor
+        for p, t in zip(removal.points.tolist(), cells.tolist()):
+            self.members.setdefault(t, []).append(p)
+        self.alive[v] = False
+        stale = set(link.tolist())
+        if shrinks:
+            # Surviving tetrahedra that gained a hull triangle or points anchored on one: their
+            # vertices' removal costs change.
+            touched = np.concatenate([removal.kept_cell[removal.kept_cell >= 0], new_kept[new_kept >= 0]])
+            for t in np.unique(touched).tolist():
+                stale.update(self.tets[t].tolist())
+            self._find_extreme()
+        return np.asarray(sorted(stale), dtype=np.int64), star, hull_changed

@@ -1,0 +1,182 @@
+"""Points outside the probes' hull: the nearest point on the hull surface (quality.md §1).
+
+For a point outside the convex hull, the nearest point of the hull is unique (projection onto a
+convex set) and lies on a boundary triangle; the point takes that triangle's barycentric weights,
+which are >= 0 and sum to 1. The map is continuous (projection is 1-Lipschitz, the surface
+interpolant is continuous) and equals the inside interpolation on the hull itself.
+
+Exact and vectorised: each point takes the best of its k nearest triangles (by centroid,
+cKDTree); the answer p for point q is then certified by the supporting-plane test of convex
+projection (p is the nearest point of the hull iff (q - p).(x - p) <= 0 for every hull vertex x);
+the few points that fail it are settled against every triangle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+INITIAL_CANDIDATES = 8
+PROJECTION_TOLERANCE = 4e-12  # supporting-plane slack per unit distance (local units, extent ~1)
+CHUNK_PAIRS = 1 << 20  # point-triangle pairs evaluated per numpy pass
+
+
+@dataclass(frozen=True)
+class HullProjection:
+    face: np.ndarray  # (M,) int64 triangle index (extra triangles follow the indexed ones)
+    weights: np.ndarray  # (M, 3) float64, >= 0, sum 1
+    anchor: np.ndarray  # (M, 3) float64 nearest point on the hull
+    distance: np.ndarray  # (M,) float64
+
+
+def _safe_ratio(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
+    return numerator / np.where(denominator != 0.0, denominator, 1.0)
+
+
+def closest_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Barycentric weights (..., 3) of the closest point of triangle abc to p (Ericson, RTCD §5.1.5)."""
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = np.sum(ab * ap, axis=-1), np.sum(ac * ap, axis=-1)
+    bp = p - b
+    d3, d4 = np.sum(ab * bp, axis=-1), np.sum(ac * bp, axis=-1)
+    cp = p - c
+    d5, d6 = np.sum(ab * cp, axis=-1), np.sum(ac * cp, axis=-1)
+    vc = d1 * d4 - d3 * d2
+    vb = d5 * d2 - d1 * d6
+    va = d3 * d6 - d5 * d4
+    in_a = (d1 <= 0.0) & (d2 <= 0.0)
+    in_b = (d3 >= 0.0) & (d4 <= d3)
+    in_ab = (vc <= 0.0) & (d1 >= 0.0) & (d3 <= 0.0)
+    in_c = (d6 >= 0.0) & (d5 <= d6)
+    in_ac = (vb <= 0.0) & (d2 >= 0.0) & (d6 <= 0.0)
+    in_bc = (va <= 0.0) & ((d4 - d3) >= 0.0) & ((d5 - d6) >= 0.0)
+    t_ab = _safe_ratio(d1, d1 - d3)
+    t_ac = _safe_ratio(d2, d2 - d6)
+    t_bc = _safe_ratio(d4 - d3, (d4 - d3) + (d5 - d6))
+    total = va + vb + vc
+    v_face = _safe_ratio(vb, total)
+    w_face = _safe_ratio(vc, total)
+    zero, one = np.zeros_like(d1), np.ones_like(d1)
+    conditions = [in_a, in_b, in_ab, in_c, in_ac, in_bc]
+    u = np.select(conditions, [one, zero, 1.0 - t_ab, zero, 1.0 - t_ac, zero], 1.0 - v_face - w_face)
+    v = np.select(conditions, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_face)
+    w = np.select(conditions, [zero, zero, zero, one, t_ac, t_bc], w_face)
+    weights = np.clip(np.stack([u, v, w], axis=-1), 0.0, None)
+    return weights / np.sum(weights, axis=-1, keepdims=True)
+
+
+def _nearest_among(query: np.ndarray, corners: np.ndarray, candidates: np.ndarray, allowed: np.ndarray | None
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """For points (M, 3) and candidate triangles (M, k): best triangle, weights, anchor, distance
+    (distance inf when no candidate is allowed)."""
+    m, k = candidates.shape
+    best_face = np.full(m, -1, dtype=np.int64)
+    best_weights = np.zeros((m, 3))
+    best_anchor = np.zeros((m, 3))
+    best_distance = np.full(m, np.inf)
+    if k == 0:
+        return best_face, best_weights, best_anchor, best_distance
+    rows = max(1, CHUNK_PAIRS // k)
+    for start in range(0, m, rows):
+        stop = min(start + rows, m)
+        tri = corners[candidates[start:stop]]  # (r, k, 3, 3)
+        p = query[start:stop, None, :]
+        weights = closest_on_triangles(p, tri[:, :, 0], tri[:, :, 1], tri[:, :, 2])  # (r, k, 3)
+        anchor = np.einsum("rkv,rkvx->rkx", weights, tri)
+        distance = np.sqrt(np.sum((anchor - p) ** 2, axis=-1))
+        if allowed is not None:
+            distance = np.where(allowed[candidates[start:stop]], distance, np.inf)
+        pick = np.argmin(distance, axis=1)  # first of equals: deterministic
+        row = np.arange(stop - start)
+        best_face[start:stop] = candidates[start:stop][row, pick]
+        best_weights[start:stop] = weights[row, pick]
+        best_anchor[start:stop] = anchor[row, pick]
+        best_distance[start:stop] = distance[row, pick]
+    return best_face, best_weights, best_anchor, best_distance
+
+
+class HullIndex:
+    """Hull triangles (H, 3) over points (K, 3) with a centroid tree, for repeated nearest queries."""
+
+    def __init__(self, points: np.ndarray, faces: np.ndarray):
+        self.points = points
+        self.faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+        self.corners = points[self.faces]  # (H, 3, 3)
+        self.tree = cKDTree(self.corners.mean(axis=1)) if self.faces.shape[0] else None
+
+    def nearest(self, query: np.ndarray, allowed: np.ndarray | None = None,
+                extra_faces: np.ndarray | None = None) -> HullProjection:
+        """Nearest point among the allowed indexed triangles and `extra_faces` (E, 3), for points (M, 3).
+
+        The allowed and extra triangles must together be the whole boundary of a convex hull.
+        Faces are numbered indexed first, then extra (H + e).
+        """
+        q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+        m, h = q.shape[0], self.faces.shape[0]
+        extra = np.zeros((0, 3), dtype=np.int64) if extra_faces is None else np.asarray(extra_faces, np.int64)
+        usable = np.ones(h, dtype=bool) if allowed is None else np.asarray(allowed, dtype=bool)
+        if not np.any(usable) and extra.shape[0] == 0:
+            raise ValueError("the hull has no triangles")
+        all_corners = np.concatenate([self.corners, self.points[extra]])
+        all_usable = np.concatenate([usable, np.ones(extra.shape[0], dtype=bool)])
+        hull_vertices = self.points[np.unique(np.concatenate([self.faces[usable].reshape(-1), extra.reshape(-1)]))]
+        candidates = [np.broadcast_to(np.arange(h, h + extra.shape[0]), (m, extra.shape[0]))]
+        if h:
+            k = min(INITIAL_CANDIDATES, h)
+            candidates.append(np.asarray(self.tree.query(q, k=k)[1], dtype=np.int64).reshape(m, k))
+        face, weights, anchor, distance = _nearest_among(q, all_corners, np.concatenate(candidates, axis=1),
+                                                         all_usable)
+        # Supporting-plane certificate; points failing it are settled against every triangle.
+        pending = np.flatnonzero(~_is_projection(q, anchor, distance, hull_vertices))
+        if pending.shape[0]:
+            everything = np.flatnonzero(all_usable)
+            f, w, a, d = _nearest_among(q[pending], all_corners,
+                                        np.broadcast_to(everything, (pending.shape[0], everything.shape[0])), None)
+            face[pending], weights[pending], anchor[pending], distance[pending] = f, w, a, d
+        return HullProjection(face=face, weights=weights, anchor=anchor, distance=distance)
+
+
+def nearest_on_candidates(points: np.ndarray, faces: np.ndarray, query: np.ndarray, hull_points: np.ndarray
+                          ) -> tuple[HullProjection, np.ndarray]:
+    """Nearest point among the candidate triangles (F, 3) for each query (M, 3), and whether it is
+    certified as the nearest point of conv(hull_points) (supporting-plane test).
+
+    Each point first tries its INITIAL_CANDIDATES nearest triangles (by centroid); the points whose
+    answer is not certified then try all the candidates.
+    """
+    q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+    corners = points[faces]
+    every = np.broadcast_to(np.arange(faces.shape[0]), (q.shape[0], faces.shape[0]))
+    if faces.shape[0] > 2 * INITIAL_CANDIDATES:
+        nearest = np.asarray(cKDTree(corners.mean(axis=1)).query(q, k=INITIAL_CANDIDATES)[1], dtype=np.int64)
+        face, weights, anchor, distance = _nearest_among(q, corners, nearest.reshape(q.shape[0], -1), None)
+        certified = _is_projection(q, anchor, distance, hull_points)
+        retry = np.flatnonzero(~certified)
+        if retry.shape[0]:
+            f, w, a, d = _nearest_among(q[retry], corners, every[retry], None)
+            face[retry], weights[retry], anchor[retry], distance[retry] = f, w, a, d
+            certified[retry] = _is_projection(q[retry], a, d, hull_points)
+    else:
+        face, weights, anchor, distance = _nearest_among(q, corners, every, None)
+        certified = _is_projection(q, anchor, distance, hull_points)
+    return HullProjection(face=face, weights=weights, anchor=anchor, distance=distance), certified
+
+
+def _is_projection(query: np.ndarray, anchor: np.ndarray, distance: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """(q - p).(x - p) <= tolerance for all hull vertices x: p is the nearest point of the hull to q."""
+    ok = np.isfinite(distance)
+    rows = max(1, CHUNK_PAIRS // max(vertices.shape[0], 1))
+    for start in range(0, query.shape[0], rows):
+        stop = min(start + rows, query.shape[0])
+        r = query[start:stop] - anchor[start:stop]
+        reach = np.einsum("mx,vx->mv", r, vertices) - np.einsum("mx,mx->m", r, anchor[start:stop])[:, None]
+        # Slack proportional to |q - p|: an accepted p is the nearest point to ~1e-11 of the extent.
+        ok[start:stop] &= reach.max(axis=1) <= PROJECTION_TOLERANCE * distance[start:stop] + 1e-15
+    return ok
+
+
+def project_to_hull(points: np.ndarray, faces: np.ndarray, query: np.ndarray) -> HullProjection:
+    """Nearest point on the triangles `faces` (H, 3) over `points` (K, 3) for each query (M, 3)."""
+    return HullIndex(points, faces).nearest(query)

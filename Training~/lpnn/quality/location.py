@@ -1,0 +1,124 @@
+"""Interpolation stencils: which 4 probes, with which weights, give the lighting at a point.
+
+Inside the hull: the tetrahedron containing the point (vectorised visibility walk from the
+tetrahedron whose centroid is nearest, with a brute-force fallback), barycentric weights clamped
+to >= 0 and renormalised (they are >= -1e-9 before clamping). Outside: the nearest point on the
+hull surface and its triangle's weights (hull_projection.py); the fourth weight is 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .hull_projection import project_to_hull
+from .triangulation import Tetrahedralization
+
+INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
+BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
+CHUNK_PAIRS = 1 << 20
+WALK_STEP_LIMIT = 10_000
+
+
+@dataclass(frozen=True)
+class Stencil:
+    vertices: np.ndarray  # (M, 4) int64 probe indices (into the triangulation's points)
+    weights: np.ndarray  # (M, 4) float64, >= 0, sum 1
+    cell: np.ndarray  # (M,) int64 tetrahedron containing the point, or owning its hull triangle
+    outside: np.ndarray  # (M,) bool: point outside the hull (weights from its projection)
+    anchor: np.ndarray  # (M, 3) local coordinates where the weights apply (the point, or its projection)
+
+    @property
+    def count(self) -> int:
+        return int(self.cell.shape[0])
+
+
+def barycentric(tri: Tetrahedralization, cells: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """Barycentric coordinates (..., 4) of points (..., 3) in tetrahedra `cells` (...)."""
+    base = tri.points[tri.tets[cells, 0]]
+    rest = np.einsum("...ij,...j->...i", tri.inverse[cells], query - base)
+    return np.concatenate([1.0 - rest.sum(axis=-1, keepdims=True), rest], axis=-1)
+
+
+def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Most-inside tetrahedron (max of min barycentric) for each point, and that minimum."""
+    count = tri.tets.shape[0]
+    best_cell = np.empty(query.shape[0], dtype=np.int64)
+    best_min = np.empty(query.shape[0])
+    rows = max(1, CHUNK_PAIRS // count)
+    cells = np.arange(count)
+    for start in range(0, query.shape[0], rows):
+        stop = min(start + rows, query.shape[0])
+        lam = barycentric(tri, cells[None, :], query[start:stop, None, :])  # (r, T, 4)
+        smallest = lam.min(axis=2)
+        pick = np.argmax(smallest, axis=1)
+        best_cell[start:stop] = pick
+        best_min[start:stop] = smallest[np.arange(stop - start), pick]
+    return best_cell, best_min
+
+
+def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Visibility walk for all points at once. Returns cell (-1 = outside) and a 'resolved' mask."""
+    centroids = tri.points[tri.tets].mean(axis=1)
+    cell = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
+    result = np.full(query.shape[0], -1, dtype=np.int64)
+    resolved = np.zeros(query.shape[0], dtype=bool)
+    active = np.arange(query.shape[0])
+    for _ in range(WALK_STEP_LIMIT):
+        if active.shape[0] == 0:
+            break
+        lam = barycentric(tri, cell[active], query[active])
+        worst = np.argmin(lam, axis=1)
+        inside = lam[np.arange(active.shape[0]), worst] >= -INSIDE_TOLERANCE
+        result[active[inside]] = cell[active[inside]]
+        resolved[active[inside]] = True
+        moving = active[~inside]
+        step = tri.neighbours[cell[moving], worst[~inside]]
+        # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+        resolved[moving[step < 0]] = True
+        cell[moving] = step
+        active = moving[step >= 0]
+    return result, resolved
+
+
+def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
+    """Stencils for points given in the triangulation's local coordinates (M, 3)."""
+    q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+    m = q.shape[0]
+    if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
+        cell, smallest = _brute_force(tri, q)
+        cell = np.where(smallest >= -INSIDE_TOLERANCE, cell, -1)
+    else:
+        cell, resolved = _walk(tri, q)
+        stuck = np.flatnonzero(~resolved)  # numerically cycling walks: rare, settle them exactly
+        if stuck.shape[0]:
+            fallback, smallest = _brute_force(tri, q[stuck])
+            cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
+    vertices = np.zeros((m, 4), dtype=np.int64)
+    weights = np.zeros((m, 4))
+    anchor = q.copy()
+    inside = np.flatnonzero(cell >= 0)
+    lam = np.clip(barycentric(tri, cell[inside], q[inside]), 0.0, None)
+    weights[inside] = lam / lam.sum(axis=1, keepdims=True)
+    vertices[inside] = tri.tets[cell[inside]]
+    outside = cell < 0
+    far = np.flatnonzero(outside)
+    if far.shape[0]:
+        projection = project_to_hull(tri.points, tri.hull_faces, q[far])
+        owner = tri.hull_face_tets[projection.face]
+        vertices[far, :3] = tri.hull_faces[projection.face]
+        # The owner's fourth vertex, weight 0, keeps every stencil 4 wide.
+        owner_vertices = tri.tets[owner]
+        is_face_vertex = (owner_vertices[:, :, None] == vertices[far, None, :3]).any(axis=2)
+        vertices[far, 3] = owner_vertices[~is_face_vertex].reshape(-1)
+        weights[far, :3] = projection.weights
+        cell[far] = owner
+        anchor[far] = projection.anchor
+    return Stencil(vertices=vertices, weights=weights, cell=cell, outside=outside, anchor=anchor)
+
+
+def locate(tri: Tetrahedralization, world: np.ndarray) -> Stencil:
+    """Stencils for world positions (M, 3)."""
+    return locate_local(tri, tri.frame.to_local(world))

@@ -1,0 +1,182 @@
+"""The placement error metric (quality.md §2).
+
+For every evaluation point (all grid points of a capture) the lighting interpolated from the probe
+set is compared with the dense reference, per direction of the fixed set D14 (features.md) and per
+RGB channel: 42 numbers per point, never averaged first (averaging over a symmetric set keeps only
+the DC term: LumiProbes bug B5).
+
+- irradiance (primary): e(p) = sum|E_int - E_ref| / (sum(|E_int| + |E_ref|) + 42 eps S), in [0, 1]
+  (features.md's rel(): about half the plain relative error when it is small, and bounded, so a
+  black point that receives leaked light counts 1, not 1/eps)
+- smape (LumiProbes-style): e(p) = mean over the 42 YCoCg values of |x - y| / (|x| + |y| + eps S)
+
+S is the scene scale (features.md: median DC luminance of the capture; the capture header's
+`lighting_scale`) and eps = 0.01, so points darker than 1 % of the typical brightness cannot blow
+the relative error up, and multiplying all lighting by any a > 0 leaves both errors unchanged.
+A capture's error is the mean (and the 95th percentile, linear interpolation) of e over all its
+points; the probes themselves have e = 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..core import sh as shmath
+from ..core.capture import Capture
+from ..core.features import D14, scene_scale
+from .location import Stencil, locate_local
+from .triangulation import Frame, checked_positions, tetrahedralize
+
+METRIC_EPSILON = 0.01
+LIGHT_VALUES = D14.shape[0] * 3
+METRIC_NAMES = ("irradiance", "smape")
+PRIMARY_METRIC = "irradiance"
+PERCENTILE = 95.0
+
+
+class MetricError(ValueError):
+    """The metric cannot be computed from these inputs; the message names the bad value."""
+
+
+@dataclass(frozen=True)
+class ReferenceField:
+    """The dense lighting a placement must reproduce, pre-evaluated in the metric's directions."""
+
+    world: np.ndarray  # (N, 3) float64 evaluation points (= candidate probe positions)
+    local: np.ndarray  # (N, 3) float64 in `frame`
+    light: np.ndarray  # (N, 42) float64 E(p, d) over D14, direction-major RGB
+    ycocg: np.ndarray  # (N, 42) float64 the same values in YCoCg
+    scale: float  # scene scale S
+    frame: Frame
+
+    @property
+    def point_count(self) -> int:
+        return int(self.world.shape[0])
+
+    def values(self, metric: str) -> np.ndarray:
+        return self.ycocg if checked_metric(metric) == "smape" else self.light
+
+    @staticmethod
+    def from_sh(positions: np.ndarray, sh: np.ndarray, scale: float | None = None) -> "ReferenceField":
+        world = checked_positions(positions, "evaluation point positions")
+        values = np.asarray(sh, dtype=np.float64)
+        if values.shape != (world.shape[0], shmath.SH_FLOATS):
+            raise MetricError(f"reference SH must have shape ({world.shape[0]}, 27), got {list(values.shape)}")
+        bad = np.flatnonzero(~np.all(np.isfinite(values), axis=1))
+        if bad.shape[0]:
+            column = int(np.flatnonzero(~np.isfinite(values[bad[0]]))[0])
+            raise MetricError(
+                f"reference SH of point {int(bad[0])} is not finite (sh[{'rgb'[column // 9]},{column % 9}] = "
+                f"{values[bad[0], column]}; {bad.shape[0]:,} points affected): re-bake or re-import the lighting")
+        s = scene_scale(values) if scale is None else float(scale)
+        if not (np.isfinite(s) and s > 0.0):
+            raise MetricError(f"scene scale {scale!r} must be a finite number > 0")
+        light = shmath.evaluate(values, D14)  # (N, 14, 3)
+        frame = Frame.for_points(world)
+        return ReferenceField(world=world, local=frame.to_local(world), light=light.reshape(-1, LIGHT_VALUES),
+                              ycocg=shmath.rgb_to_ycocg(light).reshape(-1, LIGHT_VALUES), scale=s, frame=frame)
+
+    @staticmethod
+    def from_capture(capture: Capture) -> "ReferenceField":
+        return ReferenceField.from_sh(capture.positions, capture.sh, capture.lighting_scale)
+
+
+def checked_metric(metric: str) -> str:
+    if metric not in METRIC_NAMES:
+        raise MetricError(f"unknown metric {metric!r}: use one of {', '.join(METRIC_NAMES)}")
+    return metric
+
+
+def irradiance_error(interpolated: np.ndarray, reference: np.ndarray, scale: float) -> np.ndarray:
+    """Symmetric relative irradiance error per point: rows of 42 values -> (M,), in [0, 1]."""
+    floor = LIGHT_VALUES * METRIC_EPSILON * scale
+    magnitude = (np.abs(interpolated) + np.abs(reference)).sum(axis=1)
+    return np.abs(interpolated - reference).sum(axis=1) / (magnitude + floor)
+
+
+def smape_error(interpolated: np.ndarray, reference: np.ndarray, scale: float) -> np.ndarray:
+    """YCoCg SMAPE per point (values already in YCoCg): rows of 42 values -> (M,), in [0, 1]."""
+    floor = METRIC_EPSILON * scale
+    return np.mean(np.abs(interpolated - reference) / (np.abs(interpolated) + np.abs(reference) + floor), axis=1)
+
+
+POINT_ERRORS: dict[str, Callable[[np.ndarray, np.ndarray, float], np.ndarray]] = {
+    "irradiance": irradiance_error,
+    "smape": smape_error,
+}
+
+
+@dataclass(frozen=True)
+class ErrorSummary:
+    mean: float
+    p95: float
+    per_point: np.ndarray  # (N,)
+
+
+def summarize(per_point: np.ndarray) -> ErrorSummary:
+    errors = np.asarray(per_point, dtype=np.float64)
+    if errors.shape[0] == 0:
+        raise MetricError("no evaluation points: the error of an empty capture is undefined")
+    return ErrorSummary(mean=float(np.mean(errors)), p95=float(np.percentile(errors, PERCENTILE)), per_point=errors)
+
+
+def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
+    indices = np.asarray(probes)
+    if indices.ndim != 1 or not (np.issubdtype(indices.dtype, np.integer) or indices.shape[0] == 0):
+        raise MetricError(f"probe indices must be a 1-D integer array, got {indices.dtype} {list(indices.shape)}")
+    indices = indices.astype(np.int64)
+    n = field.point_count
+    out_of_range = np.flatnonzero((indices < 0) | (indices >= n))
+    if out_of_range.shape[0]:
+        raise MetricError(f"probe index {int(indices[out_of_range[0]])} is outside the {n:,} evaluation points")
+    unique, counts = np.unique(indices, return_counts=True)
+    if np.any(counts > 1):
+        raise MetricError(f"probe index {int(unique[np.argmax(counts > 1)])} is listed more than once")
+    return indices
+
+
+def probe_stencil(field: ReferenceField, probes: np.ndarray) -> tuple[np.ndarray, np.ndarray, Stencil]:
+    """Checked probe indices, the other points (M,) and their stencils (indices into the probes)."""
+    indices = checked_probes(field, probes)
+    tri = tetrahedralize(field.world[indices], field.frame)
+    is_probe = np.zeros(field.point_count, dtype=bool)
+    is_probe[indices] = True
+    others = np.flatnonzero(~is_probe)
+    return indices, others, locate_local(tri, field.local[others])
+
+
+def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+            metric: str) -> np.ndarray:
+    values = field.values(metric)
+    interpolated = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    errors = np.zeros(field.point_count)
+    errors[others] = POINT_ERRORS[metric](interpolated, values[others], field.scale)
+    return errors
+
+
+def point_errors(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> np.ndarray:
+    """Per-point error (N,) of the placement `probes` (indices into the field's points)."""
+    checked_metric(metric)
+    return _errors(field, *probe_stencil(field, probes), metric)
+
+
+def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> ErrorSummary:
+    return summarize(point_errors(field, probes, metric))
+
+
+@dataclass(frozen=True)
+class PlacementQuality:
+    probes: int
+    irradiance: ErrorSummary
+    smape: ErrorSummary
+
+
+def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQuality:
+    """Both metrics for one placement (one tetrahedralisation)."""
+    indices, others, stencil = probe_stencil(field, probes)
+    return PlacementQuality(probes=int(indices.shape[0]),
+                            irradiance=summarize(_errors(field, indices, others, stencil, "irradiance")),
+                            smape=summarize(_errors(field, indices, others, stencil, "smape")))

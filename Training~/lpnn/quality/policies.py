@@ -1,0 +1,128 @@
+"""Selection policies that model only what the scene requires (quality.md §4).
+
+Any ranking (LPNN scores, a reference ordering, a baseline) becomes a probe set by
+- budget: its top-K prefix;
+- tolerance: the smallest prefix whose mean placement error is <= tau.
+Both always end with lpnn.core.selection.ensure_tetrahedron (>= 4 probes, not all in one plane).
+
+The error of a prefix is not monotonic in K (adding a probe re-tetrahedralises and can make some
+points worse), so the tolerance search guarantees what it checks: the returned K has error <= tau,
+K - 1 was checked and failed (unless K is the smallest count searched), and every count below K
+that was checked failed. For a reference decimation every prefix's error is known (its error
+curve), so the answer there is the exact smallest count.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..core.grid import EvaluationGrid
+from ..core.selection import ensure_tetrahedron, percentile_count
+from .decimation import MINIMUM_PROBES, Decimation
+from .metric import PRIMARY_METRIC, ReferenceField, placement_error
+
+SelectionForCount = Callable[[int], np.ndarray]
+
+
+class PolicyError(ValueError):
+    """A policy parameter is out of range; the message names it and the valid range."""
+
+
+@dataclass(frozen=True)
+class Placement:
+    indices: np.ndarray  # (K,) int64 point indices, sorted
+    requested: int  # the count the policy asked for (prefix length)
+    added_for_tetrahedron: int
+    mean_error: float  # placement error (metric below) of `indices`
+    metric: str
+    checked: dict[int, float] = field(default_factory=dict)  # tolerance search: count -> mean error
+
+
+def checked_fraction(fraction: float) -> float:
+    value = float(fraction)
+    if not (math.isfinite(value) and 0.0 < value <= 1.0):
+        raise PolicyError(f"budget {fraction!r} must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %")
+    return value
+
+
+def checked_tolerance(tolerance: float) -> float:
+    value = float(tolerance)
+    if not (math.isfinite(value) and value > 0.0):
+        raise PolicyError(f"tolerance {tolerance!r} must be a mean error > 0, e.g. 0.02 for 2 %")
+    return value
+
+
+def budget_count(fraction: float, point_count: int) -> int:
+    """K for a budget fraction: round(f N) halves up (as selection.percentile_count), at least 1."""
+    return max(1, percentile_count(1.0 - checked_fraction(fraction), point_count))
+
+
+def prefix_selection(grid: EvaluationGrid, ranking: np.ndarray) -> SelectionForCount:
+    """K -> the top-K of a ranking, completed to a tetrahedron."""
+    order = np.asarray(ranking, dtype=np.int64)
+
+    def select(count: int) -> np.ndarray:
+        return ensure_tetrahedron(grid, order, order[:count])[0]
+
+    return select
+
+
+def place_count(field_: ReferenceField, selection: SelectionForCount, count: int,
+                metric: str = PRIMARY_METRIC) -> Placement:
+    """Budget policy: the selection at `count`, with its error."""
+    indices = selection(count)
+    return Placement(indices=indices, requested=count, added_for_tetrahedron=max(0, indices.shape[0] - count),
+                     mean_error=placement_error(field_, indices, metric).mean, metric=metric)
+
+
+def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
+                    metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES) -> Placement:
+    """Tolerance policy: exponential search from `smallest`, then bisection, over prefix counts."""
+    tau = checked_tolerance(tolerance)
+    n = field_.point_count
+    low_limit = max(1, min(int(smallest), n))
+    checked: dict[int, float] = {}
+    chosen: dict[int, np.ndarray] = {}
+
+    def error_at(count: int) -> float:
+        if count not in checked:
+            chosen[count] = selection(count)
+            checked[count] = placement_error(field_, chosen[count], metric).mean
+        return checked[count]
+
+    failing, passing = low_limit - 1, low_limit
+    while error_at(passing) > tau:
+        if passing == n:  # all points: error 0, so only an impossible tolerance gets here
+            raise PolicyError(f"even all {n:,} points miss the tolerance {tau:g}")
+        failing, passing = passing, min(2 * passing, n)
+    while passing - failing > 1:
+        middle = (failing + passing) // 2
+        if error_at(middle) <= tau:
+            passing = middle
+        else:
+            failing = middle
+    indices = chosen[passing]
+    return Placement(indices=indices, requested=passing, added_for_tetrahedron=max(0, indices.shape[0] - passing),
+                     mean_error=checked[passing], metric=metric, checked=dict(sorted(checked.items())))
+
+
+def reference_tolerance(decimation: Decimation, tolerance: float) -> Placement:
+    """Tolerance policy on a reference ordering: the exact smallest prefix, read from its error curve."""
+    count = decimation.smallest_count_within(checked_tolerance(tolerance))
+    return Placement(indices=decimation.prefix(count), requested=count, added_for_tetrahedron=0,
+                     mean_error=float(decimation.error_curve[count]), metric=decimation.metric,
+                     checked={count: float(decimation.error_curve[count])})
+
+
+def reference_count(decimation: Decimation, count: int) -> Placement:
+    """Budget policy on a reference ordering (its prefixes are the decimation's own states); a count
+    below the decimation's floor of 4 gets the floor."""
+    smallest = decimation.point_count - decimation.removed.shape[0]
+    kept = min(max(int(count), smallest), decimation.point_count)
+    return Placement(indices=decimation.prefix(kept), requested=int(count),
+                     added_for_tetrahedron=max(0, kept - int(count)),
+                     mean_error=float(decimation.error_curve[kept]), metric=decimation.metric)

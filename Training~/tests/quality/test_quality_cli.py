@@ -1,0 +1,151 @@
+"""`lpnn label`, `lpnn place`, `lpnn bench` end to end on small synthetic captures."""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lpnn.cli.main import main
+from lpnn.cli.score_cmd import write_scores_csv
+from lpnn.core.capture import Capture, read_capture, write_capture
+from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture
+from lpnn.quality.metric import ReferenceField, placement_error
+from lpnn.quality.reference_fast import fast_decimation
+
+
+def test_label_round_trip_into_a_new_folder(capture_files: list[Path], tmp_path: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "labelled"
+    assert main(["label", *map(str, capture_files[:2]), "--budget", "0.2", "--out-dir", str(out), "--quiet"]) == 0
+    for path in capture_files[:2]:
+        original = read_capture(path)
+        labelled = read_capture(out / path.name)
+        assert labelled.label_source == "reference:fast-greedy budget=0.2"
+        assert int(labelled.labels.sum()) == round(0.2 * original.point_count)
+        np.testing.assert_array_equal(labelled.sh, original.sh)
+        assert original.labels is None  # the source was not touched
+        field = ReferenceField.from_capture(original)
+        expected = fast_decimation(field, workers=1).prefix(int(labelled.labels.sum()))
+        np.testing.assert_array_equal(np.flatnonzero(labelled.labels), expected)
+    assert "positive" in capsys.readouterr().out
+    # Never replaces an existing file: a second run into the same folder fails and writes nothing.
+    before = (out / capture_files[0].name).read_bytes()
+    assert main(["label", str(capture_files[0]), "--tolerance", "0.05", "--out-dir", str(out), "--quiet"]) == 1
+    assert (out / capture_files[0].name).read_bytes() == before
+    assert "exists" in capsys.readouterr().err
+
+
+def test_label_in_place_with_tolerance_and_the_faithful_method(capture_files: list[Path]) -> None:
+    path = capture_files[0]
+    assert main(["label", str(path), "--tolerance", "0.05", "--method", "faithful", "--in-place", "--quiet"]) == 0
+    labelled = read_capture(path)
+    assert labelled.label_source == "reference:faithful-greedy tolerance=0.05"
+    field = ReferenceField.from_capture(labelled)
+    assert placement_error(field, np.flatnonzero(labelled.labels)).mean <= 0.05
+
+
+def test_label_refuses_the_faithful_method_on_large_captures(tmp_path: Path, medium_capture: Capture,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "medium.lpnncap"
+    write_capture(path, medium_capture)
+    assert main(["label", str(path), "--budget", "0.1", "--method", "faithful", "--in-place", "--quiet"]) == 1
+    assert "use --method fast" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("method", ["fast", "uniform", "heuristic", "random"])
+def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, method: str,
+                                    capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / f"{method}.probes.json"
+    assert main(["place", str(capture_files[1]), "--method", method, "--budget", "0.25", "--out", str(out)]) == 0
+    document = json.loads(out.read_text(encoding="utf-8"))
+    capture = read_capture(capture_files[1])
+    assert document["format"] == "lpnn.probes" and document["version"] == 1 and document["space"] == "world"
+    assert document["count"] == len(document["positions"]) == round(0.25 * capture.point_count)
+    grid_points = {tuple(p) for p in capture.positions.tolist()}
+    assert all(tuple(np.float32(p).tolist()) in grid_points for p in document["positions"])
+    printed = capsys.readouterr().out
+    assert "kept" in printed and "mean error" in printed
+
+
+def test_place_from_a_scores_file_with_a_tolerance(capture_files: list[Path], tmp_path: Path) -> None:
+    capture = read_capture(capture_files[2])
+    scores = np.random.default_rng(0).uniform(0, 1, capture.point_count)
+    scores_file = tmp_path / "scores.csv"
+    write_scores_csv(scores_file, capture.ids, scores.astype(np.float32))
+    out = tmp_path / "scored.probes.json"
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--tolerance", "0.1",
+                 "--out", str(out)]) == 0
+    document = json.loads(out.read_text(encoding="utf-8"))
+    assert document["source"]["mean_error"] <= 0.1
+
+
+def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    capture = read_capture(capture_files[0])
+    scores_file = tmp_path / "scores.csv"
+    write_scores_csv(scores_file, capture.ids[::-1].copy(), np.zeros(capture.point_count, dtype=np.float32))
+    assert main(["place", str(capture_files[0]), "--scores", str(scores_file), "--budget", "0.2",
+                 "--out", str(tmp_path / "x.json")]) == 1
+    assert "does not match" in capsys.readouterr().err
+
+
+def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_path: Path) -> None:
+    out = tmp_path / "bench"
+    assert main(["bench", str(capture_files[0]), "--budgets", "0.1,0.3", "--repeats", "1", "--out", str(out)]) == 0
+    with (out / "bench.csv").open(encoding="utf-8", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert tuple(rows[0].keys()) == CSV_COLUMNS
+    methods = {row["method"] for row in rows}
+    assert methods == {"uniform", "random", "heuristic", "fast-reference", "faithful-reference"}
+    assert {row["policy"] for row in rows} == {"budget", "tolerance"}
+    assert len(rows) == 5 * 3
+    for row in rows:
+        assert float(row["mean_error"]) >= 0.0 and "," not in row["mean_error"]
+        if row["method"].endswith("reference") and row["policy"] == "budget":
+            assert float(row["error_ratio"]) == pytest.approx(1.0)
+    for suffix in ("error", "time"):
+        figure = out / f"{capture_files[0].stem}.{suffix}.png"
+        assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+class _StubScorer:
+    """Stands in for OnnxScorer: scores = the DC luminance (any deterministic score will do)."""
+
+    def check_capture(self, capture: Capture, name: str = "") -> None:
+        pass
+
+    def score_capture(self, capture: Capture, name: str = "") -> np.ndarray:
+        return capture.sh[:, 0].astype(np.float32)
+
+
+def test_bench_reports_lpnn_time_split(small_captures: dict[int, Capture]) -> None:
+    capture = replace(small_captures[2], source={**small_captures[2].source, "feature_seconds": 0.25})
+    config = BenchConfig(budgets=(0.2,), tolerance=None, repeats=1, faithful_limit=0)
+    result = bench_capture("room2", capture, config, scorer=_StubScorer())
+    lpnn = [row for row in result.rows if row.method == "lpnn"]
+    assert len(lpnn) == 1
+    row = lpnn[0]
+    assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
+    assert row.seconds >= row.feature_seconds + row.inference_seconds
+    assert row.probes == round(0.2 * capture.point_count)
+    assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
+    assert row.reference_error == pytest.approx(result.reference_curve[row.probes])
+
+
+def test_a_flat_capture_is_a_one_line_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    j, i = np.meshgrid(np.arange(4), np.arange(5), indexing="ij")
+    ids = np.stack([i.ravel(), j.ravel(), np.zeros(20, dtype=np.int64)], axis=1).astype(np.int32)
+    flat = Capture(ids=ids, positions=ids.astype(np.float32), sh=np.ones((20, 27), dtype=np.float32),
+                   features=np.zeros((20, 1), dtype=np.float32), schema="test.flat", feature_names=["zero"],
+                   cell_size=1.0, lighting_scale=1.0)
+    path = tmp_path / "flat.lpnncap"
+    write_capture(path, flat)
+    assert main(["label", str(path), "--budget", "0.5", "--in-place", "--quiet"]) == 1
+    assert main(["place", str(path), "--method", "uniform", "--budget", "0.5", "--out", str(tmp_path / "p.json")]) == 1
+    errors = capsys.readouterr().err.strip().splitlines()
+    assert len(errors) == 2 and all("flat.lpnncap" in line and "plane" in line for line in errors)

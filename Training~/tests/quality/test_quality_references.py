@@ -1,0 +1,117 @@
+"""The two error-driven references: the faithful LumiProbes loop and the fast exact greedy."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lpnn.core.capture import Capture
+from lpnn.quality.decimation import MINIMUM_PROBES
+from lpnn.quality.metric import ReferenceField, placement_error
+from lpnn.quality.reference_faithful import faithful_decimation
+from lpnn.quality.reference_fast import fast_decimation
+
+from lpnn.core import sh as shmath
+
+from quality_support import box_grid, linear_sh, room_capture
+
+BUDGETS = (0.1, 0.2, 0.3)
+# Stated tolerance of "fast <= faithful": both run the same greedy rule on the same tetrahedra, so
+# they agree to rounding; 1e-12 absolute on a mean relative error.
+ROUNDING = 1e-12
+
+
+def _assert_fast_not_worse(field: ReferenceField) -> None:
+    faithful = faithful_decimation(field)
+    fast = fast_decimation(field, workers=1)
+    n = field.point_count
+    for fraction in BUDGETS:
+        count = max(MINIMUM_PROBES, int(fraction * n + 0.5))
+        assert fast.error_curve[count] <= faithful.error_curve[count] + ROUNDING, (fraction, count)
+    counts = np.arange(MINIMUM_PROBES, n + 1)
+    assert np.all(fast.error_curve[counts] <= faithful.error_curve[counts] + ROUNDING)
+    np.testing.assert_array_equal(fast.removed, faithful.removed)  # the same greedy order, in fact
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_fast_reference_is_never_worse_than_the_faithful_one(small_captures: dict[int, Capture], seed: int) -> None:
+    _assert_fast_not_worse(ReferenceField.from_capture(small_captures[seed]))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [3, 4, 5, 6])
+def test_fast_reference_is_never_worse_than_the_faithful_one_on_more_rooms(seed: int) -> None:
+    _assert_fast_not_worse(ReferenceField.from_capture(room_capture(seed, (2.0, 1.5, 1.25))))
+
+
+def test_fast_error_curve_is_the_true_error_of_every_prefix(small_field: ReferenceField) -> None:
+    fast = fast_decimation(small_field, workers=1)
+    ordering = fast.ordering
+    assert np.array_equal(np.sort(ordering), np.arange(small_field.point_count))
+    for count in range(MINIMUM_PROBES, small_field.point_count + 1):
+        truth = placement_error(small_field, np.sort(ordering[:count])).mean
+        assert fast.error_curve[count] == pytest.approx(truth, abs=1e-12)
+        assert np.array_equal(fast.prefix(count), np.sort(ordering[:count]))
+
+
+@pytest.mark.slow
+def test_fast_error_curve_is_exact_on_a_larger_room(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    fast = fast_decimation(field, workers=1)
+    # Projections onto nearly coplanar hull triangles (float32 positions) may pick either triangle:
+    # the anchors then differ by ~1e-9 of the extent, hence the relative tolerance.
+    for count in (4, 10, 30, field.point_count // 10, field.point_count // 3, field.point_count - 1):
+        assert fast.error_curve[count] == pytest.approx(placement_error(field, fast.prefix(count)).mean, rel=1e-7)
+
+
+def test_two_process_fast_reference_gives_the_same_result(small_captures: dict[int, Capture]) -> None:
+    field = ReferenceField.from_capture(small_captures[3])
+    serial = fast_decimation(field, workers=1)
+    parallel = fast_decimation(field, workers=2)
+    np.testing.assert_array_equal(serial.removed, parallel.removed)
+    np.testing.assert_array_equal(serial.error_curve, parallel.error_curve)
+
+
+def test_fast_reference_is_deterministic_and_ranks_every_candidate(small_field: ReferenceField) -> None:
+    first = fast_decimation(small_field, workers=1)
+    second = fast_decimation(small_field, workers=1)
+    np.testing.assert_array_equal(first.ordering, second.ordering)
+    assert first.removed.shape[0] == small_field.point_count - MINIMUM_PROBES
+    assert first.stop_reason == "minimum count"
+
+
+def test_faithful_stopping_rules_follow_lumiprobes() -> None:
+    positions = box_grid(4, 3, 3)
+    sh = linear_sh(positions) + shmath.ambient(np.exp(-np.sum((positions - [1.2, 0.8, 1.1]) ** 2, axis=1))[:, None]
+                                               * np.array([1.0, 0.5, 0.2]))
+    small_field = ReferenceField.from_sh(positions, sh)
+    full = faithful_decimation(small_field)
+    tolerance = float(full.error_curve[small_field.point_count // 2])
+    stopped = faithful_decimation(small_field, max_error=tolerance)
+    kept = small_field.point_count - stopped.removed.shape[0]
+    assert stopped.stop_reason == "max error"
+    assert stopped.error_curve[kept] <= tolerance  # stops *before* the removal that would exceed it
+    assert full.error_curve[kept - 1] > tolerance
+    np.testing.assert_array_equal(stopped.removed, full.removed[: stopped.removed.shape[0]])
+    by_count = faithful_decimation(small_field, min_count=20)
+    assert by_count.removed.shape[0] == small_field.point_count - 20
+    floored = faithful_decimation(small_field, min_count=1)
+    assert small_field.point_count - floored.removed.shape[0] == MINIMUM_PROBES
+
+
+def test_faithful_refuses_large_sets(small_field: ReferenceField) -> None:
+    with pytest.raises(ValueError, match="fast reference"):
+        faithful_decimation(small_field, max_candidates=10)
+
+
+def test_zero_impact_removals_are_taken_first_no_cost_filter() -> None:
+    # LumiProbes B3 rejected removals of cost 0 (and stopped at once when all cost 0). In a linear
+    # field every probe but the 8 corners of the box costs exactly 0: the greedy removes them all,
+    # lowest index first, and the 8 corners still reproduce the field.
+    positions = box_grid(4, 4, 4)
+    field = ReferenceField.from_sh(positions, linear_sh(positions))
+    fast = fast_decimation(field, workers=1)
+    corners = np.flatnonzero(np.all((positions == 0) | (positions == 3), axis=1))
+    assert set(fast.ordering[:8].tolist()) == set(corners.tolist())
+    assert fast.removed[0] == 1  # index 0 is a corner; 1 is the lowest-index zero-cost probe
+    assert np.all(fast.error_curve[8:] < 1e-12)
