@@ -11,17 +11,13 @@ SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Prints the probes ke
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from ..core.capture import Capture
 
 PLACE_METHODS = ("fast", "uniform", "heuristic", "random")
-SCORES_HEADER = ("index", "i", "j", "k", "score")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -40,39 +36,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
     parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for --method fast (default 1; 2 helps only on an idle second core)")
     parser.set_defaults(handler=run)
-
-
-def read_scores_csv(path: str | os.PathLike, ids: np.ndarray) -> np.ndarray:
-    """Scores in capture order from `lpnn score`'s CSV; the ids must match the capture's."""
-    import numpy as np
-
-    from .errors import UserError
-
-    file = Path(path)
-    try:
-        lines = file.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise UserError(f"{file}: cannot read scores: {exc}") from exc
-    rows = [(number, line) for number, line in enumerate(lines, start=1) if line.strip()]
-    if not rows or tuple(c.strip() for c in rows[0][1].split(",")) != SCORES_HEADER:
-        raise UserError(f"{file}: line 1: expected the header {','.join(SCORES_HEADER)} (as `lpnn score` writes)")
-    body = rows[1:]
-    if len(body) != ids.shape[0]:
-        raise UserError(f"{file}: {len(body):,} score rows for a capture of {ids.shape[0]:,} points")
-    scores = np.empty(len(body))
-    for position, (number, line) in enumerate(body):
-        fields = [c.strip() for c in line.split(",")]
-        if len(fields) != len(SCORES_HEADER):
-            raise UserError(f"{file}: line {number}: {len(fields)} fields, expected {len(SCORES_HEADER)}")
-        try:
-            index, i, j, k = (int(v) for v in fields[:4])
-            scores[position] = float(fields[4])
-        except ValueError:
-            raise UserError(f"{file}: line {number}: {line!r} is not index,i,j,k,score with '.' decimals") from None
-        if index != position or (i, j, k) != tuple(int(v) for v in ids[position]):
-            raise UserError(f"{file}: line {number}: point {index} id ({i},{j},{k}) does not match the capture's "
-                            f"point {position} id {tuple(int(v) for v in ids[position])}: scores of another capture?")
-    return scores
 
 
 def run(args: argparse.Namespace) -> int:
@@ -123,6 +86,8 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
                 ranking = rank(OnnxScorer(args.model).score_capture(capture, args.capture))
                 what = f"model {Path(args.model).name}"
             elif args.scores is not None:
+                from .scores_file import read_scores_csv
+
                 ranking = rank(read_scores_csv(args.scores, capture.ids))
                 what = f"scores {Path(args.scores).name}"
             elif args.method == "heuristic":

@@ -3,13 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    import numpy as np
-
-CSV_HEADER = "index,i,j,k,score"
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -20,23 +13,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run)
 
 
-def scores_csv(ids: np.ndarray, scores: np.ndarray) -> str:
-    """One line per point in capture order; '.' decimals and 9 significant digits (round-trips float32)."""
-    rows = (f"{n},{i},{j},{k},{s:.9g}" for n, ((i, j, k), s) in enumerate(zip(ids.tolist(), scores.tolist())))
-    return "\n".join([CSV_HEADER, *rows]) + "\n"
-
-
-def write_scores_csv(path: str | os.PathLike, ids: np.ndarray, scores: np.ndarray) -> None:
-    from ..core.atomic import write_text_atomic
-
-    write_text_atomic(path, scores_csv(ids, scores))
-
-
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..core.capture import read_capture
     from ..train.onnx_scoring import OnnxScorer
+    from .scores_file import write_scores_csv
 
     scorer = OnnxScorer(args.model)
     capture = read_capture(args.capture)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from lpnn.cli.main import main
-from lpnn.cli.score_cmd import write_scores_csv
+from lpnn.cli.scores_file import write_scores_csv
 from lpnn.core.capture import Capture, read_capture, write_capture
 from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture
 from lpnn.quality.metric import ReferenceField, placement_error
