@@ -10,3 +10,4 @@ mcs -nologo -langversion:7.2 -r:System.Numerics.dll -r:System.Numerics.Vectors.d
 (cd "$BUILD_DIR" && MONO_PATH="$BUILD_DIR" mono GoldenWriter.exe "$REPO_ROOT/Tests/Data")
 PY=$(bash "Tools~/setup-python.sh")
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_sh_golden.py" "$REPO_ROOT/Tests/Data"
+PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_quality_golden.py" "$REPO_ROOT/Tests/Data"

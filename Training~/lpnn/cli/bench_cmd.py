@@ -1,13 +1,14 @@
 """`lpnn bench`: the speed/accuracy benchmark of placement methods (Documentation~/quality.md §6).
 
-  lpnn bench CAPTURES... [--model M.onnx] [--budgets 0.1,0.2,0.3] [--tolerance TAU] [--repeats 3]
-             --out DIR
+  lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.1,0.2,0.3] [--tolerance TAU]
+             [--repeats 3] --out DIR
 
-For every capture x method (uniform, random, heuristic, LPNN with --model, the fast reference, and
-the faithful reference on captures of <= 200 points) x budget, and the tolerance policy: probes,
-time (median of repeats; LPNN split into features / inference / selection), mean and p95 error
-and the ratio to the reference. Writes DIR/bench.csv and per capture DIR/<capture>.error.png and
-DIR/<capture>.time.png.
+For every capture x method (uniform, random, heuristic; with --model the LPNN tiers lpnn-topk, lpnn
+(spread ranking) and lpnn-refine (spread + seeded exact refinement, factor F, default 2); the fast
+reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
+policy: probes, time (median of repeats; LPNN split into features / inference / selection /
+refinement), mean and p95 error and the ratio to the reference. Writes DIR/bench.csv and per capture
+DIR/<capture>.error.png and DIR/<capture>.time.png.
 """
 
 from __future__ import annotations
@@ -17,12 +18,14 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import fractions, tolerance
+    from ..quality.arguments import fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
     parser.add_argument("captures", nargs="+", metavar="CAPTURE", help="capture files or dataset folders")
     parser.add_argument("--model", metavar="M.onnx", help="also benchmark this LPNN model (with its card)")
+    parser.add_argument("--refine", type=refine_factor, default=2.0, metavar="F",
+                        help="seed factor of the lpnn-refine tier (default 2)")
     parser.add_argument("--budgets", type=fractions, default=(0.1, 0.2, 0.3), metavar="F1,F2,...",
                         help="budget fractions (default 0.1,0.2,0.3)")
     parser.add_argument("--tolerance", type=tolerance, default=0.02, metavar="TAU",
@@ -56,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         scorer = OnnxScorer(args.model)
     config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
-                         workers=args.workers)
+                         workers=args.workers, refine=args.refine)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows = []

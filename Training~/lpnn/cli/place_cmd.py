@@ -1,11 +1,14 @@
 """`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
 
   lpnn place CAPTURE (--model M.onnx | --scores SCORES.csv | --method fast|uniform|heuristic|random)
-             (--budget FRACTION | --tolerance TAU) --out PROBES.json
+             [--refine F] [--topk] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
-Budget keeps the top FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
+Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
-SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Prints the probes kept and the error.
+Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
+--topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K spread
+points and decimates down to K. SCORES.csv is what `lpnn score` writes (index,i,j,k,score).
+Prints the probes kept, the error and (LPNN) the time split.
 """
 
 from __future__ import annotations
@@ -15,13 +18,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..core.capture import Capture
+    from ..quality.metric import PlacementQuality
 
 PLACE_METHODS = ("fast", "uniform", "heuristic", "random")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import add_policy_arguments
+    from ..quality.arguments import add_policy_arguments, refine_factor
 
     parser = subparsers.add_parser("place", help="place probes in a capture (budget or error tolerance)",
                                    description="Choose probe positions for a capture and write *.probes.json.")
@@ -33,31 +39,65 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="fast reference, uniform lattice, curvature-weighted farthest-point heuristic, or random (seeded)")
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
+    parser.add_argument("--refine", type=refine_factor, metavar="F",
+                        help="with --model/--scores: refine with the exact greedy seeded by the first F x K spread "
+                             "points (F > 1; 2 recommended; about a second per thousand points)")
+    parser.add_argument("--topk", action="store_true",
+                        help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
+                             "(the old behaviour, for comparison)")
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
-    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for --method fast (default 1; 2 helps only on an idle second core)")
+    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for --method fast and --refine (default 1; 2 helps only on an idle second core)")
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..core.capture import read_capture
     from ..quality.cli_support import user_errors
+    from .errors import UserError
 
+    if args.method is not None and (args.refine is not None or args.topk):
+        raise UserError("--refine and --topk apply to LPNN scores: use them with --model or --scores")
     capture = read_capture(args.capture)
     with user_errors(args.capture):
-        return _place(args, capture)
+        return _place_lpnn(args, capture) if args.method is None else _place(args, capture)
+
+
+def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
+    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, or --topk)."""
+    from ..quality.lpnn_placement import lpnn_placement
+
+    if args.model is not None:
+        from ..train.onnx_scoring import OnnxScorer
+
+        scorer, scores, what = OnnxScorer(args.model), None, f"model {Path(args.model).name}"
+    else:
+        from .scores_file import read_scores_csv
+
+        scorer, scores, what = None, read_scores_csv(args.scores, capture.ids), f"scores {Path(args.scores).name}"
+    placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
+                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture)
+    tier = "top-K" if args.topk else "spread"
+    if args.refine is not None:
+        tier += f" + refine {args.refine:g}"
+    t = placement.timing
+    split = (f"features {t.features * 1000:.0f} ms, " if t.features is not None else "") + (
+        f"inference {t.inference * 1000:.0f} ms, selection {t.selection * 1000:.0f} ms"
+        + (f", refinement {t.refinement:.2f} s" if args.refine is not None else ""))
+    _write(args, capture, placement.indices, placement.quality, placement.added_for_tetrahedron, f"{what} ({tier})",
+           {"seconds": round(t.total, 4)}, f"; {split}")
+    return 0
 
 
 def _place(args: argparse.Namespace, capture: Capture) -> int:
     import numpy as np
 
     from ..core.grid import EvaluationGrid
-    from ..core.selection import ensure_tetrahedron, rank
+    from ..core.selection import ensure_tetrahedron
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selection
     from ..quality.cli_support import progress_bar, run_reference
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
-    from ..quality.probes_file import write_probes_json
 
     field = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
@@ -80,33 +120,31 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
 
             what = "uniform lattice"
         else:
-            if args.model is not None:
-                from ..train.onnx_scoring import OnnxScorer
-
-                ranking = rank(OnnxScorer(args.model).score_capture(capture, args.capture))
-                what = f"model {Path(args.model).name}"
-            elif args.scores is not None:
-                from .scores_file import read_scores_csv
-
-                ranking = rank(read_scores_csv(args.scores, capture.ids))
-                what = f"scores {Path(args.scores).name}"
-            elif args.method == "heuristic":
-                ranking = heuristic_ranking(grid, capture.sh, capture.lighting_scale)
-                what = "farthest-point heuristic"
+            if args.method == "heuristic":
+                ranking, what = heuristic_ranking(grid, capture.sh, capture.lighting_scale), "farthest-point heuristic"
             else:
-                ranking = random_ranking(n, args.seed)
-                what = f"random (seed {args.seed})"
+                ranking, what = random_ranking(n, args.seed), f"random (seed {args.seed})"
             select = prefix_selection(grid, ranking)
         placement = (place_count(field, select, budget_count(args.budget, n)) if args.budget is not None
                      else place_tolerance(field, select, args.tolerance))
-    quality = evaluate_placement(field, placement.indices)
+    _write(args, capture, placement.indices, evaluate_placement(field, placement.indices),
+           placement.added_for_tetrahedron, what, {}, "")
+    return 0
+
+
+def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, quality: PlacementQuality, added: int,
+           what: str, extra_source: dict, extra_text: str) -> None:
+    """Write the probe file (source: capture, method, policy, errors) and print one summary line."""
+    from ..quality.probes_file import write_probes_json
+
+    n = capture.point_count
     policy = f"budget={args.budget:g}" if args.budget is not None else f"tolerance={args.tolerance:g}"
     source = {"capture": Path(args.capture).name, "method": what, "policy": policy,
-              "mean_error": round(quality.irradiance.mean, 6), "p95_error": round(quality.irradiance.p95, 6)}
-    write_probes_json(args.out, capture.positions[placement.indices], capture.units, source)
-    kept = placement.indices.shape[0]
-    extra = f" ({placement.added_for_tetrahedron} added for a tetrahedron)" if placement.added_for_tetrahedron else ""
-    print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %){extra}; "
+              "mean_error": round(quality.irradiance.mean, 6), "p95_error": round(quality.irradiance.p95, 6),
+              **extra_source}
+    write_probes_json(args.out, capture.positions[indices], capture.units, source)
+    kept = indices.shape[0]
+    added_text = f" ({added} added for a tetrahedron)" if added else ""
+    print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %){added_text}; "
           f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
-          f"(SMAPE mean {quality.smape.mean:.4g}) -> {args.out}")
-    return 0
+          f"(SMAPE mean {quality.smape.mean:.4g}){extra_text} -> {args.out}")

@@ -34,6 +34,17 @@ def tolerance(text: str) -> float:
     return value
 
 
+def refine_factor(text: str) -> float:
+    """argparse type: a refinement seed factor > 1 written with '.' decimals."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 2)") from None
+    if not (math.isfinite(value) and value > 1.0):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a factor > 1 (the seed holds F x K points), e.g. 2")
+    return value
+
+
 def fractions(text: str) -> tuple[float, ...]:
     """argparse type: comma-separated budget fractions, e.g. 0.1,0.2,0.3."""
     parts = [p.strip() for p in text.split(",") if p.strip()]

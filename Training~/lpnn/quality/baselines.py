@@ -11,7 +11,9 @@
   w = (c(p)/median(c) + 0.3)^0.25 with c the largest local interpolation error (max over
   k in {1, 2, 4} of features.md's curvature_k: the relative error of linearly interpolating a point
   from its two neighbours k cells away; computed fresh from the SH with the metric's directions).
-  Ties go to the lower index. The constants were chosen on synthetic rooms (seeds 3-7, 10-30 %
+  Ties go to the lower index. The sampling loop is lpnn.core.spread.farthest_point_ranking, the one
+  behind the spread ranking of LPNN scores (same rule, hull corners instead of D14 extremes as seeds,
+  curvature instead of scores as weights). The constants were chosen on synthetic rooms (seeds 3-7, 10-30 %
   budgets): ranking by curvature alone clusters the probes and is worse than random; the weighted
   sampling is ~25 % better than the uniform lattice, about as good as pure farthest-point sampling.
 """
@@ -19,10 +21,11 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError, cKDTree
+from scipy.spatial import ConvexHull, QhullError
 
 from ..core.features import NEIGHBOUR_SCALES, lighting_features
 from ..core.grid import EvaluationGrid
+from ..core.spread import farthest_point_ranking
 
 CURVATURE_COLUMNS = (12, 13, 14)  # curvature_1, curvature_2, curvature_4 in lighting_features
 DEFAULT_SEED = 0
@@ -79,38 +82,6 @@ def curvature_scores(grid: EvaluationGrid, sh: np.ndarray, scale: float) -> np.n
     """Largest multi-scale interpolation error per point (curvature_1, _2, _4 of features.md)."""
     assert len(NEIGHBOUR_SCALES) == len(CURVATURE_COLUMNS)
     return lighting_features(grid, sh, scale)[:, list(CURVATURE_COLUMNS)].max(axis=1)
-
-
-def farthest_point_ranking(positions: np.ndarray, weights: np.ndarray, first: np.ndarray) -> np.ndarray:
-    """`first` (in order), then repeatedly the point maximising weight x distance to the chosen set.
-
-    One argmax over all points per pick, but distances are only updated inside the ball that can
-    change (radius = the largest current distance), found with a k-d tree.
-    """
-    points = np.asarray(positions, dtype=np.float64)
-    n = points.shape[0]
-    tree = cKDTree(points)
-    distance = np.full(n, np.inf)
-    chosen = np.zeros(n, dtype=bool)
-    order = np.empty(n, dtype=np.int64)
-
-    def take(position: int, index: int) -> None:
-        order[position] = index
-        chosen[index] = True
-        reach = float(np.max(distance, initial=0.0))
-        near = (np.arange(n) if not np.isfinite(reach)
-                else np.asarray(tree.query_ball_point(points[index], reach, return_sorted=False), dtype=np.int64))
-        distance[near] = np.minimum(distance[near], np.sqrt(np.sum((points[near] - points[index]) ** 2, axis=1)))
-
-    start = list(dict.fromkeys(int(i) for i in first)) or [0]
-    for position, index in enumerate(start):
-        take(position, index)
-    score = np.empty(n)
-    for position in range(len(start), n):
-        np.multiply(distance, weights, out=score)
-        score[chosen] = -1.0
-        take(position, int(np.argmax(score)))  # argmax: the lowest index among equals
-    return order
 
 
 def heuristic_ranking(grid: EvaluationGrid, sh: np.ndarray, scale: float) -> np.ndarray:

@@ -1,11 +1,14 @@
 """The speed/accuracy benchmark (quality.md §6): every method x budget (and the tolerance policy)
 on every capture: probes kept, time, mean/p95 error (both metrics) and the ratio to the reference.
 
-Times are medians over `repeats` runs for the cheap methods (uniform, random, heuristic, LPNN); the
-references run `reference_repeats` times (default 1: they take seconds to minutes). LPNN's time is
-split into features (the capture's `source.feature_seconds`, when the importer recorded it),
-inference (onnxruntime) and selection (ranking + prefix + tetrahedron guarantee). A tolerance row's
-time includes its error evaluations (the search needs them).
+Methods: uniform, random, heuristic; with a model the three LPNN tiers (lpnn_placement.py):
+lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking) and lpnn-refine (spread ranking +
+seeded exact refinement, factor `refine`); the fast reference, and the faithful one on small captures.
+Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
+`reference_repeats` times (default 1: they take seconds). LPNN's time is split into features (the
+capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
+the three tiers), selection (ranking + prefix + tetrahedron guarantee) and refinement. A tolerance
+row's time includes its error evaluations (the search needs them).
 """
 
 from __future__ import annotations
@@ -19,11 +22,12 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..core.selection import ensure_tetrahedron, rank
+from ..core.selection import ensure_tetrahedron
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selection
-from .decimation import Decimation
-from .metric import PRIMARY_METRIC, ReferenceField, evaluate_placement
-from .policies import (SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
+from .decimation import MINIMUM_PROBES, Decimation
+from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
+from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement
+from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
                        reference_tolerance)
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
 from .reference_fast import fast_decimation
@@ -32,7 +36,7 @@ DEFAULT_BUDGETS = (0.1, 0.2, 0.3)
 DEFAULT_TOLERANCE = 0.02
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
-    "inference_seconds", "selection_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
+    "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
     "reference_error", "error_ratio", "reference_probes", "probes_ratio",
 )
 T = TypeVar("T")
@@ -47,6 +51,7 @@ class BenchConfig:
     seed: int = DEFAULT_SEED
     faithful_limit: int = FAITHFUL_MAX_CANDIDATES
     workers: int | None = None  # fast reference processes (None: 1)
+    refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
 
 
 @dataclass
@@ -61,6 +66,7 @@ class BenchRow:
     feature_seconds: float | None
     inference_seconds: float | None
     selection_seconds: float | None
+    refine_seconds: float | None
     mean_error: float
     p95_error: float
     smape_mean: float
@@ -80,13 +86,20 @@ class CaptureResult:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class _Timing:
+    seconds: float  # time to place, total
+    features: float | None = None
+    inference: float | None = None
+    selection: float | None = None
+    refine: float | None = None
+
+
 @dataclass
 class _Method:
     name: str
     select: SelectionForCount
-    seconds: float  # producing the ranking (features + inference for LPNN, scores for the heuristic...)
-    feature_seconds: float | None = None
-    inference_seconds: float | None = None
+    seconds: float  # producing the ranking (e.g. curvature for the heuristic, the whole reference ordering)
     decimation: Decimation | None = None
 
 
@@ -100,10 +113,9 @@ def timed(function: Callable[[], T], repeats: int) -> tuple[T, float]:
     return result, float(statistics.median(times))  # type: ignore[return-value]
 
 
-def _ranking_method(name: str, grid: EvaluationGrid, make_ranking: Callable[[], np.ndarray], repeats: int,
-                    feature_seconds: float | None = None, inference_seconds: float | None = None) -> _Method:
+def _ranking_method(name: str, grid: EvaluationGrid, make_ranking: Callable[[], np.ndarray], repeats: int) -> _Method:
     ranking, seconds = timed(make_ranking, repeats)
-    return _Method(name, prefix_selection(grid, ranking), seconds, feature_seconds, inference_seconds)
+    return _Method(name, prefix_selection(grid, ranking), seconds)
 
 
 def _uniform_method(grid: EvaluationGrid) -> _Method:
@@ -122,21 +134,13 @@ def _reference_method(name: str, decimation: Decimation, seconds: float) -> _Met
     return _Method(name, select, seconds, decimation=decimation)
 
 
-def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig,
-             scorer: Any | None) -> list[_Method]:
+def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig) -> list[_Method]:
     methods = [
         _uniform_method(grid),
         _ranking_method("random", grid, lambda: random_ranking(grid.point_count, config.seed), config.repeats),
         _ranking_method("heuristic", grid, lambda: heuristic_ranking(grid, capture.sh, capture.lighting_scale),
                         config.repeats),
     ]
-    if scorer is not None:
-        scores, inference = timed(lambda: scorer.score_capture(capture), config.repeats)
-        feature_seconds = capture.source.get("feature_seconds")
-        feature_seconds = float(feature_seconds) if isinstance(feature_seconds, (int, float)) else None
-        lpnn = _ranking_method("lpnn", grid, lambda: rank(scores), config.repeats, feature_seconds, inference)
-        lpnn.seconds += inference + (feature_seconds or 0.0)
-        methods.append(lpnn)
     fast, fast_seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)
     methods.append(_reference_method("fast-reference", fast, fast_seconds))
     if field_.point_count <= config.faithful_limit:
@@ -146,48 +150,95 @@ def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, con
     return methods
 
 
-def _row(name: str, field_: ReferenceField, method: _Method, policy: str, parameter: float, indices: np.ndarray,
-         seconds: float, selection_seconds: float | None, reference_error: float) -> BenchRow:
-    quality = evaluate_placement(field_, indices)
+def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter: float, quality: PlacementQuality,
+         timing: _Timing, reference_error: float) -> BenchRow:
     return BenchRow(
-        capture=name, points=field_.point_count, method=method.name, policy=policy, parameter=parameter,
-        probes=int(indices.shape[0]), seconds=seconds, feature_seconds=method.feature_seconds,
-        inference_seconds=method.inference_seconds, selection_seconds=selection_seconds,
+        capture=name, points=field_.point_count, method=method, policy=policy, parameter=parameter,
+        probes=quality.probes, seconds=timing.seconds, feature_seconds=timing.features,
+        inference_seconds=timing.inference, selection_seconds=timing.selection, refine_seconds=timing.refine,
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
         error_ratio=quality.irradiance.mean / reference_error if reference_error > 0 else
         (1.0 if quality.irradiance.mean == 0 else float("inf")))
 
 
+def _with_target(row: BenchRow, target: Placement) -> BenchRow:
+    """A tolerance row with the reference's smallest count within the same tau."""
+    row.reference_probes = int(target.indices.shape[0])
+    row.probes_ratio = row.probes / row.reference_probes
+    return row
+
+
+def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: BenchConfig, reference: Decimation,
+                  target: Placement | None) -> list[BenchRow]:
+    rows = []
+    for fraction in config.budgets:
+        count = budget_count(fraction, field_.point_count)
+        indices, selection_seconds = timed(lambda: method.select(count), config.repeats)
+        precomputed = method.decimation is not None  # a reference: its whole ordering is in method.seconds
+        timing = _Timing(method.seconds + (0.0 if precomputed else selection_seconds),
+                         selection=None if precomputed else selection_seconds)
+        rows.append(_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices), timing,
+                         float(reference.error_curve[max(indices.shape[0], MINIMUM_PROBES)])))
+    if target is not None:
+        start = time.perf_counter()
+        placement = (reference_tolerance(method.decimation, config.tolerance) if method.decimation is not None
+                     else place_tolerance(field_, method.select, config.tolerance, PRIMARY_METRIC))
+        search_seconds = time.perf_counter() - start
+        rows.append(_with_target(_row(name, field_, method.name, "tolerance", config.tolerance,
+                                      evaluate_placement(field_, placement.indices),
+                                      _Timing(method.seconds + search_seconds, selection=search_seconds),
+                                      target.mean_error), target))
+    return rows
+
+
+def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
+               reference: Decimation, target: Placement | None, log: Callable[[str], None] | None) -> list[BenchRow]:
+    """The three LPNN tiers on the same scores (inference timed once, shared)."""
+    scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
+    features = feature_seconds(capture)
+    tiers = (("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats),
+             ("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
+    policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
+    if target is not None:
+        policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
+    rows = []
+    for method, options, repeats in tiers:
+        for policy, parameter, chosen in policies:
+            runs = [lpnn_placement(capture, scores=scores, reference=field_, workers=config.workers, name=name,
+                                   **chosen, **options) for _ in range(max(1, int(repeats)))]
+            selection = float(statistics.median(r.timing.selection for r in runs))
+            refine = float(statistics.median(r.timing.refinement for r in runs)) if "refine" in options else None
+            timing = _Timing((features or 0.0) + inference + selection + (refine or 0.0), features, inference,
+                             selection, refine)
+            placement = runs[-1]
+            if policy == "budget":
+                rows.append(_row(name, field_, method, policy, parameter, placement.quality, timing,
+                                 float(reference.error_curve[max(placement.quality.probes, MINIMUM_PROBES)])))
+            else:
+                assert target is not None
+                rows.append(_with_target(_row(name, field_, method, policy, parameter, placement.quality, timing,
+                                              target.mean_error), target))
+        if log is not None:
+            log(f"{name}: {method} done")
+    return rows
+
+
 def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any | None = None,
                   log: Callable[[str], None] | None = None) -> CaptureResult:
     field_ = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    methods = _methods(capture, field_, grid, config, scorer)
+    methods = _methods(capture, field_, grid, config)
     reference = next(m for m in methods if m.name == "fast-reference").decimation
     assert reference is not None
+    target = None if config.tolerance is None else reference_tolerance(reference, config.tolerance)
     rows: list[BenchRow] = []
     for method in methods:
-        for fraction in config.budgets:
-            count = budget_count(fraction, field_.point_count)
-            indices, selection_seconds = timed(lambda: method.select(count), config.repeats)
-            total = method.seconds + (0.0 if method.decimation is not None else selection_seconds)
-            rows.append(_row(name, field_, method, "budget", fraction, indices, total,
-                             None if method.decimation is not None else selection_seconds,
-                             float(reference.error_curve[max(indices.shape[0], 4)])))
-        if config.tolerance is not None:
-            start = time.perf_counter()
-            placement = (reference_tolerance(method.decimation, config.tolerance) if method.decimation is not None
-                         else place_tolerance(field_, method.select, config.tolerance, PRIMARY_METRIC))
-            search_seconds = time.perf_counter() - start
-            target = reference_tolerance(reference, config.tolerance)
-            row = _row(name, field_, method, "tolerance", config.tolerance, placement.indices,
-                       method.seconds + search_seconds, search_seconds, target.mean_error)
-            row.reference_probes = int(target.indices.shape[0])
-            row.probes_ratio = row.probes / row.reference_probes
-            rows.append(row)
+        rows.extend(_ranking_rows(name, field_, method, config, reference, target))
         if log is not None:
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
+    if scorer is not None:
+        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, reference, target, log))
     return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=reference.error_curve)
 
 

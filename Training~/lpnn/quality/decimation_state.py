@@ -9,6 +9,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from ..core import sh as shmath
+from .decimation import initial_mask
 from .hull_projection import HullIndex, HullProjection, nearest_on_candidates
 from .location import INSIDE_TOLERANCE, locate_local
 from .metric import POINT_ERRORS, ReferenceField
@@ -42,9 +43,12 @@ class GlobalRemoval:
 
 
 class DecimationState:
-    """The current probe set, its tetrahedra and hull, and every other point's cell, anchor and error."""
+    """The current probe set, its tetrahedra and hull, and every other point's cell, anchor and error.
 
-    def __init__(self, field: ReferenceField, metric: str):
+    initial: the starting probe set (boolean mask or point indices, decimation.initial_mask); None = all.
+    """
+
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
         if field.point_count >= (1 << VERTEX_KEY_BITS):
             raise ValueError(f"the fast reference handles fewer than {1 << VERTEX_KEY_BITS:,} candidates, "
                              f"got {field.point_count:,}: use a larger cell size")
@@ -54,7 +58,8 @@ class DecimationState:
         self.lifted = field.frame.lifted(field.world)
         self.local = field.local
         n = field.point_count
-        self.alive = np.ones(n, dtype=bool)
+        start = initial_mask(initial, n)
+        self.alive = np.ones(n, dtype=bool) if start is None else start
         self.anchor = field.local.copy()
         self.errors = np.zeros(n)
         self.cell = np.full(n, -1, dtype=np.int64)

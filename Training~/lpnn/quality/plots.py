@@ -15,7 +15,9 @@ METHOD_STYLE = {
     "uniform": ("tab:gray", "s"),
     "random": ("tab:brown", "x"),
     "heuristic": ("tab:orange", "^"),
+    "lpnn-topk": ("tab:cyan", "p"),
     "lpnn": ("tab:blue", "o"),
+    "lpnn-refine": ("navy", "h"),
     "fast-reference": ("tab:green", "D"),
     "faithful-reference": ("tab:purple", "v"),
 }

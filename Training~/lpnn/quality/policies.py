@@ -112,7 +112,12 @@ def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolera
 
 def reference_tolerance(decimation: Decimation, tolerance: float) -> Placement:
     """Tolerance policy on a reference ordering: the exact smallest prefix, read from its error curve."""
-    count = decimation.smallest_count_within(checked_tolerance(tolerance))
+    tau = checked_tolerance(tolerance)
+    count = decimation.smallest_count_within(tau)
+    if count is None:  # only a seeded decimation can miss: the full set has error 0
+        raise PolicyError(f"the decimation started from {decimation.start_count:,} probes with mean error "
+                          f"{decimation.error_curve[decimation.start_count]:.4g}, above the tolerance {tau:g}: "
+                          "seed it with more points")
     return Placement(indices=decimation.prefix(count), requested=count, added_for_tetrahedron=0,
                      mean_error=float(decimation.error_curve[count]), metric=decimation.metric,
                      checked={count: float(decimation.error_curve[count])})
@@ -120,9 +125,8 @@ def reference_tolerance(decimation: Decimation, tolerance: float) -> Placement:
 
 def reference_count(decimation: Decimation, count: int) -> Placement:
     """Budget policy on a reference ordering (its prefixes are the decimation's own states); a count
-    below the decimation's floor of 4 gets the floor."""
-    smallest = decimation.point_count - decimation.removed.shape[0]
-    kept = min(max(int(count), smallest), decimation.point_count)
+    below the decimation's floor of 4 gets the floor, one above its starting set gets that set."""
+    kept = min(max(int(count), decimation.smallest_count), decimation.start_count)
     return Placement(indices=decimation.prefix(kept), requested=int(count),
                      added_for_tetrahedron=max(0, kept - int(count)),
                      mean_error=float(decimation.error_curve[kept]), metric=decimation.metric)

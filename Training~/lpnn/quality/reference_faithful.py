@@ -1,6 +1,6 @@
 """LumiProbes' greedy decimation, faithfully (quality.md §3.1) — the slow ground truth, for small sets.
 
-Start from all candidates; each iteration tries removing every remaining probe, recomputes the
+Start from all candidates (or a given initial set); each iteration tries removing every remaining probe, recomputes the
 placement error from scratch against the original dense reference (re-tetrahedralise, re-locate,
 re-evaluate: O(n^2 (n log n + N)) per run, as LumiProbes did), and removes the probe with the
 smallest error (ties: lowest index). A removal that leaves no valid tetrahedralisation is skipped.
@@ -20,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from .decimation import MINIMUM_PROBES, Decimation, error_curve_from, tie_key
+from .decimation import MINIMUM_PROBES, Decimation, error_curve_from, initial_mask, tie_key
 from .metric import PRIMARY_METRIC, ReferenceField, checked_metric, point_errors
 from .triangulation import GeometryError
 
@@ -29,8 +29,10 @@ FAITHFUL_MAX_CANDIDATES = 200
 
 def faithful_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, max_error: float | None = None,
                         min_count: int = MINIMUM_PROBES, max_candidates: int = FAITHFUL_MAX_CANDIDATES,
-                        progress: Callable[[int, int], None] | None = None) -> Decimation:
-    """Greedy decimation by exhaustive re-evaluation. `max_error` is a mean error (None = off)."""
+                        progress: Callable[[int, int], None] | None = None,
+                        initial: np.ndarray | None = None) -> Decimation:
+    """Greedy decimation by exhaustive re-evaluation. `max_error` is a mean error (None = off).
+    initial: the starting probe set (boolean mask or point indices; None = every point)."""
     checked_metric(metric)
     n = field.point_count
     if n > max_candidates:
@@ -40,7 +42,10 @@ def faithful_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, max
         raise ValueError(f"max_error {max_error!r} must be a finite number >= 0 (or None to disable it)")
     floor = max(int(min_count), MINIMUM_PROBES)
     start = time.perf_counter()
-    alive = np.ones(n, dtype=bool)
+    mask = initial_mask(initial, n)
+    alive = np.ones(n, dtype=bool) if mask is None else mask.copy()
+    start_count = int(np.count_nonzero(alive))
+    start_error = 0.0 if mask is None else float(point_errors(field, np.flatnonzero(alive), metric).mean())
     removed: list[int] = []
     errors: list[float] = []
     stop_reason = "minimum count"
@@ -66,7 +71,7 @@ def faithful_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, max
         removed.append(best_index)
         errors.append(best_mean)
         if progress is not None:
-            progress(len(removed), n - floor)
+            progress(len(removed), start_count - floor)
     return Decimation(method="faithful-greedy", metric=metric, removed=np.asarray(removed, dtype=np.int64),
-                      error_curve=error_curve_from(errors, n), stop_reason=stop_reason,
-                      seconds=time.perf_counter() - start)
+                      error_curve=error_curve_from(errors, n, start_count, start_error), stop_reason=stop_reason,
+                      seconds=time.perf_counter() - start, initial=mask)

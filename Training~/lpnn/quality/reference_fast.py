@@ -41,41 +41,52 @@ from typing import Callable
 
 import numpy as np
 
-from .decimation import MINIMUM_PROBES, Decimation, error_curve_from, tie_key
-from .metric import PRIMARY_METRIC, ReferenceField, checked_metric
+from .decimation import MINIMUM_PROBES, Decimation, error_curve_from, initial_mask, tie_key
+from .metric import PRIMARY_METRIC, ReferenceField, checked_metric, point_errors
 from .removal_costs import CostEntry, ParallelCosts, SerialCosts
 
 
 def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_count: int = MINIMUM_PROBES,
-                    workers: int | None = None,
-                    progress: Callable[[int, int], None] | None = None) -> Decimation:
+                    workers: int | None = None, progress: Callable[[int, int], None] | None = None,
+                    initial: np.ndarray | None = None) -> Decimation:
     """Greedy decimation down to `min_count` (>= 4) probes; its ordering ranks every candidate.
 
-    workers: 1 (this process, the default) or 2 (plus one identical replica process, which helps
-    only when the second core is idle). The result does not depend on it.
+    initial: the starting probe set, a boolean mask (N,) or point indices (>= 4 points, not all in one
+    plane); None = every point (the reference placement). Seeded with a good superset of the wanted
+    count (e.g. the spread ranking's first 2K points), the greedy refines it down to K in a fraction of
+    the full run (quality.md §4). Points outside the initial set are never probes but are always
+    evaluated. workers: 1 (this process, the default) or 2 (plus one identical replica process, which
+    helps only when the second core is idle). The result does not depend on it.
     """
     checked_metric(metric)
     n = field.point_count
     floor = max(int(min_count), MINIMUM_PROBES)
-    start = time.perf_counter()
-    if n <= floor:
-        return Decimation(method="fast-greedy", metric=metric, removed=np.zeros(0, dtype=np.int64),
-                          error_curve=error_curve_from([], n), stop_reason="minimum count",
-                          seconds=time.perf_counter() - start)
     count = 1 if workers is None else int(workers)
     if count not in (1, 2):
         raise ValueError(f"workers must be 1 or 2, got {workers!r}")
-    with (ParallelCosts(field, metric) if count == 2 else SerialCosts(field, metric)) as costs:
-        removed, errors, stop_reason = _greedy(costs, n, floor, progress)
+    start = time.perf_counter()
+    mask = initial_mask(initial, n)
+    start_count = n if mask is None else int(np.count_nonzero(mask))
+    if start_count <= floor:
+        start_error = 0.0 if mask is None else float(point_errors(field, np.flatnonzero(mask), metric).mean())
+        return Decimation(method="fast-greedy", metric=metric, removed=np.zeros(0, dtype=np.int64),
+                          error_curve=error_curve_from([], n, start_count, start_error), stop_reason="minimum count",
+                          seconds=time.perf_counter() - start, initial=mask)
+    with (ParallelCosts(field, metric, mask) if count == 2 else SerialCosts(field, metric, mask)) as costs:
+        start_error = float(costs.state.errors.sum()) / n
+        removed, errors, stop_reason = _greedy(costs, floor, progress)
     return Decimation(method="fast-greedy", metric=metric, removed=np.asarray(removed, dtype=np.int64),
-                      error_curve=error_curve_from(errors, n), stop_reason=stop_reason,
-                      seconds=time.perf_counter() - start)
+                      error_curve=error_curve_from(errors, n, start_count, start_error), stop_reason=stop_reason,
+                      seconds=time.perf_counter() - start, initial=mask)
 
 
-def _greedy(costs: SerialCosts, n: int, floor: int, progress: Callable[[int, int], None] | None
+def _greedy(costs: SerialCosts, floor: int, progress: Callable[[int, int], None] | None
             ) -> tuple[list[int], list[float], str]:
-    """Exact greedy: pop the cheapest fresh removal, apply it, recompute every cost it changed."""
+    """Exact greedy from the alive set: pop the cheapest fresh removal, apply it, recompute every cost it changed."""
     state = costs.state
+    n = state.field.point_count
+    alive = np.flatnonzero(state.alive)
+    start_count = int(alive.shape[0])
     version = np.zeros(n, dtype=np.int64)
     heap: list[tuple[float, int, int]] = []
     # A hull-shrinking cost depends on the hull triangles its points project onto: remember which
@@ -93,10 +104,10 @@ def _greedy(costs: SerialCosts, n: int, floor: int, progress: Callable[[int, int
                 projecting_onto.setdefault(t, set()).add(entry.vertex)
             heapq.heappush(heap, (tie_key(entry.delta), entry.vertex, int(version[entry.vertex])))
 
-    push(costs.evaluate(list(range(n))))
+    push(costs.evaluate(alive.tolist()))
     removed: list[int] = []
     errors: list[float] = []
-    while n - len(removed) > floor:
+    while start_count - len(removed) > floor:
         if not heap:
             return removed, errors, "no removable probe"
         key, v, entry_version = heapq.heappop(heap)
@@ -116,5 +127,5 @@ def _greedy(costs: SerialCosts, n: int, floor: int, progress: Callable[[int, int
         version[stale_list] += 1
         push(costs.evaluate(stale_list))
         if progress is not None:
-            progress(len(removed), n - floor)
+            progress(len(removed), start_count - floor)
     return removed, errors, "minimum count"

@@ -38,10 +38,10 @@ def _entry(v: int, removal: LocalRemoval | GlobalRemoval) -> CostEntry:
 
 
 class SerialCosts:
-    """Costs and removals in this process."""
+    """Costs and removals in this process. initial: the starting probe set (None = every point)."""
 
-    def __init__(self, field: ReferenceField, metric: str):
-        self.state = DecimationState(field, metric)
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
+        self.state = DecimationState(field, metric, initial)
         self.cached: dict[int, LocalRemoval | GlobalRemoval] = {}
 
     def _evaluate_here(self, vertices: list[int]) -> list[CostEntry]:
@@ -72,10 +72,10 @@ class SerialCosts:
         self.close()
 
 
-def _replica(connection: Connection, field: ReferenceField, metric: str) -> None:
+def _replica(connection: Connection, field: ReferenceField, metric: str, initial: np.ndarray | None) -> None:
     """Worker loop: a second replica that evaluates what it is sent and applies every removal."""
     try:
-        costs = SerialCosts(field, metric)
+        costs = SerialCosts(field, metric, initial)
         connection.send(("ready", None))
         while True:
             command, payload = connection.recv()
@@ -100,12 +100,12 @@ def _replica(connection: Connection, field: ReferenceField, metric: str) -> None
 class ParallelCosts(SerialCosts):
     """This process plus one worker replica, each evaluating half of every batch."""
 
-    def __init__(self, field: ReferenceField, metric: str):
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
         context = multiprocessing.get_context("fork")
         self.connection, worker_end = context.Pipe()
-        self.worker = context.Process(target=_replica, args=(worker_end, field, metric), daemon=True)
+        self.worker = context.Process(target=_replica, args=(worker_end, field, metric, initial), daemon=True)
         self.worker.start()
-        super().__init__(field, metric)
+        super().__init__(field, metric, initial)
         self.owner: dict[int, int] = {}  # 0 = here, 1 = worker
         self._receive("ready")
 

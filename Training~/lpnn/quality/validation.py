@@ -2,8 +2,10 @@
 
     lpnn train DATASET --out model.onnx --metric lpnn.quality.validation:PLACEMENT_ERROR_20
 
-reports, per held-out capture, the mean placement error of the model's top 20 % (budget policy,
-quality.md) — the same number the benchmark and the tolerance policy use. Lower is better.
+reports, per held-out capture, the mean placement error of the model's 20 % placement (budget
+policy on the spread ranking of its scores, the way LPNN scores become probes: quality.md §4,
+selection.md) — the same number `lpnn bench` reports for `lpnn`. PLACEMENT_ERROR_TOPK_20 measures
+the raw top 20 % instead (`lpnn-topk`). Lower is better.
 """
 
 from __future__ import annotations
@@ -14,26 +16,30 @@ import numpy as np
 
 from ..core.grid import EvaluationGrid
 from ..core.selection import rank
+from ..core.spread import spread_ranking
 from ..train.metrics import CaptureMetric
 from .metric import ReferenceField, placement_error
 from .policies import budget_count, prefix_selection
 
 
-def placement_error_at(fraction: float) -> CaptureMetric:
-    """CaptureMetric: mean placement error of the top `fraction` of the points by score."""
+def placement_error_at(fraction: float, topk: bool = False) -> CaptureMetric:
+    """CaptureMetric: mean placement error of the first `fraction` of the points in the spread ranking
+    of the scores (topk: in score order)."""
 
     def per_capture(cloud: Any, scores: np.ndarray) -> float:
         capture = cloud.capture
         if capture is None or np.asarray(scores).shape[0] != capture.point_count:
             return float("nan")  # a crop, not the whole capture: the metric needs every point
+        values = np.asarray(scores, dtype=np.float64)
         grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-        select = prefix_selection(grid, rank(np.asarray(scores, dtype=np.float64)))
+        select = prefix_selection(grid, rank(values) if topk else spread_ranking(capture.positions, values))
         field = ReferenceField.from_capture(capture)
         return placement_error(field, select(budget_count(fraction, capture.point_count))).mean
 
-    return CaptureMetric(f"placement_error_{round(fraction * 100)}", False, per_capture)
+    return CaptureMetric(f"placement_error{'_topk' if topk else ''}_{round(fraction * 100)}", False, per_capture)
 
 
 PLACEMENT_ERROR_10 = placement_error_at(0.1)
 PLACEMENT_ERROR_20 = placement_error_at(0.2)
 PLACEMENT_ERROR_30 = placement_error_at(0.3)
+PLACEMENT_ERROR_TOPK_20 = placement_error_at(0.2, topk=True)

@@ -14,6 +14,7 @@ from lpnn.cli.main import main
 from lpnn.cli.scores_file import write_scores_csv
 from lpnn.core.capture import Capture, read_capture, write_capture
 from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture
+from lpnn.quality.lpnn_placement import lpnn_placement
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.reference_fast import fast_decimation
 
@@ -123,18 +124,59 @@ class _StubScorer:
         return capture.sh[:, 0].astype(np.float32)
 
 
-def test_bench_reports_lpnn_time_split(small_captures: dict[int, Capture]) -> None:
+def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict[int, Capture]) -> None:
     capture = replace(small_captures[2], source={**small_captures[2].source, "feature_seconds": 0.25})
-    config = BenchConfig(budgets=(0.2,), tolerance=None, repeats=1, faithful_limit=0)
+    config = BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, faithful_limit=0)
     result = bench_capture("room2", capture, config, scorer=_StubScorer())
-    lpnn = [row for row in result.rows if row.method == "lpnn"]
-    assert len(lpnn) == 1
-    row = lpnn[0]
-    assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
-    assert row.seconds >= row.feature_seconds + row.inference_seconds
-    assert row.probes == round(0.2 * capture.point_count)
-    assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
-    assert row.reference_error == pytest.approx(result.reference_curve[row.probes])
+    by_method = {(row.method, row.policy): row for row in result.rows}
+    assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "fast-reference", "lpnn-topk", "lpnn",
+                                          "lpnn-refine"}
+    for method in ("lpnn-topk", "lpnn", "lpnn-refine"):
+        row = by_method[(method, "budget")]
+        assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
+        assert row.seconds == pytest.approx(row.feature_seconds + row.inference_seconds + row.selection_seconds
+                                            + (row.refine_seconds or 0.0))
+        assert (row.refine_seconds is not None) == (method == "lpnn-refine")
+        assert row.probes == round(0.2 * capture.point_count)
+        assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
+        assert row.reference_error == pytest.approx(result.reference_curve[row.probes])
+        tolerance = by_method[(method, "tolerance")]
+        assert tolerance.mean_error <= 0.05 and tolerance.reference_probes is not None
+    field = ReferenceField.from_capture(capture)
+    scores = _StubScorer().score_capture(capture)
+    spread = lpnn_placement(capture, scores=scores, budget=0.2, reference=field)
+    assert by_method[("lpnn", "budget")].mean_error == pytest.approx(spread.mean_error)
+    refined = lpnn_placement(capture, scores=scores, budget=0.2, refine=2.0, reference=field)
+    assert by_method[("lpnn-refine", "budget")].mean_error == pytest.approx(refined.mean_error)
+
+
+def test_place_from_scores_uses_the_spread_ranking_topk_and_refinement(capture_files: list[Path], tmp_path: Path,
+                                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    capture = read_capture(capture_files[2])
+    scores = np.random.default_rng(1).uniform(0, 1, capture.point_count).astype(np.float32)
+    scores_file = tmp_path / "scores.csv"
+    write_scores_csv(scores_file, capture.ids, scores)
+    field = ReferenceField.from_capture(capture)
+    for extra, expected in (([], lpnn_placement(capture, scores=scores, budget=0.25, reference=field)),
+                            (["--topk"], lpnn_placement(capture, scores=scores, budget=0.25, topk=True, reference=field)),
+                            (["--refine", "2"], lpnn_placement(capture, scores=scores, budget=0.25, refine=2.0,
+                                                               reference=field))):
+        out = tmp_path / "p.probes.json"
+        assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.25", *extra,
+                     "--out", str(out)]) == 0
+        document = json.loads(out.read_text(encoding="utf-8"))
+        np.testing.assert_array_equal(np.asarray(document["positions"], dtype=np.float32),
+                                      capture.positions[expected.indices])
+        assert document["source"]["mean_error"] == pytest.approx(expected.mean_error, abs=1e-6)
+        printed = capsys.readouterr().out
+        assert ("top-K" in printed) == ("--topk" in extra) and ("refinement" in printed) == ("--refine" in extra)
+    assert main(["place", str(capture_files[2]), "--method", "uniform", "--refine", "2", "--budget", "0.2",
+                 "--out", str(tmp_path / "x.json")]) == 1
+    assert "--refine and --topk apply to LPNN scores" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "1", "--budget", "0.2",
+              "--out", str(tmp_path / "x.json")])
+    assert "must be a factor > 1" in capsys.readouterr().err
 
 
 def test_a_flat_capture_is_a_one_line_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -115,3 +115,83 @@ def test_zero_impact_removals_are_taken_first_no_cost_filter() -> None:
     assert set(fast.ordering[:8].tolist()) == set(corners.tolist())
     assert fast.removed[0] == 1  # index 0 is a corner; 1 is the lowest-index zero-cost probe
     assert np.all(fast.error_curve[8:] < 1e-12)
+
+
+# ------------------------------------------------------------------------------- seeded decimation
+
+def _seed_set(field: ReferenceField, count: int, seed: int = 0) -> np.ndarray:
+    """A deterministic starting set: `count` random points plus the corners of the bounding box."""
+    rng = np.random.default_rng(seed)
+    lo, hi = field.world.min(axis=0), field.world.max(axis=0)
+    corners = np.flatnonzero(np.all(np.isclose(field.world, lo) | np.isclose(field.world, hi), axis=1))
+    chosen = set(corners.tolist()) | set(rng.choice(field.point_count, count, replace=False).tolist())
+    return np.asarray(sorted(chosen), dtype=np.int64)
+
+
+def test_starting_from_every_point_is_todays_decimation(small_field: ReferenceField) -> None:
+    plain = fast_decimation(small_field, workers=1)
+    for initial in (np.ones(small_field.point_count, dtype=bool), np.arange(small_field.point_count)[::-1].copy()):
+        seeded = fast_decimation(small_field, workers=1, initial=initial)
+        np.testing.assert_array_equal(seeded.removed, plain.removed)
+        np.testing.assert_array_equal(seeded.error_curve, plain.error_curve)
+        np.testing.assert_array_equal(seeded.ordering, plain.ordering)
+        assert seeded.start_count == small_field.point_count
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_seeded_fast_decimation_matches_the_seeded_faithful_one(small_captures: dict[int, Capture], seed: int) -> None:
+    field = ReferenceField.from_capture(small_captures[seed])
+    initial = _seed_set(field, 24, seed)
+    fast = fast_decimation(field, workers=1, initial=initial, min_count=10)
+    faithful = faithful_decimation(field, initial=initial, min_count=10)
+    np.testing.assert_array_equal(fast.removed, faithful.removed)
+    visited = np.flatnonzero(np.isfinite(faithful.error_curve))
+    np.testing.assert_array_equal(np.flatnonzero(np.isfinite(fast.error_curve)), visited)
+    np.testing.assert_allclose(fast.error_curve[visited], faithful.error_curve[visited], rtol=0, atol=ROUNDING)
+
+
+def test_a_seeded_run_ends_at_the_count_and_records_every_set_it_held(small_captures: dict[int, Capture]) -> None:
+    field = ReferenceField.from_capture(small_captures[3])
+    initial = _seed_set(field, 30, 5)
+    start = initial.shape[0]
+    decimation = fast_decimation(field, workers=1, initial=initial, min_count=12)
+    n = field.point_count
+    assert decimation.start_count == start and decimation.smallest_count == 12 and decimation.removed.shape[0] == start - 12
+    assert set(decimation.removed.tolist()) <= set(initial.tolist())
+    start_error = placement_error(field, initial).mean
+    assert decimation.error_curve[start] == pytest.approx(start_error, abs=1e-12)
+    # Greedy: the first removal is the cheapest of all the initial set's single removals.
+    first = min(placement_error(field, np.setdiff1d(initial, [v])).mean for v in initial.tolist())
+    assert decimation.error_curve[start - 1] == pytest.approx(first, abs=1e-12)
+    assert decimation.error_curve[start - 1] <= first + ROUNDING
+    assert np.all(np.isnan(decimation.error_curve[:12])) and np.all(np.isnan(decimation.error_curve[start + 1:]))
+    for count in range(12, start + 1):  # every visited count: exactly the set held, with its true error
+        held = decimation.prefix(count)
+        assert set(held.tolist()) <= set(initial.tolist())
+        assert decimation.error_curve[count] == pytest.approx(placement_error(field, held).mean, abs=1e-12)
+    ordering = decimation.ordering
+    np.testing.assert_array_equal(np.sort(ordering), np.arange(n))
+    np.testing.assert_array_equal(ordering[:12], decimation.survivors)
+    np.testing.assert_array_equal(ordering[12:start], decimation.removed[::-1])
+    np.testing.assert_array_equal(ordering[start:], np.setdiff1d(np.arange(n), initial))
+    with pytest.raises(ValueError, match="outside that range"):
+        decimation.prefix(start + 1)
+    assert decimation.smallest_count_within(1e-9) is None  # never that good: the caller must seed more
+    parallel = fast_decimation(field, workers=2, initial=initial, min_count=12)
+    np.testing.assert_array_equal(parallel.removed, decimation.removed)
+    np.testing.assert_array_equal(parallel.error_curve, decimation.error_curve)
+
+
+def test_bad_initial_sets_are_rejected_with_the_reason(small_field: ReferenceField) -> None:
+    n = small_field.point_count
+    with pytest.raises(ValueError, match="3 point"):
+        fast_decimation(small_field, initial=np.array([0, 1, 2]))
+    with pytest.raises(ValueError, match=f"index {n} is outside"):
+        fast_decimation(small_field, initial=np.array([0, 1, 2, n]))
+    with pytest.raises(ValueError, match="index 2 is listed more than once"):
+        fast_decimation(small_field, initial=np.array([0, 1, 2, 2, 5]))
+    with pytest.raises(ValueError, match="shape"):
+        fast_decimation(small_field, initial=np.ones(n - 1, dtype=bool))
+    few = fast_decimation(small_field, initial=np.array([0, 5, 17, 40, 47]), min_count=5)  # already at the floor
+    assert few.removed.shape[0] == 0 and few.error_curve[5] == pytest.approx(
+        placement_error(small_field, np.array([0, 5, 17, 40, 47])).mean)

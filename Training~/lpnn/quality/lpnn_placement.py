@@ -1,0 +1,170 @@
+"""LPNN placement tiers (quality.md §4): network scores -> spread ranking -> probes, optionally refined.
+
+    lpnn_placement(capture, scorer, budget=0.2)                # LPNN: milliseconds
+    lpnn_placement(capture, scorer, budget=0.2, refine=2.0)    # LPNN + exact refinement: about a second
+    lpnn_placement(capture, scorer, tolerance=0.02)            # fewest probes within tau
+    lpnn_placement(capture, scores=s, tolerance=0.02, refine=2.0)
+
+- budget f: K = round(f N); the spread ranking's first K points (+ tetrahedron guarantee).
+- tolerance tau: the smallest spread prefix within tau (the search of policies.place_tolerance).
+- refine F (> 1; 2 recommended): seed the exact greedy decimation (reference_fast, initial=...) with
+  the spread ranking's first min(N, round(F K)) points (+ tetrahedron guarantee) and decimate down
+  to K. With a tolerance: K0 = the LPNN tolerance count, seed with round(F K0) points, decimate down
+  to 4 and read the exact smallest count within tau from the decimation's error curve (the LPNN
+  answer K0 is kept if the decimation never gets below it within tau).
+- topk=True ranks by raw score instead (the old behaviour, for comparison).
+
+Timing split: features (the capture's `source.feature_seconds`, when the importer recorded it),
+inference (onnxruntime), selection (ranking, prefix, tetrahedron guarantee; with a tolerance also the
+search's error evaluations) and refinement (the seeded decimation). Building the dense reference
+field counts where it is needed (tolerance: selection; refinement), unless the caller passes one.
+The final error evaluation is reporting, not placement, and is not timed.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..core.capture import Capture
+from ..core.grid import EvaluationGrid
+from ..core.selection import ensure_tetrahedron, rank
+from ..core.spread import spread_ranking
+from .decimation import MINIMUM_PROBES
+from .metric import PlacementQuality, ReferenceField, evaluate_placement
+from .policies import PolicyError, budget_count, checked_tolerance, place_tolerance, prefix_selection
+from .reference_fast import fast_decimation
+
+RECOMMENDED_REFINE = 2.0
+
+
+class Scorer(Protocol):
+    """What lpnn_placement needs of lpnn.train.onnx_scoring.OnnxScorer."""
+
+    def score_capture(self, capture: Any, name: str = ...) -> np.ndarray: ...
+
+
+@dataclass(frozen=True)
+class PlacementTiming:
+    """Seconds per stage; `features` is None when the capture does not record it."""
+
+    features: float | None
+    inference: float
+    selection: float
+    refinement: float
+
+    @property
+    def total(self) -> float:
+        return (self.features or 0.0) + self.inference + self.selection + self.refinement
+
+
+@dataclass(frozen=True)
+class LpnnPlacement:
+    indices: np.ndarray  # (K,) int64 point indices, sorted
+    quality: PlacementQuality  # irradiance (primary) and SMAPE errors of `indices`
+    ranking: np.ndarray  # (N,) the spread (or top-K) ranking the probes came from
+    requested: int  # the count asked for (budget K, or the tolerance search's answer)
+    added_for_tetrahedron: int
+    refine: float | None
+    timing: PlacementTiming
+    checked: dict[int, float] = field(default_factory=dict)  # tolerance: count -> mean error evaluated
+    seed_count: int | None = None  # refinement: points the decimation started from
+
+    @property
+    def mean_error(self) -> float:
+        return self.quality.irradiance.mean
+
+
+def checked_refine(refine: float | None) -> float | None:
+    if refine is None:
+        return None
+    value = float(refine)
+    if not (math.isfinite(value) and value > 1.0):
+        raise PolicyError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
+                          f"{RECOMMENDED_REFINE:g} is recommended), or None for no refinement")
+    return value
+
+
+def seed_count(refine: float, count: int, point_count: int) -> int:
+    """min(N, round(F K)), halves up."""
+    return min(point_count, int(math.floor(refine * count + 0.5)))
+
+
+def feature_seconds(capture: Capture) -> float | None:
+    value = capture.source.get("feature_seconds")
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np.ndarray | None = None,
+                   budget: float | None = None, tolerance: float | None = None, refine: float | None = None,
+                   topk: bool = False, reference: ReferenceField | None = None, workers: int | None = None,
+                   name: str = "the capture") -> LpnnPlacement:
+    """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
+    `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
+    exact refinement; `topk` ranks by raw score instead of the spread ranking; `reference` reuses
+    ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
+    `name` appears in error messages. Raises PolicyError for bad parameters."""
+    if (budget is None) == (tolerance is None):
+        raise PolicyError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.02)")
+    if (scorer is None) == (scores is None):
+        raise PolicyError("give exactly one of scorer (an OnnxScorer) and scores (one value per point)")
+    factor = checked_refine(refine)
+    tau = None if tolerance is None else checked_tolerance(tolerance)
+    n = capture.point_count
+    inference = 0.0
+    if scorer is not None:
+        start = time.perf_counter()
+        scores = scorer.score_capture(capture, name)
+        inference = time.perf_counter() - start
+    values = np.asarray(scores)
+    if values.shape != (n,):
+        raise PolicyError(f"{name}: scores of shape {list(values.shape)} for {n:,} points: give one score per point")
+
+    start = time.perf_counter()
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    ranking = rank(values) if topk else spread_ranking(capture.positions, values)
+    select = prefix_selection(grid, ranking)
+    checked: dict[int, float] = {}
+    if tau is None:
+        requested = budget_count(budget, n)  # type: ignore[arg-type]
+        indices = select(requested)
+    else:
+        reference = ReferenceField.from_capture(capture) if reference is None else reference
+        found = place_tolerance(reference, select, tau)
+        requested, indices, checked = found.requested, found.indices, found.checked
+    selection = time.perf_counter() - start
+
+    refinement, seeded = 0.0, None
+    if factor is not None:
+        start = time.perf_counter()
+        reference = ReferenceField.from_capture(capture) if reference is None else reference
+        target = requested if tau is None else int(indices.shape[0])
+        seed = ensure_tetrahedron(grid, ranking, ranking[:seed_count(factor, target, n)])[0]
+        seeded = int(seed.shape[0])
+        refined = _refined(reference, seed, target, tau, workers)
+        if refined is not None:
+            requested, indices = refined
+        refinement = time.perf_counter() - start
+    reference = ReferenceField.from_capture(capture) if reference is None else reference
+    return LpnnPlacement(indices=indices, quality=evaluate_placement(reference, indices), ranking=ranking,
+                         requested=int(requested), added_for_tetrahedron=max(0, int(indices.shape[0]) - int(requested)),
+                         refine=factor, timing=PlacementTiming(feature_seconds(capture), inference, selection, refinement),
+                         checked=checked, seed_count=seeded)
+
+
+def _refined(reference: ReferenceField, seed: np.ndarray, target: int, tau: float | None,
+             workers: int | None) -> tuple[int, np.ndarray] | None:
+    """(count, indices) from the exact greedy seeded with `seed`: down to `target` (budget), or the
+    smallest count within `tau` if it is <= `target` (tolerance); None = keep the unrefined answer."""
+    if seed.shape[0] <= max(target, MINIMUM_PROBES):
+        return None  # nothing to decimate: the seed is the answer already
+    decimation = fast_decimation(reference, workers=workers, initial=seed,
+                                 min_count=target if tau is None else MINIMUM_PROBES)
+    if tau is None:
+        return target, decimation.prefix(max(target, decimation.smallest_count))
+    best = decimation.smallest_count_within(tau)
+    return None if best is None or best > target else (best, decimation.prefix(best))

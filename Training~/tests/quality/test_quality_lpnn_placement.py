@@ -1,0 +1,122 @@
+"""LPNN placement tiers (quality.md §4): spread ranking, tolerance, seeded exact refinement, top-K."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from lpnn.core.capture import Capture
+from lpnn.core.grid import EvaluationGrid
+from lpnn.core.selection import ensure_tetrahedron, rank
+from lpnn.core.spread import spread_ranking
+from lpnn.quality.lpnn_placement import lpnn_placement, seed_count
+from lpnn.quality.metric import ReferenceField, placement_error
+from lpnn.quality.policies import PolicyError, budget_count, place_tolerance, prefix_selection
+from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.validation import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
+
+
+class StubScorer:
+    """Stands in for OnnxScorer: a score that favours bright points (any deterministic score will do)."""
+
+    calls = 0
+
+    def score_capture(self, capture: Capture, name: str = "") -> np.ndarray:
+        StubScorer.calls += 1
+        luminance = capture.sh[:, 0].astype(np.float64)
+        return (luminance / luminance.max()).astype(np.float32)
+
+
+def _grid(capture: Capture) -> EvaluationGrid:
+    return EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+
+
+def test_budget_tier_is_the_spread_prefix_and_topk_the_score_prefix(small_captures: dict[int, Capture]) -> None:
+    capture = replace(small_captures[2], source={**small_captures[2].source, "feature_seconds": 0.125})
+    scores = StubScorer().score_capture(capture)
+    count = budget_count(0.25, capture.point_count)
+    spread = spread_ranking(capture.positions, scores)
+    placed = lpnn_placement(capture, StubScorer(), budget=0.25)
+    np.testing.assert_array_equal(placed.ranking, spread)
+    np.testing.assert_array_equal(placed.indices, ensure_tetrahedron(_grid(capture), spread, spread[:count])[0])
+    field = ReferenceField.from_capture(capture)
+    assert placed.mean_error == pytest.approx(placement_error(field, placed.indices).mean)
+    assert placed.timing.features == 0.125 and placed.timing.inference > 0.0 and placed.timing.refinement == 0.0
+    assert placed.timing.total >= placed.timing.features + placed.timing.inference + placed.timing.selection
+    top = lpnn_placement(capture, scores=scores, budget=0.25, topk=True)
+    np.testing.assert_array_equal(top.indices, np.sort(rank(scores)[:count]))
+    assert top.timing.inference == 0.0 and top.timing.features == 0.125
+
+
+def test_tolerance_tier_is_the_search_over_spread_prefixes(small_captures: dict[int, Capture]) -> None:
+    capture = small_captures[1]
+    field = ReferenceField.from_capture(capture)
+    scores = StubScorer().score_capture(capture)
+    placed = lpnn_placement(capture, scores=scores, tolerance=0.05, reference=field)
+    expected = place_tolerance(field, prefix_selection(_grid(capture), spread_ranking(capture.positions, scores)), 0.05)
+    np.testing.assert_array_equal(placed.indices, expected.indices)
+    assert placed.mean_error <= 0.05 and placed.checked == expected.checked and placed.requested == expected.requested
+
+
+def test_refined_budget_is_the_seeded_decimation_down_to_k(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    n = medium_capture.point_count
+    scores = StubScorer().score_capture(medium_capture)
+    count = budget_count(0.2, n)
+    placed = lpnn_placement(medium_capture, scores=scores, budget=0.2, refine=2.0, reference=field)
+    spread = spread_ranking(medium_capture.positions, scores)
+    seed = ensure_tetrahedron(_grid(medium_capture), spread, spread[:seed_count(2.0, count, n)])[0]
+    assert placed.seed_count == seed.shape[0] == 2 * count
+    expected = fast_decimation(field, initial=seed, min_count=count)
+    np.testing.assert_array_equal(placed.indices, expected.prefix(count))
+    assert placed.indices.shape[0] == count and set(placed.indices.tolist()) <= set(seed.tolist())
+    assert placed.timing.refinement > 0.0
+    # What the tier is for: on this room the refined placement beats the plain spread prefix.
+    plain = lpnn_placement(medium_capture, scores=scores, budget=0.2, reference=field)
+    assert placed.mean_error < plain.mean_error
+
+
+def test_refined_tolerance_reads_the_exact_smallest_count_from_the_seeded_curve(small_captures: dict[int, Capture]) -> None:
+    capture = small_captures[3]
+    field = ReferenceField.from_capture(capture)
+    scores = StubScorer().score_capture(capture)
+    plain = lpnn_placement(capture, scores=scores, tolerance=0.04, reference=field)
+    refined = lpnn_placement(capture, scores=scores, tolerance=0.04, refine=2.0, reference=field)
+    assert refined.mean_error <= 0.04 and refined.indices.shape[0] < plain.indices.shape[0]  # 9 vs 19 probes here
+    spread = plain.ranking
+    start = seed_count(2.0, plain.indices.shape[0], capture.point_count)
+    seed = ensure_tetrahedron(_grid(capture), spread, spread[:start])[0]
+    curve = fast_decimation(field, initial=seed).error_curve
+    within = np.flatnonzero(curve <= 0.04)  # NaN compares false
+    assert refined.indices.shape[0] == min(within[0], plain.indices.shape[0])
+
+
+def test_parameters_are_checked(small_captures: dict[int, Capture]) -> None:
+    capture = small_captures[1]
+    scores = np.ones(capture.point_count, dtype=np.float32)
+    with pytest.raises(PolicyError, match="exactly one of budget"):
+        lpnn_placement(capture, scores=scores, budget=0.2, tolerance=0.02)
+    with pytest.raises(PolicyError, match="exactly one of scorer"):
+        lpnn_placement(capture, StubScorer(), scores=scores, budget=0.2)
+    with pytest.raises(PolicyError, match="refine 1.0 must be a factor > 1"):
+        lpnn_placement(capture, scores=scores, budget=0.2, refine=1.0)
+    with pytest.raises(PolicyError, match="one score per point"):
+        lpnn_placement(capture, scores=scores[:-1], budget=0.2)
+    with pytest.raises(PolicyError, match="budget"):
+        lpnn_placement(capture, scores=scores, budget=1.5)
+
+
+def test_validation_metric_scores_the_spread_placement(small_captures: dict[int, Capture]) -> None:
+    capture = small_captures[2]
+    scores = StubScorer().score_capture(capture)
+    cloud = SimpleNamespace(capture=capture)
+    field = ReferenceField.from_capture(capture)
+    spread = lpnn_placement(capture, scores=scores, budget=0.2, reference=field).mean_error
+    top = lpnn_placement(capture, scores=scores, budget=0.2, topk=True, reference=field).mean_error
+    assert PLACEMENT_ERROR_20.name == "placement_error_20"
+    assert PLACEMENT_ERROR_20.per_capture(cloud, scores) == pytest.approx(spread)
+    assert PLACEMENT_ERROR_TOPK_20.per_capture(cloud, scores) == pytest.approx(top)
+    assert np.isnan(PLACEMENT_ERROR_20.per_capture(cloud, scores[:-1]))  # a crop: not the whole capture
