@@ -30,6 +30,7 @@ namespace Lpnn.Probes
             public const string Percentile = nameof(percentile);
             public const string Budget = nameof(budget);
             public const string Threshold = nameof(threshold);
+            public const string Tolerance = nameof(tolerance);
             public const string KeepBoundsCorners = nameof(keepBoundsCorners);
             public const string TargetGroup = nameof(targetGroup);
             public const string GroundTruthGroup = nameof(groundTruthGroup);
@@ -38,6 +39,7 @@ namespace Lpnn.Probes
         }
 
         public const float MinimumCellSize = 0.001f;
+        public const float MinimumTolerance = 1e-4f;
 
         [Tooltip("Boxes in this object's local space; evaluation points fill their union.")]
         [SerializeField] private LpnnBox[] boxes = { new LpnnBox(Vector3.zero, new Vector3(8, 3, 8), Vector3.zero) };
@@ -64,16 +66,22 @@ namespace Lpnn.Probes
         [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
         [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
 
-        [SerializeField] private SelectionPolicy policy = SelectionPolicy.Percentile;
+        [Tooltip("How scores become probes. Spread (default) spreads the probes out and packs them where the model sees lighting " +
+                 "change; Percentile is the thesis' rule; Tolerance keeps as few probes as the placement error allows.")]
+        [SerializeField] private SelectionPolicy policy = SelectionPolicy.Spread;
 
         [Tooltip("0.9 keeps the top 10 % of the evaluation points.")]
         [Range(0, 1)] [SerializeField] private float percentile = 0.9f;
 
-        [Tooltip("Number of probes to keep (highest scores first).")]
+        [Tooltip("Number of probes to keep (Spread: spread ranking; Top-K: highest scores).")]
         [SerializeField] private int budget = 256;
 
         [Tooltip("Keep points whose score, remapped to [0, 1], is at least this.")]
         [Range(0, 1)] [SerializeField] private float threshold = 0.5f;
+
+        [Tooltip("Largest mean placement error allowed (relative irradiance error; 0.02 ≈ 4 % relative error): the fewest " +
+                 "spread-ranked probes that reproduce the sampled lighting this well.")]
+        [SerializeField] private float tolerance = 0.02f;
 
         [Tooltip("Also keep the points at the 8 corners of every box, so the probes enclose the whole volume.")]
         [SerializeField] private bool keepBoundsCorners = true;
@@ -114,6 +122,8 @@ namespace Lpnn.Probes
             {
                 case SelectionPolicy.Budget: return SelectionSettings.Budget(budget, keepBoundsCorners);
                 case SelectionPolicy.Threshold: return SelectionSettings.Threshold(threshold, keepBoundsCorners);
+                case SelectionPolicy.Spread: return SelectionSettings.Spread(budget, keepBoundsCorners);
+                case SelectionPolicy.Tolerance: return SelectionSettings.Tolerance(tolerance, keepBoundsCorners);
                 default: return SelectionSettings.Percentile(percentile, keepBoundsCorners);
             }
         }
@@ -145,8 +155,10 @@ namespace Lpnn.Probes
             keepBoundsCorners = settings.KeepBoundsCorners;
             switch (settings.Policy)
             {
-                case SelectionPolicy.Budget: budget = (int)settings.Value; break;
+                case SelectionPolicy.Budget:
+                case SelectionPolicy.Spread: budget = (int)settings.Value; break;
                 case SelectionPolicy.Threshold: threshold = (float)settings.Value; break;
+                case SelectionPolicy.Tolerance: tolerance = (float)settings.Value; break;
                 default: percentile = (float)settings.Value; break;
             }
         }
@@ -163,6 +175,8 @@ namespace Lpnn.Probes
             pointLimit = Mathf.Max(1, pointLimit);
             scoringPointLimit = Mathf.Max(1, scoringPointLimit);
             budget = Mathf.Max(1, budget);
+            // A tolerance of 0 would ask for every point; keep the field usable while typing.
+            tolerance = Mathf.Max(MinimumTolerance, tolerance);
             if (boxes == null) return;
             for (int b = 0; b < boxes.Length; b++)
             {

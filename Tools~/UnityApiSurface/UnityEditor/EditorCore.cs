@@ -66,6 +66,8 @@ namespace UnityEditor
         public static void LabelField(string label, string label2, params GUILayoutOption[] options) { }
         public static void LabelField(string label, string label2, GUIStyle style, params GUILayoutOption[] options) { }
         public static void Space() { }
+        // UnityCsReference 2022.3 Editor/Mono/EditorGUILayout.cs line 895 (6000.0: line 906)
+        public static int Popup(string label, int selectedIndex, string[] displayedOptions, params GUILayoutOption[] options) { throw null; }
 
         public class HorizontalScope : IDisposable
         {

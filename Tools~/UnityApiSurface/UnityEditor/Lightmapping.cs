@@ -11,6 +11,11 @@ namespace UnityEditor
         public static bool isRunning { get { throw null; } }
         public static bool Bake() { throw null; }
         public static bool TryGetLightingSettings(out LightingSettings settings) { throw null; }
+
+        // Same file: 2022.3 line 450, 6000.0 line 416 (plain UnityEditor namespace, public, not [Obsolete] in either).
+        // "Calculates a Delaunay Tetrahedralization of the 'positions' point set - the same way the lightmapper"; every 4
+        // indices form one tetrahedron, near-duplicate positions are dropped, so outPositions may be shorter.
+        public static void Tetrahedralize(Vector3[] positions, out int[] outIndices, out Vector3[] outPositions) { throw null; }
     }
 }
 

@@ -19,6 +19,7 @@ namespace Lpnn.Probes.Editor
     {
         private readonly LpnnBoxHandles _boxHandles = new LpnnBoxHandles();
         private readonly PlacementPreview _preview = new PlacementPreview();
+        private readonly PlacementErrorEstimate _estimate = new PlacementErrorEstimate();
         private string _countSignature;
         private string _countText;
         private MessageType _countType;
@@ -141,22 +142,27 @@ namespace Lpnn.Probes.Editor
         {
             Header("5. Placement");
             Field(LpnnVolume.Fields.TargetGroup);
-            var policy = Field(LpnnVolume.Fields.Policy);
-            switch ((SelectionPolicy)policy.enumValueIndex)
+            var policy = PolicyPopup();
+            switch (policy)
             {
+                case SelectionPolicy.Spread:
                 case SelectionPolicy.Budget: Field(LpnnVolume.Fields.Budget); break;
                 case SelectionPolicy.Threshold: Field(LpnnVolume.Fields.Threshold); break;
+                case SelectionPolicy.Tolerance: Field(LpnnVolume.Fields.Tolerance); break;
                 default: Field(LpnnVolume.Fields.Percentile); break;
             }
             Field(LpnnVolume.Fields.KeepBoundsCorners);
             serializedObject.ApplyModifiedProperties();
-            PreviewCount();
+            var preview = PreviewCount();
             using (new EditorGUILayout.HorizontalScope())
             {
                 using (new EditorGUI.DisabledScope(Volume.LastScores.IsEmpty))
                 {
+                    if (policy == SelectionPolicy.Tolerance && GUILayout.Button("Find probes"))
+                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => SearchTolerance());
                     if (GUILayout.Button("Apply"))
-                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => LpnnPipeline.Apply(Volume, Session));
+                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
+                            preview != null ? LpnnPipeline.Apply(Volume, Session, preview) : LpnnPipeline.Apply(Volume, Session));
                 }
                 if (GUILayout.Button("Clear"))
                     StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => { ProbeGroupWriter.Clear(Volume.TargetGroup); return "probes cleared"; });
@@ -164,6 +170,27 @@ namespace Lpnn.Probes.Editor
             }
             Status(Session.PlacementStep);
         }
+
+        /// <summary>The policy in the order an artist should consider them (Spread first, the thesis' Percentile next), not
+        /// the order of the enum, whose values are stored in scenes and only ever appended to.</summary>
+        private SelectionPolicy PolicyPopup()
+        {
+            var property = serializedObject.FindProperty(LpnnVolume.Fields.Policy);
+            // The enum is declared in value order, so its index is its value.
+            var current = (SelectionPolicy)property.enumValueIndex;
+            int shown = Math.Max(0, Array.IndexOf(PolicyOrder, current));
+            // EditorGUILayout.Popup: UnityCsReference Editor/Mono/EditorGUILayout.cs
+            int chosen = EditorGUILayout.Popup("Policy", shown, PolicyLabels);
+            if (chosen != shown) property.enumValueIndex = (int)PolicyOrder[chosen];
+            return PolicyOrder[chosen];
+        }
+
+        private static readonly SelectionPolicy[] PolicyOrder =
+        {
+            SelectionPolicy.Spread, SelectionPolicy.Percentile, SelectionPolicy.Budget, SelectionPolicy.Threshold, SelectionPolicy.Tolerance,
+        };
+
+        private static readonly string[] PolicyLabels = { "Spread (default)", "Percentile (thesis)", "Top-K", "Threshold", "Tolerance" };
 
         private void ExportSection()
         {
@@ -282,19 +309,23 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        private void PreviewCount()
+        /// <summary>Shows how many probes Apply would place and their estimated error; returns the selection (null when
+        /// there is none yet).</summary>
+        private SelectionResult PreviewCount()
         {
             var record = Volume.LastScores;
             if (record.IsEmpty)
             {
                 EditorGUILayout.HelpBox("No scores yet: run the Scoring step (or import a .probes.json).", MessageType.None);
-                return;
+                return null;
             }
             string error;
             SelectionResult result;
+            EvaluationGrid grid = null;
             try
             {
-                result = _preview.Get(LpnnPipeline.ScoredGrid(Volume, Session), record.Scores, Volume.GetSelectionSettings(), out error);
+                grid = LpnnPipeline.ScoredGrid(Volume, Session);
+                result = _preview.Get(grid, record.Scores, Volume.GetSelectionSettings(), out error);
             }
             catch (LpnnException e)
             {
@@ -302,10 +333,36 @@ namespace Lpnn.Probes.Editor
                 error = e.Message;
             }
             if (result == null)
+            {
                 EditorGUILayout.HelpBox(error, MessageType.Warning);
-            else
-                EditorGUILayout.HelpBox("Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
-                                        InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + ".", MessageType.Info);
+                return null;
+            }
+            string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
+                           InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + ".";
+            EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, grid, out MessageType type), type);
+            if (!_estimate.Has(result, Session) && Session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button("Estimate error"))
+                _estimate.Get(result, Session, grid, out bool _);
+            return result;
+        }
+
+        /// <summary>The estimated error line under the probe count: live on small grids, on request on large ones.</summary>
+        private string ErrorReadout(SelectionResult result, EvaluationGrid grid, out MessageType type)
+        {
+            type = MessageType.Info;
+            if (Session.Sh == null || Session.Grid != grid)
+                return "Estimated error: needs the lighting of this grid (run the Lighting data step).";
+            if (!_estimate.Has(result, Session) && !PlacementErrorEstimate.IsLive(grid))
+                return "Estimated error: press 'Estimate error' (" + InvariantFormat.Count(grid.Count) + " points is too many to follow every change).";
+            string text = _estimate.Get(result, Session, grid, out bool failed);
+            if (failed) type = MessageType.Warning;
+            return text;
+        }
+
+        private string SearchTolerance()
+        {
+            var grid = LpnnPipeline.ScoredGrid(Volume, Session);
+            var result = _preview.Search(grid, Volume.LastScores.Scores, Volume.GetSelectionSettings(), PlacementInputs.Evaluator(Session, grid));
+            return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + LpnnPipeline.Extras(result);
         }
 
         private string CardProblem()

@@ -73,6 +73,13 @@ namespace Lpnn.Probes.Editor
             Undo.RecordObject(volume, "Score LPNN evaluation points");
             volume.LastScores.Set(grid.CopyIds(), outcome.Scores, grid.CellSize, outcome.DeviceName, model);
             EditorUtility.SetDirty(volume);
+            // The spread ranking (the default policy) costs O(N log N): computed here, under the step's progress bar, rather
+            // than on the inspector's first repaint.
+            var policy = volume.GetSelectionSettings().Policy;
+            if (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance)
+            {
+                int[] computedNow = PlacementInputs.Scored(grid, volume.LastScores.Scores).SpreadOrder;
+            }
             return InvariantFormat.Count(outcome.Scores.Length) + " scores on " + outcome.DeviceName +
                    (outcome.Fallback.Length > 0 ? " (after: " + outcome.Fallback + ")" : "");
         }
@@ -84,22 +91,39 @@ namespace Lpnn.Probes.Editor
             return selection;
         }
 
-        /// <summary>World positions of the probes the current settings select on the last scores.</summary>
+        /// <summary>World positions of the probes the current settings select on the last scores. The tolerance policy
+        /// measures placement errors against the Lighting step's SH with Unity's tetrahedralisation.</summary>
         public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, out SelectionResult selection)
         {
             var grid = ScoredGrid(volume, session);
-            selection = ProbeSelector.Select(grid, volume.LastScores.Scores, volume.GetSelectionSettings());
-            var positions = new NumericsVector3[selection.Indices.Length];
-            for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
-            return positions;
+            var settings = volume.GetSelectionSettings();
+            var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
+            selection = ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores.Scores), settings, measure);
+            return PositionsOf(grid, selection);
         }
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
         public static string Apply(LpnnVolume volume, LpnnSession session)
         {
-            var positions = SelectedPositions(volume, session, out var selection);
+            SelectedPositions(volume, session, out var selection);
+            return Apply(volume, session, selection);
+        }
+
+        /// <summary>Writes a selection already made on the scored grid (e.g. the inspector's tolerance search) into the
+        /// target LightProbeGroup (one Undo step).</summary>
+        public static string Apply(LpnnVolume volume, LpnnSession session, SelectionResult selection)
+        {
+            var grid = ScoredGrid(volume, session);
+            var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             return positions.Length + " probes placed" + Extras(selection);
+        }
+
+        private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)
+        {
+            var positions = new NumericsVector3[selection.Indices.Length];
+            for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
+            return positions;
         }
 
         public static string Extras(SelectionResult selection)
@@ -107,7 +131,11 @@ namespace Lpnn.Probes.Editor
             string text = "";
             if (selection.CornersAdded > 0) text += ", " + selection.CornersAdded + " box corners";
             if (selection.AddedForTetrahedron > 0) text += ", " + selection.AddedForTetrahedron + " added to form a tetrahedron";
-            return text.Length == 0 ? "" : " (incl." + text.Substring(1) + ")";
+            string extras = text.Length == 0 ? "" : " (incl." + text.Substring(1) + ")";
+            if (selection.Tolerance != null)
+                extras += "; mean error " + InvariantFormat.Number(System.Math.Round(selection.Tolerance.MeanError, 4)) + " after " +
+                          selection.Tolerance.Evaluated.Count + " evaluations";
+            return extras;
         }
 
         /// <summary>The session's grid when it still matches the volume; otherwise an error saying to rebuild it.</summary>

@@ -12,11 +12,19 @@ namespace Lpnn.Probes.Core.Selection
         public int CornersAdded { get; }
         public int AddedForTetrahedron { get; }
 
+        /// <summary>The tolerance policy's search (the count it settled on and every error it measured); null for
+        /// the other policies.</summary>
+        public ToleranceSearchResult Tolerance { get; }
+
         public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron)
+            : this(indices, cornersAdded, addedForTetrahedron, null) { }
+
+        public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron, ToleranceSearchResult tolerance)
         {
             Indices = indices;
             CornersAdded = cornersAdded;
             AddedForTetrahedron = addedForTetrahedron;
+            Tolerance = tolerance;
         }
     }
 
@@ -31,39 +39,99 @@ namespace Lpnn.Probes.Core.Selection
             return (int)Math.Floor((1 - percentile) * pointCount + 0.5 + 1e-9);
         }
 
+        /// <summary>Every policy but Tolerance, which measures placement errors (use the overload with a measure).</summary>
         public static SelectionResult Select(EvaluationGrid grid, float[] scores, SelectionSettings settings)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
-            if (scores == null || scores.Length != grid.Count)
-                throw new SelectionException("need one score per evaluation point: got " + (scores?.Length ?? 0) + " scores for " + grid.Count + " points");
+            return Select(new ScoredPoints(grid, scores), settings, null);
+        }
+
+        /// <param name="points">The grid and its scores, with their rankings cached across calls.</param>
+        /// <param name="measure">The placement error, needed by the Tolerance policy only (may be null otherwise).</param>
+        public static SelectionResult Select(ScoredPoints points, SelectionSettings settings, IPlacementErrorMeasure measure)
+        {
+            if (points == null) throw new ArgumentNullException(nameof(points));
             settings.Validate();
-            int[] ranking = ScoreRanking.Rank(scores);
-            var selected = new HashSet<int>();
+            int n = points.Count;
             switch (settings.Policy)
             {
                 case SelectionPolicy.Percentile:
-                    AddTop(ranking, PercentileCount(settings.Value, grid.Count), selected);
-                    break;
+                    return Complete(points.Grid, Prefix(points.ScoreOrder, PercentileCount(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder);
                 case SelectionPolicy.Budget:
-                    AddTop(ranking, (int)Math.Min(settings.Value, grid.Count), selected);
-                    break;
+                    return Complete(points.Grid, Prefix(points.ScoreOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder);
+                case SelectionPolicy.Spread:
+                    return Complete(points.Grid, Prefix(points.SpreadOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.SpreadOrder);
+                case SelectionPolicy.Threshold:
+                    double[] remapped = ScoreRanking.Remap(points.Scores);
+                    var kept = new HashSet<int>();
+                    for (int p = 0; p < n; p++)
+                        if (!float.IsNaN(points.Scores[p]) && remapped[p] >= settings.Value) kept.Add(p);
+                    return Complete(points.Grid, kept, settings.KeepBoundsCorners, points.ScoreOrder);
                 default:
-                    double[] remapped = ScoreRanking.Remap(scores);
-                    for (int n = 0; n < grid.Count; n++)
-                        if (!float.IsNaN(scores[n]) && remapped[n] >= settings.Value) selected.Add(n);
-                    break;
+                    if (measure == null) throw MissingMeasure();
+                    return WithinTolerance(points.Grid, points.SpreadOrder, settings, measure);
             }
-            int corners = settings.KeepBoundsCorners ? AddCorners(grid, selected) : 0;
+        }
+
+        /// <summary>The tolerance policy over any ranking (the spread ranking by default; a reference ordering or a
+        /// baseline for comparisons): the smallest prefix, completed like every other selection (bounds corners,
+        /// tetrahedron), whose mean error is ≤ τ (<see cref="ToleranceSearch"/>). The error is measured on exactly the
+        /// set that is returned.</summary>
+        public static SelectionResult WithinTolerance(EvaluationGrid grid, int[] ranking, SelectionSettings settings, IPlacementErrorMeasure measure)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (ranking == null || ranking.Length != grid.Count)
+                throw new SelectionException("the tolerance search needs a ranking of all " + grid.Count + " points, got " + (ranking?.Length ?? 0));
+            CheckPermutation(ranking);
+            if (settings.Policy != SelectionPolicy.Tolerance)
+                throw new SelectionException("the tolerance search needs tolerance settings, got the " + settings.Policy + " policy");
+            settings.Validate();
+            if (measure == null) throw MissingMeasure();
+            var tried = new Dictionary<int, SelectionResult>();
+            var search = ToleranceSearch.Run(grid.Count, count =>
+            {
+                var selection = Complete(grid, Prefix(ranking, count), settings.KeepBoundsCorners, ranking);
+                tried[count] = selection;
+                return measure.MeanError(selection.Indices);
+            }, settings.Value);
+            var chosen = tried[search.Count];
+            return new SelectionResult(chosen.Indices, chosen.CornersAdded, chosen.AddedForTetrahedron, search);
+        }
+
+        private static SelectionException MissingMeasure() =>
+            new SelectionException("the tolerance policy measures the placement error against the lighting at every evaluation point; " +
+                                   "sample the lighting first (Lighting data step), or choose the Spread policy with a probe count");
+
+        private static void CheckPermutation(int[] ranking)
+        {
+            var seen = new bool[ranking.Length];
+            for (int r = 0; r < ranking.Length; r++)
+            {
+                int point = ranking[r];
+                if ((uint)point >= (uint)ranking.Length)
+                    throw new SelectionException("ranking position " + r + " names point " + point + ", outside the " + ranking.Length + " points");
+                if (seen[point]) throw new SelectionException("ranking lists point " + point + " twice");
+                seen[point] = true;
+            }
+        }
+
+        private static HashSet<int> Prefix(int[] ranking, int count)
+        {
+            var selected = new HashSet<int>();
+            for (int r = 0; r < count; r++) selected.Add(ranking[r]);
+            return selected;
+        }
+
+        /// <summary>The options applied after every policy, in the documented order: bounds corners, then the
+        /// tetrahedron guarantee (which takes its extra points from <paramref name="ranking"/>).</summary>
+        private static SelectionResult Complete(EvaluationGrid grid, HashSet<int> selected, bool keepBoundsCorners, int[] ranking)
+        {
+            int corners = keepBoundsCorners ? AddCorners(grid, selected) : 0;
             int added = TetrahedronGuarantee.Ensure(grid, ranking, selected);
             var indices = new int[selected.Count];
             selected.CopyTo(indices);
             Array.Sort(indices);
             return new SelectionResult(indices, corners, added);
-        }
-
-        private static void AddTop(int[] ranking, int count, ISet<int> selected)
-        {
-            for (int r = 0; r < count; r++) selected.Add(ranking[r]);
         }
 
         /// <summary>The grid point whose cell holds each box corner (a grid point unless a filter such as "drop

@@ -2,14 +2,19 @@ using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Selection
 {
+    /// <summary>Values are stored in scenes (Unity serializes the number), so new policies are only ever appended.</summary>
     public enum SelectionPolicy
     {
         /// <summary>The thesis' threshold: p = 0.9 keeps the top 10 % (rounded, halves up).</summary>
-        Percentile,
+        Percentile = 0,
         /// <summary>Top-K: the K highest-ranked points.</summary>
-        Budget,
+        Budget = 1,
         /// <summary>Points whose remapped score is at least t.</summary>
-        Threshold,
+        Threshold = 2,
+        /// <summary>The first K points of the spread ranking (the default for LPNN scores).</summary>
+        Spread = 3,
+        /// <summary>The smallest prefix of the spread ranking whose mean placement error is at most τ.</summary>
+        Tolerance = 4,
     }
 
     /// <summary>How to turn scores into probes (Documentation~/selection.md).</summary>
@@ -17,7 +22,8 @@ namespace Lpnn.Probes.Core.Selection
     {
         public SelectionPolicy Policy;
 
-        /// <summary>p ∈ [0, 1] for Percentile, K ≥ 1 (whole number) for Budget, t ∈ [0, 1] for Threshold.</summary>
+        /// <summary>p ∈ [0, 1] for Percentile, K ≥ 1 (whole number) for Budget and Spread, t ∈ [0, 1] for Threshold,
+        /// τ &gt; 0 for Tolerance.</summary>
         public double Value;
 
         /// <summary>Also keep the grid points at the 8 corners of every box, so the probe hull encloses the volume.</summary>
@@ -32,6 +38,12 @@ namespace Lpnn.Probes.Core.Selection
         public static SelectionSettings Threshold(double t, bool keepCorners = false) =>
             new SelectionSettings { Policy = SelectionPolicy.Threshold, Value = t, KeepBoundsCorners = keepCorners };
 
+        public static SelectionSettings Spread(int count, bool keepCorners = false) =>
+            new SelectionSettings { Policy = SelectionPolicy.Spread, Value = count, KeepBoundsCorners = keepCorners };
+
+        public static SelectionSettings Tolerance(double tau, bool keepCorners = false) =>
+            new SelectionSettings { Policy = SelectionPolicy.Tolerance, Value = tau, KeepBoundsCorners = keepCorners };
+
         public void Validate()
         {
             string value = InvariantFormat.Number(Value);
@@ -42,12 +54,17 @@ namespace Lpnn.Probes.Core.Selection
                         throw new SelectionException("percentile " + value + " must be between 0 and 1 (0.9 keeps the top 10 %)");
                     break;
                 case SelectionPolicy.Budget:
+                case SelectionPolicy.Spread:
                     if (!(Value >= 1) || Value != System.Math.Floor(Value) || Value > int.MaxValue)
                         throw new SelectionException("probe budget " + value + " must be a whole number of at least 1");
                     break;
                 case SelectionPolicy.Threshold:
                     if (!(Value >= 0 && Value <= 1))
                         throw new SelectionException("score threshold " + value + " must be between 0 and 1 (scores are remapped to [0, 1])");
+                    break;
+                case SelectionPolicy.Tolerance:
+                    if (!(Value > 0) || double.IsInfinity(Value))
+                        throw new SelectionException("tolerance " + value + " must be a mean placement error greater than 0 (0.02 ≈ 4 % relative irradiance error)");
                     break;
                 default:
                     throw new SelectionException("unknown selection policy " + Policy);

@@ -16,8 +16,16 @@ namespace Lpnn.Probes.Core.Sh
         /// <summary>(Y, Co, Cg) = (R/4 + G/2 + B/4, R/2 − B/2, −R/4 + G/2 − B/4).</summary>
         public static Vector3 RgbToYCoCg(Vector3 rgb)
         {
-            double r = rgb.X, g = rgb.Y, b = rgb.Z;
-            return new Vector3((float)(r / 4 + g / 2 + b / 4), (float)(r / 2 - b / 2), (float)(-r / 4 + g / 2 - b / 4));
+            RgbToYCoCg(rgb.X, rgb.Y, rgb.Z, out double y, out double co, out double cg);
+            return new Vector3((float)y, (float)co, (float)cg);
+        }
+
+        /// <summary>The same transform in double (the placement metric compares lighting without float32 rounding).</summary>
+        public static void RgbToYCoCg(double r, double g, double b, out double y, out double co, out double cg)
+        {
+            y = r / 4 + g / 2 + b / 4;
+            co = r / 2 - b / 2;
+            cg = -r / 4 + g / 2 - b / 4;
         }
 
         public static Vector3 YCoCgToRgb(Vector3 ycocg)

@@ -1,0 +1,104 @@
+using System;
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>The placement error of a probe set (Documentation~/quality.md §1–2): every evaluation point that is not
+    /// a probe is interpolated from the probes through the given tetrahedra — inside the hull from its tetrahedron,
+    /// outside from the nearest point of the hull surface — and compared with its reference lighting in the 42
+    /// D14 × RGB values. Probes reproduce themselves (error 0).</summary>
+    public static class PlacementError
+    {
+        /// <param name="reference">The dense lighting of all evaluation points.</param>
+        /// <param name="probes">Evaluation point indices of the probes (distinct, at least 4).</param>
+        /// <param name="tetrahedra">4 indices into <paramref name="probes"/> per tetrahedron (as Unity's
+        /// Lightmapping.Tetrahedralize returns them over the probe positions).</param>
+        public static PlacementErrorResult Evaluate(ReferenceLighting reference, int[] probes, int[] tetrahedra)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            ProbeIndices.Check(probes, reference.Count);
+            var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
+            var locator = new TetrahedronLocator(mesh);
+            var hull = new HullProjector(mesh.Points, mesh.HullFaces);
+
+            int count = reference.Count;
+            var isProbe = new bool[count];
+            foreach (int p in probes) isProbe[p] = true;
+            var irradiance = new double[count];
+            var smape = new double[count];
+            var interpolated = new double[ReferenceLighting.LightValues];
+            var weights = new double[4];
+            var stencil = new Stencil();
+            int outside = 0;
+            for (int n = 0; n < count; n++)
+            {
+                if (isProbe[n]) continue;
+                Locate(mesh, locator, hull, reference.Local, n, weights, ref stencil);
+                if (stencil.Outside) outside++;
+                Interpolate(reference.Light, probes, ref stencil, interpolated);
+                irradiance[n] = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+                smape[n] = PointErrorMetrics.Smape(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+            }
+            return new PlacementErrorResult(probes.Length, outside, irradiance, smape);
+        }
+
+        /// <summary>The stencil of one evaluation point (for inspection and tests): probe-list indices and weights.</summary>
+        public static Stencil StencilOf(ReferenceLighting reference, int[] probes, int[] tetrahedra, int point)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            ProbeIndices.Check(probes, reference.Count);
+            if ((uint)point >= (uint)reference.Count)
+                throw new ArgumentOutOfRangeException(nameof(point), point, "point index must be in 0.." + (reference.Count - 1));
+            var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
+            var stencil = new Stencil();
+            Locate(mesh, new TetrahedronLocator(mesh), new HullProjector(mesh.Points, mesh.HullFaces), reference.Local, point, new double[4], ref stencil);
+            return stencil;
+        }
+
+        private static double[] ProbePoints(ReferenceLighting reference, int[] probes)
+        {
+            var points = new double[3 * probes.Length];
+            for (int k = 0; k < probes.Length; k++)
+                Array.Copy(reference.Local, 3 * probes[k], points, 3 * k, 3);
+            return points;
+        }
+
+        private static void Locate(TetrahedralMesh mesh, TetrahedronLocator locator, HullProjector hull, double[] local, int n,
+            double[] weights, ref Stencil stencil)
+        {
+            double x = local[3 * n], y = local[3 * n + 1], z = local[3 * n + 2];
+            if (locator.TryLocate(x, y, z, weights, out int t))
+            {
+                stencil.Probe0 = mesh.Tetrahedra[4 * t];
+                stencil.Probe1 = mesh.Tetrahedra[4 * t + 1];
+                stencil.Probe2 = mesh.Tetrahedra[4 * t + 2];
+                stencil.Probe3 = mesh.Tetrahedra[4 * t + 3];
+                stencil.Weight0 = weights[0];
+                stencil.Weight1 = weights[1];
+                stencil.Weight2 = weights[2];
+                stencil.Weight3 = weights[3];
+                stencil.Outside = false;
+                return;
+            }
+            int f = hull.Nearest(x, y, z, out double u, out double v, out double w);
+            stencil.Probe0 = mesh.HullFaces[3 * f];
+            stencil.Probe1 = mesh.HullFaces[3 * f + 1];
+            stencil.Probe2 = mesh.HullFaces[3 * f + 2];
+            stencil.Probe3 = stencil.Probe0;
+            stencil.Weight0 = u;
+            stencil.Weight1 = v;
+            stencil.Weight2 = w;
+            stencil.Weight3 = 0;
+            stencil.Outside = true;
+        }
+
+        /// <summary>Σ wₖ·E(probeₖ) over the 42 values: the SH blend is linear, so this equals evaluating the blended SH.</summary>
+        private static void Interpolate(double[] light, int[] probes, ref Stencil s, double[] result)
+        {
+            const int values = ReferenceLighting.LightValues;
+            int o0 = values * probes[s.Probe0], o1 = values * probes[s.Probe1], o2 = values * probes[s.Probe2], o3 = values * probes[s.Probe3];
+            for (int i = 0; i < values; i++)
+                result[i] = s.Weight0 * light[o0 + i] + s.Weight1 * light[o1 + i] + s.Weight2 * light[o2 + i] + s.Weight3 * light[o3 + i];
+        }
+    }
+}

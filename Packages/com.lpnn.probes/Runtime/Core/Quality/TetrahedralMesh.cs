@@ -1,0 +1,177 @@
+using System;
+using System.Collections.Generic;
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Checked tetrahedra over a probe set, in the evaluation points' local frame: positively oriented, flat
+    /// ones dropped, each with the inverse of its edge matrix (barycentric weights in 9 multiplications), and the hull
+    /// surface — the faces that belong to exactly one tetrahedron.
+    ///
+    /// Flat (zero-volume) tetrahedra, which a tetrahedraliser may emit for cospherical probes, contain no point and
+    /// would turn interior faces into false hull faces, so they are left out (as the Python reference does).</summary>
+    internal sealed class TetrahedralMesh
+    {
+        /// <summary>|6 × volume| at or below this (local units, extent 1) is a flat tetrahedron.</summary>
+        public const double FlatVolume = 1e-14;
+
+        /// <summary>Probe positions in the local frame, x, y, z per probe.</summary>
+        public readonly double[] Points;
+        /// <summary>4 probe indices per tetrahedron, positively oriented.</summary>
+        public readonly int[] Tetrahedra;
+        /// <summary>9 values per tetrahedron: rows e2×e3, e3×e1, e1×e2 over the determinant, so that
+        /// (λ1, λ2, λ3) = inverse·(q − v0) and λ0 = 1 − λ1 − λ2 − λ3.</summary>
+        public readonly double[] Inverse;
+        /// <summary>3 probe indices per hull triangle.</summary>
+        public readonly int[] HullFaces;
+
+        public int TetrahedronCount => Tetrahedra.Length / 4;
+        public int HullFaceCount => HullFaces.Length / 3;
+
+        private TetrahedralMesh(double[] points, int[] tetrahedra, double[] inverse, int[] hullFaces)
+        {
+            Points = points;
+            Tetrahedra = tetrahedra;
+            Inverse = inverse;
+            HullFaces = hullFaces;
+        }
+
+        /// <param name="points">Probe positions in the local frame (x, y, z per probe).</param>
+        /// <param name="tetrahedra">4 indices into the probes per tetrahedron.</param>
+        public static TetrahedralMesh Build(double[] points, int[] tetrahedra)
+        {
+            if (tetrahedra == null) throw new ArgumentNullException(nameof(tetrahedra));
+            int probes = points.Length / 3;
+            if (tetrahedra.Length == 0 || tetrahedra.Length % 4 != 0)
+                throw new PlacementErrorException("tetrahedra come as 4 probe indices each; got " + InvariantFormat.Count(tetrahedra.Length) +
+                                                  " indices" + (tetrahedra.Length == 0 ? " (none: the probes could not be tetrahedralised)" : ""));
+            CheckIndices(tetrahedra, probes);
+
+            var kept = new List<int>(tetrahedra.Length);
+            var inverse = new List<double>(tetrahedra.Length / 4 * 9);
+            for (int t = 0; t < tetrahedra.Length; t += 4)
+                AddOriented(points, tetrahedra[t], tetrahedra[t + 1], tetrahedra[t + 2], tetrahedra[t + 3], kept, inverse);
+            if (kept.Count == 0)
+                throw new PlacementErrorException("all " + InvariantFormat.Count(tetrahedra.Length / 4) + " tetrahedra are flat (no volume): the " + probes +
+                                                  " probes lie in one plane; add a probe off that plane, e.g. make the volume two cells deep");
+            int[] tets = kept.ToArray();
+            return new TetrahedralMesh(points, tets, inverse.ToArray(), HullOf(tets));
+        }
+
+        private static void CheckIndices(int[] tetrahedra, int probes)
+        {
+            for (int t = 0; t < tetrahedra.Length; t += 4)
+            {
+                for (int k = 0; k < 4; k++)
+                {
+                    int v = tetrahedra[t + k];
+                    if ((uint)v >= (uint)probes)
+                        throw new PlacementErrorException("tetrahedron " + t / 4 + " references probe " + v + ", but there are only " + probes +
+                                                          " probes (indices 0.." + (probes - 1) + ")");
+                    for (int j = 0; j < k; j++)
+                        if (tetrahedra[t + j] == v)
+                            throw new PlacementErrorException("tetrahedron " + t / 4 + " uses probe " + v + " twice");
+                }
+            }
+        }
+
+        private static void AddOriented(double[] p, int a, int b, int c, int d, List<int> kept, List<double> inverse)
+        {
+            double e1x = p[3 * b] - p[3 * a], e1y = p[3 * b + 1] - p[3 * a + 1], e1z = p[3 * b + 2] - p[3 * a + 2];
+            double e2x = p[3 * c] - p[3 * a], e2y = p[3 * c + 1] - p[3 * a + 1], e2z = p[3 * c + 2] - p[3 * a + 2];
+            double e3x = p[3 * d] - p[3 * a], e3y = p[3 * d + 1] - p[3 * a + 1], e3z = p[3 * d + 2] - p[3 * a + 2];
+            double det = e1x * (e2y * e3z - e2z * e3y) + e1y * (e2z * e3x - e2x * e3z) + e1z * (e2x * e3y - e2y * e3x);
+            if (!(Math.Abs(det) > FlatVolume)) return;
+            if (det < 0)
+            {
+                // Swapping the last two vertices (and edges) flips the orientation.
+                int swap = c;
+                c = d;
+                d = swap;
+                double tx = e2x, ty = e2y, tz = e2z;
+                e2x = e3x; e2y = e3y; e2z = e3z;
+                e3x = tx; e3y = ty; e3z = tz;
+                det = -det;
+            }
+            kept.Add(a);
+            kept.Add(b);
+            kept.Add(c);
+            kept.Add(d);
+            AddRow(inverse, e2x, e2y, e2z, e3x, e3y, e3z, det);
+            AddRow(inverse, e3x, e3y, e3z, e1x, e1y, e1z, det);
+            AddRow(inverse, e1x, e1y, e1z, e2x, e2y, e2z, det);
+        }
+
+        /// <summary>Appends (u × v) / det.</summary>
+        private static void AddRow(List<double> inverse, double ux, double uy, double uz, double vx, double vy, double vz, double det)
+        {
+            inverse.Add((uy * vz - uz * vy) / det);
+            inverse.Add((uz * vx - ux * vz) / det);
+            inverse.Add((ux * vy - uy * vx) / det);
+        }
+
+        /// <summary>A triangle by its sorted corners, with the order it was listed in (to sort faces deterministically).</summary>
+        private struct FaceKey : IComparable<FaceKey>
+        {
+            public int A, B, C;
+
+            public FaceKey(int x, int y, int z)
+            {
+                // Sort three values so that equal faces get equal keys whatever the corner order.
+                if (x > y) { int t = x; x = y; y = t; }
+                if (y > z) { int t = y; y = z; z = t; }
+                if (x > y) { int t = x; x = y; y = t; }
+                A = x;
+                B = y;
+                C = z;
+            }
+
+            public int CompareTo(FaceKey other)
+            {
+                if (A != other.A) return A.CompareTo(other.A);
+                if (B != other.B) return B.CompareTo(other.B);
+                return C.CompareTo(other.C);
+            }
+
+            public bool SameAs(FaceKey other) => A == other.A && B == other.B && C == other.C;
+        }
+
+        /// <summary>The faces used by exactly one tetrahedron; a face used by three or more means the input is not a
+        /// tetrahedralisation.</summary>
+        private static int[] HullOf(int[] tets)
+        {
+            var faces = new FaceKey[tets.Length];
+            int f = 0;
+            for (int t = 0; t < tets.Length; t += 4)
+            {
+                int a = tets[t], b = tets[t + 1], c = tets[t + 2], d = tets[t + 3];
+                faces[f++] = new FaceKey(b, c, d);
+                faces[f++] = new FaceKey(a, c, d);
+                faces[f++] = new FaceKey(a, b, d);
+                faces[f++] = new FaceKey(a, b, c);
+            }
+            Array.Sort(faces);
+            var hull = new List<int>();
+            for (int start = 0; start < faces.Length;)
+            {
+                int end = start + 1;
+                while (end < faces.Length && faces[end].SameAs(faces[start])) end++;
+                int uses = end - start;
+                if (uses > 2)
+                    throw new PlacementErrorException("the triangle of probes " + faces[start].A + ", " + faces[start].B + ", " + faces[start].C + " belongs to " + uses +
+                                                      " tetrahedra; the tetrahedra do not form a valid tetrahedralisation (overlapping or repeated tetrahedra)");
+                if (uses == 1)
+                {
+                    hull.Add(faces[start].A);
+                    hull.Add(faces[start].B);
+                    hull.Add(faces[start].C);
+                }
+                start = end;
+            }
+            if (hull.Count == 0)
+                throw new PlacementErrorException("the tetrahedra have no boundary (every triangle is shared by two of them): the same " +
+                                                  "tetrahedra are listed twice; pass each tetrahedron once");
+            return hull.ToArray();
+        }
+    }
+}

@@ -1,0 +1,151 @@
+using System;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Finds the tetrahedron containing a point through a uniform bucket grid over the tetrahedra's bounding
+    /// boxes: each bucket lists the tetrahedra whose (slightly padded) box overlaps it, so a query tests only the few
+    /// tetrahedra near the point instead of scanning them all (the linear scan that cost LumiProbes 76–95 % of its time).
+    ///
+    /// Among the candidates the point takes the one it is most inside (largest smallest barycentric weight; ties to the
+    /// lower tetrahedron): a point on a shared face gets the same interpolated value from either side, and a point
+    /// a rounding error outside every tetrahedron still finds the right one.</summary>
+    internal sealed class TetrahedronLocator
+    {
+        /// <summary>A barycentric weight ≥ −this counts as inside (Documentation~/quality.md §1).</summary>
+        public const double InsideTolerance = 1e-9;
+
+        /// <summary>Box padding in local units: far more than the inside tolerance can reach, so no candidate is missed.</summary>
+        private const double Padding = 1e-7;
+
+        /// <summary>Aim for about this many buckets per tetrahedron (a bucket then holds a handful).</summary>
+        private const double BucketsPerTetrahedron = 0.5;
+
+        private readonly TetrahedralMesh _mesh;
+        private readonly double _minX, _minY, _minZ, _maxX, _maxY, _maxZ;
+        private double _bucket;
+        private int _nx, _ny, _nz;
+        private readonly int[] _start;
+        private readonly int[] _items;
+
+        public TetrahedronLocator(TetrahedralMesh mesh)
+        {
+            _mesh = mesh;
+            int tetCount = mesh.TetrahedronCount;
+            var bounds = new double[6 * tetCount];
+            _minX = _minY = _minZ = double.PositiveInfinity;
+            _maxX = _maxY = _maxZ = double.NegativeInfinity;
+            for (int t = 0; t < tetCount; t++)
+            {
+                BoundsOf(t, bounds);
+                _minX = Math.Min(_minX, bounds[6 * t]);
+                _minY = Math.Min(_minY, bounds[6 * t + 1]);
+                _minZ = Math.Min(_minZ, bounds[6 * t + 2]);
+                _maxX = Math.Max(_maxX, bounds[6 * t + 3]);
+                _maxY = Math.Max(_maxY, bounds[6 * t + 4]);
+                _maxZ = Math.Max(_maxZ, bounds[6 * t + 5]);
+            }
+            double ex = _maxX - _minX, ey = _maxY - _minY, ez = _maxZ - _minZ;
+            // Cubic buckets whose count is about BucketsPerTetrahedron × T (the padded box always has volume > 0).
+            _bucket = Math.Pow(ex * ey * ez / Math.Max(1.0, BucketsPerTetrahedron * tetCount), 1.0 / 3.0);
+            _nx = Cells(ex);
+            _ny = Cells(ey);
+            _nz = Cells(ez);
+            // Thin or elongated hulls round many axes up; grow the buckets until their count is proportional to T again.
+            while ((long)_nx * _ny * _nz > 2L * tetCount + 64)
+            {
+                _bucket *= 1.25;
+                _nx = Cells(ex);
+                _ny = Cells(ey);
+                _nz = Cells(ez);
+            }
+            var counts = new int[_nx * _ny * _nz + 1];
+            ForEachBucket(bounds, tetCount, (bucket, t) => counts[bucket + 1]++);
+            for (int b = 1; b < counts.Length; b++) counts[b] += counts[b - 1];
+            _start = (int[])counts.Clone();
+            _items = new int[counts[counts.Length - 1]];
+            ForEachBucket(bounds, tetCount, (bucket, t) => _items[counts[bucket]++] = t);
+        }
+
+        private int Cells(double extent) => (int)Math.Max(1, Math.Min(1 << 20, Math.Ceiling(extent / _bucket)));
+
+        private void BoundsOf(int t, double[] bounds)
+        {
+            double[] p = _mesh.Points;
+            int o = 6 * t;
+            for (int axis = 0; axis < 3; axis++)
+            {
+                double lo = double.PositiveInfinity, hi = double.NegativeInfinity;
+                for (int k = 0; k < 4; k++)
+                {
+                    double v = p[3 * _mesh.Tetrahedra[4 * t + k] + axis];
+                    lo = Math.Min(lo, v);
+                    hi = Math.Max(hi, v);
+                }
+                bounds[o + axis] = lo - Padding;
+                bounds[o + 3 + axis] = hi + Padding;
+            }
+        }
+
+        /// <summary>Calls <paramref name="visit"/>(bucket, tetrahedron) for every bucket each tetrahedron's box overlaps,
+        /// tetrahedra in ascending order (so each bucket lists them ascending).</summary>
+        private void ForEachBucket(double[] bounds, int tetCount, Action<int, int> visit)
+        {
+            for (int t = 0; t < tetCount; t++)
+            {
+                int x0 = Cell(bounds[6 * t], _minX, _nx), x1 = Cell(bounds[6 * t + 3], _minX, _nx);
+                int y0 = Cell(bounds[6 * t + 1], _minY, _ny), y1 = Cell(bounds[6 * t + 4], _minY, _ny);
+                int z0 = Cell(bounds[6 * t + 2], _minZ, _nz), z1 = Cell(bounds[6 * t + 5], _minZ, _nz);
+                for (int z = z0; z <= z1; z++)
+                for (int y = y0; y <= y1; y++)
+                for (int x = x0; x <= x1; x++)
+                    visit((z * _ny + y) * _nx + x, t);
+            }
+        }
+
+        private int Cell(double v, double min, int cells) => Math.Min(cells - 1, Math.Max(0, (int)Math.Floor((v - min) / _bucket)));
+
+        /// <summary>The tetrahedron containing (x, y, z) (local frame) and its barycentric weights clamped to ≥ 0 and
+        /// renormalised; false when the point is outside every tetrahedron.</summary>
+        public bool TryLocate(double x, double y, double z, double[] weights, out int tetrahedron)
+        {
+            tetrahedron = -1;
+            if (x < _minX || x > _maxX || y < _minY || y > _maxY || z < _minZ || z > _maxZ) return false;
+            int bucket = (Cell(z, _minZ, _nz) * _ny + Cell(y, _minY, _ny)) * _nx + Cell(x, _minX, _nx);
+            double best = double.NegativeInfinity;
+            double b0 = 0, b1 = 0, b2 = 0, b3 = 0;
+            for (int i = _start[bucket]; i < _start[bucket + 1]; i++)
+            {
+                int t = _items[i];
+                Barycentric(t, x, y, z, out double l0, out double l1, out double l2, out double l3);
+                double smallest = Math.Min(Math.Min(l0, l1), Math.Min(l2, l3));
+                if (!(smallest > best)) continue;
+                best = smallest;
+                tetrahedron = t;
+                b0 = l0; b1 = l1; b2 = l2; b3 = l3;
+            }
+            if (!(best >= -InsideTolerance)) return false;
+            b0 = Math.Max(0, b0);
+            b1 = Math.Max(0, b1);
+            b2 = Math.Max(0, b2);
+            b3 = Math.Max(0, b3);
+            // The largest weight is ≥ 1/4 − 4e-9 before clamping, so the sum is never 0.
+            double sum = b0 + b1 + b2 + b3;
+            weights[0] = b0 / sum;
+            weights[1] = b1 / sum;
+            weights[2] = b2 / sum;
+            weights[3] = b3 / sum;
+            return true;
+        }
+
+        private void Barycentric(int t, double x, double y, double z, out double l0, out double l1, out double l2, out double l3)
+        {
+            double[] p = _mesh.Points, m = _mesh.Inverse;
+            int v0 = _mesh.Tetrahedra[4 * t], o = 9 * t;
+            double qx = x - p[3 * v0], qy = y - p[3 * v0 + 1], qz = z - p[3 * v0 + 2];
+            l1 = m[o] * qx + m[o + 1] * qy + m[o + 2] * qz;
+            l2 = m[o + 3] * qx + m[o + 4] * qy + m[o + 5] * qz;
+            l3 = m[o + 6] * qx + m[o + 7] * qy + m[o + 8] * qz;
+            l0 = 1.0 - (l1 + l2 + l3);
+        }
+    }
+}

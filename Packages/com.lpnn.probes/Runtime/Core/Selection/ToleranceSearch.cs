@@ -1,0 +1,73 @@
+using System;
+using System.Collections.Generic;
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Selection
+{
+    /// <summary>What the tolerance search found: the prefix count it settled on, that count's error, and every count it
+    /// evaluated with its error (ascending).</summary>
+    public sealed class ToleranceSearchResult
+    {
+        public int Count { get; }
+        public double MeanError { get; }
+        public IReadOnlyList<KeyValuePair<int, double>> Evaluated { get; }
+
+        public ToleranceSearchResult(int count, double meanError, IReadOnlyList<KeyValuePair<int, double>> evaluated)
+        {
+            Count = count;
+            MeanError = meanError;
+            Evaluated = evaluated;
+        }
+    }
+
+    /// <summary>The search of Documentation~/quality.md §4: the smallest prefix of a ranking whose mean error is ≤ τ.
+    /// The error is not monotonic in the count (a new probe re-tetrahedralises its neighbourhood), so the search
+    /// guarantees what it checks: exponential search from the smallest count (4, 8, 16, …, N), then bisection between
+    /// the last failing and the first passing count. The returned count passed; count − 1 was evaluated and failed
+    /// (unless it is the smallest count); every smaller evaluated count failed; at most 2·log₂N + 2 evaluations.</summary>
+    public static class ToleranceSearch
+    {
+        /// <summary>Unity needs 4 probes for a tetrahedron, so smaller prefixes are never worth evaluating.</summary>
+        public const int SmallestCount = 4;
+
+        /// <param name="pointCount">N, the longest prefix (all points: error 0).</param>
+        /// <param name="errorAtCount">Mean error of the selection made from the first <c>count</c> ranked points.</param>
+        /// <param name="tolerance">τ &gt; 0.</param>
+        public static ToleranceSearchResult Run(int pointCount, Func<int, double> errorAtCount, double tolerance)
+        {
+            if (errorAtCount == null) throw new ArgumentNullException(nameof(errorAtCount));
+            if (!(tolerance > 0) || double.IsInfinity(tolerance))
+                throw new SelectionException("tolerance " + InvariantFormat.Number(tolerance) + " must be a mean error greater than 0 (e.g. 0.02)");
+            if (pointCount < 1) throw new SelectionException("there are no evaluation points to place probes at");
+            var evaluated = new SortedDictionary<int, double>();
+            Func<int, double> error = count =>
+            {
+                if (!evaluated.TryGetValue(count, out double e))
+                {
+                    e = errorAtCount(count);
+                    if (double.IsNaN(e)) throw new SelectionException("the placement error of " + count + " probes is not a number");
+                    evaluated[count] = e;
+                }
+                return e;
+            };
+
+            int smallest = Math.Min(SmallestCount, pointCount);
+            int failing = smallest - 1, passing = smallest;
+            while (error(passing) > tolerance)
+            {
+                if (passing == pointCount)
+                    throw new SelectionException("even all " + InvariantFormat.Count(pointCount) + " points miss the tolerance " +
+                                                 InvariantFormat.Number(tolerance) + "; use a larger tolerance");
+                failing = passing;
+                passing = (int)Math.Min(2L * passing, pointCount);
+            }
+            while (passing - failing > 1)
+            {
+                int middle = failing + (passing - failing) / 2;
+                if (error(middle) <= tolerance) passing = middle;
+                else failing = middle;
+            }
+            return new ToleranceSearchResult(passing, evaluated[passing], new List<KeyValuePair<int, double>>(evaluated));
+        }
+    }
+}
