@@ -33,12 +33,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run)
 
 
-def label_source(method: str, budget: float | None, tolerance: float | None) -> str:
-    name = "fast-greedy" if method == "fast" else "faithful-greedy"
-    parameter = f"budget={budget:g}" if budget is not None else f"tolerance={tolerance:g}"
-    return f"reference:{name} {parameter}"
-
-
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -46,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     from ..core.capture import dataset_files, encode_capture, read_capture, write_capture
     from ..quality.cli_support import progress_bar, run_reference, user_errors
     from ..quality.metric import ReferenceField
-    from ..quality.policies import budget_count, reference_count, reference_tolerance
+    from ..quality.policies import budget_count, reference_count, reference_label_source, reference_tolerance
     from .errors import UserError
 
     files = dataset_files(args.captures)
@@ -61,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         taken = [out_dir / n for n in names if (out_dir / n).exists()]
         if taken:
             raise UserError(f"{taken[0]} exists; choose an empty --out-dir or use --in-place (nothing was written)")
-    source = label_source(args.method, args.budget, args.tolerance)
+    source = reference_label_source(args.method, args.budget, args.tolerance)
     for path in files:
         capture = read_capture(path)
         with user_errors(str(path)):

@@ -73,7 +73,7 @@ def _info(args: argparse.Namespace) -> None:
     from ..scenes.info import format_summary, level_summary
     from ..scenes.levels import load_level
 
-    with _as_user_errors():
+    with level_user_errors():
         summary = level_summary(load_level(args.level))
     print(json.dumps(summary, indent=2) if args.json else format_summary(summary))
 
@@ -84,7 +84,7 @@ def _import(args: argparse.Namespace) -> None:
 
     _check_settings(args.cell, args.point_limit)
     boxes, label = _parse_bounds(args.bounds)
-    with _as_user_errors(), _progress_bars(enabled=not args.quiet) as progress:
+    with level_user_errors(), _progress_bars(enabled=not args.quiet) as progress:
         result = import_level(args.level, args.cell, boxes=boxes, point_limit=args.point_limit, bounds_label=label,
                               drop_unlit=args.drop_unlit, timings_in_source=not args.reproducible,
                               progress=progress)
@@ -114,7 +114,7 @@ def _check_pack(args: argparse.Namespace) -> int:
 
     _check_settings(args.cell, args.point_limit)
     pak = args.pak if args.pak is not None else default_pak()
-    with _as_user_errors():
+    with level_user_errors():
         members = pak_members(pak)
         if args.levels:
             wanted = {f"maps/{name.lower()}.bsp" for name in args.levels}
@@ -175,7 +175,7 @@ def _parse_bounds(values: list[str]) -> tuple[list[Any] | None, str]:
 
 
 @contextmanager
-def _as_user_errors() -> Iterator[None]:
+def level_user_errors() -> Iterator[None]:
     """Level, grid and feature problems are the user's to fix: one line, no traceback."""
     from ..core.features import FeatureError
     from ..core.grid import GridError

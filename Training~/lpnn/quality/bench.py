@@ -134,13 +134,17 @@ def _reference_method(name: str, decimation: Decimation, seconds: float) -> _Met
     return _Method(name, select, seconds, decimation=decimation)
 
 
-def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig) -> list[_Method]:
+def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig,
+             reference: Decimation | None) -> list[_Method]:
     methods = [
         _uniform_method(grid),
         _ranking_method("random", grid, lambda: random_ranking(grid.point_count, config.seed), config.repeats),
         _ranking_method("heuristic", grid, lambda: heuristic_ranking(grid, capture.sh, capture.lighting_scale),
                         config.repeats),
     ]
+    if reference is not None:  # computed before (e.g. stored with the labels): not re-timed
+        methods.append(_reference_method("fast-reference", reference, reference.seconds))
+        return methods
     fast, fast_seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)
     methods.append(_reference_method("fast-reference", fast, fast_seconds))
     if field_.point_count <= config.faithful_limit:
@@ -225,10 +229,14 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
 
 
 def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any | None = None,
-                  log: Callable[[str], None] | None = None) -> CaptureResult:
+                  log: Callable[[str], None] | None = None, reference: Decimation | None = None) -> CaptureResult:
+    """Every method on one capture. `reference`: the capture's fast-reference decimation when already
+    known (its time is then its own `seconds`, and the faithful reference is skipped)."""
     field_ = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    methods = _methods(capture, field_, grid, config)
+    if reference is not None and reference.point_count != field_.point_count:
+        raise ValueError(f"{name}: the given reference covers {reference.point_count:,} points, the capture {field_.point_count:,}")
+    methods = _methods(capture, field_, grid, config, reference)
     reference = next(m for m in methods if m.name == "fast-reference").decimation
     assert reference is not None
     target = None if config.tolerance is None else reference_tolerance(reference, config.tolerance)

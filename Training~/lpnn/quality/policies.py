@@ -130,3 +130,10 @@ def reference_count(decimation: Decimation, count: int) -> Placement:
     return Placement(indices=decimation.prefix(kept), requested=int(count),
                      added_for_tetrahedron=max(0, kept - int(count)),
                      mean_error=float(decimation.error_curve[kept]), metric=decimation.metric)
+
+
+def reference_label_source(method: str, budget: float | None, tolerance: float | None) -> str:
+    """The `label_source` of reference labels, e.g. "reference:fast-greedy budget=0.2"."""
+    name = "fast-greedy" if method == "fast" else "faithful-greedy"
+    parameter = f"budget={budget:g}" if budget is not None else f"tolerance={tolerance:g}"
+    return f"reference:{name} {parameter}"

@@ -1,13 +1,11 @@
-"""Fixtures of the scene importer tests: a synthetic level (no game data) and the OpenArena pak."""
+"""Fixtures of the scene importer tests: a synthetic level (no game data); the OpenArena pak is in ../conftest.py."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
 
-from lpnn.scenes.levels import DEBIAN_PAK, INSTALL_HINT, PAK_ENV
 from synthetic_bsp import make_level
 
 
@@ -21,16 +19,3 @@ def bsp_path(tmp_path: Path, level_bytes: bytes) -> Path:
     path = tmp_path / "synthetic.bsp"
     path.write_bytes(level_bytes)
     return path
-
-
-@pytest.fixture(scope="session")
-def openarena_pak() -> Path:
-    """The pak under test: LPNN_OPENARENA_PAK must exist when set; else the Debian path, or skip."""
-    configured = os.environ.get(PAK_ENV)
-    if configured:
-        if not Path(configured).is_file():
-            pytest.fail(f"{PAK_ENV}={configured} but that file does not exist; {INSTALL_HINT}")
-        return Path(configured)
-    if not DEBIAN_PAK.is_file():
-        pytest.skip(f"OpenArena levels not installed ({DEBIAN_PAK} missing); {INSTALL_HINT}")
-    return DEBIAN_PAK

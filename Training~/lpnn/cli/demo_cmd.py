@@ -1,0 +1,61 @@
+"""`lpnn demo`: the README's main job (Documentation~/benchmarks.md "Demo").
+
+  lpnn demo --model M.onnx --out DIR [--pak PAK] [--level oa_dm1] [--tolerance 0.02]
+
+Imports a level the model never saw, scores it, keeps the fewest probes whose mean error is within the
+tolerance, compares with the reference, a uniform grid and the heuristic, prints a table and writes
+DIR/probes.json (Unity: LPNN volume > Import .probes.json…), probes-refined.json, demo.png,
+table.txt and summary.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    from ..quality.arguments import tolerance
+    from ..demo.run import DEMO_LEVEL, DEMO_TOLERANCE
+
+    parser = subparsers.add_parser("demo", help="place probes on a held-out level and compare (the README's main job)",
+                                   description="Headless demo on a real level with a model.")
+    parser.add_argument("--model", required=True, metavar="M.onnx", help="model with its card beside it")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--pak", metavar="PAK", help="openarena maps pak (default: $LPNN_OPENARENA_PAK, else the Debian path)")
+    parser.add_argument("--level", default=DEMO_LEVEL, help=f"level name in the pak (default {DEMO_LEVEL}, held out)")
+    parser.add_argument("--tolerance", type=tolerance, default=DEMO_TOLERANCE, metavar="TAU",
+                        help=f"mean irradiance error allowed (default {DEMO_TOLERANCE:g})")
+    parser.set_defaults(handler=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from ..demo.report import table, write_outputs
+    from ..demo.run import held_out_in_card, run_demo
+    from ..quality.cli_support import user_errors
+    from ..scenes.importer import DEFAULT_CELL, import_level
+    from ..scenes.levels import INSTALL_HINT, default_pak, load_pak_member
+    from ..train.onnx_scoring import OnnxScorer
+    from .errors import UserError
+    from .scene_cmd import level_user_errors
+
+    pak = Path(args.pak) if args.pak else default_pak()
+    if not pak.is_file():
+        raise UserError(f"{pak}: openarena maps pak not found; {INSTALL_HINT}")
+    scorer = OnnxScorer(args.model)
+    held_out = held_out_in_card(scorer.card, args.level)
+    log = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731 - progress to stderr, table to stdout
+    log(f"importing {args.level} from {pak.name} at {DEFAULT_CELL:g} m cells")
+    with level_user_errors():
+        start = time.perf_counter()
+        level = load_pak_member(pak, f"maps/{args.level}.bsp")
+        imported = import_level(level, cell_size=DEFAULT_CELL, drop_unlit=True, timings_in_source=True)
+    with user_errors(args.level):
+        seconds = {"import (grid, solid, SH, features)": time.perf_counter() - start}
+        result = run_demo(imported.capture, args.level, scorer, seconds, held_out, args.tolerance, log)
+    files = write_outputs(result, Path(args.out), Path(args.model).name)
+    sys.stdout.write(table(result))
+    print("\nwrote " + ", ".join(str(path) for path in files.values()))
+    return 0

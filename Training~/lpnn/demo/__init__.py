@@ -1,0 +1,1 @@
+"""The headless demo of the README's main job (`lpnn demo`)."""

@@ -1,0 +1,129 @@
+"""What the demo prints and writes: a table, a PNG (error vs probes; the chosen probes seen from above),
+the probe files Unity imports (`file-formats.md` probe file) and a JSON summary."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..core.atomic import write_bytes_atomic, write_text_atomic
+from ..quality.probes_file import write_probes_json
+from .run import DemoResult
+
+LABELS = {"lpnn": "LPNN (shipped model)", "lpnn-refine": "LPNN + refine x2", "fast-reference": "fast reference",
+          "uniform": "uniform grid", "heuristic": "heuristic"}
+STYLE = {"lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"), "fast-reference": ("tab:green", "-"),
+         "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--")}
+STAGES = ("features", "inference", "selection", "refinement", "reference")
+
+
+def _ratio(value: float, other: float) -> float:
+    return value / other if other > 0 else (1.0 if value == 0 else math.inf)
+
+
+def table(result: DemoResult) -> str:
+    n = result.capture.point_count
+    held = {True: "held out: never seen in training or model selection",
+            False: "NOT held out: the model was trained on this level",
+            None: "the model card does not list its held-out levels"}[result.held_out]
+    reference = result.methods["fast-reference"]
+    uniform = result.methods["uniform"]
+    seconds = result.import_seconds
+    lines = [f"{result.level}: {n:,} evaluation points at {result.capture.cell_size:g} m ({held})",
+             "import: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()),
+             "",
+             f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
+             f"{'method':<22}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
+    for name in ("lpnn", "lpnn-refine", "fast-reference", "heuristic", "uniform"):
+        m = result.methods[name]
+        stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
+        lines.append(f"{LABELS[name]:<22}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
+                     f"{_ratio(m.probes, reference.probes):>7.2f}{_ratio(m.probes, uniform.probes):>7.2f}"
+                     f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}  {stages}")
+    count = result.methods["lpnn"].probes
+    same = result.same_count
+    lines += ["", f"At LPNN's {count} probes: mean error LPNN {same['lpnn'].irradiance.mean:.4f}, "
+                  f"reference {same['fast-reference'].irradiance.mean:.4f} "
+                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['fast-reference'].irradiance.mean):.2f}), "
+                  f"uniform {same['uniform'].irradiance.mean:.4f} "
+                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['uniform'].irradiance.mean):.2f}), "
+                  f"heuristic {same['heuristic'].irradiance.mean:.4f} "
+                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['heuristic'].irradiance.mean):.2f})"]
+    return "\n".join(lines) + "\n"
+
+
+def plot(result: DemoResult, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")  # headless; must precede pyplot
+    import matplotlib.pyplot as plt
+
+    figure, (curves, view) = plt.subplots(1, 2, figsize=(12, 4.8))
+    for name, (counts, errors) in result.curves.items():
+        colour, style = STYLE[name]
+        shown = np.isfinite(errors) & (errors > 0)
+        curves.plot(counts[shown], errors[shown], style, color=colour, linewidth=1.2, label=LABELS[name])
+    for name, method in result.methods.items():
+        colour, _ = STYLE[name]
+        curves.scatter([method.probes], [max(method.quality.irradiance.mean, 1e-6)], marker="*", s=140,
+                       color=colour, edgecolors="black", linewidths=0.5, zorder=5)
+    curves.axhline(result.tolerance, color="black", linestyle=":", linewidth=0.8,
+                   label=f"tolerance {result.tolerance:g} (stars: each method's answer)")
+    curves.set_xscale("log")
+    curves.set_yscale("log")
+    answers = [m.quality.irradiance.mean for m in result.methods.values() if m.quality.irradiance.mean > 0]
+    curves.set_ylim(bottom=min(answers + [result.tolerance]) / 4.0)  # every curve falls to 0 at N
+    curves.set_xlabel("probes kept")
+    curves.set_ylabel("mean relative irradiance error")
+    curves.set_title(f"{result.level}: error vs probes ({result.capture.point_count:,} candidates)")
+    curves.grid(True, which="both", alpha=0.3)
+    curves.legend(fontsize=7)
+
+    positions = result.capture.positions.astype(np.float64)
+    chosen = positions[result.methods["lpnn"].indices]
+    order = np.argsort(positions[:, 1])  # draw low points first, seen from above (Unity: y up)
+    points = view.scatter(positions[order, 0], positions[order, 2], c=result.scores[order], s=6, cmap="viridis",
+                          vmin=0.0, vmax=1.0, alpha=0.6, linewidths=0)
+    view.scatter(chosen[:, 0], chosen[:, 2], s=28, facecolors="none", edgecolors="red", linewidths=0.9,
+                 label=f"LPNN probes ({chosen.shape[0]})")
+    figure.colorbar(points, ax=view, label="LPNN score")
+    view.set_aspect("equal")
+    view.set_xlabel("x (m)")
+    view.set_ylabel("z (m)")
+    view.set_title("scores and LPNN probes (top view)")
+    view.legend(fontsize=7, loc="upper right")
+    figure.tight_layout()
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110, metadata={"Software": None})
+    plt.close(figure)
+    return write_bytes_atomic(path, buffer.getvalue())
+
+
+def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, Path]:
+    """probes.json (LPNN, the main result), probes-refined.json, demo.png, summary.json, table.txt."""
+    out.mkdir(parents=True, exist_ok=True)
+    capture = result.capture
+    files: dict[str, Path] = {}
+    for name, file in (("lpnn", "probes.json"), ("lpnn-refine", "probes-refined.json")):
+        method = result.methods[name]
+        files[name] = write_probes_json(
+            out / file, capture.positions[method.indices], capture.units,
+            {"level": result.level, "method": name, "model": model_name, "policy": "tolerance",
+             "tolerance": result.tolerance, "mean_error": round(method.quality.irradiance.mean, 6),
+             "p95_error": round(method.quality.irradiance.p95, 6)})
+    files["plot"] = plot(result, out / "demo.png")
+    text = table(result)
+    files["table"] = write_text_atomic(out / "table.txt", text)
+    summary = {"level": result.level, "points": capture.point_count, "cell_size": capture.cell_size,
+               "held_out": result.held_out, "tolerance": result.tolerance, "model": model_name,
+               "import_seconds": result.import_seconds,
+               "methods": {name: {"probes": m.probes, "mean_error": m.quality.irradiance.mean,
+                                  "p95_error": m.quality.irradiance.p95, "smape_mean": m.quality.smape.mean,
+                                  "seconds": m.seconds} for name, m in result.methods.items()},
+               "at_lpnn_count": {name: q.irradiance.mean for name, q in result.same_count.items()}}
+    files["summary"] = write_text_atomic(out / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    return files

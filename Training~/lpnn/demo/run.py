@@ -1,0 +1,145 @@
+"""The README's main job: one real level the shipped model never saw, placed with the tolerance policy
+and compared with the reference and the baselines (Documentation~/benchmarks.md "Demo").
+
+Steps, each timed: import (BSP, grid, solid test, light grid SH, features — what Unity's steps 1–4 do),
+inference (onnxruntime), selection (spread ranking + tolerance search), refinement (LPNN + refine ×2).
+The fast reference and the baselines run afterwards, for comparison only.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..core.capture import Capture
+from ..core.grid import EvaluationGrid
+from ..core.selection import ensure_tetrahedron
+from ..quality.baselines import heuristic_ranking, uniform_selection
+from ..quality.decimation import Decimation
+from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
+from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
+from ..quality.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
+from ..quality.reference_fast import fast_decimation
+
+DEMO_LEVEL = "oa_dm1"
+DEMO_TOLERANCE = 0.05
+Log = Callable[[str], None]
+
+
+@dataclass(frozen=True)
+class MethodResult:
+    method: str
+    indices: np.ndarray  # probes kept (sorted point indices)
+    quality: PlacementQuality
+    seconds: dict[str, float]  # stage -> seconds (placement only; reporting is not timed)
+
+    @property
+    def probes(self) -> int:
+        return int(self.indices.shape[0])
+
+
+@dataclass
+class DemoResult:
+    level: str
+    capture: Capture
+    held_out: bool | None  # the level is in the model card's held-out list (None: the card has no recipe)
+    import_seconds: dict[str, float]
+    scores: np.ndarray
+    tolerance: float
+    methods: dict[str, MethodResult] = field(default_factory=dict)
+    reference: Decimation | None = None
+    same_count: dict[str, PlacementQuality] = field(default_factory=dict)  # every method at LPNN's count
+    curves: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # method -> (counts, errors)
+
+
+def held_out_in_card(card: Any, level: str) -> bool | None:
+    recipe = card.training.get("recipe") if isinstance(card.training, dict) else None
+    if not isinstance(recipe, dict):
+        return None
+    return level in recipe["levels"]["held_out"]
+
+
+def _lpnn(name: str, placement: LpnnPlacement, inference: float) -> MethodResult:
+    t = placement.timing
+    seconds = {"features": t.features or 0.0, "inference": inference, "selection": t.selection}
+    if placement.refine is not None:
+        seconds["refinement"] = t.refinement
+    return MethodResult(name, placement.indices, placement.quality, seconds)
+
+
+def _searched(name: str, field_: ReferenceField, select: SelectionForCount, tolerance: float,
+              ranking_seconds: float) -> MethodResult:
+    start = time.perf_counter()
+    placement = place_tolerance(field_, select, tolerance)
+    seconds = {"selection": ranking_seconds + time.perf_counter() - start}
+    return MethodResult(name, placement.indices, evaluate_placement(field_, placement.indices), seconds)
+
+
+def curve_counts(point_count: int, samples: int = 24) -> np.ndarray:
+    """Probe counts from 4 to N, evenly spaced on a log axis, distinct."""
+    if point_count <= 4:
+        return np.array([point_count], dtype=np.int64)
+    counts = np.geomspace(4, point_count, samples)
+    return np.unique(np.round(counts).astype(np.int64))
+
+
+def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str, float], held_out: bool | None,
+             tolerance: float = DEMO_TOLERANCE, log: Log = print) -> DemoResult:
+    field_ = ReferenceField.from_capture(capture)
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    n = capture.point_count
+
+    start = time.perf_counter()
+    scores = scorer.score_capture(capture, level)
+    inference = time.perf_counter() - start
+    result = DemoResult(level, capture, held_out, import_seconds, scores, tolerance)
+
+    log(f"placing: LPNN, tolerance {tolerance:g}")
+    lpnn = lpnn_placement(capture, scores=scores, tolerance=tolerance, reference=field_, name=level)
+    result.methods["lpnn"] = _lpnn("lpnn", lpnn, inference)
+    log(f"placing: LPNN + refine x{RECOMMENDED_REFINE:g}")
+    refined = lpnn_placement(capture, scores=scores, tolerance=tolerance, refine=RECOMMENDED_REFINE,
+                             reference=field_, name=level)
+    result.methods["lpnn-refine"] = _lpnn("lpnn-refine", refined, inference)
+
+    log("comparing: fast reference (exact greedy decimation; seconds)")
+    start = time.perf_counter()
+    reference = fast_decimation(field_, workers=1)
+    reference_seconds = time.perf_counter() - start
+    target = reference_tolerance(reference, tolerance)
+    result.reference = reference
+    result.methods["fast-reference"] = MethodResult("fast-reference", target.indices,
+                                                    evaluate_placement(field_, target.indices),
+                                                    {"reference": reference_seconds})
+    log("comparing: uniform grid and heuristic")
+    grid_order = np.arange(n, dtype=np.int64)
+
+    def uniform(count: int) -> np.ndarray:
+        return ensure_tetrahedron(grid, grid_order, uniform_selection(grid.ids, count))[0]
+
+    start = time.perf_counter()
+    heuristic = heuristic_ranking(grid, capture.sh, capture.lighting_scale)
+    heuristic_seconds = time.perf_counter() - start
+    heuristic_select = prefix_selection(grid, heuristic)
+    result.methods["uniform"] = _searched("uniform", field_, uniform, tolerance, 0.0)
+    result.methods["heuristic"] = _searched("heuristic", field_, heuristic_select, tolerance, heuristic_seconds)
+
+    count = result.methods["lpnn"].probes
+    lpnn_select = prefix_selection(grid, lpnn.ranking)
+    selections: dict[str, SelectionForCount] = {
+        "lpnn": lpnn_select, "uniform": uniform, "heuristic": heuristic_select,
+        "fast-reference": lambda k: reference.prefix(max(k, reference.smallest_count))}
+    result.same_count = {name: evaluate_placement(field_, select(count)) for name, select in selections.items()}
+    counts = curve_counts(n)
+    for name, select in selections.items():
+        if name == "fast-reference":
+            result.curves[name] = (np.arange(reference.smallest_count, n + 1),
+                                   reference.error_curve[reference.smallest_count:])
+        else:
+            errors = np.array([evaluate_placement(field_, select(int(k))).irradiance.mean for k in counts])
+            result.curves[name] = (counts, errors)
+    return result
