@@ -2,7 +2,7 @@
 and compared with the reference and the baselines (Documentation~/benchmarks.md "Demo").
 
 Steps, each timed: import (BSP, grid, solid test, light grid SH, features — what Unity's steps 1–4 do),
-inference (onnxruntime), selection (spread ranking + tolerance search), refinement (LPNN + refine ×2).
+inference (onnxruntime, after one warm-up run, as a Unity worker is created once per model), selection (spread ranking + tolerance search), refinement (LPNN + refine ×2).
 The fast reference and the baselines run afterwards, for comparison only.
 """
 
@@ -93,6 +93,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = capture.point_count
 
+    scorer.score_capture(capture, level)  # warm-up: onnxruntime optimises the graph on the first run
     start = time.perf_counter()
     scores = scorer.score_capture(capture, level)
     inference = time.perf_counter() - start

@@ -273,11 +273,12 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
 
 def evaluate_held_out(paths: RecipePaths, names: list[str], config: RecipeConfig, log: Log) -> dict:
     """The held-out summary (cached in evaluation.json with the per-crop results, and bench.csv)."""
-    if paths.evaluation.exists():
-        return json.loads(paths.evaluation.read_text(encoding="utf-8"))["summary"]
-    files = [paths.labelled / f"{n}.lpnncap" for n in names]
-    crops = evaluate_crops(files, paths.model, config.workers,
-                           lambda items, total: _progress(items, total, "evaluating held-out crops"))
+    if paths.evaluation.exists():  # the per-crop results are kept; the summary is recomputed from them
+        crops = json.loads(paths.evaluation.read_text(encoding="utf-8"))["crops"]
+    else:
+        files = [paths.labelled / f"{n}.lpnncap" for n in names]
+        crops = evaluate_crops(files, paths.model, config.workers,
+                               lambda items, total: _progress(items, total, "evaluating held-out crops"))
     summary = summarize(crops)
     summary["goals"] = goal_checks(summary)
     rows = [BenchRow(**row) for crop in crops for row in crop["rows"]]

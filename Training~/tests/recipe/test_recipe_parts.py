@@ -127,7 +127,7 @@ def test_report_renders_the_card_and_the_document_check_finds_it() -> None:
     card = card_with_recipe(_card(), recipe, summary, {"10000": 4.5})
     table = report_markdown(card)
     assert table.startswith(TABLE_BEGIN) and table.rstrip().endswith(TABLE_END)
-    assert "h1, h2" in table and "| LPNN (spread ranking) | 20% | 10 | 1.34 | 0.50 | 0.80 |" in table
+    assert "h1, h2" in table and "| LPNN (spread ranking) | 20% | 10 | 1.34 | 0.50 | 0.80 | 20 | 1 | 3 | – | 10 |" in table
     assert "10,000 points 4.5 ms" in table and "**missed**" in table and "labels 2.0 min" in table
     document = "# Benchmarks\n\ntext\n" + table + "more text\n"
     assert documented_table(document) == table

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Reproduces the figures of Documentation~/benchmarks.md on this machine (about 15 minutes on 2 cores;
+# run it on an otherwise idle machine). Writes everything under Build~/benchmarks/ and prints the figures.
+#   bash Tools~/benchmarks.sh [scenes] [reference] [model] [bench] [report]   (default: all)
+source "$(dirname "$0")/lib.sh"
+cd "$REPO_ROOT"
+PY=$(bash "Tools~/setup-python.sh")
+PAK=$(bash "Tools~/install-openarena.sh")
+OUT="$BUILD_DIR/benchmarks"
+MODEL="Packages/com.lpnn.probes/Models/lpnn_default.onnx"
+mkdir -p "$OUT"
+lpnn() { PYTHONPATH="$TRAINING_DIR" "$PY" -m lpnn.cli.main "$@"; }
+parts=("$@")
+want() { [ ${#parts[@]} -eq 0 ] && return 0; local p; for p in "${parts[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
+
+if want scenes; then
+  log "scenes: the three largest levels of the pak at the default cell (import + features)"
+  for level in czest2ctf wrackdm17 suspended; do
+    lpnn scene import "$level" --point-limit 3000000 --out "$OUT/$level.lpnncap"
+  done
+fi
+
+if want reference; then
+  log "fast reference: ~5,000 candidates, every budget (one process)"
+  PYTHONPATH="$TRAINING_DIR" "$PY" -c "from lpnn.core.analytic_scene import AnalyticScene; from lpnn.core.capture import write_capture; \
+write_capture('$OUT/room.lpnncap', AnalyticScene.random(7, cell_size=0.28, room_size=(6, 3, 5)).capture())"
+  lpnn scene import oa_dm1 --cell 1.1 --drop-unlit --out "$OUT/oa_dm1@1.1.lpnncap"
+  for capture in room oa_dm1@1.1; do
+    TIMEFORMAT="$capture: fast reference, read to write: %R s wall"
+    time lpnn place "$OUT/$capture.lpnncap" --method fast --budget 0.2 --out "$OUT/$capture.probes.json"
+  done
+fi
+
+if want model; then
+  log "model: onnxruntime scoring time of the shipped model and training throughput"
+  lpnn model bench "$MODEL"
+fi
+
+if want bench; then
+  # Whole held-out levels small enough for the reference to run in seconds at the default cell (the other
+  # held-out levels hold 19k-548k points); czest1dm (7,468 points) at twice the cell.
+  log "speed/accuracy benchmark: the shipped model on five held-out levels"
+  captures=()
+  for spec in oa_dm1:1.6256 oa_dm6:1.6256 dm4ish:1.6256 oa_rpg3dm2:1.6256 czest1dm:3.2512; do
+    level=${spec%%:*}; cell=${spec##*:}
+    lpnn scene import "$level" --cell "$cell" --drop-unlit --out "$OUT/held_$level.lpnncap" > /dev/null
+    captures+=("$OUT/held_$level.lpnncap")
+  done
+  lpnn bench "${captures[@]}" --model "$MODEL" --tolerance 0.05 --out "$OUT/bench"
+fi
+
+if want report; then
+  lpnn recipe report "$MODEL" --check "Documentation~/benchmarks.md"
+fi
