@@ -47,6 +47,7 @@ if want bench; then
     captures+=("$OUT/held_$level.lpnncap")
   done
   lpnn bench "${captures[@]}" --model "$MODEL" --tolerance 0.05 --out "$OUT/bench"
+  python3 "Tools~/bench-table.py" "$OUT/bench/bench.csv"
 fi
 
 if want report; then

@@ -36,14 +36,11 @@ def _run(args: argparse.Namespace) -> int:
     from ..demo.run import held_out_in_card, run_demo
     from ..quality.cli_support import user_errors
     from ..scenes.importer import DEFAULT_CELL, import_level
-    from ..scenes.levels import INSTALL_HINT, default_pak, load_pak_member
+    from ..scenes.levels import load_pak_member
     from ..train.onnx_scoring import OnnxScorer
-    from .errors import UserError
-    from .scene_cmd import level_user_errors
+    from .scene_cmd import existing_pak, level_user_errors
 
-    pak = Path(args.pak) if args.pak else default_pak()
-    if not pak.is_file():
-        raise UserError(f"{pak}: openarena maps pak not found; {INSTALL_HINT}")
+    pak = existing_pak(args.pak)
     scorer = OnnxScorer(args.model)
     held_out = held_out_in_card(scorer.card, args.level)
     log = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731 - progress to stderr, table to stdout

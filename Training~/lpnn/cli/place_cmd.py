@@ -89,11 +89,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
 
 
 def _place(args: argparse.Namespace, capture: Capture) -> int:
-    import numpy as np
-
     from ..core.grid import EvaluationGrid
-    from ..core.selection import ensure_tetrahedron
-    from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selection
+    from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.cli_support import progress_bar, run_reference
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
@@ -113,11 +110,7 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
         what = "fast reference"
     else:
         if args.method == "uniform":
-            grid_order = np.arange(n, dtype=np.int64)
-
-            def select(count: int) -> np.ndarray:
-                return ensure_tetrahedron(grid, grid_order, uniform_selection(grid.ids, count))[0]
-
+            select = uniform_selector(grid)
             what = "uniform lattice"
         else:
             if args.method == "heuristic":

@@ -39,12 +39,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     from ..recipe.config import QUICK, RecipeConfig
     from ..recipe.run import run_recipe
-    from ..scenes.levels import INSTALL_HINT, default_pak
-    from .errors import UserError
+    from .scene_cmd import existing_pak
 
-    pak = Path(args.pak) if args.pak else default_pak()
-    if not pak.is_file():
-        raise UserError(f"{pak}: openarena maps pak not found; {INSTALL_HINT}")
+    pak = existing_pak(args.pak)
     config = QUICK if args.quick else RecipeConfig()
     result = run_recipe(pak, Path(args.work), config, install_to=Path(args.install) if args.install else None)
     total = sum(result.times.seconds.values())

@@ -174,6 +174,16 @@ def _parse_bounds(values: list[str]) -> tuple[list[Any] | None, str]:
     return boxes, " ".join(values)
 
 
+def existing_pak(value: str | None) -> Path:
+    """--pak, or the default pak ($LPNN_OPENARENA_PAK, else the Debian path); UserError if it is missing."""
+    from ..scenes.levels import INSTALL_HINT, default_pak
+
+    pak = Path(value) if value else default_pak()
+    if not pak.is_file():
+        raise UserError(f"{pak}: openarena maps pak not found; {INSTALL_HINT}")
+    return pak
+
+
 @contextmanager
 def level_user_errors() -> Iterator[None]:
     """Level, grid and feature problems are the user's to fix: one line, no traceback."""

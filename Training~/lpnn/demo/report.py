@@ -3,14 +3,14 @@ the probe files Unity imports (`file-formats.md` probe file) and a JSON summary.
 
 from __future__ import annotations
 
-import io
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 
-from ..core.atomic import write_bytes_atomic, write_text_atomic
+from ..core.atomic import write_text_atomic
+from ..quality.metric import guarded_ratio
+from ..quality.plots import pyplot, save_png
 from ..quality.probes_file import write_probes_json
 from .run import DemoResult
 
@@ -19,10 +19,6 @@ LABELS = {"lpnn": "LPNN (shipped model)", "lpnn-refine": "LPNN + refine x2", "fa
 STYLE = {"lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"), "fast-reference": ("tab:green", "-"),
          "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
-
-
-def _ratio(value: float, other: float) -> float:
-    return value / other if other > 0 else (1.0 if value == 0 else math.inf)
 
 
 def table(result: DemoResult) -> str:
@@ -42,26 +38,22 @@ def table(result: DemoResult) -> str:
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
         lines.append(f"{LABELS[name]:<22}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
-                     f"{_ratio(m.probes, reference.probes):>7.2f}{_ratio(m.probes, uniform.probes):>7.2f}"
+                     f"{guarded_ratio(m.probes, reference.probes):>7.2f}{guarded_ratio(m.probes, uniform.probes):>7.2f}"
                      f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}  {stages}")
     count = result.methods["lpnn"].probes
     same = result.same_count
     lines += ["", f"At LPNN's {count} probes: mean error LPNN {same['lpnn'].irradiance.mean:.4f}, "
                   f"reference {same['fast-reference'].irradiance.mean:.4f} "
-                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['fast-reference'].irradiance.mean):.2f}), "
+                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['fast-reference'].irradiance.mean):.2f}), "
                   f"uniform {same['uniform'].irradiance.mean:.4f} "
-                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['uniform'].irradiance.mean):.2f}), "
+                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['uniform'].irradiance.mean):.2f}), "
                   f"heuristic {same['heuristic'].irradiance.mean:.4f} "
-                  f"(LPNN x{_ratio(same['lpnn'].irradiance.mean, same['heuristic'].irradiance.mean):.2f})"]
+                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['heuristic'].irradiance.mean):.2f})"]
     return "\n".join(lines) + "\n"
 
 
 def plot(result: DemoResult, path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")  # headless; must precede pyplot
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     figure, (curves, view) = plt.subplots(1, 2, figsize=(12, 4.8))
     for name, (counts, errors) in result.curves.items():
         colour, style = STYLE[name]
@@ -97,10 +89,7 @@ def plot(result: DemoResult, path: Path) -> Path:
     view.set_title("scores and LPNN probes (top view)")
     view.legend(fontsize=7, loc="upper right")
     figure.tight_layout()
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=110, metadata={"Software": None})
-    plt.close(figure)
-    return write_bytes_atomic(path, buffer.getvalue())
+    return save_png(plt, figure, path, dpi=110)
 
 
 def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, Path]:

@@ -17,8 +17,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..core.selection import ensure_tetrahedron
-from ..quality.baselines import heuristic_ranking, uniform_selection
+from ..quality.baselines import heuristic_ranking, uniform_selector
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
 from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
@@ -117,11 +116,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
                                                     evaluate_placement(field_, target.indices),
                                                     {"reference": reference_seconds})
     log("comparing: uniform grid and heuristic")
-    grid_order = np.arange(n, dtype=np.int64)
-
-    def uniform(count: int) -> np.ndarray:
-        return ensure_tetrahedron(grid, grid_order, uniform_selection(grid.ids, count))[0]
-
+    uniform = uniform_selector(grid)
     start = time.perf_counter()
     heuristic = heuristic_ranking(grid, capture.sh, capture.lighting_scale)
     heuristic_seconds = time.perf_counter() - start

@@ -25,6 +25,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..core.features import NEIGHBOUR_SCALES, lighting_features
 from ..core.grid import EvaluationGrid
+from ..core.selection import ensure_tetrahedron
 from ..core.spread import farthest_point_ranking
 
 CURVATURE_COLUMNS = (12, 13, 14)  # curvature_1, curvature_2, curvature_4 in lighting_features
@@ -64,6 +65,16 @@ def uniform_selection(ids: np.ndarray, count: int) -> np.ndarray:
         return lattice[_evenly_spaced(count, lattice.shape[0])]
     rest = np.flatnonzero(~best_mask)
     return np.sort(np.concatenate([lattice, rest[_evenly_spaced(count - lattice.shape[0], rest.shape[0])]]))
+
+
+def uniform_selector(grid: EvaluationGrid):
+    """count -> the uniform subsample with the tetrahedron guarantee (grid order completes a flat one)."""
+    grid_order = np.arange(grid.point_count, dtype=np.int64)
+
+    def select(count: int) -> np.ndarray:
+        return ensure_tetrahedron(grid, grid_order, uniform_selection(grid.ids, count))[0]
+
+    return select
 
 
 def random_ranking(point_count: int, seed: int = DEFAULT_SEED) -> np.ndarray:

@@ -22,11 +22,10 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..core.selection import ensure_tetrahedron
-from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selection
+from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
-from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement
+from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
                        reference_tolerance)
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
@@ -119,12 +118,7 @@ def _ranking_method(name: str, grid: EvaluationGrid, make_ranking: Callable[[], 
 
 
 def _uniform_method(grid: EvaluationGrid) -> _Method:
-    fallback = np.arange(grid.point_count, dtype=np.int64)  # grid order completes a flat subsample
-
-    def select(count: int) -> np.ndarray:
-        return ensure_tetrahedron(grid, fallback, uniform_selection(grid.ids, count))[0]
-
-    return _Method("uniform", select, 0.0)
+    return _Method("uniform", uniform_selector(grid), 0.0)
 
 
 def _reference_method(name: str, decimation: Decimation, seconds: float) -> _Method:
@@ -162,8 +156,7 @@ def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter:
         inference_seconds=timing.inference, selection_seconds=timing.selection, refine_seconds=timing.refine,
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
-        error_ratio=quality.irradiance.mean / reference_error if reference_error > 0 else
-        (1.0 if quality.irradiance.mean == 0 else float("inf")))
+        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error))
 
 
 def _with_target(row: BenchRow, target: Placement) -> BenchRow:

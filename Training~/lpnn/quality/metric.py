@@ -19,6 +19,8 @@ points; the probes themselves have e = 0.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Callable
 
@@ -114,6 +116,13 @@ class ErrorSummary:
     mean: float
     p95: float
     per_point: np.ndarray  # (N,)
+
+
+def guarded_ratio(value: float, reference: float) -> float:
+    """value / reference; 0 / 0 is 1 (equal), a non-zero value over a zero reference is inf."""
+    if reference > 0:
+        return value / reference
+    return 1.0 if value == 0 else math.inf
 
 
 def summarize(per_point: np.ndarray) -> ErrorSummary:

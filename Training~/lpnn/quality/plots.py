@@ -23,7 +23,8 @@ METHOD_STYLE = {
 }
 
 
-def _figure():
+def pyplot():
+    """matplotlib.pyplot on the headless Agg backend."""
     import matplotlib
 
     matplotlib.use("Agg")  # headless; must precede pyplot
@@ -32,9 +33,10 @@ def _figure():
     return plt
 
 
-def _save(plt, figure, path: Path) -> Path:
+def save_png(plt, figure, path: Path, dpi: int = 120) -> Path:
+    """The figure as a PNG written atomically (no software tag: same input, same bytes)."""
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=120, metadata={"Software": None})
+    figure.savefig(buffer, format="png", dpi=dpi, metadata={"Software": None})
     plt.close(figure)
     return write_bytes_atomic(path, buffer.getvalue())
 
@@ -45,7 +47,7 @@ def _positive(values: np.ndarray) -> np.ndarray:
 
 
 def error_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
-    plt = _figure()
+    plt = pyplot()
     figure, axes = plt.subplots(figsize=(7, 4.5))
     curve = result.reference_curve
     counts = np.flatnonzero(np.isfinite(curve) & (np.arange(curve.shape[0]) >= 4))
@@ -73,11 +75,11 @@ def error_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
     figure.tight_layout()
-    return _save(plt, figure, Path(path))
+    return save_png(plt, figure, Path(path))
 
 
 def time_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
-    plt = _figure()
+    plt = pyplot()
     figure, axes = plt.subplots(figsize=(7, 4.5))
     for method, (colour, marker) in METHOD_STYLE.items():
         rows = sorted((r for r in result.rows if r.method == method and r.policy == "budget"), key=lambda r: r.probes)
@@ -95,4 +97,4 @@ def time_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
     figure.tight_layout()
-    return _save(plt, figure, Path(path))
+    return save_png(plt, figure, Path(path))

@@ -16,11 +16,10 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-import numpy as np
-
 from ..core.capture import read_capture
 from ..quality.bench import BenchConfig, bench_capture
 from ..quality.lpnn_placement import RECOMMENDED_REFINE
+from ..quality.metric import guarded_ratio
 from ..train.metrics import pr_auc, roc_auc
 from .labelling import stored_reference
 
@@ -89,12 +88,6 @@ def _rows_by_key(crops: Sequence[dict[str, Any]]) -> dict[tuple[str, str, float]
     return table
 
 
-def _ratio(numerator: float, denominator: float) -> float:
-    if denominator > 0:
-        return numerator / denominator
-    return 1.0 if numerator == 0 else math.inf
-
-
 def method_summary(method: str, policy: str, parameter: float,
                    table: dict[tuple[str, str, float], dict[str, dict[str, Any]]]) -> dict[str, Any]:
     rows = table[(method, policy, parameter)]
@@ -104,7 +97,7 @@ def method_summary(method: str, policy: str, parameter: float,
     for baseline in BASELINES:
         others = table.get((baseline, policy, parameter), {})
         key = "error_vs_reference" if baseline == "fast-reference" else f"error_vs_{baseline}"
-        ratio, left_out = geometric_mean(_ratio(rows[name]["mean_error"], others[name]["mean_error"])
+        ratio, left_out = geometric_mean(guarded_ratio(rows[name]["mean_error"], others[name]["mean_error"])
                                          for name in rows if name in others)
         summary[key] = ratio
         if left_out:
@@ -160,15 +153,3 @@ def goal_checks(summary: dict[str, Any]) -> dict[str, bool]:
     return checks
 
 
-def json_safe(value: Any) -> Any:
-    """NaN/Inf -> None (strict JSON), numpy scalars -> Python numbers."""
-    if isinstance(value, dict):
-        return {k: json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        number = float(value)
-        return number if math.isfinite(number) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    return value

@@ -18,8 +18,8 @@ from ..scenes.levels import load_pak_member
 from .config import RecipeConfig
 from .crops import crops_of_level
 from ..quality.bench import BenchRow, rows_csv
-from ..train.modelcard import ModelCard, card_path
-from .evaluation import evaluate_crops, goal_checks, json_safe, summarize
+from ..train.modelcard import ModelCard, card_path, json_ready
+from .evaluation import evaluate_crops, goal_checks, summarize
 from .labelling import label_source, labelled
 from .publish import card_with_recipe, inference_milliseconds, install
 from .levels import LevelSplit, split_levels
@@ -283,8 +283,8 @@ def evaluate_held_out(paths: RecipePaths, names: list[str], config: RecipeConfig
     summary["goals"] = goal_checks(summary)
     rows = [BenchRow(**row) for crop in crops for row in crop["rows"]]
     write_text_atomic(paths.work / "held_out_bench.csv", rows_csv(rows))
-    write_text_atomic(paths.evaluation, json.dumps(json_safe({"summary": summary, "crops": crops}), indent=1,
+    write_text_atomic(paths.evaluation, json.dumps(json_ready({"summary": summary, "crops": crops}), indent=1,
                                                    allow_nan=False) + "\n")
     for check, ok in summary["goals"].items():
         log(f"  {check}: {'met' if ok else 'missed'}")
-    return json_safe(summary)
+    return json_ready(summary)

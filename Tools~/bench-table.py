@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""The Markdown table of benchmarks.md §4 from `lpnn bench`'s bench.csv: per capture, the error at a
+budget as a ratio to the fast reference, the probes needed for the tolerance as a ratio to the
+reference's count, and the LPNN / refinement / reference times; then the geometric mean per column.
+
+    python3 Tools~/bench-table.py Build~/benchmarks/bench/bench.csv [--budget 0.2]
+"""
+
+import argparse
+import csv
+import math
+import sys
+
+METHODS = ("lpnn", "lpnn-refine", "heuristic", "uniform")
+
+
+def geometric_mean(values):
+    usable = [v for v in values if math.isfinite(v) and v > 0]
+    return math.exp(sum(math.log(v) for v in usable) / len(usable)) if usable else math.nan
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("csv", help="bench.csv written by lpnn bench")
+    parser.add_argument("--budget", type=float, default=0.2, help="budget row to show (default 0.2)")
+    args = parser.parse_args()
+    with open(args.csv, newline="", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    table = {(r["capture"], r["method"], r["policy"], float(r["parameter"])): r for r in rows}
+    tolerances = sorted({float(r["parameter"]) for r in rows if r["policy"] == "tolerance"})
+    captures = sorted({r["capture"] for r in rows}, key=lambda c: int(next(r["points"] for r in rows if r["capture"] == c)))
+    if not captures or len(tolerances) != 1:
+        sys.exit(f"{args.csv}: needs rows of at least one capture and exactly one tolerance (found {tolerances})")
+    tau, budget = tolerances[0], args.budget
+    header = ([f"{m} ×ref @{budget * 100:g} %" for m in METHODS] + [f"{m} probes ×ref @τ" for m in METHODS]
+              + ["LPNN ms", "refine ms", "reference s"])
+    print("| level (points) | " + " | ".join(header) + " |")
+    print("|" + "---|" * (len(header) + 1))
+    columns = {}
+    for capture in captures:
+        try:
+            cells = [float(table[(capture, m, "budget", budget)]["error_ratio"]) for m in METHODS]
+            cells += [float(table[(capture, m, "tolerance", tau)]["probes_ratio"]) for m in METHODS]
+            lpnn, refine, reference = (table[(capture, m, "budget", budget)] for m in ("lpnn", "lpnn-refine", "fast-reference"))
+        except KeyError as missing:
+            sys.exit(f"{args.csv}: no row {missing} (run lpnn bench with --model and the budget {budget:g})")
+        for index, value in enumerate(cells):
+            columns.setdefault(index, []).append(value)
+        times = [f"{float(lpnn['seconds']) * 1e3:.0f}", f"{float(refine['refine_seconds']) * 1e3:.0f}",
+                 f"{float(reference['seconds']):.1f}"]
+        name = capture[len("held_"):] if capture.startswith("held_") else capture
+        print(f"| {name} ({int(lpnn['points']):,}) | " + " | ".join(f"{v:.2f}" for v in cells) + " | " + " | ".join(times) + " |")
+    means = [f"**{geometric_mean(columns[i]):.2f}**" for i in range(len(columns))]
+    print("| **geometric mean** | " + " | ".join(means) + " | | | |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
