@@ -6,19 +6,32 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, cKDTree
 
 from ..core import sh as shmath
 from .decimation import initial_mask
 from .hull_projection import HullIndex, HullProjection, nearest_on_candidates
 from .location import INSIDE_TOLERANCE, locate_local
 from .metric import POINT_ERRORS, ReferenceField
-from .tet_geometry import barycentric_in, best_per_group, edge_frames, orient_and_invert, segment_pairs
+from .tet_geometry import barycentric_in, best_per_group, cross_rows, edge_frames, orient_and_invert, segment_pairs
 from .triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, flatness, lower_hull, tetrahedralize
 
 VOLUME_TOLERANCE = 1e-9  # the hole's volume must equal the star's to this relative tolerance
+NEAREST_STAR_TETS = 6  # star tetrahedra a hole centroid tries first (by centroid distance)
+ANCHOR_ON_FACE = 1e-12  # barycentric weight of v at most this: the anchor lies on the face opposite v
 CONFLICT_SLACK = 1e-9  # lifted units (extent ~1): conflicts closer to 0 than this count as possible
 OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+
+
+def _within(weights: np.ndarray) -> np.ndarray:
+    """Inside test from the weights (..., 3) of a, b, c in tetrahedra (v, a, b, c) (v's weight is 1 - sum)."""
+    return (weights.min(axis=-1) >= -INSIDE_TOLERANCE) & (weights.sum(axis=-1) <= 1.0 + INSIDE_TOLERANCE)
+
+
+def _orientation(points: np.ndarray, faces: np.ndarray, apex: np.ndarray) -> np.ndarray:
+    """Signed 6 x volume of (triangle, apex) per row: which side of each triangle its apex is on."""
+    a = points[faces[:, 0]]
+    return np.einsum("ij,ij->i", points[apex] - a, cross_rows(points[faces[:, 1]] - a, points[faces[:, 2]] - a))
 
 
 @dataclass
@@ -83,6 +96,7 @@ class DecimationState:
             self.star[int(flat[group[0]])] = set((group // 4).tolist())
         faces = probes[tri.hull_faces]
         self.hull: dict[int, tuple[tuple[int, int, int], int]] = {}
+        self.hull_degree = np.zeros(self.field.point_count, dtype=np.int64)  # hull triangles at each probe
         self.hull_of_tet: dict[int, list[int]] = {}
         for key, face, owner in zip(face_keys(faces, self.field.point_count).tolist(), faces.tolist(),
                                     tri.hull_face_tets.tolist()):
@@ -107,6 +121,13 @@ class DecimationState:
     def _add_hull_face(self, key: int, face: list[int], owner: int) -> None:
         self.hull[key] = (tuple(face), owner)
         self.hull_of_tet.setdefault(owner, []).append(key)
+        self.hull_degree[face] += 1
+
+    def _drop_hull_face(self, key: int) -> int:
+        """Forget a hull triangle (not its owner's list); returns its owner."""
+        face, owner = self.hull.pop(key)
+        self.hull_degree[list(face)] -= 1
+        return owner
 
     def _find_extreme(self) -> None:
         probes = np.flatnonzero(self.alive)
@@ -129,6 +150,14 @@ class DecimationState:
         return np.arange(start, stop)
 
     # ------------------------------------------------------------------------------ evaluation
+    def evaluation_weight(self, v: int) -> float:
+        """Rough cost of evaluating v's removal in interior-removal units (to share work between
+        replicas): hull probes re-project the points of their star."""
+        if not (self.extreme[v] or self.hull_degree[v]):
+            return 1.0
+        star = self.star[v]
+        return 4.0 + len(star) / 10.0 + sum(len(self.members.get(t, ())) for t in star) / 25.0
+
     def _star_of(self, v: int) -> np.ndarray:
         return np.fromiter(self.star[v], dtype=np.int64, count=len(self.star[v]))
 
@@ -161,29 +190,36 @@ class DecimationState:
             return np.zeros((0, 4), dtype=np.int64), np.zeros(0)
         return link[tets], planes[:, :4] @ self.lifted[v] + planes[:, 4]
 
-    def _fill_holes(self, stars: list[np.ndarray], candidates: list[np.ndarray]
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The candidate tetrahedra (of one removal) whose centroid lies in the star: tets, inverses,
-        6 x volumes (used when the hull shrinks and the hole is only part of the star)."""
-        cavity, inverse, volume6, _ = orient_and_invert(self.local, np.concatenate(candidates))
-        star_ids = np.concatenate(stars)
-        centroids = self.local[cavity].mean(axis=1)
-        corners = self.local[self.tets[star_ids]]  # (S, 4, 3)
-        low, high = corners.min(axis=1) - INSIDE_TOLERANCE, corners.max(axis=1) + INSIDE_TOLERANCE
-        # Barycentric tests only where the centroid is inside the star tetrahedron's bounding box.
-        left, right = np.nonzero(np.all((centroids[:, None, :] >= low[None]) & (centroids[:, None, :] <= high[None]),
-                                        axis=2))
-        star_tets = star_ids[right]
-        lam = barycentric_in(self.local, self.tets[star_tets], self.inverse[star_tets], centroids[left])
+    def _fill_hole(self, v: int, star: np.ndarray, candidates: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The candidate tetrahedra whose centroid lies in star(v): tets, inverses, 6 x volumes (used
+        when the hull shrinks and the hole is only part of the star, or the link is near-degenerate).
+
+        Hull vertices can have stars of hundreds of tetrahedra, re-evaluated after every neighbour's
+        removal: each centroid first tries the star tetrahedra with the nearest centroids, and only
+        the centroids found in none of them are tested against the whole star.
+        """
+        cavity, inverse, volume6, _ = orient_and_invert(self.local, candidates)
+        tets = self.tets[star]
+        origin = self.local[v]  # a corner of every star tetrahedron
+        edges = self.local[tets[tets != v].reshape(-1, 3)] - origin  # (S, 3, 3): rows a-v, b-v, c-v
+        to_weights = np.linalg.inv(np.transpose(edges, (0, 2, 1)))  # weights of a, b, c from x - v
+        centroids = self.local[cavity].mean(axis=1) - origin
         inside = np.zeros(cavity.shape[0], dtype=bool)
-        inside[left[lam.min(axis=1) >= -INSIDE_TOLERANCE]] = True
+        unresolved = np.arange(cavity.shape[0])
+        if star.shape[0] > 2 * NEAREST_STAR_TETS and cavity.shape[0]:
+            near = cKDTree(edges.sum(axis=1) / 4.0).query(centroids, k=NEAREST_STAR_TETS)[1]
+            inside = _within(np.einsum("ckyx,cx->cky", to_weights[near], centroids)).any(axis=1)
+            unresolved = np.flatnonzero(~inside)
+        if unresolved.shape[0]:
+            inside[unresolved] = _within(np.einsum("cx,syx->csy", centroids[unresolved], to_weights)).any(axis=1)
         return cavity[inside], inverse[inside], volume6[inside]
 
     def removals(self, vertices: list[int]) -> list[LocalRemoval | GlobalRemoval]:
         """Removal costs of several probes (evaluated independently, each against the current state)."""
         results: list[LocalRemoval | GlobalRemoval | None] = [None] * len(vertices)
         batch: list[int] = []
-        stars, candidates, cavities = [], [], []
+        stars, candidates, conflicts = [], [], []
         for position, v in enumerate(vertices):
             star = self._star_of(v)
             holes = self._hole_candidates(v, star)
@@ -197,14 +233,20 @@ class DecimationState:
                 batch.append(position)
                 stars.append(star)
                 candidates.append(holes[0])
-                cavities.append(holes[0][holes[1] > 0.0])
+                conflicts.append(holes[1])
         if batch:
             batch_vertices = [vertices[p] for p in batch]
+            cavities = [c[strength > 0.0] for c, strength in zip(candidates, conflicts)]
             for k, result in enumerate(self._interior_removals(batch_vertices, stars, cavities)):
-                if result is None:  # near-degenerate link: select the hole by centroids instead
-                    cavity, _, _ = self._fill_holes([stars[k]], [candidates[k]])
-                    result = self._interior_removals([batch_vertices[k]], [stars[k]], [cavity])[0]
-                results[batch[k]] = result if result is not None else self._global_removal(batch_vertices[k])
+                v = batch_vertices[k]
+                if result is None and self.hull_degree[v] > 0:
+                    # v lies on a flat part of the hull; with float32 positions it sticks out by a
+                    # hair (Qhull calls it coplanar, not extreme), so the hull does shrink a little.
+                    result = self._extreme_removal(v, stars[k], candidates[k][conflicts[k] > -CONFLICT_SLACK])
+                elif result is None:  # near-degenerate link: select the hole by centroids instead
+                    cavity, _, _ = self._fill_hole(v, stars[k], candidates[k])
+                    result = self._interior_removals([v], [stars[k]], [cavity])[0]
+                results[batch[k]] = result if result is not None else self._global_removal(v)
         return results  # type: ignore[return-value]
 
     def _interior_removals(self, vertices: list[int], stars: list[np.ndarray], cavities: list[np.ndarray]
@@ -253,12 +295,14 @@ class DecimationState:
         if holes is None:
             return self._global_removal(v)
         if holes.shape[0]:
-            cavity, inverse, _ = self._fill_holes([star], [holes])
+            cavity, inverse, _ = self._fill_hole(v, star, holes)
         else:  # v was an "ear": its whole star leaves the hull
             cavity, inverse = np.zeros((0, 4), dtype=np.int64), np.zeros((0, 3, 3))
         if cavity.shape[0] == 0 and star.shape[0] == self.live_tets:
             return GlobalRemoval(delta=float("inf"))  # every tetrahedron goes: the rest is flat
-        points = self._affected(v, star)
+        affected = self._affected(v, star)
+        settled, settled_cell = self._on_surviving_hull_faces(v, affected, cavity)
+        points = affected[~settled]
         query = self.local[points]  # positions, not anchors: the hull itself changes
         count = points.shape[0]
         weights = np.zeros((count, 4))
@@ -288,9 +332,46 @@ class DecimationState:
             kept_cell[outside] = owner_kept[projection.face]
         cell[~inside & (kept_cell >= 0)] = -1
         errors = self.error_of(shmath.blend(self.values, vertices, weights), self.values[points], self.field.scale)
+        kept = affected[settled]  # same stencil and error, new owner
         return LocalRemoval(delta=float(errors.sum() - self.errors[points].sum()), star=star, cavity=cavity,
-                             cavity_inverse=inverse, points=points, cell=cell, kept_cell=kept_cell, anchor=anchor,
-                             errors=errors, shrinks_hull=True)
+                            cavity_inverse=inverse, points=np.concatenate([points, kept]),
+                            cell=np.concatenate([cell, settled_cell]),
+                            kept_cell=np.concatenate([kept_cell, np.full(kept.shape[0], -1, dtype=np.int64)]),
+                            anchor=np.concatenate([anchor, self.anchor[kept]]),
+                            errors=np.concatenate([errors, self.errors[kept]]), shrinks_hull=True)
+
+    def _on_surviving_hull_faces(self, v: int, points: np.ndarray, cavity: np.ndarray
+                                 ) -> tuple[np.ndarray, np.ndarray]:
+        """Which affected points keep their stencil when hull vertex v goes (mask), and their new
+        owners (cavity rows, in the order of the masked points).
+
+        A point outside the hull anchored on a hull triangle without v keeps it: the triangle stays
+        on the smaller hull, and the nearest point of a smaller convex set that still contains the old
+        nearest point is that point. Only its owner changes, to the hole tetrahedron on that triangle.
+        Most points of hull-shrinking removals are of this kind (they gather on large hull
+        triangles), so this saves most of the re-projection.
+        """
+        settled = np.zeros(points.shape[0], dtype=bool)
+        cells = self.cell[points]
+        rows = np.flatnonzero((cells >= 0) & np.any(self.anchor[points] != self.local[points], axis=1))
+        if rows.shape[0] == 0 or cavity.shape[0] == 0:
+            return settled, np.zeros(0, dtype=np.int64)
+        tets = self.tets[cells[rows]]  # star tetrahedra: each holds v once
+        lam = barycentric_in(self.local, tets, self.inverse[cells[rows]], self.anchor[points[rows]])
+        on_face = lam[tets == v] <= ANCHOR_ON_FACE
+        rows, tets = rows[on_face], tets[on_face]
+        faces = tets[tets != v].reshape(-1, 3)
+        keys = face_keys(faces, self.field.point_count)
+        on_hull = np.fromiter((key in self.hull for key in keys.tolist()), dtype=bool, count=keys.shape[0])
+        cavity_keys = face_keys(cavity[:, OPPOSITE_FACES].reshape(-1, 3), self.field.point_count)
+        order = np.argsort(cavity_keys, kind="stable")
+        found = order[np.minimum(np.searchsorted(cavity_keys[order], keys), order.shape[0] - 1)]
+        apex = cavity[found // 4, found % 4]
+        # The hole tetrahedron on the triangle must lie on v's side of it (else the hole closed it).
+        match = on_hull & (cavity_keys[found] == keys) & (
+            _orientation(self.local, faces, apex) * _orientation(self.local, faces, np.full(faces.shape[0], v)) > 0.0)
+        settled[rows[match]] = True
+        return settled, found[match] // 4
 
     def _hole_boundary(self, v: int, star: np.ndarray, cavity: np.ndarray
                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, set[int]]:
@@ -419,15 +500,14 @@ class DecimationState:
         for t, vertices in zip(new_ids.tolist(), removal.cavity.tolist()):
             for u in vertices:
                 self.star[u].add(t)
-        shrinks = bool(self.extreme[v])
+        shrinks = removal.shrinks_hull
         hull_changed = new_faces.shape[0] > 0 or bool(closed)
         for t in star.tolist():
             for key in self.hull_of_tet.pop(t, ()):
-                del self.hull[key]
+                self._drop_hull_face(key)
                 hull_changed = True
         for key in closed:
-            owner = self.hull.pop(key)[1]
-            self.hull_of_tet[owner].remove(key)
+            self.hull_of_tet[self._drop_hull_face(key)].remove(key)
         if hull_changed:
             self._hull_index = None
         new_owner = new_kept.copy()

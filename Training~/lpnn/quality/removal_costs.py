@@ -20,6 +20,9 @@ from .decimation_state import DecimationState, GlobalRemoval, LocalRemoval
 from .metric import ReferenceField
 
 
+MASTER_HANDICAP = 2.0  # interior-removal units of work this process does per step besides evaluating
+
+
 @dataclass(frozen=True)
 class CostEntry:
     vertex: int
@@ -119,15 +122,26 @@ class ParallelCosts(SerialCosts):
 
     def evaluate(self, vertices: list[int]) -> list[CostEntry]:
         self.forget(vertices)
-        theirs = vertices[1::2]
+        mine, theirs = self._split(vertices)
         self.connection.send(("evaluate", (vertices, theirs)))
-        ours = self._evaluate_here(vertices[0::2])
+        ours = self._evaluate_here(mine)
         received = self._receive("costs")
         for entry in ours:
             self.owner[entry.vertex] = 0
         for entry in received:  # type: ignore[union-attr]
             self.owner[entry.vertex] = 1
         return ours + list(received)  # type: ignore[arg-type]
+
+    def _split(self, vertices: list[int]) -> tuple[list[int], list[int]]:
+        """Share a batch by estimated cost (hull probes cost up to ~100 interior ones): each probe goes
+        to the replica with less work so far; this one starts with a handicap for the greedy loop."""
+        weight = [self.state.evaluation_weight(v) for v in vertices]
+        load = [MASTER_HANDICAP, 0.0]
+        side = [0] * len(vertices)
+        for i in sorted(range(len(vertices)), key=lambda i: -weight[i]):
+            side[i] = 0 if load[0] <= load[1] else 1
+            load[side[i]] += weight[i]
+        return ([v for v, s in zip(vertices, side) if s == 0], [v for v, s in zip(vertices, side) if s == 1])
 
     def remove(self, v: int) -> tuple[np.ndarray, np.ndarray, bool]:
         if self.owner.pop(v) == 0:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -9,7 +11,10 @@ from lpnn.core.capture import Capture
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.reference_faithful import faithful_decimation
+from lpnn.quality.decimation_state import DecimationState
 from lpnn.quality.reference_fast import fast_decimation
+from lpnn.scenes.importer import import_level
+from lpnn.scenes.levels import load_pak_member
 
 from lpnn.core import sh as shmath
 
@@ -61,6 +66,22 @@ def test_fast_error_curve_is_exact_on_a_larger_room(medium_capture: Capture) -> 
     # Projections onto nearly coplanar hull triangles (float32 positions) may pick either triangle:
     # the anchors then differ by ~1e-9 of the extent, hence the relative tolerance.
     for count in (4, 10, 30, field.point_count // 10, field.point_count // 3, field.point_count - 1):
+        assert fast.error_curve[count] == pytest.approx(placement_error(field, fast.prefix(count)).mean, rel=1e-7)
+
+
+def test_probes_on_flat_hull_faces_of_a_real_level_are_removed_locally_and_exactly(
+        openarena_pak: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # dm4ish at 3.25 m: float32 positions far from the origin make the flat parts of the hull only
+    # nearly flat, so some probes Qhull calls "coplanar" stick out by a hair. Their removal shrinks
+    # the hull a little; it must take the local hull path, not re-tetrahedralise everything.
+    level = load_pak_member(openarena_pak, "maps/dm4ish.bsp")
+    field = ReferenceField.from_capture(import_level(level, cell_size=3.2512, drop_unlit=True).capture)
+    rebuilt: list[int] = []
+    whole = DecimationState._global_removal
+    monkeypatch.setattr(DecimationState, "_global_removal", lambda state, v: rebuilt.append(v) or whole(state, v))
+    fast = fast_decimation(field, workers=1)
+    assert rebuilt == []
+    for count in (4, 12, 40, field.point_count // 4, field.point_count // 2, field.point_count - 1):
         assert fast.error_curve[count] == pytest.approx(placement_error(field, fast.prefix(count)).mean, rel=1e-7)
 
 
