@@ -21,13 +21,20 @@ if want scenes; then
 fi
 
 if want reference; then
-  log "fast reference: ~5,000 candidates, every budget (one process)"
+  log "fast reference: ~5,000 candidates, every budget (one process, then two)"
   PYTHONPATH="$TRAINING_DIR" "$PY" -c "from lpnn.core.analytic_scene import AnalyticScene; from lpnn.core.capture import write_capture; \
 write_capture('$OUT/room.lpnncap', AnalyticScene.random(7, cell_size=0.28, room_size=(6, 3, 5)).capture())"
-  lpnn scene import oa_dm1 --cell 1.1 --drop-unlit --out "$OUT/oa_dm1@1.1.lpnncap"
-  for capture in room oa_dm1@1.1; do
-    TIMEFORMAT="$capture: fast reference, read to write: %R s wall"
-    time lpnn place "$OUT/$capture.lpnncap" --method fast --budget 0.2 --out "$OUT/$capture.probes.json"
+  # Real levels at the cell that gives them 4,862-4,938 candidates.
+  for spec in oa_dm1:1.1 oa_rpg3dm2:1.5 dm4ish:1.22 oa_dm6:1.17; do
+    level=${spec%%:*}; cell=${spec##*:}
+    lpnn scene import "$level" --cell "$cell" --drop-unlit --out "$OUT/$level@$cell.lpnncap" > /dev/null
+  done
+  for capture in room oa_dm1@1.1 oa_rpg3dm2@1.5 dm4ish@1.22 oa_dm6@1.17; do
+    for workers in 1 2; do
+      TIMEFORMAT="$capture: fast reference, $workers process(es), read to write: %R s wall"
+      time lpnn place "$OUT/$capture.lpnncap" --method fast --budget 0.2 --workers "$workers" \
+        --out "$OUT/$capture.probes.json" > /dev/null
+    done
   done
 fi
 

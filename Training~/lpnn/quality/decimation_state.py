@@ -10,6 +10,7 @@ from scipy.spatial import ConvexHull, cKDTree
 
 from ..core import sh as shmath
 from .decimation import initial_mask
+from .hole_wrap import wrap_holes
 from .hull_projection import HullIndex, HullProjection, nearest_on_candidates
 from .location import INSIDE_TOLERANCE, locate_local
 from .metric import POINT_ERRORS, ReferenceField
@@ -69,6 +70,7 @@ class DecimationState:
         self.values = field.values(metric)
         self.error_of = POINT_ERRORS[metric]
         self.lifted = field.frame.lifted(field.world)
+        self.tie = field.frame.tie_heights(field.world)
         self.local = field.local
         n = field.point_count
         start = initial_mask(initial, n)
@@ -216,38 +218,56 @@ class DecimationState:
         return cavity[inside], inverse[inside], volume6[inside]
 
     def removals(self, vertices: list[int]) -> list[LocalRemoval | GlobalRemoval]:
-        """Removal costs of several probes (evaluated independently, each against the current state)."""
+        """Removal costs of several probes (evaluated independently, each against the current state).
+
+        Holes of probes inside the hull are refilled by gift wrapping (hole_wrap.py); hull probes, and
+        holes the wrapping cannot close, use the lower hull of the lifted link (one Qhull call each).
+        """
         results: list[LocalRemoval | GlobalRemoval | None] = [None] * len(vertices)
+        stars = [self._star_of(v) for v in vertices]
+        inside = [p for p, v in enumerate(vertices) if not (self.extreme[v] or self.hull_degree[v])]
+        wrapped = dict(zip(inside, wrap_holes(self.local, self.tie, [vertices[p] for p in inside],
+                                              [self.tets[stars[p]] for p in inside])))
+        holes_of: dict[int, tuple[np.ndarray, np.ndarray] | None] = {}
         batch: list[int] = []
-        stars, candidates, conflicts = [], [], []
+        cavities: list[np.ndarray] = []
         for position, v in enumerate(vertices):
-            star = self._star_of(v)
-            holes = self._hole_candidates(v, star)
-            if self.extreme[v]:
-                # Near-zero conflicts are numerically ambiguous: keep them, the centroid test sorts them out.
-                results[position] = self._extreme_removal(
-                    v, star, None if holes is None else holes[0][holes[1] > -CONFLICT_SLACK])
-            elif holes is None:
-                results[position] = self._global_removal(v)
-            else:
-                batch.append(position)
-                stars.append(star)
-                candidates.append(holes[0])
-                conflicts.append(holes[1])
+            cavity = wrapped.get(position)
+            if cavity is None:
+                holes = holes_of[position] = self._hole_candidates(v, stars[position])
+                if self.extreme[v]:
+                    # Near-zero conflicts are numerically ambiguous: keep them, the centroid test sorts them out.
+                    results[position] = self._extreme_removal(
+                        v, stars[position], None if holes is None else holes[0][holes[1] > -CONFLICT_SLACK])
+                    continue
+                if holes is None:
+                    results[position] = self._global_removal(v)
+                    continue
+                cavity = holes[0][holes[1] > 0.0]
+            batch.append(position)
+            cavities.append(cavity)
         if batch:
-            batch_vertices = [vertices[p] for p in batch]
-            cavities = [c[strength > 0.0] for c, strength in zip(candidates, conflicts)]
-            for k, result in enumerate(self._interior_removals(batch_vertices, stars, cavities)):
-                v = batch_vertices[k]
-                if result is None and self.hull_degree[v] > 0:
-                    # v lies on a flat part of the hull; with float32 positions it sticks out by a
-                    # hair (Qhull calls it coplanar, not extreme), so the hull does shrink a little.
-                    result = self._extreme_removal(v, stars[k], candidates[k][conflicts[k] > -CONFLICT_SLACK])
-                elif result is None:  # near-degenerate link: select the hole by centroids instead
-                    cavity, _, _ = self._fill_hole(v, stars[k], candidates[k])
-                    result = self._interior_removals([v], [stars[k]], [cavity])[0]
-                results[batch[k]] = result if result is not None else self._global_removal(v)
+            for position, result in zip(batch, self._interior_removals([vertices[p] for p in batch],
+                                                                       [stars[p] for p in batch], cavities)):
+                if result is None:
+                    v = vertices[position]
+                    holes = holes_of[position] if position in holes_of else self._hole_candidates(v, stars[position])
+                    result = self._retried_removal(v, stars[position], holes)
+                results[position] = result
         return results  # type: ignore[return-value]
+
+    def _retried_removal(self, v: int, star: np.ndarray, holes: tuple[np.ndarray, np.ndarray] | None
+                         ) -> LocalRemoval | GlobalRemoval:
+        """Cost of a removal whose hole did not check out (volume or point location)."""
+        if holes is None:
+            return self._global_removal(v)
+        if self.hull_degree[v] > 0:
+            # v lies on a flat part of the hull; with float32 positions it sticks out by a hair
+            # (Qhull calls it coplanar, not extreme), so the hull does shrink a little.
+            return self._extreme_removal(v, star, holes[0][holes[1] > -CONFLICT_SLACK])
+        cavity, _, _ = self._fill_hole(v, star, holes[0])  # near-degenerate link: select the hole by centroids
+        result = self._interior_removals([v], [star], [cavity])[0]
+        return result if result is not None else self._global_removal(v)
 
     def _interior_removals(self, vertices: list[int], stars: list[np.ndarray], cavities: list[np.ndarray]
                            ) -> list[LocalRemoval | None]:

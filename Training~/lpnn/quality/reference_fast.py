@@ -7,8 +7,9 @@ index), but never recomputes anything globally:
 1. **Locality.** The tetrahedralisation is a regular triangulation with fixed per-point tie-break
    heights (triangulation.py), hence unique, and removing probe v changes only star(v), the
    tetrahedra around v. The tetrahedra that fill the hole are those of the triangulation of
-   link(v) (v's neighbours, ~12-20 points: one small Qhull call) that conflict with v (v lies in
-   their circumsphere); near-degenerate links are settled by which centroids lie in star(v).
+   link(v) (v's neighbours, ~12-20 points) that conflict with v (v lies in their circumsphere):
+   gift-wrapped from the hole's boundary for probes inside the hull (hole_wrap.py), else one small
+   Qhull call; near-degenerate links are settled by which centroids lie in star(v).
 2. **Additivity.** The error is a sum over evaluation points and only the points located in
    star(v) (and v itself) change their stencil, so the removal cost
    delta(v) = sum(new errors) - sum(old errors) over those few points is exact.
@@ -24,13 +25,13 @@ still contains the old nearest point is unchanged), so the update stays local. E
 is checked (the hole's volume equals the star's; every affected point is located) and falls back to
 re-tetrahedralising the whole set when a check fails, so correctness never depends on the fast path.
 
-Cost: one tetrahedralisation of the N candidates, then per removal ~|link| small Qhull calls and
+Cost: one tetrahedralisation of the N candidates, then per removal ~|link| hole fillings and
 O(|link| x affected points) vectorised work: O(N log N + N d (d log d + a)) in total, with d the
 vertex degree (~15) and a the points per star. Memory O(N + T). With `workers=2` two identical
 replicas share the cost evaluations (removal_costs.py); the result is the same.
 
-Modules: decimation_state.py (the mesh, stencils and exact local costs), removal_costs.py (one or
-two processes), this file (the greedy loop).
+Modules: decimation_state.py (the mesh, stencils and exact local costs), hole_wrap.py (refilling
+holes), removal_costs.py (one or two processes), this file (the greedy loop).
 """
 
 from __future__ import annotations

@@ -87,10 +87,14 @@ class Frame:
     def to_world(self, local: np.ndarray) -> np.ndarray:
         return np.asarray(local, dtype=np.float64) * self.scale + self.origin
 
+    def tie_heights(self, world: np.ndarray) -> np.ndarray:
+        """(M,): each position's deterministic perturbation of the lifted height."""
+        return self.tie_break * position_hash(world)
+
     def lifted(self, world: np.ndarray) -> np.ndarray:
         """(M, 4): local coordinates and the perturbed paraboloid height."""
         local = self.to_local(world)
-        height = np.einsum("ij,ij->i", local, local) + self.tie_break * position_hash(world)
+        height = np.einsum("ij,ij->i", local, local) + self.tie_heights(world)
         return np.concatenate([local, height[:, None]], axis=1)
 
 
