@@ -220,14 +220,16 @@ class DecimationState:
     def removals(self, vertices: list[int]) -> list[LocalRemoval | GlobalRemoval]:
         """Removal costs of several probes (evaluated independently, each against the current state).
 
-        Holes of probes inside the hull are refilled by gift wrapping (hole_wrap.py); hull probes, and
-        holes the wrapping cannot close, use the lower hull of the lifted link (one Qhull call each).
+        Holes of probes that are not hull vertices are refilled by gift wrapping (hole_wrap.py); hull
+        vertices, and holes the wrapping cannot close, use the lower hull of the lifted link (one Qhull
+        call each).
         """
         results: list[LocalRemoval | GlobalRemoval | None] = [None] * len(vertices)
         stars = [self._star_of(v) for v in vertices]
-        inside = [p for p, v in enumerate(vertices) if not (self.extreme[v] or self.hull_degree[v])]
+        inside = [p for p, v in enumerate(vertices) if not self.extreme[v]]
         wrapped = dict(zip(inside, wrap_holes(self.local, self.tie, [vertices[p] for p in inside],
-                                              [self.tets[stars[p]] for p in inside])))
+                                              [self.tets[stars[p]] for p in inside],
+                                              [bool(self.hull_degree[vertices[p]]) for p in inside])))
         holes_of: dict[int, tuple[np.ndarray, np.ndarray] | None] = {}
         batch: list[int] = []
         cavities: list[np.ndarray] = []

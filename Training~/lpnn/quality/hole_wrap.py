@@ -69,9 +69,10 @@ def _register(faces: np.ndarray, seen: np.ndarray, count: int, a: int, b: int, c
 
 
 @njit(cache=True)
-def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, out: np.ndarray) -> int:
-    """Fill `out` with the hole tetrahedra of interior probe v (star (S, 4), global ids);
-    returns their count, or -1 when wrapping failed."""
+def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_hull: bool, out: np.ndarray) -> int:
+    """Fill `out` with the hole tetrahedra of probe v (star (S, 4), global ids); returns their count,
+    or -1 when wrapping failed. on_hull: v lies on the hull (not a vertex of it), so a face the
+    wrapping creates may have nothing on its far side (it lies on the hull)."""
     # Link points (local numbering), coordinates relative to v and heights.
     link = np.empty(MAX_LINK, dtype=np.int64)
     d = 0
@@ -103,6 +104,7 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, out:
     queue = np.empty((MAX_FACES, 3), dtype=np.int64)
     count = 0
     pending = 0
+    boundary_faces = star.shape[0]
     for t in range(star.shape[0]):
         tri = np.empty(3, dtype=np.int64)
         m = 0
@@ -155,6 +157,9 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, out:
             key = rise / distance
             if key < best_key:
                 best, best_key = p, key
+        if best < 0 and on_hull and head > boundary_faces:
+            seen[here] = 2  # a face of the hull: nothing on its far side
+            continue
         if best < 0 or made == out.shape[0]:
             return -1
         out[made, 0], out[made, 1], out[made, 2], out[made, 3] = link[a], link[b], link[c], link[best]
@@ -186,18 +191,19 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, out:
 
 @njit(cache=True)
 def _wrap_all(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tets: np.ndarray,
-              star_start: np.ndarray, out: np.ndarray, out_start: np.ndarray) -> np.ndarray:
+              star_start: np.ndarray, on_hull: np.ndarray, out: np.ndarray, out_start: np.ndarray) -> np.ndarray:
     counts = np.empty(vertices.shape[0], dtype=np.int64)
     for k in range(vertices.shape[0]):
-        counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]],
+        counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]], on_hull[k],
                               out[out_start[k]:out_start[k + 1]])
     return counts
 
 
-def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: list[np.ndarray]
-               ) -> list[np.ndarray | None]:
-    """For each interior probe vertices[k] with star tetrahedra stars[k] (S_k, 4) (global ids): the
-    tetrahedra (T_k, 4) that refill its hole (unoriented), or None when wrapping failed.
+def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: list[np.ndarray],
+               on_hull: list[bool] | None = None) -> list[np.ndarray | None]:
+    """For each probe vertices[k] that is not a vertex of the hull, with star tetrahedra stars[k]
+    (S_k, 4) (global ids): the tetrahedra (T_k, 4) that refill its hole (unoriented), or None when
+    wrapping failed. on_hull[k]: the probe lies on the hull's surface (default: none does).
 
     local (N, 3): positions in the frame; tie (N,): each point's tie-break height.
     """
@@ -206,5 +212,6 @@ def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: l
     out_start = 2 * star_start  # a hole of S boundary faces has fewer than 2S tetrahedra
     out = np.empty((int(out_start[-1]), 4), dtype=np.int64)
     star_tets = np.concatenate(stars) if stars else np.zeros((0, 4), dtype=np.int64)
-    counts = _wrap_all(local, tie, np.asarray(vertices, dtype=np.int64), star_tets, star_start, out, out_start)
+    surface = np.zeros(len(stars), dtype=np.bool_) if on_hull is None else np.asarray(on_hull, dtype=np.bool_)
+    counts = _wrap_all(local, tie, np.asarray(vertices, dtype=np.int64), star_tets, star_start, surface, out, out_start)
     return [out[out_start[k]:out_start[k] + counts[k]] if counts[k] > 0 else None for k in range(len(stars))]

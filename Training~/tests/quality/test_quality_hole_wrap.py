@@ -1,4 +1,4 @@
-"""Gift-wrapped holes (hole_wrap.py) against the lower hull of the lifted link (one Qhull call)."""
+"""Gift-wrapped holes (hole_wrap.py) against re-tetrahedralising the whole set."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from lpnn.quality.decimation_state import DecimationState
 from lpnn.quality.hole_wrap import MAX_LINK, wrap_holes
 from lpnn.quality.metric import PRIMARY_METRIC, ReferenceField, placement_error
 from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.triangulation import tetrahedralize
 
 from quality_support import box_grid, linear_sh
 
@@ -18,27 +19,33 @@ def _state(positions: np.ndarray) -> DecimationState:
     return DecimationState(ReferenceField.from_sh(positions, sh), PRIMARY_METRIC)
 
 
-def _interior(state: DecimationState) -> list[int]:
-    return [v for v in np.flatnonzero(state.alive).tolist() if not (state.extreme[v] or state.hull_degree[v])]
+def _not_hull_vertices(state: DecimationState) -> list[int]:
+    return [v for v in np.flatnonzero(state.alive).tolist() if not state.extreme[v]]
 
 
-def _qhull_hole(state: DecimationState, v: int) -> set[tuple[int, ...]]:
-    candidates, conflict = state._hole_candidates(v, state._star_of(v))
-    return set(map(tuple, np.sort(candidates[conflict > 0.0], axis=1).tolist()))
+def _new_tetrahedra_without(state: DecimationState, v: int) -> set[tuple[int, ...]]:
+    """Ground truth: tetrahedralise every probe but v and keep the tetrahedra that are new."""
+    probes = np.flatnonzero(state.alive)
+    probes = probes[probes != v]
+    tets = probes[tetrahedralize(state.field.world[probes], state.field.frame).tets]
+    before = set(map(tuple, np.sort(state.tets[:state.tet_count], axis=1).tolist()))
+    return set(map(tuple, np.sort(tets, axis=1).tolist())) - before
 
 
 @pytest.mark.parametrize("jitter", [0.0, 0.2])
-def test_wrapped_holes_are_the_lower_hull_of_the_lifted_link(jitter: float) -> None:
-    # jitter 0: a lattice, where every hole is cospherical and only the tie-break decides.
+def test_wrapped_holes_are_the_tetrahedra_a_full_retetrahedralisation_creates(jitter: float) -> None:
+    # jitter 0: a lattice, where every hole is cospherical and only the tie-break decides, and the
+    # probes on the box's faces lie exactly on the hull (their holes end on it).
     rng = np.random.default_rng(3)
     positions = box_grid(6, 5, 5, spacing=0.5) + rng.uniform(-jitter, jitter, (150, 3)) * 0.5
     state = _state(positions + np.array([2.0e4, -1.0e3, 5.0e2]))  # far from the origin
-    vertices = _interior(state)
-    assert len(vertices) >= 30
-    holes = wrap_holes(state.local, state.tie, vertices, [state.tets[state._star_of(v)] for v in vertices])
+    vertices = _not_hull_vertices(state)
+    on_hull = [bool(state.hull_degree[v]) for v in vertices]
+    assert len(vertices) >= 30 and (sum(on_hull) >= 20 if jitter == 0.0 else True)
+    holes = wrap_holes(state.local, state.tie, vertices, [state.tets[state._star_of(v)] for v in vertices], on_hull)
     for v, hole in zip(vertices, holes):
         assert hole is not None, v
-        assert set(map(tuple, np.sort(hole, axis=1).tolist())) == _qhull_hole(state, v), v
+        assert set(map(tuple, np.sort(hole, axis=1).tolist())) == _new_tetrahedra_without(state, v), v
 
 
 def test_a_hole_too_large_to_wrap_is_left_to_qhull_and_the_decimation_stays_exact() -> None:
@@ -48,7 +55,7 @@ def test_a_hole_too_large_to_wrap_is_left_to_qhull_and_the_decimation_stays_exac
     sphere = directions / np.linalg.norm(directions, axis=1, keepdims=True)
     positions = np.concatenate([np.zeros((1, 3)), sphere, 1.6 * sphere[:12]])
     state = _state(positions)
-    assert 0 in _interior(state)
+    assert 0 in _not_hull_vertices(state) and not state.hull_degree[0]
     assert wrap_holes(state.local, state.tie, [0], [state.tets[state._star_of(0)]]) == [None]
     field = state.field
     fast = fast_decimation(field, workers=1)
