@@ -5,13 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lpnn.quality import decimation_state
 from lpnn.quality.decimation_state import DecimationState
 from lpnn.quality.hole_wrap import MAX_LINK, wrap_holes
 from lpnn.quality.metric import PRIMARY_METRIC, ReferenceField, placement_error
 from lpnn.quality.reference_fast import fast_decimation
 from lpnn.quality.triangulation import tetrahedralize
 
-from quality_support import box_grid, linear_sh
+from quality_support import box_grid, linear_sh, room_capture
 
 
 def _state(positions: np.ndarray) -> DecimationState:
@@ -61,3 +62,12 @@ def test_a_hole_too_large_to_wrap_is_left_to_qhull_and_the_decimation_stays_exac
     fast = fast_decimation(field, workers=1)
     for count in (4, 20, 60, field.point_count - 1):
         assert fast.error_curve[count] == pytest.approx(placement_error(field, fast.prefix(count)).mean, rel=1e-9)
+
+
+def test_the_decimation_is_the_same_with_every_hole_left_to_qhull(monkeypatch: pytest.MonkeyPatch) -> None:
+    field = ReferenceField.from_capture(room_capture(2, (2.5, 2.0, 1.5), 0.4))
+    wrapped = fast_decimation(field, workers=1)
+    monkeypatch.setattr(decimation_state, "wrap_holes", lambda local, tie, vertices, stars, on_hull: [None] * len(stars))
+    qhull = fast_decimation(field, workers=1)
+    np.testing.assert_array_equal(wrapped.removed, qhull.removed)
+    np.testing.assert_allclose(wrapped.error_curve, qhull.error_curve, rtol=1e-12, atol=1e-15)
