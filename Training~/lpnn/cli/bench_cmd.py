@@ -18,7 +18,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import fractions, refine_factor, tolerance
+    from ..quality.arguments import DEFAULT_TOLERANCE, fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
@@ -28,8 +28,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="seed factor of the lpnn-refine tier (default 2)")
     parser.add_argument("--budgets", type=fractions, default=(0.1, 0.2, 0.3), metavar="F1,F2,...",
                         help="budget fractions (default 0.1,0.2,0.3)")
-    parser.add_argument("--tolerance", type=tolerance, default=0.02, metavar="TAU",
-                        help="tolerance policy's mean error (default 0.02)")
+    parser.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE, metavar="TAU",
+                        help=f"tolerance policy's mean error (default {DEFAULT_TOLERANCE:g})")
     parser.add_argument("--no-tolerance", action="store_true", help="skip the tolerance policy rows")
     parser.add_argument("--repeats", type=int, default=3, help="timing repeats of the cheap methods (median; default 3)")
     parser.add_argument("--reference-repeats", type=int, default=1, help="timing repeats of the references (default 1)")

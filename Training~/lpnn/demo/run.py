@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
+from ..quality.arguments import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
@@ -25,7 +26,7 @@ from ..quality.policies import SelectionForCount, place_tolerance, prefix_select
 from ..quality.reference_fast import fast_decimation
 
 DEMO_LEVEL = "oa_dm1"
-DEMO_TOLERANCE = 0.05
+DEMO_TOLERANCE = DEFAULT_TOLERANCE
 Log = Callable[[str], None]
 
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
+from .arguments import DEFAULT_TOLERANCE
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
@@ -32,7 +33,6 @@ from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
 from .reference_fast import fast_decimation
 
 DEFAULT_BUDGETS = (0.1, 0.2, 0.3)
-DEFAULT_TOLERANCE = 0.02
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",

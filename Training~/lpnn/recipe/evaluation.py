@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
 from ..core.capture import read_capture
+from ..quality.arguments import DEFAULT_TOLERANCE
 from ..quality.bench import BenchConfig, bench_capture
 from ..quality.lpnn_placement import RECOMMENDED_REFINE
 from ..quality.metric import guarded_ratio
@@ -24,7 +25,7 @@ from ..train.metrics import pr_auc, roc_auc
 from .labelling import stored_reference
 
 BUDGETS = (0.1, 0.2, 0.3)
-TOLERANCE = 0.05  # ~10 % relative irradiance error: at 0.02 the noisy light grids need 2/3 of the points
+TOLERANCE = DEFAULT_TOLERANCE
 METHODS = ("lpnn", "lpnn-refine", "lpnn-topk", "heuristic", "uniform", "random", "fast-reference")
 BASELINES = ("fast-reference", "uniform", "heuristic")  # the ratios the summary reports
 STAGES = ("feature_seconds", "inference_seconds", "selection_seconds", "refine_seconds", "seconds")  # seconds: total
