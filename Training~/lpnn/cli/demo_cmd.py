@@ -17,8 +17,8 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import tolerance
-    from ..demo.run import DEMO_LEVEL, DEMO_TOLERANCE
+    from ..demo.run import DEMO_LEVEL
+    from ..quality.arguments import DEFAULT_TOLERANCE, tolerance
 
     parser = subparsers.add_parser("demo", help="place probes on a held-out level and compare (the README's main job)",
                                    description="Headless demo on a real level with a model.")
@@ -26,8 +26,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
     parser.add_argument("--pak", metavar="PAK", help="openarena maps pak (default: $LPNN_OPENARENA_PAK, else the Debian path)")
     parser.add_argument("--level", default=DEMO_LEVEL, help=f"level name in the pak (default {DEMO_LEVEL}, held out)")
-    parser.add_argument("--tolerance", type=tolerance, default=DEMO_TOLERANCE, metavar="TAU",
-                        help=f"mean irradiance error allowed (default {DEMO_TOLERANCE:g})")
+    parser.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE, metavar="TAU",
+                        help=f"mean irradiance error allowed (default {DEFAULT_TOLERANCE:g})")
     parser.set_defaults(handler=_run)
 
 

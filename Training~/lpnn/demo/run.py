@@ -26,7 +26,6 @@ from ..quality.policies import SelectionForCount, place_tolerance, prefix_select
 from ..quality.reference_fast import fast_decimation
 
 DEMO_LEVEL = "oa_dm1"
-DEMO_TOLERANCE = DEFAULT_TOLERANCE
 Log = Callable[[str], None]
 
 
@@ -88,7 +87,7 @@ def curve_counts(point_count: int, samples: int = 24) -> np.ndarray:
 
 
 def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str, float], held_out: bool | None,
-             tolerance: float = DEMO_TOLERANCE, log: Log = print) -> DemoResult:
+             tolerance: float = DEFAULT_TOLERANCE, log: Log = print) -> DemoResult:
     field_ = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = capture.point_count

@@ -14,7 +14,7 @@ from .hole_wrap import wrap_holes
 from .hull_projection import HullIndex, HullProjection, nearest_on_candidates
 from .location import INSIDE_TOLERANCE, locate_local
 from .metric import POINT_ERRORS, ReferenceField
-from .tet_geometry import barycentric_in, best_per_group, cross_rows, edge_frames, orient_and_invert, segment_pairs
+from .tet_geometry import barycentric_in, best_per_group, edge_frames, orient_and_invert, segment_pairs
 from .triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, flatness, lower_hull, tetrahedralize
 
 VOLUME_TOLERANCE = 1e-9  # the hole's volume must equal the star's to this relative tolerance
@@ -27,12 +27,6 @@ OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 def _within(weights: np.ndarray) -> np.ndarray:
     """Inside test from the weights (..., 3) of a, b, c in tetrahedra (v, a, b, c) (v's weight is 1 - sum)."""
     return (weights.min(axis=-1) >= -INSIDE_TOLERANCE) & (weights.sum(axis=-1) <= 1.0 + INSIDE_TOLERANCE)
-
-
-def _orientation(points: np.ndarray, faces: np.ndarray, apex: np.ndarray) -> np.ndarray:
-    """Signed 6 x volume of (triangle, apex) per row: which side of each triangle its apex is on."""
-    a = points[faces[:, 0]]
-    return np.einsum("ij,ij->i", points[apex] - a, cross_rows(points[faces[:, 1]] - a, points[faces[:, 2]] - a))
 
 
 @dataclass
@@ -390,8 +384,8 @@ class DecimationState:
         found = order[np.minimum(np.searchsorted(cavity_keys[order], keys), order.shape[0] - 1)]
         apex = cavity[found // 4, found % 4]
         # The hole tetrahedron on the triangle must lie on v's side of it (else the hole closed it).
-        match = on_hull & (cavity_keys[found] == keys) & (
-            _orientation(self.local, faces, apex) * _orientation(self.local, faces, np.full(faces.shape[0], v)) > 0.0)
+        sides = [edge_frames(self.local, np.column_stack([faces, corner]))[3] for corner in (apex, np.full_like(apex, v))]
+        match = on_hull & (cavity_keys[found] == keys) & (sides[0] * sides[1] > 0.0)
         settled[rows[match]] = True
         return settled, found[match] // 4
 

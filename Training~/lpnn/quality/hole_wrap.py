@@ -43,9 +43,15 @@ def _orient_at(x: np.ndarray, a: int, b: int, c: int, q: np.ndarray) -> float:
 
 
 @njit(cache=True)
+def _sorted3(a: int, b: int, c: int) -> tuple[int, int, int]:
+    lo, hi = min(a, b, c), max(a, b, c)
+    return lo, a + b + c - lo - hi, hi
+
+
+@njit(cache=True)
 def _find_face(faces: np.ndarray, count: int, a: int, b: int, c: int) -> int:
     """Index of the registered face with vertices {a, b, c}, or -1."""
-    lo, mid, hi = min(a, b, c), a + b + c - min(a, b, c) - max(a, b, c), max(a, b, c)
+    lo, mid, hi = _sorted3(a, b, c)
     for i in range(count):
         if faces[i, 0] == lo and faces[i, 1] == mid and faces[i, 2] == hi:
             return i
@@ -61,9 +67,7 @@ def _register(faces: np.ndarray, seen: np.ndarray, count: int, a: int, b: int, c
         return found, count
     if count == faces.shape[0]:
         return -1, count
-    faces[count, 0] = min(a, b, c)
-    faces[count, 1] = a + b + c - min(a, b, c) - max(a, b, c)
-    faces[count, 2] = max(a, b, c)
+    faces[count, 0], faces[count, 1], faces[count, 2] = _sorted3(a, b, c)
     seen[count] = 1
     return count, count + 1
 
@@ -105,8 +109,9 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
     count = 0
     pending = 0
     boundary_faces = star.shape[0]
+    tri = np.empty(3, dtype=np.int64)
+    at_v = np.zeros(3)  # v, the origin of x
     for t in range(star.shape[0]):
-        tri = np.empty(3, dtype=np.int64)
         m = 0
         for j in range(4):
             if star[t, j] != v:
@@ -115,7 +120,7 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
                         tri[m] = i
                 m += 1
         a, b, c = tri[0], tri[1], tri[2]
-        if _orient_at(x, a, b, c, np.zeros(3)) < 0.0:  # v (the origin) must be on the positive side
+        if _orient_at(x, a, b, c, at_v) < 0.0:  # v must be on the positive side
             b, c = c, b
         index, count = _register(faces, seen, count, a, b, c)
         if index < 0 or seen[index] > 1:
@@ -209,7 +214,7 @@ def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: l
     """
     sizes = np.array([s.shape[0] for s in stars], dtype=np.int64)
     star_start = np.concatenate([[0], np.cumsum(sizes)])
-    out_start = 2 * star_start  # a hole of S boundary faces has fewer than 2S tetrahedra
+    out_start = 2 * star_start  # room for 2S tetrahedra per hole of S boundary faces; more fails to Qhull
     out = np.empty((int(out_start[-1]), 4), dtype=np.int64)
     star_tets = np.concatenate(stars) if stars else np.zeros((0, 4), dtype=np.int64)
     surface = np.zeros(len(stars), dtype=np.bool_) if on_hull is None else np.asarray(on_hull, dtype=np.bool_)

@@ -7,7 +7,7 @@ import numpy as np
 FLAT_VOLUME = 1e-14  # |6 x volume| below this (local units, extent ~1) is a flat tetrahedron
 
 
-def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (T, 3) arrays (np.cross is several times slower on small arrays)."""
     out = np.empty_like(a)
     out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
@@ -20,7 +20,7 @@ def edge_frames(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nd
     """Edges e1, e2, e3 (T, 3) from vertex 0 and 6 x signed volume (T,)."""
     p = points[tets]
     e1, e2, e3 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]
-    return e1, e2, e3, np.einsum("ij,ij->i", e1, cross_rows(e2, e3))
+    return e1, e2, e3, np.einsum("ij,ij->i", e1, _cross(e2, e3))
 
 
 def orient_and_invert(points: np.ndarray, tets: np.ndarray
@@ -38,7 +38,7 @@ def orient_and_invert(points: np.ndarray, tets: np.ndarray
         out[negative, 2], out[negative, 3] = tets[keep][negative, 3], tets[keep][negative, 2]
         e2, e3 = np.where(negative[:, None], e3, e2), np.where(negative[:, None], e2, e3)
         det = np.abs(det)
-    inverse = np.stack([cross_rows(e2, e3), cross_rows(e3, e1), cross_rows(e1, e2)], axis=1) / det[:, None, None]
+    inverse = np.stack([_cross(e2, e3), _cross(e3, e1), _cross(e1, e2)], axis=1) / det[:, None, None]
     return out, inverse, det, keep
 
 

@@ -25,14 +25,13 @@ from ..train.metrics import pr_auc, roc_auc
 from .labelling import stored_reference
 
 BUDGETS = (0.1, 0.2, 0.3)
-TOLERANCE = DEFAULT_TOLERANCE
 METHODS = ("lpnn", "lpnn-refine", "lpnn-topk", "heuristic", "uniform", "random", "fast-reference")
 BASELINES = ("fast-reference", "uniform", "heuristic")  # the ratios the summary reports
 STAGES = ("feature_seconds", "inference_seconds", "selection_seconds", "refine_seconds", "seconds")  # seconds: total
 
 
 def bench_config() -> BenchConfig:
-    return BenchConfig(budgets=BUDGETS, tolerance=TOLERANCE, repeats=1, reference_repeats=1, workers=1,
+    return BenchConfig(budgets=BUDGETS, tolerance=DEFAULT_TOLERANCE, repeats=1, reference_repeats=1, workers=1,
                        refine=RECOMMENDED_REFINE)
 
 
@@ -119,7 +118,7 @@ def summarize(crops: Sequence[dict[str, Any]]) -> dict[str, Any]:
     if not crops:
         raise ValueError("no held-out crops to summarise")
     table = _rows_by_key(crops)
-    policies = [("budget", b) for b in BUDGETS] + [("tolerance", TOLERANCE)]
+    policies = [("budget", b) for b in BUDGETS] + [("tolerance", DEFAULT_TOLERANCE)]
     methods = [method_summary(m, p, v, table) for m in METHODS for p, v in policies if (m, p, v) in table]
     roc = [c["roc_auc"] for c in crops if math.isfinite(c["roc_auc"])]
     pr = [c["pr_auc"] for c in crops if math.isfinite(c["pr_auc"])]
@@ -130,7 +129,7 @@ def summarize(crops: Sequence[dict[str, Any]]) -> dict[str, Any]:
         "roc_auc": statistics.fmean(roc) if roc else math.nan,
         "pr_auc": statistics.fmean(pr) if pr else math.nan,
         "budgets": list(BUDGETS),
-        "tolerance": TOLERANCE,
+        "tolerance": DEFAULT_TOLERANCE,
         "refine": RECOMMENDED_REFINE,
         "methods": methods,
     }
