@@ -15,12 +15,17 @@ REFERENCE_METHODS = ("fast", "faithful")
 DEFAULT_TOLERANCE = 0.05
 
 
+def _number(text: str, example: str) -> float:
+    """A number written with '.' decimals, whatever the locale; the error shows an example."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. {example})") from None
+
+
 def fraction(text: str) -> float:
     """argparse type: a budget fraction in (0, 1] written with '.' decimals."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 0.2)") from None
+    value = _number(text, "0.2")
     if not (math.isfinite(value) and 0.0 < value <= 1.0):
         raise argparse.ArgumentTypeError(f"{text!r} must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %")
     return value
@@ -28,10 +33,7 @@ def fraction(text: str) -> float:
 
 def tolerance(text: str) -> float:
     """argparse type: a mean error > 0 written with '.' decimals."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 0.02)") from None
+    value = _number(text, "0.02")
     if not (math.isfinite(value) and value > 0.0):
         raise argparse.ArgumentTypeError(f"{text!r} must be a mean error > 0, e.g. 0.02 for 2 %")
     return value
@@ -39,10 +41,7 @@ def tolerance(text: str) -> float:
 
 def refine_factor(text: str) -> float:
     """argparse type: a refinement seed factor > 1 written with '.' decimals."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. 2)") from None
+    value = _number(text, "2")
     if not (math.isfinite(value) and value > 1.0):
         raise argparse.ArgumentTypeError(f"{text!r} must be a factor > 1 (the seed holds F x K points), e.g. 2")
     return value
