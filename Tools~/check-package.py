@@ -4,7 +4,7 @@
 - every file and folder Unity imports has a .meta (a git-installed package is immutable: Unity cannot write missing metas
   and ignores those assets with a warning); no .meta is orphaned; GUIDs are well-formed and unique; each meta's importer
   matches its asset type;
-- package.json parses and names the package, a version and the Sentis dependency; every declared sample folder exists;
+- package.json parses and names the package, a version, the physics module and no inference package; every declared sample folder exists;
 - every .asmdef parses, its name matches its file name and is unique, its references are assemblies that exist (ours or
   the Unity/Sentis ones we rely on), and the runtime assemblies never reference editor-only ones;
 - no UnityEditor in the runtime sources, no UnityEngine in the engine-agnostic core.
@@ -23,6 +23,10 @@ import unity_meta  # noqa: E402
 
 # Assemblies outside this package that our asmdefs may name (Unity Test Framework; Sentis 2.1 / Inference Engine 2.2+,
 # referenced by name and compiled in only where the package exists, via versionDefines).
+# Each registers a ScriptedImporter for .onnx, so the package may depend on neither (InferencePackagePolicy.cs).
+INFERENCE_PACKAGES = ("com.unity.sentis", "com.unity.ai.inference")
+# Built-in modules the Unity layer calls: RaycastCommand, QueryParameters, MeshCollider (UnityEngine.PhysicsModule).
+REQUIRED_MODULES = ("com.unity.modules.physics",)
 EXTERNAL_ASSEMBLIES = {"UnityEngine.TestRunner", "UnityEditor.TestRunner", "Unity.Sentis", "Unity.InferenceEngine"}
 RUNTIME_ASSEMBLIES = {"Lpnn.Probes.Core", "Lpnn.Probes"}
 
@@ -65,8 +69,14 @@ def check_manifest(root: Path, problems: list[str]) -> None:
         problems.append(f"package.json: name is {manifest.get('name')!r}, expected {unity_meta.PACKAGE_NAME!r}")
     if not re.fullmatch(r"\d+\.\d+\.\d+(-[0-9A-Za-z.-]+)?", str(manifest.get("version", ""))):
         problems.append(f"package.json: version {manifest.get('version')!r} is not SemVer")
-    if "com.unity.sentis" not in manifest.get("dependencies", {}):
-        problems.append("package.json: dependencies lack com.unity.sentis")
+    dependencies = manifest.get("dependencies", {})
+    for inference in INFERENCE_PACKAGES:
+        if inference in dependencies:
+            problems.append(f"package.json: depends on {inference}; a project with the other inference package would then have two "
+                            ".onnx importers (Documentation~/index.md, 'Inference package')")
+    for module in REQUIRED_MODULES:
+        if module not in dependencies:
+            problems.append(f"package.json: dependencies lack {module}")
     for sample in manifest.get("samples", []):
         if not (root / sample.get("path", "")).is_dir():
             problems.append(f"package.json: sample path {sample.get('path')!r} does not exist")

@@ -15,9 +15,6 @@ from pathlib import Path
 
 PACKAGE_NAME = "com.lpnn.probes"
 
-# Sentis 2.1.3 ONNX importer script: needle-mirror/com.unity.sentis Editor/ONNX/ONNXModelImporter.cs.meta. The package depends
-# on com.unity.sentis, so this importer exists wherever the package is installed.
-SENTIS_ONNX_IMPORTER_GUID = "683b6cb6d0a474744822c888b46772c9"
 
 TEXT_ASSET_EXTENSIONS = {".txt", ".html", ".htm", ".xml", ".bytes", ".json", ".csv", ".yaml", ".yml", ".fnt", ".md"}
 
@@ -56,7 +53,7 @@ def guid_for(root: Path, path: Path) -> str:
     return hashlib.md5(f"{PACKAGE_NAME}/{relative}".encode("utf-8")).hexdigest()
 
 
-def importer_for(path: Path) -> str:
+def importer_for(path: Path) -> str | None:
     if path.is_dir():
         return "DefaultImporter"
     suffix = path.suffix.lower()
@@ -67,7 +64,9 @@ def importer_for(path: Path) -> str:
     if suffix == ".asmref":
         return "AssemblyDefinitionReferenceImporter"
     if suffix == ".onnx":
-        return "ScriptedImporter"
+        # Whichever inference package the project has imports it (com.unity.sentis and com.unity.ai.inference register
+        # different ScriptedImporter scripts for .onnx): the .meta names no importer, only the GUID.
+        return None
     if suffix in TEXT_ASSET_EXTENSIONS:
         return "TextScriptImporter"
     return "DefaultImporter"
@@ -83,11 +82,8 @@ def meta_text(path: Path, guid: str) -> str:
     if importer == "MonoImporter":
         return (head + "MonoImporter:\n  externalObjects: {}\n  serializedVersion: 2\n  defaultReferences: []\n  executionOrder: 0\n"
                 "  icon: {instanceID: 0}\n  userData: \n  assetBundleName: \n  assetBundleVariant: \n")
-    if importer == "ScriptedImporter":
-        return (head + "ScriptedImporter:\n  internalIDToNameTable: []\n  externalObjects: {}\n  serializedVersion: 2\n  userData: \n"
-                "  assetBundleName: \n  assetBundleVariant: \n"
-                f"  script: {{fileID: 11500000, guid: {SENTIS_ONNX_IMPORTER_GUID}, type: 3}}\n"
-                "  optimizeModel: 1\n  denormalWeightsRounding: 1\n")
+    if importer is None:
+        return head
     return head + f"{importer}:\n" + tail
 
 

@@ -192,6 +192,8 @@ namespace UnityEditor
     public sealed partial class EditorApplication
     {
         public static void Exit(int returnValue) { }
+        public static CallbackFunction update;
+        public delegate void CallbackFunction();
     }
 }
 
@@ -232,4 +234,60 @@ namespace UnityEditor.SceneManagement
         public static bool SaveScene(UnityEngine.SceneManagement.Scene scene, string dstScenePath) { throw null; }
         public static bool SaveCurrentModifiedScenesIfUserWantsTo() { throw null; }
     }
+}
+
+namespace UnityEditor.PackageManager
+{
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/Client.cs
+    public static class Client
+    {
+        public static Requests.ListRequest List(bool offlineMode, bool includeIndirectDependencies) { throw null; }
+        public static Requests.AddRequest Add(string identifier) { throw null; }
+        public static Requests.RemoveRequest Remove(string packageName) { throw null; }
+    }
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/StatusCode.cs
+    public enum StatusCode { InProgress = 0, Success = 1, Failure = 2 }
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/Error.cs
+    public class Error { public string message { get { throw null; } } }
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/PackageInfo.cs
+    public sealed class PackageInfo
+    {
+        public string version { get { throw null; } }
+        public string name { get { throw null; } }
+    }
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/PackageCollection.cs
+    public class PackageCollection : System.Collections.Generic.IEnumerable<PackageInfo>
+    {
+        System.Collections.Generic.IEnumerator<PackageInfo> System.Collections.Generic.IEnumerable<PackageInfo>.GetEnumerator() { throw null; }
+        System.Collections.IEnumerator System.Collections.IEnumerable.GetEnumerator() { throw null; }
+    }
+}
+
+namespace UnityEditor.PackageManager.Requests
+{
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/Requests/Request.cs
+    public abstract partial class Request
+    {
+        public StatusCode Status { get { throw null; } }
+        public bool IsCompleted { get { throw null; } }
+        public Error Error { get { throw null; } }
+    }
+    public abstract class Request<T> : Request { public T Result { get { throw null; } } }
+    // UnityCsReference 2022.3 Modules/PackageManager/Editor/Managed/Requests/{List,Add,Remove}Request.cs
+    public sealed partial class ListRequest : Request<PackageCollection> { }
+    public sealed partial class AddRequest : Request<PackageInfo> { }
+    public sealed partial class RemoveRequest : Request { }
+}
+
+namespace UnityEditor
+{
+    // UnityCsReference 2022.3 Editor/Mono/SessionState.cs
+    public class SessionState
+    {
+        public static bool GetBool(string key, bool defaultValue) { throw null; }
+        public static void SetBool(string key, bool value) { }
+    }
+    // UnityCsReference 2022.3 Editor/Mono/EditorApplication.cs (attribute in Editor/Mono/InitializeOnLoad... )
+    [AttributeUsage(AttributeTargets.Class)]
+    public class InitializeOnLoadAttribute : Attribute { }
 }

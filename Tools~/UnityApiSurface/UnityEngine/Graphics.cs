@@ -97,4 +97,10 @@ namespace UnityEngine
         public static bool Button(string text, params GUILayoutOption[] options) { throw null; }
         public static GUILayoutOption Width(float width) { throw null; }
     }
+
+    // UnityCsReference 2022.3 Modules/IMGUI/GUIUtility.cs
+    public class GUIUtility
+    {
+        public static void ExitGUI() { }
+    }
 }

@@ -4,6 +4,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Scoring;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEngine;
@@ -125,6 +126,7 @@ namespace Lpnn.Probes.Editor
             Field(LpnnVolume.Fields.Backend);
             Field(LpnnVolume.Fields.ScoringPointLimit);
             serializedObject.ApplyModifiedProperties();
+            InferencePackageBox();
             string problem = CardProblem();
             if (problem != null) EditorGUILayout.HelpBox(problem, MessageType.Error);
             using (new EditorGUI.DisabledScope(Session.Features == null))
@@ -363,6 +365,24 @@ namespace Lpnn.Probes.Editor
             var grid = LpnnPipeline.ScoredGrid(Volume, Session);
             var result = _preview.Search(grid, Volume.LastScores.Scores, Volume.GetSelectionSettings(), PlacementInputs.Evaluator(Session, grid));
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + LpnnPipeline.Extras(result);
+        }
+
+        /// <summary>The inference-package decision of <see cref="InferencePackageCheck"/> when something must change.</summary>
+        private static void InferencePackageBox()
+        {
+            var decision = InferencePackageCheck.Current;
+            if (decision == null || decision.Action == InferencePackageAction.Ready) return;
+            EditorGUILayout.HelpBox(decision.Message, MessageType.Error);
+            using (new EditorGUI.DisabledScope(InferencePackageCheck.Busy))
+            {
+                if (GUILayout.Button(InferencePackageCheck.ApplyLabel(decision)))
+                {
+                    InferencePackageCheck.Apply();
+                    // The Package Manager call ends in a domain reload: leave this IMGUI pass now (UnityCsReference
+                    // Modules/IMGUI/GUIUtility.cs ExitGUI) instead of finishing layout groups on a reloading editor.
+                    GUIUtility.ExitGUI();
+                }
+            }
         }
 
         private string CardProblem()

@@ -37,7 +37,8 @@ namespace Lpnn.Probes.Editor
     public static class LpnnScoring
     {
         public const string PackageHint =
-            "install com.unity.sentis 2.1.x (Unity 2022.3 and 6) or com.unity.ai.inference 2.2+ (Unity 6) with the Package Manager";
+            "install com.unity.sentis 2.1.3 (Unity 2022.3) or com.unity.ai.inference 2.4.0 (Unity 6), never both, with the Package " +
+            "Manager (the LPNN volume inspector offers it)";
 
         /// <summary>Parses the volume's card and checks it against the schema; throws with what to fix.</summary>
         public static ModelCard CheckCard(LpnnVolume volume, FeatureSchema schema)

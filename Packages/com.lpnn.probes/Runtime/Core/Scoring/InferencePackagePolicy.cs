@@ -1,0 +1,116 @@
+using System;
+using System.Collections.Generic;
+using System.Globalization;
+
+namespace Lpnn.Probes.Core.Scoring
+{
+    /// <summary>What the editor should do about the neural-network inference package of a project.</summary>
+    public enum InferencePackageAction
+    {
+        /// <summary>Exactly one supported package is installed: nothing to do.</summary>
+        Ready = 0,
+        /// <summary>No usable package: add <see cref="InferencePackageDecision.PackageToAdd"/>.</summary>
+        Add = 1,
+        /// <summary>Both packages are installed, so both register an .onnx importer and Unity rejects both: remove Sentis.</summary>
+        RemoveSentis = 2,
+    }
+
+    /// <summary>The outcome of <see cref="InferencePackagePolicy.Decide"/>: the action, the package identifier for
+    /// the Package Manager's <c>Client.Add</c> (or the name for <c>Client.Remove</c>) and a sentence for the user.</summary>
+    public sealed class InferencePackageDecision
+    {
+        public InferencePackageAction Action { get; }
+        /// <summary>"name@version" for Add, the package name for RemoveSentis, empty for Ready.</summary>
+        public string Package { get; }
+        public string Message { get; }
+
+        public InferencePackageDecision(InferencePackageAction action, string package, string message)
+        {
+            Action = action;
+            Package = package ?? "";
+            Message = message ?? "";
+        }
+
+        public string PackageToAdd => Action == InferencePackageAction.Add ? Package : "";
+    }
+
+    /// <summary>Which inference package a project needs, so that it has exactly one <c>.onnx</c> importer.
+    ///
+    /// com.unity.sentis 2.1.3 and com.unity.ai.inference 2.2+ both declare <c>[ScriptedImporter(..., new[] {"onnx"})]</c>
+    /// (needle-mirror/com.unity.sentis 2.1.3 and needle-mirror/com.unity.ai.inference 2.4.0, Editor/ONNX/ONNXModelImporter.cs).
+    /// When two scripted importers claim one extension Unity rejects all of them (UnityCsReference 2022.3 and 6000.5,
+    /// Modules/AssetPipelineEditor/Public/ScriptedImporter.cs: "Multiple scripted importers are targeting the extension"),
+    /// so the package cannot depend on either: Sentis is the only one for Unity 2022.3 (com.unity.ai.inference declares
+    /// "unity": "6000.0"), and a Unity 6 project that already uses com.unity.ai.inference would get two importers. The
+    /// editor instead asks this policy and offers the Package Manager call it returns.</summary>
+    public static class InferencePackagePolicy
+    {
+        public const string SentisName = "com.unity.sentis";
+        public const string InferenceEngineName = "com.unity.ai.inference";
+        /// <summary>The Sentis the Unity layer is compiled against (Unity 2022.3; needle-mirror/com.unity.sentis 2.1.3).</summary>
+        public const string SentisVersion = "2.1.3";
+        /// <summary>The newest com.unity.ai.inference the Unity layer is compiled against (Unity 6000.x).</summary>
+        public const string InferenceEngineVersion = "2.4.0";
+        /// <summary>The first Unity major version of com.unity.ai.inference (its package.json: "unity": "6000.0").</summary>
+        public const int InferenceEngineFirstUnityMajor = 6000;
+
+        /// <summary>Decides from the editor's version (Application.unityVersion, e.g. "2022.3.11f1" or "6000.0.23f1") and the
+        /// installed packages (name → version, e.g. from Client.List).</summary>
+        public static InferencePackageDecision Decide(string unityVersion, IReadOnlyDictionary<string, string> installed)
+        {
+            if (installed == null) throw new ArgumentNullException(nameof(installed));
+            int unityMajor = UnityMajor(unityVersion);
+            installed.TryGetValue(SentisName, out string sentis);
+            installed.TryGetValue(InferenceEngineName, out string engine);
+            string recommended = unityMajor >= InferenceEngineFirstUnityMajor
+                ? InferenceEngineName + "@" + InferenceEngineVersion
+                : SentisName + "@" + SentisVersion;
+
+            if (sentis != null && engine != null)
+                return new InferencePackageDecision(InferencePackageAction.RemoveSentis, SentisName,
+                    "Both " + SentisName + " " + sentis + " and " + InferenceEngineName + " " + engine + " are installed. Each registers an " +
+                    ".onnx importer, so Unity rejects both and no model can be imported. Remove " + SentisName + " (Inference Engine " +
+                    "replaces it).");
+            if (engine != null)
+            {
+                if (InRange(engine, 2, 2)) return Ready(InferenceEngineName, engine);
+                return new InferencePackageDecision(InferencePackageAction.Add, InferenceEngineName + "@" + InferenceEngineVersion,
+                    InferenceEngineName + " " + engine + " is outside the supported range [2.2, 3.0). Install " +
+                    InferenceEngineVersion + ".");
+            }
+            if (sentis != null)
+            {
+                if (InRange(sentis, 2, 1)) return Ready(SentisName, sentis);
+                return new InferencePackageDecision(InferencePackageAction.Add, recommended,
+                    SentisName + " " + sentis + " is outside the supported range [2.1, 3.0). Install " + recommended + ".");
+            }
+            return new InferencePackageDecision(InferencePackageAction.Add, recommended,
+                "No neural-network inference package is installed, so the model cannot be imported or run. Install " + recommended + ".");
+        }
+
+        private static InferencePackageDecision Ready(string name, string version)
+        {
+            return new InferencePackageDecision(InferencePackageAction.Ready, "", name + " " + version + " runs the model.");
+        }
+
+        /// <summary>Major version of a Unity version string ("2022.3.11f1" → 2022); throws with the value when it is not one.</summary>
+        public static int UnityMajor(string unityVersion)
+        {
+            string text = unityVersion ?? "";
+            int dot = text.IndexOf('.');
+            if (dot <= 0 || !int.TryParse(text.Substring(0, dot), NumberStyles.None, CultureInfo.InvariantCulture, out int major))
+                throw new LpnnException("'" + text + "' is not a Unity version (expected e.g. 2022.3.11f1)");
+            return major;
+        }
+
+        /// <summary>True for versions in [major.minMinor, major+1.0) — pre-releases of that range included ("2.2.0-pre.1").</summary>
+        private static bool InRange(string version, int major, int minMinor)
+        {
+            string[] parts = version.Split('.', '-');
+            if (parts.Length < 2) return false;
+            if (!int.TryParse(parts[0], NumberStyles.None, CultureInfo.InvariantCulture, out int vMajor)) return false;
+            if (!int.TryParse(parts[1], NumberStyles.None, CultureInfo.InvariantCulture, out int vMinor)) return false;
+            return vMajor == major && vMinor >= minMinor;
+        }
+    }
+}
