@@ -76,9 +76,17 @@ namespace Lpnn.Probes.Editor.Tests
             Undo.IncrementCurrentGroup();
             var volume = LpnnMenuItems.CreateVolume(parent);
             Assert.That(volume.transform.parent, Is.EqualTo(parent.transform));
+            // UnityCsReference 6000.3+ Editor/Mono/EditorUtility.bindings.cs: InstanceIDToObject(int) is [Obsolete] (an error from
+            // 6000.5); EntityIdToObject(EntityId) replaces it.
+#if UNITY_6000_3_OR_NEWER
+            var id = volume.gameObject.GetEntityId();
+            Undo.PerformUndo();
+            Assert.That(EditorUtility.EntityIdToObject(id), Is.Null);
+#else
             int id = volume.gameObject.GetInstanceID();
             Undo.PerformUndo();
             Assert.That(EditorUtility.InstanceIDToObject(id), Is.Null);
+#endif
         }
 
         [Test]

@@ -54,7 +54,7 @@ namespace Lpnn.Probes.Editor
             // EditorSceneManager.OpenScene: Editor/Mono/SceneManagement/EditorSceneManager.cs
             var scene = EditorSceneManager.OpenScene(scenePath, OpenSceneMode.Single);
             var volumes = new List<LpnnVolume>();
-            foreach (var volume in Object.FindObjectsByType<LpnnVolume>(FindObjectsSortMode.None))
+            foreach (var volume in SceneObjects.FindAll<LpnnVolume>())
                 if (options.VolumeName == null || volume.name == options.VolumeName) volumes.Add(volume);
             if (volumes.Count == 0)
                 throw new LpnnException("scene " + scenePath + " has no LPNN volume" + (options.VolumeName == null ? "" : " named '" + options.VolumeName + "'") +

@@ -14,7 +14,7 @@ namespace Lpnn.Probes.Editor
         private const int MaxDrawnPoints = 20000;
         private static readonly Color BoxColor = new Color(1f, 0.75f, 0.2f, 0.9f);
         private static readonly Color ProbeColor = new Color(1f, 0.95f, 0.3f, 1f);
-        private static readonly Dictionary<int, ScoreCloud> Clouds = new Dictionary<int, ScoreCloud>();
+        private static readonly Dictionary<ObjectKey, ScoreCloud> Clouds = new Dictionary<ObjectKey, ScoreCloud>();
 
         private sealed class ScoreCloud
         {
@@ -62,7 +62,7 @@ namespace Lpnn.Probes.Editor
         /// <summary>Positions and colours are recomputed only when the scores array changes.</summary>
         private static ScoreCloud CloudOf(LpnnVolume volume, LpnnScoreRecord record)
         {
-            int key = volume.GetInstanceID();
+            var key = ObjectKey.Of(volume);
             if (Clouds.TryGetValue(key, out var cloud) && cloud.Source == record.Scores) return cloud;
             double[] remapped = ScoreRanking.Remap(record.Scores);
             int stride = Mathf.Max(1, Mathf.CeilToInt(record.Count / (float)MaxDrawnPoints));

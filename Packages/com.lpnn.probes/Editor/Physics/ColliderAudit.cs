@@ -11,8 +11,7 @@ namespace Lpnn.Probes.Editor
         public static List<MeshFilter> StaticMeshesWithoutColliders()
         {
             var missing = new List<MeshFilter>();
-            // FindObjectsByType: UnityCsReference Runtime/Export/Scripting/UnityEngineObject.bindings.cs (2021.3.18+, 2022.2+).
-            foreach (var renderer in Object.FindObjectsByType<MeshRenderer>(FindObjectsSortMode.None))
+            foreach (var renderer in SceneObjects.FindAll<MeshRenderer>())
             {
                 if (!renderer.enabled || !renderer.gameObject.activeInHierarchy) continue;
                 // GameObjectUtility.GetStaticEditorFlags: Editor/Mono/GameObjectUtility.bindings.cs; flags: Editor/Mono/StaticEditorFlags.cs.

@@ -28,8 +28,13 @@ namespace Lpnn.Probes.Editor
                 for (int r = 0; r < count; r++)
                 {
                     var hit = hits[r];
-                    // An empty result slot has collider instance id 0 (RaycastHit.bindings.cs).
+                    // An empty result slot has collider id 0 (UnityCsReference Modules/Physics/ScriptBindings/RaycastHit.bindings.cs):
+                    // colliderEntityId from 6000.3, where colliderInstanceID becomes [Obsolete] (an error from 6000.5).
+#if UNITY_6000_3_OR_NEWER
+                    results[r] = hit.colliderEntityId == EntityId.None
+#else
                     results[r] = hit.colliderInstanceID == 0
+#endif
                         ? RayHit.Miss
                         : new RayHit { Distance = hit.distance, Normal = hit.normal.ToNumerics() };
                 }

@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Editor
     /// succeeds, so a cancelled or failed step leaves the previous state intact.</summary>
     public sealed class LpnnSession : IDisposable
     {
-        private static readonly Dictionary<int, LpnnSession> Sessions = new Dictionary<int, LpnnSession>();
+        private static readonly Dictionary<ObjectKey, LpnnSession> Sessions = new Dictionary<ObjectKey, LpnnSession>();
 
         static LpnnSession()
         {
@@ -45,7 +45,7 @@ namespace Lpnn.Probes.Editor
 
         public static LpnnSession For(LpnnVolume volume)
         {
-            int key = volume.GetInstanceID();
+            var key = ObjectKey.Of(volume);
             if (!Sessions.TryGetValue(key, out var session))
             {
                 session = new LpnnSession();
@@ -56,7 +56,7 @@ namespace Lpnn.Probes.Editor
 
         public static void Forget(LpnnVolume volume)
         {
-            int key = volume.GetInstanceID();
+            var key = ObjectKey.Of(volume);
             if (!Sessions.TryGetValue(key, out var session)) return;
             session.Dispose();
             Sessions.Remove(key);
