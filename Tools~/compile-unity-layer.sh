@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Compile check of the Unity layer without Unity: compiles the signature-only API surface in Tools~/UnityApiSurface into
-# stand-in assemblies, then Runtime/Core, Runtime, Editor, Tests/Editor and the CorridorDemo sample against them with Mono's
-# mcs (C# 7.2, warnings as errors), in four configurations (Unity 2022.3 / 6000.0 × Sentis 2.1 / Inference Engine 2.2,
-# plus 2022.3 without any inference package), and Tests/Core against NUnit. This proves that the code compiles against the
-# declared surface — not that it runs or behaves correctly inside Unity (Documentation~/unity-api-surface.md).
+# Compile check of the Unity layer without Unity: compiles the signature-only API surfaces generated from the real
+# UnityCsReference branches and inference packages (Tools~/UnityApiSurface/Generated, by Tools~/api-surface/generate.py)
+# into stand-in assemblies, then Runtime/Core, Runtime, Editor, Tests/Editor and the CorridorDemo sample against them with
+# Mono's mcs (C# 7.2, warnings as errors, so any [Obsolete] use fails) in every configuration of the supported matrix, and
+# Tests/Core against NUnit. This proves that the code compiles against those signatures — not that it runs or behaves
+# correctly inside Unity (Documentation~/unity-api-surface.md).
 source "$(dirname "$0")/lib.sh"
 PKG="$REPO_ROOT/Packages/com.lpnn.probes"
 SURFACE="$REPO_ROOT/Tools~/UnityApiSurface"
@@ -42,28 +43,37 @@ mapfile -t runtime < <(sources "$PKG/Runtime" -not -path "$PKG/Runtime/Core/*")
 mapfile -t editor < <(sources "$PKG/Editor")
 mapfile -t editor_tests < <(sources "$REPO_ROOT/Tests/Editor")
 mapfile -t sample < <(sources "$REPO_ROOT/Samples~/CorridorDemo")
-mapfile -t engine_stubs < <(sources "$SURFACE/UnityEngine")
-mapfile -t editor_stubs < <(sources "$SURFACE/UnityEditor")
-mapfile -t sentis_stubs < <(sources "$SURFACE/Sentis")
-mapfile -t runner_stubs < <(sources "$SURFACE/TestRunner")
+GENERATED="$SURFACE/Generated"
+runner_stubs=("$SURFACE/TestRunner/UnityTestAttribute.cs")
+[ -f "$GENERATED/SOURCES.txt" ] || die "no generated API surface in $GENERATED (Documentation~/unity-api-surface.md says how to generate it)"
 
-configure() {  # configure NAME UNITY(2022.3|6000.0) INFERENCE(sentis|inference-engine|none)
-  local name="$1" unity="$2" inference="$3" dir="$OUT/$1"
+unity_defines_for() {  # the UNITY_X_OR_NEWER symbols Unity defines for version $1
+  local target="$1" defines="" version
+  for version in 2022.2 2022.3 2023.1 2023.2 6000.0 6000.1 6000.2 6000.3 6000.4 6000.5 6000.6 6000.7; do
+    defines="$defines;UNITY_${version/./_}_OR_NEWER"
+    [ "$version" = "$target" ] && break
+  done
+  echo "-define:${defines#;}"
+}
+
+configure() {  # configure UNITY_VERSION INFERENCE(sentis-V|inference-engine-V|none)
+  local unity="$1" inference="$2" name="unity$1-$2" dir="$OUT/unity$1-$2"
   mkdir -p "$dir"
   log "configuration $name"
-  local unity_defines="-define:UNITY_2022_2_OR_NEWER;UNITY_2022_3_OR_NEWER"
-  [ "$unity" = "6000.0" ] && unity_defines="$unity_defines;UNITY_2023_1_OR_NEWER;UNITY_2023_2_OR_NEWER;UNITY_6000_0_OR_NEWER"
+  local unity_defines; unity_defines=$(unity_defines_for "$unity")
+  local surface="$GENERATED/unity-$unity"
 
-  build "$dir/UnityEngine.dll" "  surface UnityEngine ($unity)" "$unity_defines" "${engine_stubs[@]}"
-  build "$dir/UnityEditor.dll" "  surface UnityEditor ($unity)" "$unity_defines" -r:"$dir/UnityEngine.dll" "${editor_stubs[@]}"
+  build "$dir/UnityEngine.dll" "  surface UnityEngine ($unity, generated)" "$surface/UnityEngine.cs"
+  build "$dir/UnityEditor.dll" "  surface UnityEditor ($unity, generated)" -r:"$dir/UnityEngine.dll" "$surface/UnityEditor.cs"
   build "$dir/UnityEngine.TestRunner.dll" "  surface UnityEngine.TestRunner" -r:"$dir/UnityEngine.dll" "${runner_stubs[@]}"
   local inference_ref=() inference_define=""
   case "$inference" in
-    sentis)
-      build "$dir/Unity.Sentis.dll" "  surface Unity.Sentis 2.1" -r:"$dir/UnityEngine.dll" "${sentis_stubs[@]}"
+    sentis-*)
+      build "$dir/Unity.Sentis.dll" "  surface Unity.Sentis ${inference#sentis-} (generated)" -r:"$dir/UnityEngine.dll" "$GENERATED/$inference/Unity.Sentis.cs"
       inference_ref=(-r:"$dir/Unity.Sentis.dll"); inference_define=";LPNN_SENTIS" ;;
-    inference-engine)
-      build "$dir/Unity.InferenceEngine.dll" "  surface Unity.InferenceEngine 2.2" -define:LPNN_STUB_INFERENCE_ENGINE -r:"$dir/UnityEngine.dll" "${sentis_stubs[@]}"
+    inference-engine-*)
+      build "$dir/Unity.InferenceEngine.dll" "  surface Unity.InferenceEngine ${inference#inference-engine-} (generated)" -r:"$dir/UnityEngine.dll" \
+        "$GENERATED/$inference/Unity.InferenceEngine.cs"
       inference_ref=(-r:"$dir/Unity.InferenceEngine.dll"); inference_define=";LPNN_INFERENCE_ENGINE" ;;
   esac
 
@@ -79,11 +89,28 @@ configure() {  # configure NAME UNITY(2022.3|6000.0) INFERENCE(sentis|inference-
   build "$dir/Lpnn.Probes.Samples.CorridorDemo.dll" "  Samples~/CorridorDemo" "${STRICT[@]}" "$editor_defines" \
     -r:"$dir/UnityEngine.dll" -r:"$dir/UnityEditor.dll" -r:"$OUT/Lpnn.Probes.Core.dll" -r:"$dir/Lpnn.Probes.dll" \
     -r:"$dir/Lpnn.Probes.Editor.dll" "${sample[@]}"
+  configurations=$((configurations + 1))
 }
 
-configure unity2022.3-sentis2.1 2022.3 sentis
-configure unity6000.0-inferenceengine2.2 6000.0 inference-engine
-configure unity6000.0-sentis2.1 6000.0 sentis
-configure unity2022.3-no-inference-package 2022.3 none
+# The supported matrix (README "Supported matrix"): every Unity version with the inference package(s) it accepts.
+configurations=0
+configure 2022.3 sentis-2.1.3
+configure 2022.3 none
+configure 6000.0 sentis-2.1.3
+configure 6000.0 inference-engine-2.2.2
+configure 6000.0 inference-engine-2.4.0
+configure 6000.3 inference-engine-2.3.0
+configure 6000.3 inference-engine-2.4.0
+configure 6000.5 inference-engine-2.4.0
+configure 6000.7 inference-engine-2.4.0
 
-log "compile-unity-layer: $compiled assemblies compiled in 4 configurations (surface: Tools~/UnityApiSurface); compilation only, nothing ran in Unity"
+log "compile-unity-layer: $compiled assemblies compiled in $configurations configurations against the generated surfaces ($GENERATED/SOURCES.txt); obsolete-member use is an error (-warnaserror); compilation only, nothing ran in Unity"
+
+# The check can fail: a use of a member that Unity 6000.5 marks [Obsolete(..., true)] must be refused.
+canary="$OUT/obsolete-canary.cs"
+printf 'class ObsoleteCanary { int Id(UnityEngine.Object o) { return o.GetInstanceID(); } }\n' > "$canary"
+if "${BASE[@]}" "${STRICT[@]}" -out:"$OUT/obsolete-canary.dll" -r:"$OUT/unity6000.5-inference-engine-2.4.0/UnityEngine.dll" "$canary" > "$OUT/obsolete-canary.log" 2>&1 \
+   || ! grep -q "CS0619" "$OUT/obsolete-canary.log"; then
+  die "the 6000.5 surface accepted Object.GetInstanceID() (expected error CS0619): the generated surface lost its [Obsolete] attributes"
+fi
+log "ok  Object.GetInstanceID() is refused against the 6000.5 surface (CS0619), as in Unity 6000.5"
