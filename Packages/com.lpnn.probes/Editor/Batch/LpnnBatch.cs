@@ -91,11 +91,30 @@ namespace Lpnn.Probes.Editor
 
         private static string RunVolume(LpnnVolume volume, BatchOptions options, LightProbeGroup truth, string folder)
         {
+            // The command line chooses lighting source, backend and ground truth for this run only: the volume's saved choices
+            // are restored afterwards, so -lpnnSaveScene never writes them over the artist's settings.
+            var savedLighting = volume.Lighting;
+            var savedBackend = volume.Backend;
+            var savedTruth = volume.GroundTruthGroup;
+            try
+            {
+                // Without -lpnnBake nothing is baked: the scene's existing probes are interpolated.
+                volume.SetLighting(options.Bake ? LightingSource.BakeAtEvaluationPoints : LightingSource.InterpolateSceneProbes);
+                volume.SetBackend(options.Backend);
+                if (truth != null) volume.SetGroundTruth(truth);
+                return RunVolumeSteps(volume, options, folder);
+            }
+            finally
+            {
+                volume.SetLighting(savedLighting);
+                volume.SetBackend(savedBackend);
+                volume.SetGroundTruth(savedTruth);
+            }
+        }
+
+        private static string RunVolumeSteps(LpnnVolume volume, BatchOptions options, string folder)
+        {
             var session = LpnnSession.For(volume);
-            // Without -lpnnBake nothing is baked: the scene's existing probes are interpolated.
-            volume.SetLighting(options.Bake ? LightingSource.BakeAtEvaluationPoints : LightingSource.InterpolateSceneProbes);
-            volume.SetBackend(options.Backend);
-            if (truth != null) volume.SetGroundTruth(truth);
             var log = new List<string>();
             using (var progress = new EditorProgressScope("LPNN batch " + volume.name))
             {

@@ -54,7 +54,11 @@ namespace Lpnn.Probes.Editor
 
         private void OnSceneGUI()
         {
-            if (Volume.ShowGizmos) _boxHandles.Draw(Volume, serializedObject);
+            if (!Volume.ShowGizmos) return;
+            // The serialized copy may be stale (an inspector edit, an Undo, a script): read it before the handles edit it, as
+            // OnInspectorGUI does (UnityCsReference Editor/Mono/SerializedObject.bindings.cs Update).
+            serializedObject.Update();
+            _boxHandles.Draw(Volume, serializedObject);
         }
 
         // ------------------------------------------------------------------------------------------ sections
@@ -205,6 +209,7 @@ namespace Lpnn.Probes.Editor
                 {
                     string folder = EditorUtility.SaveFolderPanel("Dataset folder", LpnnPaths.DatasetFolderFor(Volume), "");
                     if (!string.IsNullOrEmpty(folder)) serializedObject.FindProperty(LpnnVolume.Fields.DatasetFolder).stringValue = folder;
+                    EndGuiAfterModal();
                 }
             }
             serializedObject.ApplyModifiedProperties();
@@ -226,18 +231,32 @@ namespace Lpnn.Probes.Editor
                             string written = CaptureExport.Save(Volume, Session, path, out string labels);
                             return "saved " + written + "; " + labels;
                         });
+                    EndGuiAfterModal();
                 }
                 if (GUILayout.Button("Append to dataset"))
+                {
                     StepRunner.Run(Volume, Session.ExportStep, (progress, cancel) =>
                     {
                         string written = CaptureExport.Append(Volume, Session, datasetFolder, CaptureExport.DefaultStem(Volume), out string labels);
                         return "appended " + written + "; " + labels;
                     });
+                    EndGuiAfterModal();
+                }
             }
             Status(Session.ExportStep);
         }
 
         // ------------------------------------------------------------------------------------------ helpers
+
+        /// <summary>After a modal panel or a long step run from inside layout scopes, the IMGUI event has changed under the
+        /// open groups; finishing the layout then fails with "EndLayoutGroup: BeginLayoutGroup must be called first". Unity's
+        /// own inspectors end the GUI pass instead (UnityCsReference Modules/IMGUI/GUIUtility.cs ExitGUI, which throws
+        /// ExitGUIException that Unity catches). Pending serialized edits are applied first so the choice is not lost.</summary>
+        private void EndGuiAfterModal()
+        {
+            serializedObject.ApplyModifiedProperties();
+            GUIUtility.ExitGUI();
+        }
 
         private void RunAll()
         {
@@ -262,9 +281,10 @@ namespace Lpnn.Probes.Editor
         private void ImportProbes()
         {
             string path = EditorUtility.OpenFilePanel("Import probe positions (*.probes.json)", LpnnPaths.DatasetFolderFor(Volume), "json");
-            if (string.IsNullOrEmpty(path)) return;
-            StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
-                ProbeGroupWriter.Import(Volume.TargetGroup, path) + " probes imported from " + Path.GetFileName(path));
+            if (!string.IsNullOrEmpty(path))
+                StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
+                    ProbeGroupWriter.Import(Volume.TargetGroup, path) + " probes imported from " + Path.GetFileName(path));
+            EndGuiAfterModal();
         }
 
         private void UpdatePointCount()

@@ -30,7 +30,11 @@ namespace Lpnn.Probes.Editor
         private readonly RadeonRaysWorld _world = new RadeonRaysWorld();
         private readonly RadeonRaysProbeIntegrator _integrator = new RadeonRaysProbeIntegrator();
         private readonly RadeonRaysProbePostProcessor _postProcessor = new RadeonRaysProbePostProcessor();
-        private readonly int _directSamples = 32, _indirectSamples = 512, _bounces = 2;
+        // Unity's own probe baker always gives the integrator a progress state (SRP Core ProbeGIBaking.LightTransport.cs).
+        private readonly BakeProgressState _integrationProgress = new BakeProgressState();
+        // Unity's default Lighting Settings (32 direct, 512 indirect, multiplier 4) when the scene has none.
+        private readonly ProbeSampleCounts _samples = ProbeSampleCounts.FromLightingSettings(32, 512, 256, 4f);
+        private readonly int _bounces = 2;
         private readonly float _indirectScale = 1f;
         private bool _prepared;
         private int _capacity;
@@ -40,15 +44,15 @@ namespace Lpnn.Probes.Editor
 
         public LightTransportProbeSampler()
         {
-            // The scene's own sample counts, bounces and indirect intensity, as a bake would use them.
+            // The scene's own sample counts, bounces and indirect intensity, scaled for probes as Unity's probe baker does.
             if (Lightmapping.TryGetLightingSettings(out var settings))
             {
-                _directSamples = Math.Max(1, settings.directSampleCount);
-                _indirectSamples = Math.Max(1, settings.indirectSampleCount);
+                _samples = ProbeSampleCounts.FromLightingSettings(settings.directSampleCount, settings.indirectSampleCount,
+                                                                  settings.environmentSampleCount, settings.lightProbeSampleCountMultiplier);
                 _bounces = Math.Max(0, settings.maxBounces);
                 _indirectScale = settings.indirectScale;
             }
-            Description += " — " + _directSamples + " direct / " + _indirectSamples + " indirect samples, " + _bounces + " bounces";
+            Description += " — " + _samples.Direct + " direct / " + _samples.Indirect + " indirect samples per point, " + _bounces + " bounces";
         }
 
         public float[] Sample(EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel)
@@ -102,8 +106,9 @@ namespace Lpnn.Probes.Editor
             var combined = new BufferSlice<SphericalHarmonicsL2>(_combined, 0);
             var irradiance = new BufferSlice<SphericalHarmonicsL2>(_irradiance, 0);
             _integrator.Prepare(_context, _world, positionSlice, PushOff, _bounces);
-            Check(_integrator.IntegrateDirectRadiance(_context, 0, count, _directSamples, false, direct), "direct light");
-            Check(_integrator.IntegrateIndirectRadiance(_context, 0, count, _indirectSamples, false, indirect), "indirect light");
+            _integrator.SetProgressReporter(_integrationProgress);
+            Check(_integrator.IntegrateDirectRadiance(_context, 0, count, _samples.Direct, false, direct), "direct light");
+            Check(_integrator.IntegrateIndirectRadiance(_context, 0, count, _samples.Indirect, false, indirect), "indirect light");
             Check(_postProcessor.WindowSphericalHarmonicsL2(_context, direct, windowed, count), "windowing");
             if (_indirectScale != 1f)
             {
@@ -166,6 +171,7 @@ namespace Lpnn.Probes.Editor
         {
             DestroyBuffers();
             _integrator.Dispose();
+            _integrationProgress.Dispose();
             _postProcessor.Dispose();
             _world.Dispose();
             _context.Dispose();

@@ -72,6 +72,9 @@ namespace Lpnn.Probes.Editor
             // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
             Undo.RecordObject(volume, "Score LPNN evaluation points");
             volume.LastScores.Set(grid.CopyIds(), outcome.Scores, grid.CellSize, outcome.DeviceName, model);
+            // On a prefab instance a direct field write is lost at the next prefab reload unless recorded as an override
+            // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
+            PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
             EditorUtility.SetDirty(volume);
             // The spread ranking (the default policy) costs O(N log N): computed here, under the step's progress bar, rather
             // than on the inspector's first repaint.

@@ -17,9 +17,11 @@ namespace Lpnn.Probes.Editor
             if (group == null)
                 throw new LpnnException("the volume has no target LightProbeGroup; assign one (GameObject > Light > LPNN Probes creates one)");
             var local = UnityCoreConversions.WorldToLocal(group.transform, worldPositions);
-            // Undo.RecordObject before the change (Editor/Mono/Undo/Undo.bindings.cs); the prefab call keeps the change as an
-            // override on prefab instances (Editor/Mono/Prefabs/PrefabUtility.cs).
-            Undo.RecordObject(group, undoName);
+            // A complete copy for Undo, as Unity's own probe-group editor does for every probe edit (UnityCsReference
+            // Editor/Mono/Inspector/LightProbeGroupInspector.cs: Undo.RegisterCompleteObjectUndo): the whole position array is
+            // replaced, which RecordObject's property diff handles poorly. The prefab call keeps the change as an override
+            // on prefab instances (Editor/Mono/Prefabs/PrefabUtility.bindings.cs).
+            Undo.RegisterCompleteObjectUndo(group, undoName);
             group.probePositions = local;
             PrefabUtility.RecordPrefabInstancePropertyModifications(group);
             EditorUtility.SetDirty(group);

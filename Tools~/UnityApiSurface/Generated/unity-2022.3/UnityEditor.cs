@@ -685,4 +685,10 @@ namespace UnityEditor.SceneManagement
     // Editor/Mono/EditorSceneManager.cs:14
     public enum OpenSceneMode
     { Single, Additive, AdditiveWithoutLoading }
+    // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:12
+    public static partial class StageUtility
+    {
+        // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:110
+        public static void PlaceGameObjectInCurrentStage(GameObject gameObject) { throw null; }
+    }
 }

@@ -661,6 +661,12 @@ namespace UnityEditor.SceneManagement
     // Editor/Mono/EditorSceneManager.cs:14
     public enum OpenSceneMode
     { Single, Additive, AdditiveWithoutLoading }
+    // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:12
+    public static partial class StageUtility
+    {
+        // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:110
+        public static void PlaceGameObjectInCurrentStage(GameObject gameObject) { throw null; }
+    }
 }
 
 namespace UnityEngine.LightTransport
@@ -739,6 +745,8 @@ namespace UnityEngine.LightTransport
     {
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:253
         public void Prepare(IDeviceContext context, IWorld world, BufferSlice<Vector3> positions, float pushoff, int bounceCount) { throw null; }
+        // Editor/Mono/GI/ProbeIntegrator.bindings.cs:262
+        public void SetProgressReporter(BakeProgressState progress) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:266
         public IProbeIntegrator.Result IntegrateDirectRadiance(IDeviceContext context, int positionOffset, int positionCount, int sampleCount, bool ignoreEnvironment, BufferSlice<SphericalHarmonicsL2> radianceEstimateOut) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:305

@@ -486,6 +486,10 @@ namespace UnityEngine
         public int indirectSampleCount { get { throw null; } set { } }
         // Runtime/Export/GI/LightingSettings.bindings.cs:224
         public int maxBounces { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:296
+        public int environmentSampleCount { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:304
+        public float lightProbeSampleCountMultiplier { get { throw null; } set { } }
     }
 }
 

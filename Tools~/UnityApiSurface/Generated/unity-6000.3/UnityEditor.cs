@@ -669,6 +669,19 @@ namespace UnityEditor.SceneManagement
     { Single, Additive, AdditiveWithoutLoading }
 }
 
+namespace UnityEditor.SceneManagement
+{
+    using System;
+    using UnityEngine;
+    using UnityEngine.SceneManagement;
+    // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:13
+    public static partial class StageUtility
+    {
+        // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:111
+        public static void PlaceGameObjectInCurrentStage(GameObject gameObject) { throw null; }
+    }
+}
+
 namespace UnityEngine.LightTransport
 {
     using System;
@@ -745,6 +758,8 @@ namespace UnityEngine.LightTransport
     {
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:64
         public void Prepare(IDeviceContext context, IWorld world, BufferSlice<Vector3> positions, float pushoff, int bounceCount) { throw null; }
+        // Editor/Mono/GI/ProbeIntegrator.bindings.cs:73
+        public void SetProgressReporter(BakeProgressState progress) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:77
         public IProbeIntegrator.Result IntegrateDirectRadiance(IDeviceContext context, int positionOffset, int positionCount, int sampleCount, bool ignoreEnvironment, BufferSlice<SphericalHarmonicsL2> radianceEstimateOut) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:116

@@ -502,6 +502,10 @@ namespace UnityEngine
         public int indirectSampleCount { get { throw null; } set { } }
         // Runtime/Export/GI/LightingSettings.bindings.cs:249
         public int maxBounces { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:321
+        public int environmentSampleCount { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:329
+        public float lightProbeSampleCountMultiplier { get { throw null; } set { } }
     }
 }
 

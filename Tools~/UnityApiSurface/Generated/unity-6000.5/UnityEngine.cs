@@ -461,6 +461,10 @@ namespace UnityEngine
         public int indirectSampleCount { get { throw null; } set { } }
         // Runtime/Export/GI/LightingSettings.bindings.cs:250
         public int maxBounces { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:322
+        public int environmentSampleCount { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:330
+        public float lightProbeSampleCountMultiplier { get { throw null; } set { } }
     }
 }
 

@@ -667,6 +667,12 @@ namespace UnityEditor.SceneManagement
     // Editor/Mono/EditorSceneManager.cs:16
     public enum OpenSceneMode
     { Single, Additive, AdditiveWithoutLoading }
+    // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:13
+    public static partial class StageUtility
+    {
+        // Editor/Mono/SceneManagement/StageManager/StageUtility.cs:111
+        public static void PlaceGameObjectInCurrentStage(GameObject gameObject) { throw null; }
+    }
 }
 
 namespace UnityEngine.LightTransport
@@ -742,6 +748,8 @@ namespace UnityEngine.LightTransport
     {
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:23
         public void Prepare(IDeviceContext context, IWorld world, BufferSlice<Vector3> positions, float pushoff, int bounceCount) { throw null; }
+        // Editor/Mono/GI/ProbeIntegrator.bindings.cs:32
+        public void SetProgressReporter(BakeProgressState progress) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:36
         public IProbeIntegrator.Result IntegrateDirectRadiance(IDeviceContext context, int positionOffset, int positionCount, int sampleCount, bool ignoreEnvironment, BufferSlice<SphericalHarmonicsL2> radianceEstimateOut) { throw null; }
         // Editor/Mono/GI/ProbeIntegrator.bindings.cs:75

@@ -455,6 +455,10 @@ namespace UnityEngine
         public int indirectSampleCount { get { throw null; } set { } }
         // Runtime/Export/GI/LightingSettings.bindings.cs:251
         public int maxBounces { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:323
+        public int environmentSampleCount { get { throw null; } set { } }
+        // Runtime/Export/GI/LightingSettings.bindings.cs:331
+        public float lightProbeSampleCountMultiplier { get { throw null; } set { } }
     }
 }
 
