@@ -66,9 +66,9 @@ namespace Lpnn.Probes
         [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
         [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
 
-        [Tooltip("How scores become probes. Spread (default) spreads the probes out and packs them where the model sees lighting " +
-                 "change; Percentile is the thesis' rule; Tolerance keeps as few probes as the placement error allows.")]
-        [SerializeField] private SelectionPolicy policy = SelectionPolicy.Spread;
+        [Tooltip("How scores become probes. Tolerance (default) keeps as few spread-ranked probes as the placement error allows; " +
+                 "Spread keeps Budget probes spread out and packed where the model sees lighting change; Percentile is the thesis' rule.")]
+        [SerializeField] private SelectionPolicy policy = SelectionSettings.DefaultPolicy;
 
         [Tooltip("0.9 keeps the top 10 % of the evaluation points.")]
         [Range(0, 1)] [SerializeField] private float percentile = 0.9f;
@@ -79,9 +79,9 @@ namespace Lpnn.Probes
         [Tooltip("Keep points whose score, remapped to [0, 1], is at least this.")]
         [Range(0, 1)] [SerializeField] private float threshold = 0.5f;
 
-        [Tooltip("Largest mean placement error allowed (relative irradiance error; 0.02 ≈ 4 % relative error): the fewest " +
-                 "spread-ranked probes that reproduce the sampled lighting this well.")]
-        [SerializeField] private float tolerance = 0.02f;
+        [Tooltip("Largest mean placement error allowed (default 0.05 ≈ 10 % relative irradiance error, as in lpnn place/bench/demo): " +
+                 "the fewest spread-ranked probes that reproduce the sampled lighting this well.")]
+        [SerializeField] private float tolerance = (float)SelectionSettings.DefaultTolerance;
 
         [Tooltip("Also keep the points at the 8 corners of every box, so the probes enclose the whole volume.")]
         [SerializeField] private bool keepBoundsCorners = true;

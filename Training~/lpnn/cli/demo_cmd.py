@@ -1,6 +1,6 @@
 """`lpnn demo`: the README's main job (Documentation~/benchmarks.md "Demo").
 
-  lpnn demo --model M.onnx --out DIR [--pak PAK] [--level oa_dm1] [--tolerance 0.02]
+  lpnn demo --model M.onnx --out DIR [--pak PAK] [--level oa_dm1] [--tolerance 0.05]
 
 Imports a level the model never saw, scores it, keeps the fewest probes whose mean error is within the
 tolerance, compares with the reference, a uniform grid and the heuristic, prints a table and writes

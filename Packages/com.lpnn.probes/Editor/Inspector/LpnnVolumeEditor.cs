@@ -196,7 +196,7 @@ namespace Lpnn.Probes.Editor
             SelectionPolicy.Spread, SelectionPolicy.Percentile, SelectionPolicy.Budget, SelectionPolicy.Threshold, SelectionPolicy.Tolerance,
         };
 
-        private static readonly string[] PolicyLabels = { "Spread (default)", "Percentile (thesis)", "Top-K", "Threshold", "Tolerance" };
+        private static readonly string[] PolicyLabels = { "Spread", "Percentile (thesis)", "Top-K", "Threshold", "Tolerance (default)" };
 
         private void ExportSection()
         {

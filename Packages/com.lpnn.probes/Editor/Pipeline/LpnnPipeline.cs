@@ -76,7 +76,7 @@ namespace Lpnn.Probes.Editor
             // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
             EditorUtility.SetDirty(volume);
-            // The spread ranking (the default policy) costs O(N log N): computed here, under the step's progress bar, rather
+            // The spread ranking (behind the default Tolerance policy and Spread) costs O(N log N): computed here, under the step's progress bar, rather
             // than on the inspector's first repaint.
             var policy = volume.GetSelectionSettings().Policy;
             if (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance)

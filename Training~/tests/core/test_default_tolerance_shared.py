@@ -1,0 +1,25 @@
+"""The default tolerance and policy an artist gets are one story across languages (issue 17 item 17): the Unity volume's
+defaults come from Core's SelectionSettings, whose value must equal the CLI's DEFAULT_TOLERANCE."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from lpnn.quality.arguments import DEFAULT_TOLERANCE
+
+PACKAGE = Path(__file__).resolve().parents[3] / "Packages" / "com.lpnn.probes" / "Runtime"
+
+
+def test_core_default_tolerance_equals_the_cli_default() -> None:
+    source = (PACKAGE / "Core" / "Selection" / "SelectionSettings.cs").read_text(encoding="utf-8")
+    match = re.search(r"public const double DefaultTolerance = ([0-9.]+);", source)
+    assert match, "SelectionSettings.DefaultTolerance not found"
+    assert float(match.group(1)) == DEFAULT_TOLERANCE
+    assert "public const SelectionPolicy DefaultPolicy = SelectionPolicy.Tolerance;" in source
+
+
+def test_unity_volume_takes_its_defaults_from_core() -> None:
+    source = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
+    assert "private SelectionPolicy policy = SelectionSettings.DefaultPolicy;" in source
+    assert "private float tolerance = (float)SelectionSettings.DefaultTolerance;" in source
