@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The Markdown table of benchmarks.md §4 from `lpnn bench`'s bench.csv: per capture, the error at a
 budget as a ratio to the fast reference, the probes needed for the tolerance as a ratio to the
-reference's count, and the LPNN / refinement / reference times; then the geometric mean per column.
+reference's count, and the LPNN / refinement / reference times; then the geometric mean per column
+and, beside it, how many ratios it left out (non-finite or zero: the worst cases, e.g. a reference
+error of 0; a missing row counts too).
 
     python3 Tools~/bench-table.py Build~/benchmarks/bench/bench.csv [--budget 0.2]
 """
@@ -11,12 +13,21 @@ import csv
 import math
 import sys
 
-METHODS = ("lpnn", "lpnn-refine", "heuristic", "uniform")
+METHODS = ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
 
 
 def geometric_mean(values):
+    """(geometric mean of the finite positive values, how many were left out)."""
     usable = [v for v in values if math.isfinite(v) and v > 0]
-    return math.exp(sum(math.log(v) for v in usable) / len(usable)) if usable else math.nan
+    mean = math.exp(sum(math.log(v) for v in usable) / len(usable)) if usable else math.nan
+    return mean, len(values) - len(usable)
+
+
+def ratio(row, column):
+    """A row's ratio; NaN when the method has no row there (it failed) or the cell is empty."""
+    if row is None or not row.get(column):
+        return math.nan
+    return float(row[column])
 
 
 def main() -> int:
@@ -38,9 +49,9 @@ def main() -> int:
     print("|" + "---|" * (len(header) + 1))
     columns = {}
     for capture in captures:
+        cells = [ratio(table.get((capture, m, "budget", budget)), "error_ratio") for m in METHODS]
+        cells += [ratio(table.get((capture, m, "tolerance", tau)), "probes_ratio") for m in METHODS]
         try:
-            cells = [float(table[(capture, m, "budget", budget)]["error_ratio"]) for m in METHODS]
-            cells += [float(table[(capture, m, "tolerance", tau)]["probes_ratio"]) for m in METHODS]
             lpnn, refine, reference = (table[(capture, m, "budget", budget)] for m in ("lpnn", "lpnn-refine", "fast-reference"))
         except KeyError as missing:
             sys.exit(f"{args.csv}: no row {missing} (run lpnn bench with --model and the budget {budget:g})")
@@ -50,8 +61,9 @@ def main() -> int:
                  f"{float(reference['seconds']):.1f}"]
         name = capture[len("held_"):] if capture.startswith("held_") else capture
         print(f"| {name} ({int(lpnn['points']):,}) | " + " | ".join(f"{v:.2f}" for v in cells) + " | " + " | ".join(times) + " |")
-    means = [f"**{geometric_mean(columns[i]):.2f}**" for i in range(len(columns))]
-    print("| **geometric mean** | " + " | ".join(means) + " | | | |")
+    means = [geometric_mean(columns[i]) for i in range(len(columns))]
+    print("| **geometric mean** | " + " | ".join(f"**{mean:.2f}**" for mean, _ in means) + " | | | |")
+    print("| ratios left out of the mean | " + " | ".join(str(left_out) for _, left_out in means) + " | | | |")
     return 0
 
 

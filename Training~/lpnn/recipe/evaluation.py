@@ -71,7 +71,9 @@ def _quiet_worker() -> None:
 # ------------------------------------------------------------------------------------------ summary
 
 def geometric_mean(values: Iterable[float]) -> tuple[float, int]:
-    """(geometric mean of the finite positive values, how many were left out); NaN if none is usable."""
+    """(geometric mean of the finite positive values, how many were left out); NaN if none is usable.
+    The left-out ratios are the worst cases (a reference error of 0, a failed placement): every
+    report prints their count beside the mean."""
     given = [float(v) for v in values]
     usable = [v for v in given if math.isfinite(v) and v > 0]
     if not usable:
@@ -100,11 +102,10 @@ def method_summary(method: str, policy: str, parameter: float,
         ratio, left_out = geometric_mean(guarded_ratio(rows[name]["mean_error"], others[name]["mean_error"])
                                          for name in rows if name in others)
         summary[key] = ratio
-        if left_out:
-            summary[f"{key}_left_out"] = left_out
+        summary[f"{key}_left_out"] = left_out  # non-finite or zero ratios: shown beside the mean, even when 0
     if policy == "tolerance":
-        summary["probes_vs_reference"] = geometric_mean(r["probes_ratio"] for r in rows.values()
-                                                        if r["probes_ratio"] is not None)[0]
+        summary["probes_vs_reference"], summary["probes_vs_reference_left_out"] = geometric_mean(
+            math.nan if r["probes_ratio"] is None else r["probes_ratio"] for r in rows.values())
         summary["within_tolerance"] = sum(r["mean_error"] <= parameter for r in rows.values())
     for stage in STAGES:
         values = [r[stage] for r in rows.values() if r[stage] is not None and math.isfinite(r[stage])]

@@ -60,6 +60,12 @@ def _number(value: Any, digits: int = 2) -> str:
     return f"{value:.{digits}f}"
 
 
+def _ratio(entry: dict[str, Any], key: str) -> str:
+    """A geometric mean of ratios with the count of ratios it left out (non-finite or zero), if any."""
+    left_out = int(entry.get(f"{key}_left_out", 0))
+    return _number(entry.get(key)) + (f" ({left_out} left out)" if left_out else "")
+
+
 def _ms(seconds: Any) -> str:
     return "–" if seconds is None else f"{seconds * 1e3:.0f}"
 
@@ -103,8 +109,8 @@ def report_markdown(card: ModelCard) -> str:
                 continue
             lines.append(
                 f"| {ROW_LABELS[method]} | {budget:.0%} | {entry['mean_probes']:.0f} | "
-                f"{_number(entry['error_vs_reference'])} | {_number(entry['error_vs_uniform'])} | "
-                f"{_number(entry['error_vs_heuristic'])} | {_ms(entry.get('median_feature_seconds'))} | "
+                f"{_ratio(entry, 'error_vs_reference')} | {_ratio(entry, 'error_vs_uniform')} | "
+                f"{_ratio(entry, 'error_vs_heuristic')} | {_ms(entry.get('median_feature_seconds'))} | "
                 f"{_ms(entry.get('median_inference_seconds'))} | {_ms(entry.get('median_selection_seconds'))} | "
                 f"{_ms(entry.get('median_refine_seconds'))} | {_ms(entry.get('median_seconds'))} |")
     tau = held_out["tolerance"]
@@ -116,7 +122,7 @@ def report_markdown(card: ModelCard) -> str:
             entry = find(held_out, method, "tolerance", tau)
         except KeyError:
             continue
-        lines.append(f"| {ROW_LABELS[method]} | {entry['mean_probes']:.0f} | {_number(entry['probes_vs_reference'])} | "
+        lines.append(f"| {ROW_LABELS[method]} | {entry['mean_probes']:.0f} | {_ratio(entry, 'probes_vs_reference')} | "
                      f"{entry['within_tolerance']}/{entry['crops']} | {_ms(entry.get('median_selection_seconds'))} | "
                      f"{_ms(entry.get('median_refine_seconds'))} | {_ms(entry.get('median_seconds'))} |")
     inference = card.metrics.get("inference_ms", {})

@@ -99,7 +99,8 @@ def test_summary_ratios_are_per_crop_geometric_means() -> None:
     assert lpnn["error_vs_uniform"] == pytest.approx(0.5)
     assert lpnn["error_vs_heuristic"] == pytest.approx(0.8)
     tolerance = next(m for m in summary["methods"] if (m["method"], m["policy"]) == ("lpnn", "tolerance"))
-    assert tolerance["probes_vs_reference"] == pytest.approx(1.5)
+    assert tolerance["probes_vs_reference"] == pytest.approx(1.5) and tolerance["probes_vs_reference_left_out"] == 0
+    assert lpnn["error_vs_reference_left_out"] == 0  # counted beside every mean, also when none is left out
     assert tolerance["within_tolerance"] == 2
     assert summary["pr_auc"] == pytest.approx(0.5)  # the crop without a defined PR-AUC is left out
     goals = goal_checks(summary)
