@@ -95,6 +95,19 @@ def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_
     assert "does not match" in capsys.readouterr().err
 
 
+def test_label_reports_a_failing_capture_labels_the_others_and_exits_non_zero(
+        capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    broken = tmp_path / "in" / "broken.lpnncap"
+    broken.parent.mkdir()
+    broken.write_bytes(capture_files[0].read_bytes()[:200])  # truncated: reading it fails
+    out = tmp_path / "labelled"
+    code = main(["label", str(broken), str(capture_files[1]), "--budget", "0.2", "--out-dir", str(out), "--quiet"])
+    assert code == 1
+    assert read_capture(out / capture_files[1].name).labels is not None and not (out / broken.name).exists()
+    err = capsys.readouterr().err
+    assert "FAILED" in err and "broken.lpnncap" in err and "1 of 2 capture(s) failed" in err and "Traceback" not in err
+
+
 def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_path: Path) -> None:
     out = tmp_path / "bench"
     assert main(["bench", str(capture_files[0]), "--budgets", "0.1,0.3", "--repeats", "1", "--out", str(out)]) == 0
