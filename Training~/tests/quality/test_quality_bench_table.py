@@ -36,3 +36,14 @@ def test_means_leave_out_non_finite_ratios_and_say_how_many(tmp_path: Path) -> N
     left_out = next(line for line in printed if line.startswith("| ratios left out")).split("|")[2:-1]
     assert mean[0].strip() == "**4.00**"  # lpnn @20 %: sqrt(2 x 8), the infinite ratio left out
     assert [cell.strip() for cell in left_out[:12]] == ["1", "0", "0", "0", "1", "0", "1", "0", "0", "0", "1", "0"]
+
+
+def test_summary_row_per_method_with_left_out_counts(tmp_path: Path) -> None:
+    rows = [_row(capture, method, policy, ratio)
+            for capture, ratio in (("a", 2.0), ("b", float("inf")), ("c", 8.0))
+            for method in ("lpnn", "insertion") for policy in ("budget", "tolerance")]
+    path = tmp_path / "bench.csv"
+    path.write_text(rows_csv(rows), encoding="utf-8")
+    printed = subprocess.run([sys.executable, str(SCRIPT), str(path), "--summary"], check=True, capture_output=True,
+                             text=True).stdout.splitlines()
+    assert "| lpnn | 4.00 (1) | 4.00 (1) |" in printed and "| insertion | 4.00 (1) | 4.00 (1) |" in printed
