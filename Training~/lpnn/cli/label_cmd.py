@@ -64,12 +64,10 @@ def run(args: argparse.Namespace) -> int:
         except Exception as error:  # reported; the other captures go on
             failed.append((path, failure_reason(error)))
             print(f"[{number}/{len(files)}] FAILED {path}: {failed[-1][1]}", file=sys.stderr, flush=True)
-    if failed:
-        print(f"{len(failed)} of {len(files)} capture(s) failed and were not labelled:", file=sys.stderr)
-        for path, reason in failed:
-            print(f"  {path}: {reason}", file=sys.stderr)
-        return 1
-    return 0
+    if failed and len(files) > 1:
+        print(f"{len(failed)} of {len(files)} capture(s) failed and were not labelled: "
+              + ", ".join(str(path) for path, _ in failed), file=sys.stderr)
+    return 1 if failed else 0
 
 
 def _label_one(path: Path, args: argparse.Namespace, source: str, out_dir: Path | None) -> None:
