@@ -74,7 +74,9 @@ ROW_LABELS = {
     "lpnn": "LPNN (spread ranking)",
     "lpnn-refine": "LPNN + refine ×2",
     "lpnn-topk": "LPNN top-K (raw scores)",
+    "insertion": "insertion (best non-learned)",
     "heuristic": "heuristic",
+    "apv": "APV-style density",
     "uniform": "uniform",
     "random": "random",
     "fast-reference": "fast reference",
@@ -101,7 +103,7 @@ def report_markdown(card: ModelCard) -> str:
              "",
              "| method | budget | probes | × reference | × uniform | × heuristic | features ms | inference ms | selection ms | refine ms | total ms |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "lpnn-topk", "heuristic", "uniform", "random"):
+    for method in ("lpnn", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random"):
         for budget in held_out["budgets"]:
             try:
                 entry = find(held_out, method, "budget", budget)
@@ -117,7 +119,7 @@ def report_markdown(card: ModelCard) -> str:
     lines += ["", f"Tolerance policy, mean error ≤ {tau:g} (probes as a ratio to the reference's smallest count within τ):",
               "", "| method | probes | × reference probes | crops within τ | selection ms | refine ms | total ms |",
               "|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "heuristic", "uniform", "fast-reference"):
+    for method in ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
         try:
             entry = find(held_out, method, "tolerance", tau)
         except KeyError:

@@ -84,7 +84,8 @@ def _crops() -> list[dict]:
                      _row(name, "lpnn", "budget", budget, reference * factor),
                      _row(name, "lpnn-refine", "budget", budget, reference * 1.05),
                      _row(name, "uniform", "budget", budget, reference * factor * 2),
-                     _row(name, "heuristic", "budget", budget, reference * factor * 1.25)]
+                     _row(name, "heuristic", "budget", budget, reference * factor * 1.25),
+                     _row(name, "insertion", "budget", budget, reference * factor / 1.1)]
         rows += [_row(name, "fast-reference", "tolerance", 0.05, 0.049, 8),
                  _row(name, "lpnn", "tolerance", 0.05, 0.048, 12)]
         crops.append({"name": name, "points": 100, "roc_auc": 0.8, "pr_auc": 0.5 if name == "a" else math.nan,
@@ -107,6 +108,8 @@ def test_summary_ratios_are_per_crop_geometric_means() -> None:
     assert goals["lpnn: error <= 1.15x reference"] is False
     assert goals["lpnn-refine: error <= 1.15x reference"] is True
     assert goals["lpnn: error <= 0.85x uniform"] is True
+    assert lpnn["error_vs_insertion"] == pytest.approx(1.1)  # the bar: LPNN must be <= 0.8x it
+    assert goals["lpnn: error <= 0.8x insertion (best non-learned)"] is False
 
 
 def test_summary_of_nothing_is_an_error() -> None:
