@@ -16,7 +16,8 @@
   reference decimation instead (every point as the seed): a seeded decimation removes probes from
   sparser meshes, each removal touching more evaluation points, and costs as much as the full one
   from about half the points on (oa_dm1, 1,272 points: seeds of 0.5 N / 0.7 N took 0.75x / 1.4x the
-  full reference's time), so the tier is never the slower way to the reference's answer. With a
+  full reference's time), so the tier is not the slower way to the reference's answer (measured
+  on 14 held-out crops: slower in 2 of 84 runs, up to 1.43x; benchmarks.md §7.2). With a
   tolerance the LPNN search gives up as soon as K0 is known to exceed that bound (it never evaluates
   more than floor(0.4 N / F) + 1 points).
 - topk=True ranks by raw score instead (the old behaviour, for comparison).
