@@ -176,3 +176,15 @@ def test_bounded_tolerance_gives_up_above_its_bound_without_evaluating_beyond_it
         if found is not None:
             assert found.requested <= largest and found.mean_error <= 0.02
             assert found.checked[found.requested - 1] > 0.02
+
+
+def test_a_tiny_budget_seeds_the_refinement_with_at_least_64_points(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    scores = StubScorer().score_capture(medium_capture)
+    count = budget_count(0.01, medium_capture.point_count)
+    assert 2 * count < 64
+    placed = lpnn_placement(medium_capture, scores=scores, budget=0.01, refine=2.0, reference=field)
+    assert placed.seed_count == 64
+    spread = spread_ranking(medium_capture.positions, scores)
+    expected = fast_decimation(field, initial=spread[:64], min_count=count)
+    np.testing.assert_array_equal(placed.indices, expected.prefix(count))
