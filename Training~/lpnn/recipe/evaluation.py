@@ -50,7 +50,8 @@ def evaluate_crop(task: tuple[str, str]) -> dict[str, Any]:
     result = bench_capture(name, capture, bench_config(), scorer, reference=stored_reference(capture))
     return {"name": name, "points": capture.point_count,
             "roc_auc": roc_auc(capture.labels, scores), "pr_auc": pr_auc(capture.labels, scores),
-            "rows": [asdict(row) for row in result.rows]}
+            "rows": [asdict(row) for row in result.rows],
+            "failures": [asdict(failure) for failure in result.failures]}  # a method that failed: reported
 
 
 def evaluate_crops(capture_paths: Sequence[Path], model_path: Path, workers: int,
@@ -134,6 +135,7 @@ def summarize(crops: Sequence[dict[str, Any]]) -> dict[str, Any]:
         "tolerance": DEFAULT_TOLERANCE,
         "refine": RECOMMENDED_REFINE,
         "methods": methods,
+        "failures": [failure for crop in crops for failure in crop.get("failures", [])],
     }
 
 

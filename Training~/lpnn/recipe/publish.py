@@ -130,6 +130,10 @@ def report_markdown(card: ModelCard) -> str:
     inference = card.metrics.get("inference_ms", {})
     lines += ["", "onnxruntime inference (2 threads, median): " +
               ", ".join(f"{int(size):,} points {ms:.1f} ms" for size, ms in inference.items()) + ".", ""]
+    failures = held_out.get("failures", [])
+    if failures:
+        lines += [f"Failures ({len(failures)}; those methods have no row for those crops): " + "; ".join(
+            f"{f['method']} on {f['capture']}: {f['reason']}" for f in failures) + ".", ""]
     goals = held_out.get("goals", {})
     if goals:
         lines += ["Goals at 20 % budget: " + "; ".join(f"{name} **{'met' if ok else 'missed'}**"

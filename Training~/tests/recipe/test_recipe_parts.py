@@ -110,6 +110,10 @@ def test_summary_ratios_are_per_crop_geometric_means() -> None:
     assert goals["lpnn: error <= 0.85x uniform"] is True
     assert lpnn["error_vs_insertion"] == pytest.approx(1.1)  # the bar: LPNN must be <= 0.8x it
     assert goals["lpnn: error <= 0.8x insertion (best non-learned)"] is False
+    assert summary["failures"] == []
+    crops = _crops()
+    crops[0]["failures"] = [{"capture": "a", "method": "apv", "reason": "ValueError: flat"}]
+    assert summarize(crops)["failures"] == crops[0]["failures"]
 
 
 def test_summary_of_nothing_is_an_error() -> None:
