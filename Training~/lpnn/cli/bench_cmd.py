@@ -1,14 +1,18 @@
 """`lpnn bench`: the speed/accuracy benchmark of placement methods (Documentation~/quality.md §6).
 
-  lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.1,0.2,0.3] [--tolerance TAU]
+  lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
              [--repeats 3] --out DIR
 
-For every capture x method (uniform, random, heuristic; with --model the LPNN tiers lpnn-topk, lpnn
+For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
 (spread ranking) and lpnn-refine (spread + seeded exact refinement, factor F, default 2); the fast
 reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
 refinement), mean and p95 error and the ratio to the reference. Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
+
+Long runs lose nothing: bench.csv is rewritten (atomically) after every capture, a method or capture
+that fails is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
+goes on; the exit code is 1 when anything failed.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from pathlib import Path
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..quality.arguments import DEFAULT_TOLERANCE, fractions, refine_factor, tolerance
+    from ..quality.bench import DEFAULT_BUDGETS
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
@@ -26,8 +31,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--model", metavar="M.onnx", help="also benchmark this LPNN model (with its card)")
     parser.add_argument("--refine", type=refine_factor, default=2.0, metavar="F",
                         help="seed factor of the lpnn-refine tier (default 2)")
-    parser.add_argument("--budgets", type=fractions, default=(0.1, 0.2, 0.3), metavar="F1,F2,...",
-                        help="budget fractions (default 0.1,0.2,0.3)")
+    parser.add_argument("--budgets", type=fractions, default=DEFAULT_BUDGETS, metavar="F1,F2,...",
+                        help=f"budget fractions (default {','.join(f'{b:g}' for b in DEFAULT_BUDGETS)})")
     parser.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE, metavar="TAU",
                         help=f"tolerance policy's mean error (default {DEFAULT_TOLERANCE:g})")
     parser.add_argument("--no-tolerance", action="store_true", help="skip the tolerance policy rows")
@@ -41,8 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..core.capture import dataset_files, read_capture, safe_file_stem
-    from ..core.atomic import write_text_atomic
-    from ..quality.bench import BenchConfig, bench_capture, rows_csv
+    from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
     from ..quality.cli_support import user_errors
     from ..quality.plots import error_plot, time_plot
     from .errors import UserError
@@ -62,19 +66,30 @@ def run(args: argparse.Namespace) -> int:
                          workers=args.workers, refine=args.refine)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    rows = []
+    rows: list[BenchRow] = []
+    failures: list[BenchFailure] = []
     stems: set[str] = set()
-    for path in files:
-        capture = read_capture(path)
-        if scorer is not None:
-            scorer.check_capture(capture, str(path))
+    for number, path in enumerate(files, start=1):
+        print(f"[{number}/{len(files)}] {path}", flush=True)
+        try:
+            with user_errors(str(path)):
+                capture = read_capture(path)
+                if scorer is not None:
+                    scorer.check_capture(capture, str(path))
+                result = bench_capture(path.stem, capture, config, scorer,
+                                       log=lambda message: print(message, flush=True))
+        except Exception as error:  # reported, and the run goes on (user_errors words the known ones)
+            failures.append(BenchFailure(path.stem, "*", failure_reason(error)))
+            print(f"  FAILED {path.stem}: {failures[-1].reason}", flush=True)
+            _write_results(out, rows, failures)
+            continue
         stem = safe_file_stem(path.stem)
         while stem in stems:
             stem += "_"
         stems.add(stem)
-        with user_errors(str(path)):
-            result = bench_capture(path.stem, capture, config, scorer, log=lambda message: print(message, flush=True))
         rows.extend(result.rows)
+        failures.extend(result.failures)
+        _write_results(out, rows, failures)  # after every capture: a later failure loses nothing
         error_plot(result, out / f"{stem}.error.png")
         time_plot(result, out / f"{stem}.time.png")
         for row in result.rows:
@@ -82,6 +97,21 @@ def run(args: argparse.Namespace) -> int:
                       else f"error x ref {row.error_ratio:.2f}")
             print(f"  {row.method:>18} {row.policy:>9} {row.parameter:<6g} probes {row.probes:>6,} "
                   f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  {versus}")
-    write_text_atomic(out / "bench.csv", rows_csv(rows))
-    print(f"wrote {out / 'bench.csv'} ({len(rows)} rows) and {2 * len(files)} figures to {out}")
+        for failure in result.failures:
+            print(f"  FAILED {failure.method} on {failure.capture}: {failure.reason}", flush=True)
+    print(f"wrote {out / 'bench.csv'} ({len(rows)} rows) and figures to {out}")
+    if failures:
+        print(f"{len(failures)} failure(s), listed in {out / 'failures.csv'}:")
+        for failure in failures:
+            print(f"  {failure.capture}: {failure.method}: {failure.reason}")
+        return 1
     return 0
+
+
+def _write_results(out: Path, rows: list, failures: list) -> None:
+    from ..core.atomic import write_text_atomic
+    from ..quality.bench import failures_csv, rows_csv
+
+    write_text_atomic(out / "bench.csv", rows_csv(rows))
+    if failures:
+        write_text_atomic(out / "failures.csv", failures_csv(failures))

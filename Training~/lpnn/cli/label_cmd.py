@@ -7,11 +7,14 @@ A point is positive when the reference placement keeps it: the top FRACTION of t
 ordering, or the smallest reference prefix whose mean error is <= TAU. The capture's
 `label_source` records method and parameter, e.g. "reference:fast-greedy budget=0.2". Files are
 written atomically; with --out-dir an existing file is never replaced, only --in-place rewrites.
+Each capture is written as soon as it is labelled; a capture that fails is reported (path and
+reason) and the others go on; the exit code is 1 when any failed.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 
@@ -34,13 +37,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from ..core.atomic import write_new_atomic
-    from ..core.capture import dataset_files, encode_capture, read_capture, write_capture
-    from ..quality.cli_support import progress_bar, run_reference, user_errors
-    from ..quality.metric import ReferenceField
-    from ..quality.policies import budget_count, reference_count, reference_label_source, reference_tolerance
+    from ..core.capture import dataset_files
+    from ..quality.bench import failure_reason
+    from ..quality.cli_support import user_errors
+    from ..quality.policies import reference_label_source
     from .errors import UserError
 
     files = dataset_files(args.captures)
@@ -56,29 +56,51 @@ def run(args: argparse.Namespace) -> int:
         if taken:
             raise UserError(f"{taken[0]} exists; choose an empty --out-dir or use --in-place (nothing was written)")
     source = reference_label_source(args.method, args.budget, args.tolerance)
-    for path in files:
-        capture = read_capture(path)
-        with user_errors(str(path)):
-            field = ReferenceField.from_capture(capture)
-            update, close = progress_bar(f"{path.name}: {args.method} reference", disable=args.quiet)
-            try:
-                decimation = run_reference(field, args.method, str(path), args.workers, update)
-            finally:
-                close()
-            if args.budget is not None:
-                placement = reference_count(decimation, budget_count(args.budget, field.point_count))
-            else:
-                placement = reference_tolerance(decimation, args.tolerance)
-        labels = np.zeros(field.point_count, dtype=np.uint8)
-        labels[placement.indices] = 1
-        labelled = capture.with_labels(labels, source)
-        if out_dir is None:
-            target = write_capture(path, labelled)
-        else:
-            target = out_dir / path.name
-            data = encode_capture(labelled)
-            if not write_new_atomic(target, lambda handle: handle.write(data)):
-                raise UserError(f"{target} appeared while labelling; nothing was replaced")
-        print(f"{path}: {placement.indices.shape[0]:,} of {field.point_count:,} points positive "
-              f"(mean error {placement.mean_error:.4g}, {decimation.seconds:.1f} s) -> {target}")
-    return 0
+    failed: list[tuple[Path, str]] = []
+    for number, path in enumerate(files, start=1):
+        try:
+            with user_errors(str(path)):
+                _label_one(path, args, source, out_dir)
+        except Exception as error:  # reported; the other captures go on
+            failed.append((path, failure_reason(error)))
+            print(f"[{number}/{len(files)}] FAILED {path}: {failed[-1][1]}", file=sys.stderr, flush=True)
+    if failed and len(files) > 1:
+        print(f"{len(failed)} of {len(files)} capture(s) failed and were not labelled: "
+              + ", ".join(str(path) for path, _ in failed), file=sys.stderr)
+    return 1 if failed else 0
+
+
+def _label_one(path: Path, args: argparse.Namespace, source: str, out_dir: Path | None) -> None:
+    """Label one capture and write it (atomically, never replacing a file with --out-dir)."""
+    import numpy as np
+
+    from ..core.atomic import write_new_atomic
+    from ..core.capture import encode_capture, read_capture, write_capture
+    from ..quality.cli_support import progress_bar, run_reference
+    from ..quality.metric import ReferenceField
+    from ..quality.policies import budget_count, reference_count, reference_tolerance
+    from .errors import UserError
+
+    capture = read_capture(path)
+    field = ReferenceField.from_capture(capture)
+    update, close = progress_bar(f"{path.name}: {args.method} reference", disable=args.quiet)
+    try:
+        decimation = run_reference(field, args.method, str(path), args.workers, update)
+    finally:
+        close()
+    if args.budget is not None:
+        placement = reference_count(decimation, budget_count(args.budget, field.point_count))
+    else:
+        placement = reference_tolerance(decimation, args.tolerance)
+    labels = np.zeros(field.point_count, dtype=np.uint8)
+    labels[placement.indices] = 1
+    labelled = capture.with_labels(labels, source)
+    if out_dir is None:
+        target = write_capture(path, labelled)
+    else:
+        target = out_dir / path.name
+        data = encode_capture(labelled)
+        if not write_new_atomic(target, lambda handle: handle.write(data)):
+            raise UserError(f"{target} appeared while labelling; nothing was replaced")
+    print(f"{path}: {placement.indices.shape[0]:,} of {field.point_count:,} points positive "
+          f"(mean error {placement.mean_error:.4g}, {decimation.seconds:.1f} s) -> {target}", flush=True)

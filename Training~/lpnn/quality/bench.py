@@ -1,7 +1,9 @@
 """The speed/accuracy benchmark (quality.md §6): every method x budget (and the tolerance policy)
 on every capture: probes kept, time, mean/p95 error (both metrics) and the ratio to the reference.
 
-Methods: uniform, random, heuristic; with a model the three LPNN tiers (lpnn_placement.py):
+Methods: uniform, random, heuristic, apv (APV-style geometry density, apv.py; when the capture has the
+`nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, insertion.py: the best
+non-learned lighting-driven method, the bar for the learned tier); with a model the three LPNN tiers (lpnn_placement.py):
 lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking) and lpnn-refine (spread ranking +
 seeded exact refinement, factor `refine`); the fast reference, and the faithful one on small captures.
 Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
@@ -23,8 +25,10 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from .arguments import DEFAULT_TOLERANCE
+from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
+from .insertion import insertion_ranking
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
 from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
@@ -32,7 +36,7 @@ from .policies import (Placement, SelectionForCount, budget_count, place_toleran
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
 from .reference_fast import fast_decimation
 
-DEFAULT_BUDGETS = (0.1, 0.2, 0.3)
+DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
@@ -76,6 +80,15 @@ class BenchRow:
     probes_ratio: float | None = None
 
 
+@dataclass(frozen=True)
+class BenchFailure:
+    """A method that failed on a capture (the run goes on; the CLI reports these and exits non-zero)."""
+
+    capture: str
+    method: str
+    reason: str
+
+
 @dataclass
 class CaptureResult:
     name: str
@@ -83,6 +96,13 @@ class CaptureResult:
     rows: list[BenchRow]
     reference_curve: np.ndarray  # fast reference: mean error by probe count
     extra: dict[str, Any] = field(default_factory=dict)
+    failures: list[BenchFailure] = field(default_factory=list)
+
+
+def failure_reason(error: BaseException) -> str:
+    """One line for a failure report: the error's own message (our errors name the value and the fix)."""
+    message = " ".join(str(error).split())
+    return f"{type(error).__name__}: {message}" if message else type(error).__name__
 
 
 @dataclass(frozen=True)
@@ -129,13 +149,22 @@ def _reference_method(name: str, decimation: Decimation, seconds: float) -> _Met
 
 
 def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig,
-             reference: Decimation | None) -> list[_Method]:
-    methods = [
-        _uniform_method(grid),
-        _ranking_method("random", grid, lambda: random_ranking(grid.point_count, config.seed), config.repeats),
-        _ranking_method("heuristic", grid, lambda: heuristic_ranking(grid, capture.sh, capture.lighting_scale),
-                        config.repeats),
+             reference: Decimation | None, failures: list[BenchFailure], name: str) -> list[_Method]:
+    """Every method's ranking; a baseline whose ranking fails is recorded in `failures` and left out
+    (the fast reference is every row's yardstick: its failure fails the capture)."""
+    rankings: list[tuple[str, Callable[[], np.ndarray], int]] = [
+        ("random", lambda: random_ranking(grid.point_count, config.seed), config.repeats),
+        ("heuristic", lambda: heuristic_ranking(grid, capture.sh, capture.lighting_scale), config.repeats),
     ]
+    if NEAREST_SURFACE in capture.feature_names:
+        rankings.append(("apv", lambda: apv_ranking(grid, capture.features, capture.feature_names), config.repeats))
+    rankings.append(("insertion", lambda: insertion_ranking(field_, grid), config.reference_repeats))
+    methods = [_uniform_method(grid)]
+    for method, make_ranking, repeats in rankings:
+        try:
+            methods.append(_ranking_method(method, grid, make_ranking, repeats))
+        except Exception as error:  # recorded; the other methods go on
+            failures.append(BenchFailure(name, method, failure_reason(error)))
     if reference is not None:  # computed before (e.g. stored with the labels): not re-timed
         methods.append(_reference_method("fast-reference", reference, reference.seconds))
         return methods
@@ -190,8 +219,10 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
 
 
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
-               reference: Decimation, target: Placement | None, log: Callable[[str], None] | None) -> list[BenchRow]:
-    """The three LPNN tiers on the same scores (inference timed once, shared)."""
+               reference: Decimation, target: Placement | None, log: Callable[[str], None] | None,
+               failures: list[BenchFailure]) -> list[BenchRow]:
+    """The three LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a
+    policy is recorded in `failures` and the others go on."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
     features = feature_seconds(capture)
     tiers = (("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats),
@@ -202,8 +233,12 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     rows = []
     for method, options, repeats in tiers:
         for policy, parameter, chosen in policies:
-            runs = [lpnn_placement(capture, scores=scores, reference=field_, workers=config.workers, name=name,
-                                   **chosen, **options) for _ in range(max(1, int(repeats)))]
+            try:
+                runs = [lpnn_placement(capture, scores=scores, reference=field_, workers=config.workers, name=name,
+                                       **chosen, **options) for _ in range(max(1, int(repeats)))]
+            except Exception as error:  # recorded; the other tiers and policies go on
+                failures.append(BenchFailure(name, f"{method} {policy}={parameter:g}", failure_reason(error)))
+                continue
             selection = float(statistics.median(r.timing.selection for r in runs))
             refine = float(statistics.median(r.timing.refinement for r in runs)) if "refine" in options else None
             timing = _Timing((features or 0.0) + inference + selection + (refine or 0.0), features, inference,
@@ -229,18 +264,24 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     if reference is not None and reference.point_count != field_.point_count:
         raise ValueError(f"{name}: the given reference covers {reference.point_count:,} points, the capture {field_.point_count:,}")
-    methods = _methods(capture, field_, grid, config, reference)
+    failures: list[BenchFailure] = []
+    methods = _methods(capture, field_, grid, config, reference, failures, name)
     reference = next(m for m in methods if m.name == "fast-reference").decimation
     assert reference is not None
     target = None if config.tolerance is None else reference_tolerance(reference, config.tolerance)
     rows: list[BenchRow] = []
     for method in methods:
-        rows.extend(_ranking_rows(name, field_, method, config, reference, target))
+        try:
+            rows.extend(_ranking_rows(name, field_, method, config, reference, target))
+        except Exception as error:  # one method's failure must not cost the others' results
+            failures.append(BenchFailure(name, method.name, failure_reason(error)))
+            continue
         if log is not None:
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
     if scorer is not None:
-        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, reference, target, log))
-    return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=reference.error_curve)
+        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, reference, target, log, failures))
+    return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=reference.error_curve,
+                         failures=failures)
 
 
 def _cell(value: Any) -> str:
@@ -266,4 +307,10 @@ def rows_csv(rows: Sequence[BenchRow]) -> str:
     for row in rows:
         values = asdict(row)
         lines.append(",".join(_cell(values[column]) for column in CSV_COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def failures_csv(failures: Sequence[BenchFailure]) -> str:
+    lines = ["capture,method,reason"]
+    lines.extend(",".join(_cell(value) for value in (f.capture, f.method, f.reason)) for f in failures)
     return "\n".join(lines) + "\n"

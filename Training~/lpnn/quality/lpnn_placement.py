@@ -8,10 +8,20 @@
 - budget f: K = round(f N); the spread ranking's first K points (+ tetrahedron guarantee).
 - tolerance tau: the smallest spread prefix within tau (the search of policies.place_tolerance).
 - refine F (> 1; 2 recommended): seed the exact greedy decimation (reference_fast, initial=...) with
-  the spread ranking's first min(N, round(F K)) points (+ tetrahedron guarantee) and decimate down
-  to K. With a tolerance: K0 = the LPNN tolerance count, seed with round(F K0) points, decimate down
+  the spread ranking's first min(N, max(round(F K), MINIMUM_SEED)) points (+ tetrahedron guarantee)
+  and decimate down to K. The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
+  reach the reference's sparse answer (8 crops of training levels: 1.39x the reference's error with
+  2K, 1.02x with 64, at 0.9 s instead of 0.3 s; 5 % budgets unchanged). With a tolerance: K0 = the LPNN tolerance count, seed with round(F K0) points, decimate down
   to 4 and read the exact smallest count within tau from the decimation's error curve (the LPNN
   answer K0 is kept if the decimation never gets below it within tau).
+  A seed of more than FULL_REFERENCE_FRACTION x N points (K > floor(0.4 N / F)) runs the full
+  reference decimation instead (every point as the seed): a seeded decimation removes probes from
+  sparser meshes, each removal touching more evaluation points, and costs as much as the full one
+  from about half the points on (oa_dm1, 1,272 points: seeds of 0.5 N / 0.7 N took 0.75x / 1.4x the
+  full reference's time), so the tier is not the slower way to the reference's answer (measured
+  on 14 held-out crops: slower in 2 of 84 runs, up to 1.43x; benchmarks.md §7.2). With a
+  tolerance the LPNN search gives up as soon as K0 is known to exceed that bound (it never evaluates
+  more than floor(0.4 N / F) + 1 points).
 - topk=True ranks by raw score instead (the old behaviour, for comparison).
 
 Timing split: features (the capture's `source.feature_seconds`, when the importer recorded it),
@@ -36,10 +46,12 @@ from ..core.selection import ensure_tetrahedron, rank
 from ..core.spread import spread_ranking
 from .decimation import MINIMUM_PROBES
 from .metric import PlacementQuality, ReferenceField, evaluate_placement
-from .policies import PolicyError, budget_count, checked_tolerance, place_tolerance, prefix_selection
+from .policies import PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection
 from .reference_fast import fast_decimation
 
 RECOMMENDED_REFINE = 2.0
+FULL_REFERENCE_FRACTION = 0.4  # seeds above this fraction of the points: run the full reference (module text)
+MINIMUM_SEED = 64  # a seed of 2K points is too small to find a sparse answer at tiny K (module text)
 
 
 class Scorer(Protocol):
@@ -90,8 +102,13 @@ def checked_refine(refine: float | None) -> float | None:
 
 
 def seed_count(refine: float, count: int, point_count: int) -> int:
-    """min(N, round(F K)), halves up."""
-    return min(point_count, int(math.floor(refine * count + 0.5)))
+    """min(N, max(round(F K), MINIMUM_SEED)), halves up."""
+    return min(point_count, max(int(math.floor(refine * count + 0.5)), MINIMUM_SEED))
+
+
+def largest_seeded_count(refine: float, point_count: int) -> int:
+    """The largest K the refine tier seeds with its spread prefix; above it runs the full reference."""
+    return int(math.floor(FULL_REFERENCE_FRACTION * point_count / refine))
 
 
 def feature_seconds(capture: Capture) -> float | None:
@@ -129,13 +146,17 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     ranking = rank(values) if topk else spread_ranking(capture.positions, values)
     select = prefix_selection(grid, ranking)
     checked: dict[int, float] = {}
+    largest = None if factor is None else largest_seeded_count(factor, n)
     if tau is None:
         requested = budget_count(budget, n)  # type: ignore[arg-type]
         indices = select(requested)
     else:
         reference = ReferenceField.from_capture(capture) if reference is None else reference
-        found = place_tolerance(reference, select, tau)
-        requested, indices, checked = found.requested, found.indices, found.checked
+        found = bounded_tolerance(reference, select, tau, largest=largest)
+        if found is None:  # K0 > largest: the refinement below runs the full reference
+            requested, indices = n, np.arange(n, dtype=np.int64)
+        else:
+            requested, indices, checked = found.requested, found.indices, found.checked
     selection = time.perf_counter() - start
 
     refinement, seeded = 0.0, None
@@ -143,8 +164,10 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         start = time.perf_counter()
         reference = ReferenceField.from_capture(capture) if reference is None else reference
         target = requested if tau is None else int(indices.shape[0])
-        seed = ensure_tetrahedron(grid, ranking, ranking[:seed_count(factor, target, n)])[0]
-        seeded = int(seed.shape[0])
+        seed = None
+        if target <= int(largest):  # type: ignore[arg-type]
+            seed = ensure_tetrahedron(grid, ranking, ranking[:seed_count(factor, target, n)])[0]
+        seeded = n if seed is None else int(seed.shape[0])
         refined = _refined(reference, seed, target, tau, workers)
         if refined is not None:
             requested, indices = refined
@@ -156,11 +179,13 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
                          checked=checked, seed_count=seeded)
 
 
-def _refined(reference: ReferenceField, seed: np.ndarray, target: int, tau: float | None,
+def _refined(reference: ReferenceField, seed: np.ndarray | None, target: int, tau: float | None,
              workers: int | None) -> tuple[int, np.ndarray] | None:
-    """(count, indices) from the exact greedy seeded with `seed`: down to `target` (budget), or the
-    smallest count within `tau` if it is <= `target` (tolerance); None = keep the unrefined answer."""
-    if seed.shape[0] <= max(target, MINIMUM_PROBES):
+    """(count, indices) from the exact greedy seeded with `seed` (None: every point, the full
+    reference): down to `target` (budget), or the smallest count within `tau` if it is <= `target`
+    (tolerance); None = keep the unrefined answer."""
+    start_count = reference.point_count if seed is None else int(seed.shape[0])
+    if start_count <= (max(target, MINIMUM_PROBES) if tau is None else MINIMUM_PROBES):
         return None  # nothing to decimate: the seed is the answer already
     decimation = fast_decimation(reference, workers=workers, initial=seed,
                                  min_count=target if tau is None else MINIMUM_PROBES)

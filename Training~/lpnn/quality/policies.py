@@ -82,9 +82,21 @@ def place_count(field_: ReferenceField, selection: SelectionForCount, count: int
 def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
                     metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES) -> Placement:
     """Tolerance policy: exponential search from `smallest`, then bisection, over prefix counts."""
+    found = bounded_tolerance(field_, selection, tolerance, metric, smallest)
+    assert found is not None  # without a bound the search ends at the latest with all points
+    return found
+
+
+def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
+                      metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES,
+                      largest: int | None = None) -> Placement | None:
+    """place_tolerance, giving up (None) as soon as it is known that the answer exceeds `largest`:
+    the search then never evaluates a count above largest + 1 (a caller with a cheaper plan for
+    large answers, e.g. the refine tier running the full reference, stops paying for the search)."""
     tau = checked_tolerance(tolerance)
     n = field_.point_count
     low_limit = max(1, min(int(smallest), n))
+    ceiling = n if largest is None else max(low_limit, min(int(largest) + 1, n))
     checked: dict[int, float] = {}
     chosen: dict[int, np.ndarray] = {}
 
@@ -98,13 +110,17 @@ def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolera
     while error_at(passing) > tau:
         if passing == n:  # all points: error 0, so only an impossible tolerance gets here
             raise PolicyError(f"even all {n:,} points miss the tolerance {tau:g}")
-        failing, passing = passing, min(2 * passing, n)
+        if passing >= ceiling:
+            return None
+        failing, passing = passing, min(2 * passing, ceiling)
     while passing - failing > 1:
         middle = (failing + passing) // 2
         if error_at(middle) <= tau:
             passing = middle
         else:
             failing = middle
+    if largest is not None and passing > largest:
+        return None
     indices = chosen[passing]
     return Placement(indices=indices, requested=passing, added_for_tetrahedron=max(0, indices.shape[0] - passing),
                      mean_error=checked[passing], metric=metric, checked=dict(sorted(checked.items())))

@@ -60,6 +60,12 @@ def _number(value: Any, digits: int = 2) -> str:
     return f"{value:.{digits}f}"
 
 
+def _ratio(entry: dict[str, Any], key: str) -> str:
+    """A geometric mean of ratios with the count of ratios it left out (non-finite or zero), if any."""
+    left_out = int(entry.get(f"{key}_left_out", 0))
+    return _number(entry.get(key)) + (f" ({left_out} left out)" if left_out else "")
+
+
 def _ms(seconds: Any) -> str:
     return "–" if seconds is None else f"{seconds * 1e3:.0f}"
 
@@ -68,7 +74,9 @@ ROW_LABELS = {
     "lpnn": "LPNN (spread ranking)",
     "lpnn-refine": "LPNN + refine ×2",
     "lpnn-topk": "LPNN top-K (raw scores)",
+    "insertion": "insertion (best non-learned)",
     "heuristic": "heuristic",
+    "apv": "APV-style density",
     "uniform": "uniform",
     "random": "random",
     "fast-reference": "fast reference",
@@ -95,7 +103,7 @@ def report_markdown(card: ModelCard) -> str:
              "",
              "| method | budget | probes | × reference | × uniform | × heuristic | features ms | inference ms | selection ms | refine ms | total ms |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "lpnn-topk", "heuristic", "uniform", "random"):
+    for method in ("lpnn", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random"):
         for budget in held_out["budgets"]:
             try:
                 entry = find(held_out, method, "budget", budget)
@@ -103,25 +111,29 @@ def report_markdown(card: ModelCard) -> str:
                 continue
             lines.append(
                 f"| {ROW_LABELS[method]} | {budget:.0%} | {entry['mean_probes']:.0f} | "
-                f"{_number(entry['error_vs_reference'])} | {_number(entry['error_vs_uniform'])} | "
-                f"{_number(entry['error_vs_heuristic'])} | {_ms(entry.get('median_feature_seconds'))} | "
+                f"{_ratio(entry, 'error_vs_reference')} | {_ratio(entry, 'error_vs_uniform')} | "
+                f"{_ratio(entry, 'error_vs_heuristic')} | {_ms(entry.get('median_feature_seconds'))} | "
                 f"{_ms(entry.get('median_inference_seconds'))} | {_ms(entry.get('median_selection_seconds'))} | "
                 f"{_ms(entry.get('median_refine_seconds'))} | {_ms(entry.get('median_seconds'))} |")
     tau = held_out["tolerance"]
     lines += ["", f"Tolerance policy, mean error ≤ {tau:g} (probes as a ratio to the reference's smallest count within τ):",
               "", "| method | probes | × reference probes | crops within τ | selection ms | refine ms | total ms |",
               "|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "heuristic", "uniform", "fast-reference"):
+    for method in ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
         try:
             entry = find(held_out, method, "tolerance", tau)
         except KeyError:
             continue
-        lines.append(f"| {ROW_LABELS[method]} | {entry['mean_probes']:.0f} | {_number(entry['probes_vs_reference'])} | "
+        lines.append(f"| {ROW_LABELS[method]} | {entry['mean_probes']:.0f} | {_ratio(entry, 'probes_vs_reference')} | "
                      f"{entry['within_tolerance']}/{entry['crops']} | {_ms(entry.get('median_selection_seconds'))} | "
                      f"{_ms(entry.get('median_refine_seconds'))} | {_ms(entry.get('median_seconds'))} |")
     inference = card.metrics.get("inference_ms", {})
     lines += ["", "onnxruntime inference (2 threads, median): " +
               ", ".join(f"{int(size):,} points {ms:.1f} ms" for size, ms in inference.items()) + ".", ""]
+    failures = held_out.get("failures", [])
+    if failures:
+        lines += [f"Failures ({len(failures)}; those methods have no row for those crops): " + "; ".join(
+            f"{f['method']} on {f['capture']}: {f['reason']}" for f in failures) + ".", ""]
     goals = held_out.get("goals", {})
     if goals:
         lines += ["Goals at 20 % budget: " + "; ".join(f"{name} **{'met' if ok else 'missed'}**"

@@ -95,6 +95,19 @@ def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_
     assert "does not match" in capsys.readouterr().err
 
 
+def test_label_reports_a_failing_capture_labels_the_others_and_exits_non_zero(
+        capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    broken = tmp_path / "in" / "broken.lpnncap"
+    broken.parent.mkdir()
+    broken.write_bytes(capture_files[0].read_bytes()[:200])  # truncated: reading it fails
+    out = tmp_path / "labelled"
+    code = main(["label", str(broken), str(capture_files[1]), "--budget", "0.2", "--out-dir", str(out), "--quiet"])
+    assert code == 1
+    assert read_capture(out / capture_files[1].name).labels is not None and not (out / broken.name).exists()
+    err = capsys.readouterr().err
+    assert "FAILED" in err and "broken.lpnncap" in err and "1 of 2 capture(s) failed" in err and "Traceback" not in err
+
+
 def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_path: Path) -> None:
     out = tmp_path / "bench"
     assert main(["bench", str(capture_files[0]), "--budgets", "0.1,0.3", "--repeats", "1", "--out", str(out)]) == 0
@@ -102,9 +115,10 @@ def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_
         rows = list(csv.DictReader(handle))
     assert tuple(rows[0].keys()) == CSV_COLUMNS
     methods = {row["method"] for row in rows}
-    assert methods == {"uniform", "random", "heuristic", "fast-reference", "faithful-reference"}
+    assert methods == {"uniform", "random", "heuristic", "apv", "insertion", "fast-reference", "faithful-reference"}
     assert {row["policy"] for row in rows} == {"budget", "tolerance"}
-    assert len(rows) == 5 * 3
+    assert len(rows) == 7 * 3
+    assert not (out / "failures.csv").exists()
     for row in rows:
         assert float(row["mean_error"]) >= 0.0 and "," not in row["mean_error"]
         if row["method"].endswith("reference") and row["policy"] == "budget":
@@ -112,6 +126,37 @@ def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_
     for suffix in ("error", "time"):
         figure = out / f"{capture_files[0].stem}.{suffix}.png"
         assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bench_goes_on_after_a_failing_capture_keeps_every_result_and_exits_non_zero(
+        capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    broken = tmp_path / "broken.lpnncap"
+    broken.write_bytes(capture_files[0].read_bytes()[:200])  # a truncated capture: reading it fails
+    out = tmp_path / "bench"
+    code = main(["bench", str(broken), str(capture_files[1]), "--budgets", "0.2", "--no-tolerance",
+                 "--repeats", "1", "--out", str(out)])
+    assert code == 1
+    with (out / "bench.csv").open(encoding="utf-8", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert {row["capture"] for row in rows} == {capture_files[1].stem} and len(rows) == 7
+    with (out / "failures.csv").open(encoding="utf-8", newline="") as handle:
+        failures = list(csv.DictReader(handle))
+    assert [(f["capture"], f["method"]) for f in failures] == [("broken", "*")] and failures[0]["reason"]
+    printed = capsys.readouterr().out
+    assert "FAILED broken" in printed and "1 failure(s)" in printed and "Traceback" not in printed
+
+
+def test_bench_records_a_failing_method_and_keeps_the_others(small_captures: dict[int, Capture],
+                                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    import lpnn.quality.bench as bench
+
+    def broken(*args: object, **kwargs: object) -> np.ndarray:
+        raise ValueError("all 4 probes lie in one plane")
+
+    monkeypatch.setattr(bench, "insertion_ranking", broken)
+    result = bench_capture("room1", small_captures[1], BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
+    assert [(f.method, f.reason) for f in result.failures] == [("insertion", "ValueError: all 4 probes lie in one plane")]
+    assert {row.method for row in result.rows} == {"uniform", "random", "heuristic", "apv", "fast-reference"}
 
 
 class _StubScorer:
@@ -129,8 +174,9 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     config = BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, faithful_limit=0)
     result = bench_capture("room2", capture, config, scorer=_StubScorer())
     by_method = {(row.method, row.policy): row for row in result.rows}
-    assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "fast-reference", "lpnn-topk", "lpnn",
-                                          "lpnn-refine"}
+    assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "apv", "insertion", "fast-reference",
+                                          "lpnn-topk", "lpnn", "lpnn-refine"}
+    assert result.failures == []
     for method in ("lpnn-topk", "lpnn", "lpnn-refine"):
         row = by_method[(method, "budget")]
         assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None

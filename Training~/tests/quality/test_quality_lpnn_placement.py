@@ -12,9 +12,9 @@ from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.selection import ensure_tetrahedron, rank
 from lpnn.core.spread import spread_ranking
-from lpnn.quality.lpnn_placement import lpnn_placement, seed_count
+from lpnn.quality.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
 from lpnn.quality.metric import ReferenceField, placement_error
-from lpnn.quality.policies import PolicyError, budget_count, place_tolerance, prefix_selection
+from lpnn.quality.policies import PolicyError, bounded_tolerance, budget_count, place_tolerance, prefix_selection
 from lpnn.quality.reference_fast import fast_decimation
 from lpnn.quality.validation import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
 
@@ -120,3 +120,71 @@ def test_validation_metric_scores_the_spread_placement(small_captures: dict[int,
     assert PLACEMENT_ERROR_20.per_capture(cloud, scores) == pytest.approx(spread)
     assert PLACEMENT_ERROR_TOPK_20.per_capture(cloud, scores) == pytest.approx(top)
     assert np.isnan(PLACEMENT_ERROR_20.per_capture(cloud, scores[:-1]))  # a crop: not the whole capture
+
+
+def test_refine_runs_the_full_reference_when_the_seed_would_hold_most_points(medium_capture: Capture) -> None:
+    """A seed of 2 x 30 % = 60 % of the points costs more than the full reference (oa_dm1: 1.4x its
+    time at 70 %): the tier runs the full reference instead and gets exactly its answer."""
+    field = ReferenceField.from_capture(medium_capture)
+    n = medium_capture.point_count
+    scores = StubScorer().score_capture(medium_capture)
+    count = budget_count(0.3, n)
+    assert count > largest_seeded_count(2.0, n)
+    placed = lpnn_placement(medium_capture, scores=scores, budget=0.3, refine=2.0, reference=field)
+    assert placed.seed_count == n
+    full = fast_decimation(field, min_count=count)
+    np.testing.assert_array_equal(placed.indices, full.prefix(count))
+
+
+def test_refined_tolerance_with_a_large_answer_stops_searching_and_runs_the_full_reference(
+        medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    n = medium_capture.point_count
+    scores = StubScorer().score_capture(medium_capture)
+    tau = 0.004  # the spread prefix needs far more than 0.4 N / 2 points for it on this room
+    largest = largest_seeded_count(2.0, n)
+    plain = lpnn_placement(medium_capture, scores=scores, tolerance=tau, reference=field)
+    assert plain.requested > largest
+    refined = lpnn_placement(medium_capture, scores=scores, tolerance=tau, refine=2.0, reference=field)
+    assert refined.seed_count == n and max(refined.checked, default=0) <= largest + 1
+    full = fast_decimation(field)
+    best = full.smallest_count_within(tau)
+    np.testing.assert_array_equal(refined.indices, full.prefix(best))
+    assert refined.mean_error <= tau
+
+
+def test_bounded_tolerance_gives_up_above_its_bound_without_evaluating_beyond_it(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    scores = StubScorer().score_capture(medium_capture)
+    select = prefix_selection(_grid(medium_capture), spread_ranking(medium_capture.positions, scores))
+    unbounded = place_tolerance(field, select, 0.02)
+    assert unbounded.requested > 10
+    evaluated: list[int] = []
+
+    def counted(count: int) -> np.ndarray:
+        evaluated.append(count)
+        return select(count)
+
+    assert bounded_tolerance(field, counted, 0.02, largest=unbounded.requested - 1) is None
+    assert max(evaluated) <= unbounded.requested
+    same = bounded_tolerance(field, select, 0.02, largest=medium_capture.point_count)
+    assert same is not None and same.requested == unbounded.requested
+    np.testing.assert_array_equal(same.indices, unbounded.indices)
+    # Any bound: an answer keeps the search's guarantee (within tau, one fewer checked and failing).
+    for largest in range(unbounded.requested - 3, unbounded.requested + 40, 7):
+        found = bounded_tolerance(field, select, 0.02, largest=largest)
+        if found is not None:
+            assert found.requested <= largest and found.mean_error <= 0.02
+            assert found.checked[found.requested - 1] > 0.02
+
+
+def test_a_tiny_budget_seeds_the_refinement_with_at_least_64_points(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    scores = StubScorer().score_capture(medium_capture)
+    count = budget_count(0.01, medium_capture.point_count)
+    assert 2 * count < 64
+    placed = lpnn_placement(medium_capture, scores=scores, budget=0.01, refine=2.0, reference=field)
+    assert placed.seed_count == 64
+    spread = spread_ranking(medium_capture.positions, scores)
+    expected = fast_decimation(field, initial=spread[:64], min_count=count)
+    np.testing.assert_array_equal(placed.indices, expected.prefix(count))

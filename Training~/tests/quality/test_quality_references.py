@@ -216,3 +216,27 @@ def test_bad_initial_sets_are_rejected_with_the_reason(small_field: ReferenceFie
     few = fast_decimation(small_field, initial=np.array([0, 5, 17, 40, 47]), min_count=5)  # already at the floor
     assert few.removed.shape[0] == 0 and few.error_curve[5] == pytest.approx(
         placement_error(small_field, np.array([0, 5, 17, 40, 47])).mean)
+
+
+# Six probes of oa_dm1 at its 1.6256 m cell (float32 world positions as imported): three of the four
+# on the lower layer are collinear, so removing the upper probe 4 and then probe 2 leaves a flat set.
+# Float32 noise gives the collinear three a "tetrahedron" of 6 x volume ~1e-9 with the last upper probe.
+NEARLY_FLAT_PROBES = np.array([[-15, 1, -3], [-16, 2, -3], [-15, -2, -3], [-12, -2, -3], [-14, 2, 6], [-11, 1, 6]],
+                              dtype=np.float64)
+
+
+def test_a_decimation_never_holds_a_set_in_one_plane() -> None:
+    from lpnn.quality.triangulation import flatness
+    positions = (NEARLY_FLAT_PROBES * 1.6256).astype(np.float32)
+    flattened = 0
+    for seed in range(20):  # seeds 15 and 17 removed [4, 2] and ended in one plane before the fix
+        lighting = np.random.default_rng(seed).uniform(0.2, 1.0, (6, 27))
+        field = ReferenceField.from_sh(positions, lighting)
+        decimation = fast_decimation(field, min_count=MINIMUM_PROBES)
+        flattened += decimation.stop_reason == "the rest would lie in one plane"
+        for count in range(decimation.smallest_count, decimation.start_count + 1):
+            held = decimation.prefix(count)
+            assert flatness(field.local[held]) is None, (seed, count)
+            assert decimation.error_curve[count] == pytest.approx(placement_error(field, held).mean, abs=1e-12)
+        assert decimation.smallest_count_within(np.inf) == decimation.smallest_count
+    assert flattened >= 1  # the case is exercised, not only avoided by the greedy order

@@ -84,7 +84,8 @@ def _crops() -> list[dict]:
                      _row(name, "lpnn", "budget", budget, reference * factor),
                      _row(name, "lpnn-refine", "budget", budget, reference * 1.05),
                      _row(name, "uniform", "budget", budget, reference * factor * 2),
-                     _row(name, "heuristic", "budget", budget, reference * factor * 1.25)]
+                     _row(name, "heuristic", "budget", budget, reference * factor * 1.25),
+                     _row(name, "insertion", "budget", budget, reference * factor / 1.1)]
         rows += [_row(name, "fast-reference", "tolerance", 0.05, 0.049, 8),
                  _row(name, "lpnn", "tolerance", 0.05, 0.048, 12)]
         crops.append({"name": name, "points": 100, "roc_auc": 0.8, "pr_auc": 0.5 if name == "a" else math.nan,
@@ -99,13 +100,20 @@ def test_summary_ratios_are_per_crop_geometric_means() -> None:
     assert lpnn["error_vs_uniform"] == pytest.approx(0.5)
     assert lpnn["error_vs_heuristic"] == pytest.approx(0.8)
     tolerance = next(m for m in summary["methods"] if (m["method"], m["policy"]) == ("lpnn", "tolerance"))
-    assert tolerance["probes_vs_reference"] == pytest.approx(1.5)
+    assert tolerance["probes_vs_reference"] == pytest.approx(1.5) and tolerance["probes_vs_reference_left_out"] == 0
+    assert lpnn["error_vs_reference_left_out"] == 0  # counted beside every mean, also when none is left out
     assert tolerance["within_tolerance"] == 2
     assert summary["pr_auc"] == pytest.approx(0.5)  # the crop without a defined PR-AUC is left out
     goals = goal_checks(summary)
     assert goals["lpnn: error <= 1.15x reference"] is False
     assert goals["lpnn-refine: error <= 1.15x reference"] is True
     assert goals["lpnn: error <= 0.85x uniform"] is True
+    assert lpnn["error_vs_insertion"] == pytest.approx(1.1)  # the bar: LPNN must be <= 0.8x it
+    assert goals["lpnn: error <= 0.8x insertion (best non-learned)"] is False
+    assert summary["failures"] == []
+    crops = _crops()
+    crops[0]["failures"] = [{"capture": "a", "method": "apv", "reason": "ValueError: flat"}]
+    assert summarize(crops)["failures"] == crops[0]["failures"]
 
 
 def test_summary_of_nothing_is_an_error() -> None:

@@ -1,0 +1,96 @@
+"""Blockwise reference: the quality yardstick for volumes too large for the reference (quality.md §3.3).
+
+    blockwise = blockwise_reference(field, ids)        # one fast reference per overlapping block
+    blockwise.ranking                                    # (N,) most important first: budgets are prefixes
+    blockwise.within(tau)                                # the probes of the tolerance policy
+
+The fast reference (reference_fast.py) costs seconds per thousand points, so a level of 10^5-10^6
+points is cut into cubic blocks of BLOCK_CELLS cells per axis (by lattice id, from the grid's lowest
+id). Each block is decimated with the exact greedy over its points plus a margin of MARGIN_CELLS
+cells on every side (the margin's points are evaluated and may be probes, so the block's probes see
+the lighting beyond its faces as the whole-level reference would); only the block's own (core)
+points are kept from it. Blocks are independent, so the union is the reference's answer wherever
+the lighting across a block face is reproduced within the margin.
+
+Tolerance tau: each block keeps the smallest prefix of its decimation whose mean error over the
+block with its margin is <= tau (its core points of it). Budget: one ranking of all points by the
+tolerance at which each point leaves its block's answer: the point at position r (from 0) of its
+block's ordering is in that answer for every tau below entry = min over counts c in [4, r] of the
+block's error curve[c] (r < 4, a block's last tetrahedron: always), so any tau gives the set
+{entry > tau}, and the ranking by entry (descending; ties by position in the block's ordering,
+then index) nests them: a budget K is its first K points. Blocks with fewer than
+MINIMUM_PROBES + 1 points with margin, or flat ones, keep every core point.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .decimation import MINIMUM_PROBES
+from .metric import PRIMARY_METRIC, ReferenceField
+from .reference_fast import fast_decimation
+from .triangulation import Frame, flatness
+
+BLOCK_CELLS = 10  # core edge: ~1,000 points per block on a full lattice, about a second of reference each
+MARGIN_CELLS = 3  # evaluated beyond each face: (10 + 2 x 3)^3 = 4,096 points at most per decimation
+
+
+@dataclass(frozen=True)
+class BlockwiseReference:
+    entry: np.ndarray  # (N,) float64: a point is in the tolerance answer for every tau < entry (inf: always)
+    ranking: np.ndarray  # (N,) int64: by entry, descending (ties: block order, then index)
+    blocks: int
+    seconds: float
+
+    def within(self, tolerance: float) -> np.ndarray:
+        """Sorted indices of the blockwise tolerance answer."""
+        return np.flatnonzero(self.entry > tolerance)
+
+
+def _sub_field(field: ReferenceField, members: np.ndarray) -> ReferenceField:
+    world = field.world[members]
+    frame = Frame.for_points(world)
+    return ReferenceField(world=world, local=frame.to_local(world), light=field.light[members],
+                          ycocg=field.ycocg[members], scale=field.scale, frame=frame)
+
+
+def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLOCK_CELLS, margin: int = MARGIN_CELLS,
+                        metric: str = PRIMARY_METRIC, progress: Callable[[int, int], None] | None = None
+                        ) -> BlockwiseReference:
+    """One fast reference per block with its margin (module text); `ids` (N, 3) the points' lattice ids."""
+    if block < 1 or margin < 0:
+        raise ValueError(f"block {block} must be >= 1 cell and margin {margin} >= 0 cells")
+    start = time.perf_counter()
+    offset = np.asarray(ids, dtype=np.int64) - np.asarray(ids, dtype=np.int64).min(axis=0)
+    n = offset.shape[0]
+    cell = offset // block
+    keys, owner = np.unique(cell, axis=0, return_inverse=True)
+    owner = owner.reshape(-1)
+    entry = np.full(n, np.inf)
+    block_position = np.zeros(n, dtype=np.int64)  # tie-break: position in its block's ordering
+    for b, key in enumerate(keys):
+        core = np.flatnonzero(owner == b)
+        low, high = key * block - margin, (key + 1) * block - 1 + margin
+        members = np.flatnonzero(np.all((offset >= low) & (offset <= high), axis=1))
+        if members.shape[0] > MINIMUM_PROBES and flatness(field.local[members]) is None:
+            decimation = fast_decimation(_sub_field(field, members), metric=metric)
+            ordering = decimation.ordering  # positions into `members`
+            curve = decimation.error_curve[1:].copy()  # curve[r] = error with r + 1 probes
+            curve[np.isnan(curve)] = np.inf  # counts the decimation never held
+            curve[:MINIMUM_PROBES - 1] = np.inf  # fewer than 4 probes: never an answer
+            smallest_before = np.minimum.accumulate(np.concatenate([[np.inf], curve[:-1]]))  # min over counts <= r
+            position = np.empty(members.shape[0], dtype=np.int64)
+            position[ordering] = np.arange(members.shape[0])
+            global_rank = np.empty(n, dtype=np.int64)
+            global_rank[members] = position
+            entry[core] = np.where(global_rank[core] < MINIMUM_PROBES, np.inf, smallest_before[global_rank[core]])
+            block_position[core] = global_rank[core]
+        if progress is not None:
+            progress(b + 1, keys.shape[0])
+    ranking = np.lexsort((np.arange(n), block_position, -entry)).astype(np.int64)
+    return BlockwiseReference(entry=entry, ranking=ranking, blocks=int(keys.shape[0]),
+                              seconds=time.perf_counter() - start)

@@ -1,0 +1,40 @@
+"""Blockwise reference (quality/blockwise.py): the yardstick for volumes too large for the reference."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lpnn.core.capture import Capture
+from lpnn.quality.blockwise import blockwise_reference
+from lpnn.quality.metric import ReferenceField, placement_error
+from lpnn.quality.reference_fast import fast_decimation
+
+
+def test_one_block_is_the_reference_itself(small_captures: dict[int, Capture]) -> None:
+    capture = small_captures[2]
+    field = ReferenceField.from_capture(capture)
+    whole = blockwise_reference(field, capture.ids, block=1000, margin=0)
+    assert whole.blocks == 1
+    reference = fast_decimation(field)
+    for tau in (0.005, 0.02, 0.05):
+        np.testing.assert_array_equal(whole.within(tau), reference.prefix(reference.smallest_count_within(tau)))
+
+
+def test_blocks_nest_cover_every_point_and_stay_near_the_tolerance(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    blocks = blockwise_reference(field, medium_capture.ids, block=5, margin=2)
+    n = medium_capture.point_count
+    assert blocks.blocks > 8
+    np.testing.assert_array_equal(np.sort(blocks.ranking), np.arange(n))
+    previous = 0
+    for tau in (0.1, 0.05, 0.03, 0.02):
+        kept = blocks.within(tau)
+        assert kept.shape[0] >= previous  # a smaller tolerance keeps a superset
+        previous = kept.shape[0]
+        np.testing.assert_array_equal(kept, np.sort(blocks.ranking[:kept.shape[0]]))  # the ranking's prefix
+        # Each block meets tau over its own points with margin; the union, on one mesh, lands near tau.
+        assert placement_error(field, kept).mean <= 1.5 * tau
+    reference = fast_decimation(field)
+    # More probes than the exact reference (blocks cannot share probes across faces), but not many more.
+    count = blocks.within(0.03).shape[0]
+    assert reference.smallest_count_within(0.03) <= count <= 2.5 * reference.smallest_count_within(0.03)
