@@ -64,6 +64,8 @@ SCHEMES: dict[str, tuple[Phase, ...]] = {
     "mixed": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
     "adam": (Phase("adam", ALL, 0.1, ADAM_ITERATIONS),) * 3,
     "lbfgs": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS),) * 3,
+    # not the seed's: a short smoke run (one L-BFGS phase of 20 iterations) for checking a whole pak
+    "quick": (Phase("lbfgs", ALL, 1.0, 20),),
 }
 DEFAULT_SCHEME = "mixed"
 
