@@ -102,6 +102,6 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
-    return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit],
+    return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit], ambient=lights.ambient,
                           level=scene.level.name, bsp_sha256=scene.level.sha256, scheme=scheme,
                           objective=float(result.objective), extra=info)

@@ -2,8 +2,9 @@
 
 A rig is a list of point lights in Unity metres and axes (the importer's mapping, scenes/coords.py),
 with a colour normalised to a largest component of 1 and an intensity in q3map2 `light` units
-(the falloff is q3map2's default point light, model.py), so a recovered rig and a level's light
-entities are directly comparable.
+(the falloff is q3map2's default point light, model.py), plus the level's ambient in lightmap
+bytes, so a recovered rig and a level's light entities (and worldspawn ambient) are directly
+comparable.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from ..core.atomic import write_text_atomic
 from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.entities import light_entities, parse_vector
 from ..scenes.errors import BspError
+from .model import BYTE_MAX
 
 FORMAT = "lpnn-light-rig"
 VERSION = 1
@@ -37,6 +39,7 @@ class Rig:
     positions: np.ndarray  # (J, 3) Unity metres
     colours: np.ndarray  # (J, 3) largest component 1 (or all 0 for a black light)
     intensities: np.ndarray  # (J,) q3map2 light units, >= 0
+    ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) lightmap bytes added everywhere
     level: str = ""
     bsp_sha256: str = ""
     scheme: str = ""
@@ -71,6 +74,7 @@ def write_rig(path: Path, rig: Rig) -> Path:
         "falloff": FALLOFF,
         "scheme": rig.scheme,
         "objective": rig.objective,
+        "ambient": [round(float(v), 4) for v in rig.ambient],
         "lights": [{"position": [round(float(v), 6) for v in p], "color": [round(float(v), 6) for v in c],
                     "intensity": round(float(i), 4)}
                    for p, c, i in zip(rig.positions, rig.colours, rig.intensities)],
@@ -104,7 +108,9 @@ def read_rig(path: Path) -> Rig:
         colours.append(_numbers(light.get("color"), 3, f"{where}: light {index}: 'color'"))
         intensities.append(_numbers([light.get("intensity")], 1, f"{where}: light {index}: 'intensity'")[0])
     objective = document.get("objective")
+    ambient = _numbers(document.get("ambient"), 3, f"{where}: 'ambient'")
     rig = Rig(positions=np.array(positions), colours=np.array(colours), intensities=np.array(intensities),
+              ambient=np.array(ambient),
               level=str(document.get("level", "")), bsp_sha256=str(document.get("bsp_sha256", "")),
               scheme=str(document.get("scheme", "")),
               objective=float(objective) if isinstance(objective, (int, float)) else None,
@@ -114,6 +120,9 @@ def read_rig(path: Path) -> Rig:
 
 
 def validate_rig(rig: Rig, where: str) -> None:
+    if rig.ambient.shape != (3,) or not np.isfinite(rig.ambient).all() or (rig.ambient < 0).any() \
+            or (rig.ambient > BYTE_MAX).any():
+        raise RigError(f"{where}: ambient {rig.ambient.tolist()} must be 3 numbers in [0, 255] (lightmap bytes)")
     for index in range(rig.count):
         intensity = float(rig.intensities[index])
         if not math.isfinite(intensity) or intensity < 0:
@@ -171,8 +180,23 @@ def entity_lights(entities: list[dict[str, str]], level_name: str) -> EntityLigh
         intensities.append(intensity)
         linear.append(int(_float(entity.get("spawnflags", "0"), f"{what}: key 'spawnflags'")) & SPAWNFLAG_LINEAR != 0)
     rig = Rig.from_quake(np.array(positions).reshape(-1, 3), np.array(colours).reshape(-1, 3),
-                         np.array(intensities), level=level_name, scheme="light entities")
+                         np.array(intensities), ambient=worldspawn_ambient(entities, level_name),
+                         level=level_name, scheme="light entities")
     return EntityLights(rig=rig, linear=np.array(linear, dtype=bool), skipped=skipped)
+
+
+def worldspawn_ambient(entities: list[dict[str, str]], level_name: str) -> np.ndarray:
+    """q3map2's ambient (bytes every luxel starts at, light.c LightWorld): worldspawn `_ambient`, or
+    `ambient` when that is 0, times `_color` as given (white when absent or zero), clamped to [0, 255]."""
+    world = entities[0] if entities else {}
+    value = _float(world.get("_ambient", "0"), f"{level_name}: worldspawn key '_ambient'")
+    if value == 0:
+        value = _float(world.get("ambient", "0"), f"{level_name}: worldspawn key 'ambient'")
+    colour = np.array(parse_vector(world["_color"], 3, f"{level_name}: worldspawn key '_color'")) \
+        if "_color" in world else np.ones(3)
+    if not np.any(colour):
+        colour = np.ones(3)
+    return np.clip(value * colour, 0.0, BYTE_MAX)
 
 
 def _not_a_lightmap_point_light(entity: dict[str, str]) -> str | None:

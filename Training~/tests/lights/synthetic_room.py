@@ -82,4 +82,5 @@ def inside_room(points: np.ndarray, pillar: bool = True) -> np.ndarray:
 
 
 TRUE_LIGHTS = Lights(positions=np.array([[64.0, 64.0, 200.0], [200.0, 180.0, 96.0]]),
-                     colours=np.array([[1.0, 0.8, 0.6], [0.5, 0.7, 1.0]]), intensities=np.array([250.0, 150.0]))
+                     colours=np.array([[1.0, 0.8, 0.6], [0.5, 0.7, 1.0]]), intensities=np.array([250.0, 150.0]),
+                     ambient=np.array([12.0, 10.0, 8.0]))

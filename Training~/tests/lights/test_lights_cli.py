@@ -52,7 +52,7 @@ def test_level_without_lightmaps_is_a_clear_error(tmp_path: Path, capsys: pytest
 
 def test_rig_with_nan_intensity_is_refused(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "bad.json"
-    path.write_text(json.dumps({"format": "lpnn-light-rig", "version": 1, "lights": [
+    path.write_text(json.dumps({"format": "lpnn-light-rig", "version": 1, "ambient": [0, 0, 0], "lights": [
         {"position": [0, 0, 0], "color": [1, 1, 1], "intensity": float("nan")}]}))
     assert main(["scene", "lights", str(lit_bsp), "--compare", str(path)]) == 1
     assert "bad.json: light 0: intensity nan must be a finite number >= 0" in capsys.readouterr().err

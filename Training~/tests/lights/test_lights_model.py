@@ -11,7 +11,7 @@ from synthetic_room import TRUE_LIGHTS, lit_room, room_geometry, room_target, wa
 
 def finite_difference(model: ForwardModel, lights: Lights, visible: np.ndarray, step: float = 1e-4) -> dict[str, np.ndarray]:
     out = {}
-    for name in ("positions", "colours", "intensities"):
+    for name in ("positions", "colours", "intensities", "ambient"):
         values = getattr(lights, name)
         numeric = np.zeros_like(values)
         for index in np.ndindex(values.shape):
@@ -31,18 +31,23 @@ def room() -> ForwardModel:
     return lit_room(TRUE_LIGHTS)[0]
 
 
-def test_one_light_matches_the_q3map2_point_light_formula() -> None:
-    vertices, normals, triangles = room_geometry(divisions=2, pillar=False)
+def test_one_light_matches_the_q3map2_luxel_formula() -> None:
+    vertices, normals, triangles = room_geometry(divisions=4, pillar=False)
     albedo = wall_albedo(vertices)
     model = ForwardModel(room_target(vertices, normals, triangles, np.zeros_like(vertices), albedo), raycaster=None)
-    light = Lights(np.array([[100.0, 140.0, 180.0]]), np.array([[1.0, 0.5, 0.25]]), np.array([300.0]))
+    light = Lights(np.array([[100.0, 140.0, 180.0]]), np.array([[1.0, 0.5, 0.25]]), np.array([300.0]),
+                   ambient=np.array([12.0, 6.0, 3.0]))
     radiance = model.radiance_of(light, model.visibility(light))
     offset = light.positions[0] - vertices
     distance = np.linalg.norm(offset, axis=1)
     cosine = np.maximum(0.0, np.einsum("ij,ij->i", offset, normals) / distance)
-    # 7500 I cos / max(r, 16)^2 bytes (quake3-bsp.md §5) at 4/255 of full brightness a byte
-    expected = albedo * light.colours[0] * (7500 * 300 * cosine / np.maximum(distance, MIN_DISTANCE) ** 2)[:, None] * 4 / 255
-    np.testing.assert_allclose(radiance, expected, rtol=1e-12)
+    # ambient + 7500 I cos / max(r, 16)^2 bytes (quake3-bsp.md §5), scaled down to a largest channel
+    # of 255 keeping the hue, at 4/255 of full brightness a byte
+    luxel = light.ambient + light.colours[0] * (7500 * 300 * cosine / np.maximum(distance, MIN_DISTANCE) ** 2)[:, None]
+    saturated = luxel[:, 0] > 255  # red is the largest channel of this light and this ambient
+    assert saturated.any() and (~saturated).any()
+    luxel[saturated] *= 255 / luxel[saturated, :1]
+    np.testing.assert_allclose(radiance, albedo * luxel * 4 / 255, rtol=1e-12)
     assert LINEAR_SCALE == pytest.approx(7500 * 4 / 255)
 
 
@@ -57,18 +62,27 @@ def test_the_pillar_casts_a_shadow(room: ForwardModel) -> None:
     assert visible[floor_in_front].all()
 
 
+def test_the_byte_clamp_saturates_near_a_light(room: ForwardModel) -> None:
+    visible = room.visibility(TRUE_LIGHTS)
+    light = room.radiance_of(TRUE_LIGHTS, visible) / room.albedo / (4 / 255)
+    assert light.max() == pytest.approx(255.0)
+    assert np.count_nonzero(np.isclose(light.max(axis=1), 255.0)) >= 4  # the ceiling above the first light
+
+
 @pytest.mark.parametrize("near", [False, True], ids=["far", "within 16 units"])
 def test_gradient_matches_finite_differences(room: ForwardModel, near: bool) -> None:
     rng = np.random.default_rng(3)
     positions = TRUE_LIGHTS.positions + rng.normal(0.0, 12.0, (2, 3))
     if near:  # one light 10 units off the ceiling: the distance clamp's branch of the gradient
         positions[0, 2] = 256.0 - 10.0
-    lights = Lights(positions, np.array([[0.9, 0.7, 0.5], [0.6, 0.6, 0.9]]), np.array([220.0, 170.0]))
+    lights = Lights(positions, np.array([[0.9, 0.7, 0.5], [0.6, 0.6, 0.9]]), np.array([220.0, 170.0]),
+                    ambient=np.array([9.0, 7.0, 5.0]))
     visible = room.visibility(lights)
+    assert room.objective(lights, visible).value > 0.01
     analytic = room.objective(lights, visible)
     numeric = finite_difference(room, lights, visible)
     for name, value in (("positions", analytic.positions), ("colours", analytic.colours),
-                        ("intensities", analytic.intensities)):
+                        ("intensities", analytic.intensities), ("ambient", analytic.ambient)):
         scale = np.max(np.abs(numeric[name]))
         assert scale > 0, name
         assert np.max(np.abs(value - numeric[name])) <= 1e-5 * scale, name
@@ -77,7 +91,7 @@ def test_gradient_matches_finite_differences(room: ForwardModel, near: bool) -> 
 def test_objective_is_zero_at_the_true_lights_and_one_without_light(room: ForwardModel) -> None:
     visible = room.visibility(TRUE_LIGHTS)
     assert room.objective(TRUE_LIGHTS, visible).value == pytest.approx(0.0, abs=1e-20)
-    dark = Lights(TRUE_LIGHTS.positions, TRUE_LIGHTS.colours, np.zeros(2))
+    dark = Lights(TRUE_LIGHTS.positions, TRUE_LIGHTS.colours, np.zeros(2), ambient=np.zeros(3))
     assert room.objective(dark, visible).value == pytest.approx(1.0)
 
 

@@ -40,6 +40,7 @@ def test_lbfgs_recovers_the_lights(room: ForwardModel) -> None:
         emitted = result.lights.colours[match] * result.lights.intensities[match]
         np.testing.assert_allclose(emitted, true_colour * true_intensity, rtol=0.02)
     assert power.sum() - power[strongest].sum() < 0.01 * power.sum()  # the spare lights went dark
+    np.testing.assert_allclose(result.lights.ambient, TRUE_LIGHTS.ambient, atol=0.2)  # bytes
     assert result.objective < 1e-4
     assert inside_room(result.lights.positions).all()
     objectives = [point.objective for point in result.curve]

@@ -15,7 +15,7 @@ from lpnn.scenes.entities import parse_entities
 
 def sample_rig() -> Rig:
     return Rig.from_quake(np.array([[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]]), np.array([[0.5, 0.25, 0.0], [1.0, 1.0, 1.0]]),
-                          np.array([300.0, 50.0]), level="room", bsp_sha256="ab" * 32, scheme="mixed", objective=0.0125)
+                          np.array([300.0, 50.0]), ambient=np.array([4.0, 5.0, 6.0]), level="room", bsp_sha256="ab" * 32, scheme="mixed", objective=0.0125)
 
 
 def test_round_trip_normalises_colour_and_converts_to_unity_metres(tmp_path: Path) -> None:
@@ -27,6 +27,7 @@ def test_round_trip_normalises_colour_and_converts_to_unity_metres(tmp_path: Pat
     np.testing.assert_allclose(back.positions, quake_to_unity(np.array([[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]])), atol=1e-6)
     np.testing.assert_allclose(back.quake_positions(), [[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]], atol=1e-4)
     np.testing.assert_allclose(back.intensities, [150.0, 50.0])
+    np.testing.assert_allclose(back.ambient, [4.0, 5.0, 6.0])
     assert (back.level, back.scheme, back.objective, back.bsp_sha256) == ("room", "mixed", 0.0125, "ab" * 32)
     document = json.loads(path.read_text())
     assert document["format"] == "lpnn-light-rig" and document["falloff"] == "q3map2-point"
@@ -47,9 +48,12 @@ def edited(tmp_path: Path, change) -> Path:
     (lambda d: d["lights"][0].update(position=[1.0, "x", 0.0]), r"light 0: 'position' = \[1\.0, 'x', 0\.0\] is not 3 number"),
     (lambda d: d["lights"][0].pop("intensity"), r"light 0: 'intensity' = \[None\] is not 1 number"),
     (lambda d: d.update(lights=[]), r"'lights' must be a non-empty list"),
+    (lambda d: d.update(ambient=[1.0, -2.0, 0.0]), r"ambient \[1\.0, -2\.0, 0\.0\] must be 3 numbers in \[0, 255\]"),
+    (lambda d: d.pop("ambient"), r"'ambient' = None is not 3 number"),
     (lambda d: d.update(format="something"), r"not a light rig"),
     (lambda d: d.update(version=9), r"rig version 9 is not supported"),
-], ids=["negative", "nan", "colour", "position", "missing", "empty", "format", "version"])
+], ids=["negative", "nan", "colour", "position", "missing", "empty", "negative ambient", "no ambient", "format",
+        "version"])
 def test_hostile_rig_files_are_rejected_with_the_value(tmp_path: Path, change, message: str) -> None:
     with pytest.raises(RigError, match=message):
         read_rig(edited(tmp_path, change))
@@ -72,7 +76,7 @@ def test_writing_an_invalid_rig_is_refused_and_leaves_no_file(tmp_path: Path) ->
 
 
 def test_light_entities_as_q3map2_reads_them() -> None:
-    text = ('{\n"classname" "worldspawn"\n}\n'
+    text = ('{\n"classname" "worldspawn"\n"_ambient" "0"\n"ambient" "20"\n"_color" "1 0.5 0"\n}\n'
             '{\n"classname" "light"\n"origin" "10 20 30"\n}\n'  # no intensity: 300
             '{\n"classname" "light"\n"origin" "0 0 64"\n"_light" "200"\n"light" "999"\n"scale" "1.5"\n"_color" "0.5 0.25 0"\n"spawnflags" "1"\n}\n'
             '{\n"classname" "light"\n"origin" "0 0 0"\n"light" "-100"\n}\n'  # subtractive
@@ -84,4 +88,5 @@ def test_light_entities_as_q3map2_reads_them() -> None:
     np.testing.assert_allclose(found.rig.colours[1], [1.0, 0.5, 0.0])
     np.testing.assert_allclose(found.rig.quake_positions()[0], [10, 20, 30], atol=1e-9)
     assert found.linear.tolist() == [False, True]
+    np.testing.assert_allclose(found.rig.ambient, [20, 10, 0])  # `ambient` as `_ambient` is 0, x _color
     assert found.skipped == {"sun": 1, "negative or zero": 2, "no origin": 0, "grid only (lightJunior)": 1}
