@@ -44,7 +44,8 @@ RAY_OFFSET = 0.5  # units off the surface, so a shadow ray does not hit its own 
 RANGE_MIN_BYTES = 1.0
 RANGE_HEADROOM = 4.0
 RANGE_FLOOR_INTENSITY = 300.0
-POINTS_PER_CHUNK = 4096
+POINTS_PER_CHUNK = 4096  # shadow rays are set up this many points at a time
+PAIRS_PER_CHUNK = 262_144  # (point, light) pairs evaluated at a time: ~60 MB of temporaries
 
 
 @dataclass
@@ -81,6 +82,8 @@ class ForwardModel:
         self.norm = norm if norm > 0 else 1.0
         self.raycaster = raycaster
         self.rays = 0
+        self._pairs_of: np.ndarray | None = None  # the visibility matrix whose pairs are cached
+        self._pairs: list = []
 
     @property
     def point_count(self) -> int:
@@ -131,29 +134,44 @@ class ForwardModel:
     def _chunks(self, visible: np.ndarray):
         """(point slice, its visible pairs) over chunks of points: the sparse form of V.
 
-        Only pairs with V_ij = 1 are evaluated (7-13 % of all pairs on OpenArena levels with the
-        default grid), so a chunk costs what its visible pairs cost, not N x J.
+        Only pairs with V_ij = 1 are evaluated (6-13 % of all pairs on OpenArena levels with the
+        default grid), so a chunk costs what its visible pairs cost, not N x J. The pairs of one
+        visibility matrix are built once (it is fixed between refreshes) and chunked at point
+        boundaries with at most about PAIRS_PER_CHUNK pairs each, bounding the temporaries.
         """
+        if self._pairs_of is not visible:
+            self._pairs_of, self._pairs = visible, list(self._split(visible))
+        return self._pairs
+
+    def _split(self, visible: np.ndarray):
         point, light = np.nonzero(visible)  # row-major: sorted by point
-        bounds = np.searchsorted(point, np.arange(0, self.point_count + POINTS_PER_CHUNK, POINTS_PER_CHUNK))
-        for number, start in enumerate(range(0, self.point_count, POINTS_PER_CHUNK)):
-            chunk = slice(start, min(start + POINTS_PER_CHUNK, self.point_count))
-            pick = slice(bounds[number], bounds[number + 1])
-            yield chunk, _Pairs(point=point[pick], light=light[pick])
+        count = len(point)
+        first_pair = 0
+        first_point = 0
+        while first_point < self.point_count:
+            end_pair = min(first_pair + PAIRS_PER_CHUNK, count)
+            end_point = self.point_count if end_pair >= count else max(int(point[end_pair]), first_point + 1)
+            end_pair = int(np.searchsorted(point, end_point))
+            pick = slice(first_pair, end_pair)
+            yield slice(first_point, end_point), _Pairs(point=point[pick], light=light[pick],
+                                                        positions=self.points[point[pick]],
+                                                        normals=self.normals[point[pick]])
+            first_pair, first_point = end_pair, end_point
 
     def _transfer(self, lights: Lights, pairs: "_Pairs") -> "_Transfer":
         """g = cos / (q max(q, R0)^2) per visible pair (0 where the light is behind the point now),
         and the pieces of its gradient: d, q, n.d."""
-        d = lights.positions[pairs.light] - self.points[pairs.point]  # (P, 3)
+        d = lights.positions[pairs.light] - pairs.positions  # (P, 3)
         q = np.maximum(np.sqrt(np.einsum("pk,pk->p", d, d)), 1e-9)
-        ndot = np.einsum("pk,pk->p", d, self.normals[pairs.point])
+        ndot = np.einsum("pk,pk->p", d, pairs.normals)
         front = ndot > 0
         clamped_sq = np.maximum(q * q, MIN_DISTANCE * MIN_DISTANCE)
         g = np.where(front, ndot / (q * clamped_sq), 0.0)
         return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0))
 
     def objective(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
-        """L and dL / d(every light parameter and the ambient), visibility fixed."""
+        """L and dL / d(every light parameter and the ambient), visibility fixed. `visible` is read,
+        never modified: its pairs are cached until another matrix is passed."""
         value = 0.0
         grad_pos = np.zeros((lights.count, 3))
         grad_emitted = np.zeros((lights.count, 3))
@@ -179,7 +197,7 @@ class ForwardModel:
             clamped_sq = np.where(far, t.q * t.q, MIN_DISTANCE * MIN_DISTANCE)
             along_normal = np.where(t.ndot > 0, 1.0 / (t.q * clamped_sq), 0.0)
             along_d = t.ndot * np.where(far, 3.0 / t.q ** 5, 1.0 / (MIN_DISTANCE * MIN_DISTANCE * t.q ** 3))
-            per_pair = (u * along_normal)[:, None] * self.normals[pairs.point] - (u * along_d)[:, None] * t.d
+            per_pair = (u * along_normal)[:, None] * pairs.normals - (u * along_d)[:, None] * t.d
             grad_pos += _sum_by(pairs.light, per_pair, lights.count)
         return Gradient(
             value=value / self.norm,
@@ -215,6 +233,8 @@ def saturate_backward(light: np.ndarray, upstream: np.ndarray) -> np.ndarray:
 class _Pairs:
     point: np.ndarray  # (P,) int64 target point
     light: np.ndarray  # (P,) int64 light
+    positions: np.ndarray  # (P, 3) the points' positions
+    normals: np.ndarray  # (P, 3) the points' normals
 
 
 @dataclass(frozen=True)

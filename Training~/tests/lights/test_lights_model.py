@@ -103,3 +103,18 @@ def test_visibility_is_bounded_by_the_light_range() -> None:
     visible = model.visibility(light)[:, 0]
     reach = np.linalg.norm(model.points - light.positions[0], axis=1)
     assert visible.any() and not visible[reach > np.sqrt(7500 * 4 * 300)].any()
+
+
+def test_pair_chunks_do_not_change_the_result(room: ForwardModel, monkeypatch: pytest.MonkeyPatch) -> None:
+    import lpnn.lights.model as model_module
+
+    visible = room.visibility(TRUE_LIGHTS)
+    moved = Lights(TRUE_LIGHTS.positions + 5.0, TRUE_LIGHTS.colours, TRUE_LIGHTS.intensities, TRUE_LIGHTS.ambient)
+    whole = room.objective(moved, visible)
+    monkeypatch.setattr(model_module, "PAIRS_PER_CHUNK", 7)  # many chunks, cut at point boundaries
+    chunked = lit_room(TRUE_LIGHTS)[0]
+    assert len(chunked._chunks(visible)) > 50
+    split = chunked.objective(moved, visible)
+    assert split.value == pytest.approx(whole.value, rel=1e-12)
+    np.testing.assert_allclose(split.positions, whole.positions, rtol=1e-10, atol=1e-18)
+    np.testing.assert_allclose(chunked.radiance_of(moved, visible), room.radiance_of(moved, visible), rtol=1e-12)
