@@ -11,7 +11,8 @@ to numpy, and rays/s. Libraries that are not installed are reported as such.
 
     PYTHONPATH=Training~ $PY Tools~/lights-backends.py LEVEL
 (Mitsuba is not a project dependency: to include it, run with a Python that has `mitsuba` installed
-and the project's packages on its path.)
+and the project's packages on its path; Dr.Jit needs libLLVM >= 15 that can compile for this CPU,
+see Documentation~/lights.md §3.)
 """
 
 from __future__ import annotations
@@ -139,8 +140,26 @@ def mitsuba_rays(vertices, triangles):
     return cast
 
 
+BACKENDS = {"tensorflow autodiff (float64)": "tensorflow_objective", "drjit llvm_ad_rgb (float32)": "drjit_objective"}
+
+
 def main() -> int:
-    level = load_level(sys.argv[1] if len(sys.argv) > 1 else "oa_dm1")
+    """Each library in its own process: TensorFlow and Dr.Jit both bring an LLVM, and one process
+    with both crashed here."""
+    import subprocess
+
+    level = sys.argv[1] if len(sys.argv) > 1 else "oa_dm1"
+    if len(sys.argv) > 2:
+        return run_part(level, sys.argv[2])
+    for part in ("numpy", *BACKENDS, "rays"):
+        done = subprocess.run([sys.executable, __file__, level, part], check=False)
+        if done.returncode != 0:
+            print(f"{part}: failed (exit code {done.returncode})")
+    return 0
+
+
+def run_part(name: str, part: str) -> int:
+    level = load_level(name)
     scene = load_scene(level)
     m = scene.model
     lights = initial_intensity(m, initial_grid(scene.bounds[0], scene.bounds[1], DEFAULT_GRID, scene.is_open))
@@ -148,38 +167,39 @@ def main() -> int:
     lights.ambient = np.array([20.0, 15.0, 10.0])
     visible = m.visibility(lights)
     point, light = np.nonzero(visible)
-    print(f"{level.name}: {m.point_count:,} target points, {lights.count} lights, {len(point):,} visible pairs "
-          f"({len(point) / visible.size:.1%} of all)")
     numpy_seconds, reference = timed(lambda: m.objective(lights, visible))
     ref = [reference.positions, reference.colours, reference.intensities, reference.ambient]
-    print(f"numpy analytic (float64):      {numpy_seconds * 1000:7.0f} ms per objective + gradient")
-    for name, build in (("tensorflow autodiff (float64)", tensorflow_objective), ("drjit llvm_ad_rgb (float32)", drjit_objective)):
+    if part == "numpy":
+        print(f"{level.name}: {m.point_count:,} target points, {lights.count} lights, {len(point):,} visible pairs "
+              f"({len(point) / visible.size:.1%} of all)")
+        print(f"numpy analytic (float64): {numpy_seconds * 1000:7.0f} ms per objective + gradient")
+    elif part in BACKENDS:
         try:
-            run = build(m, lights, point, light)
+            run = globals()[BACKENDS[part]](m, lights, point, light)
         except ImportError as exc:
-            print(f"{name}: not installed ({exc.name})")
-            continue
+            print(f"{part}: not installed ({exc.name})")
+            return 0
         seconds, (value, grads) = timed(run)
         worst = max(float(np.max(np.abs(g - r)) / max(float(np.max(np.abs(r))), 1e-300)) for g, r in zip(grads, ref))
-        print(f"{name}: {seconds * 1000:7.0f} ms per objective + gradient; objective {value:.6f} vs {reference.value:.6f}, "
-              f"largest gradient difference {worst:.1e} of the largest component")
-    # shadow rays of one refresh: from every point to every light in front and in range
-    origins = m.points[point] + RAY_OFFSET * m.normals[point]
-    offsets = lights.positions[light] - origins
-    lengths = np.linalg.norm(offsets, axis=1)
-    directions = offsets / lengths[:, None]
-    raycaster = m.raycaster
-    embree_seconds, hits = timed(lambda: raycaster.cast(origins, directions, float(lengths.max()))[0])
-    print(f"embree (embreex, 2 threads): {len(origins) / embree_seconds:12,.0f} rays/s")
-    try:
-        geometry = ray_geometry(level.bsp)
-        cast = mitsuba_rays(geometry.vertices, geometry.triangles)
+        print(f"{part}: {seconds * 1000:7.0f} ms per objective + gradient (numpy in the same process "
+              f"{numpy_seconds * 1000:.0f} ms); objective {value:.6f} vs {reference.value:.6f}, largest gradient "
+              f"difference {worst:.1e} of the largest component")
+    else:  # the shadow rays of one refresh: from every point to every light in front and in range
+        origins = m.points[point] + RAY_OFFSET * m.normals[point]
+        offsets = lights.positions[light] - origins
+        lengths = np.linalg.norm(offsets, axis=1)
+        directions = offsets / lengths[:, None]
+        embree_seconds, hits = timed(lambda: m.raycaster.cast(origins, directions, float(lengths.max()))[0])
+        print(f"embree (embreex, 2 threads): {len(origins) / embree_seconds:12,.0f} rays/s")
+        try:
+            geometry = ray_geometry(level.bsp)
+            cast = mitsuba_rays(geometry.vertices, geometry.triangles)
+        except ImportError as exc:
+            print(f"mitsuba: not installed ({exc.name})")
+            return 0
         mitsuba_seconds, blocked = timed(lambda: cast(origins, directions, lengths))
-        embree_blocked = hits < lengths
         print(f"mitsuba ray_test (llvm):     {len(origins) / mitsuba_seconds:12,.0f} rays/s; "
-              f"agrees with Embree on {np.mean(blocked == embree_blocked):.2%} of rays")
-    except ImportError as exc:
-        print(f"mitsuba: not installed ({exc.name})")
+              f"agrees with Embree on {np.mean(blocked == (hits < lengths)):.2%} of rays")
     return 0
 
 
