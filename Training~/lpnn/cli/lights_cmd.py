@@ -149,7 +149,9 @@ def _compare(args: argparse.Namespace) -> None:
     else:
         print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
     geometry = ray_geometry(level.bsp)
-    relit = relight_grid(stored.positions, rig, EmbreeRaycaster(geometry.vertices, geometry.triangles))
-    g = compare_grid(stored, relit)
-    print(f"light grid re-lit from the rig vs stored, {g.nodes:,} valid nodes: relative irradiance error mean "
-          f"{g.mean_error:.3f}, p95 {g.p95_error:.3f} (quality.md); plain relative error {g.plain_relative:.3f}")
+    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    sets = [("the rig", rig)] + ([("the level's own lights (yardstick)", real.rig)] if real.rig.count else [])
+    for label, lights in sets:
+        g = compare_grid(stored, relight_grid(stored.positions, lights, raycaster))
+        print(f"light grid re-lit from {label} vs stored, {g.nodes:,} valid nodes: relative irradiance error mean "
+              f"{g.mean_error:.3f}, p95 {g.p95_error:.3f} (quality.md); plain relative error {g.plain_relative:.3f}")

@@ -31,12 +31,15 @@ def test_rig_comparison_by_hand() -> None:
 
 def test_relit_grid_of_one_light_by_hand() -> None:
     node = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 5000.0]])
-    relit = relight_grid(node, rig([[0, 0, 100]], [300]), raycaster=None)
+    one = rig([[0, 0, 100]], [300])
+    one.ambient = np.array([4.0, 5.0, 6.0])
+    relit = relight_grid(node, one, raycaster=None)
     value = 7500 * 300 / 100 ** 2  # 225 bytes, straight up
     np.testing.assert_allclose(relit.direction[0], [0, 0, 1])
     np.testing.assert_allclose(relit.directed[0], value)
-    np.testing.assert_allclose(relit.ambient[0], 0.125 * value)  # 0.25 (1 - 1) c + 0.125 D
+    np.testing.assert_allclose(relit.ambient[0], 0.125 * value + one.ambient)  # 0.25 (1 - 1) c + 0.125 D + ambient
     np.testing.assert_allclose(relit.directed[1], 0.0)  # 4900 units away: 0.094 byte, dropped by q3map2
+    np.testing.assert_allclose(relit.ambient[1], one.ambient)
     bright = relight_grid(node[:1], rig([[0, 0, 20]], [300]), raycaster=None)
     np.testing.assert_allclose(bright.directed[0], 255.0)  # 5625 bytes clamped, hue kept
 
