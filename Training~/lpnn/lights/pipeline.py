@@ -9,7 +9,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..scenes.levels import Level
+from ..scenes.errors import BspError
+from ..scenes.levels import Level, default_pak
 from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
 from ..scenes.surfaces import ray_geometry
@@ -60,12 +61,15 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
     seconds["mesh"] = time.perf_counter() - clock
     clock = time.perf_counter()
     names = [bsp.shader_name(index) for index in range(len(bsp.shaders))]
-    albedo = load_albedo(names, texture_paks(level.pak, level.pak.parent if level.pak else None)) if textures \
+    albedo = load_albedo(names, texture_paks(level.pak, default_pak().parent)) if textures \
         else uniform_albedo(len(names))
     seconds["textures"] = time.perf_counter() - clock
     clock = time.perf_counter()
     target = build_target(mesh, bsp.lightmaps, albedo, samples_per_side)
     seconds["target"] = time.perf_counter() - clock
+    if not np.any(target.radiance > 0):
+        raise BspError(f"{level.location}: no surface carries baked light (every lightmap texel and vertex colour "
+                       f"of its {target.point_count:,} target points is black): compile the level with q3map2 -light")
     clock = time.perf_counter()
     geometry = ray_geometry(bsp)
     raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)

@@ -6,6 +6,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from lit_bsp import lit_level
@@ -49,6 +50,15 @@ def test_level_without_lightmaps_is_a_clear_error(tmp_path: Path, capsys: pytest
     error = capsys.readouterr().err
     assert "dark.bsp: no surface carries baked light" in error and "Traceback" not in error
     assert not (tmp_path / "rig.json").exists()
+
+
+def test_all_black_lightmaps_are_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    level = lit_level(np.zeros((128, 128, 3)))
+    level.vertex_extras = [extra[:7] + (0, 0, 0, 255) for extra in level.vertex_extras]  # black vertex colours
+    path = tmp_path / "black.bsp"
+    path.write_bytes(level.to_bytes())
+    assert main(["scene", "lights", str(path), "--out", str(tmp_path / "rig.json"), "--quiet"]) == 1
+    assert "black.bsp: no surface carries baked light (every lightmap texel" in capsys.readouterr().err
 
 
 def test_rig_with_nan_intensity_is_refused(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
