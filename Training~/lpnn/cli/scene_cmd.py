@@ -3,6 +3,7 @@
   lpnn scene info LEVEL
   lpnn scene import LEVEL [--cell M] [--bounds auto | x0,y0,z0,x1,y1,z1 ...] (--out FILE | --append-to DIR)
   lpnn scene check-pack [PAK]
+  lpnn scene lights LEVEL [--grid NxNxM] [--scheme NAME] (--out RIG.json | --compare RIG.json)
 
 LEVEL is a .bsp path, `pak.pk3:maps/x.bsp`, or a map name looked up in the default pak.
 """
@@ -53,6 +54,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     check.add_argument("--levels", nargs="+", metavar="NAME", help="only these map names")
     check.add_argument("--out", type=Path, metavar="FOLDER", help="also append every capture to this dataset folder")
     check.set_defaults(handler=_check_pack)
+
+    from .lights_cmd import register as register_lights  # issue 15: the light rig from baked lighting
+
+    register_lights(actions)
 
 
 def _add_import_options(parser: argparse.ArgumentParser) -> None:

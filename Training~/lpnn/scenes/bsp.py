@@ -55,7 +55,8 @@ FACE_DTYPE = np.dtype([
     ("first_index", "<i4"), ("num_indexes", "<i4"), ("lightmap", "<i4"), ("lightmap_rect", "<i4", 4),
     ("lightmap_origin", "<f4", 3), ("lightmap_vecs", "<f4", (3, 3)), ("patch_width", "<i4"), ("patch_height", "<i4"),
 ])
-LIGHTMAP_BYTES = 128 * 128 * 3
+LIGHTMAP_SIDE = 128
+LIGHTMAP_BYTES = LIGHTMAP_SIDE * LIGHTMAP_SIDE * 3
 LIGHT_GRID_RECORD_BYTES = 8
 
 RECORD_DTYPES: dict[int, np.dtype] = {
@@ -114,6 +115,7 @@ class Bsp:
     fogs: np.ndarray
     faces: np.ndarray
     lightmap_count: int
+    lightmaps: np.ndarray  # (pages, 128, 128, 3) uint8 RGB, rows first (lump 14; read-only view of the file)
     light_grid: np.ndarray | None  # (M, 8) uint8 records, or None when the level has no grid
     light_grid_layout: LightGridLayout
     cluster_count: int
@@ -187,7 +189,8 @@ def read_bsp(data: bytes, name: str) -> Bsp:
         name=name, entities=entities, shaders=shaders, planes=planes, nodes=nodes, leafs=leafs,
         leaf_surfaces=leaf_surfaces, leaf_brushes=leaf_brushes, models=models, brushes=brushes,
         brush_sides=brush_sides, vertices=vertices, mesh_verts=mesh_verts, fogs=fogs, faces=faces,
-        lightmap_count=lumps[LIGHTMAPS][1] // LIGHTMAP_BYTES, light_grid=light_grid, light_grid_layout=layout,
+        lightmap_count=lumps[LIGHTMAPS][1] // LIGHTMAP_BYTES,
+        lightmaps=records(LIGHTMAPS).reshape(-1, LIGHTMAP_SIDE, LIGHTMAP_SIDE, 3), light_grid=light_grid, light_grid_layout=layout,
         cluster_count=cluster_count,
     )
 

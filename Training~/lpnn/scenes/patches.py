@@ -67,7 +67,7 @@ def tessellate_patches(control_points: np.ndarray, first_vert: np.ndarray, width
     # rows follow v (weights over a), columns follow u (weights over b)
     grid = np.einsum("ka,lb,pabx->pklx", weights, weights, controls)
     side = level + 1
-    vertices = grid.reshape(-1, 3)
+    vertices = grid.reshape(-1, grid.shape[-1])  # (V, 3) positions, or any (V, k) attributes
     local = patch_triangles(level)
     offsets = (np.arange(len(controls), dtype=np.int64) * side * side)[:, None, None]
     triangles = (local[None, :, :] + offsets).reshape(-1, 3)

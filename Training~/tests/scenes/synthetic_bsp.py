@@ -49,6 +49,9 @@ class SyntheticLevel:
     mesh_verts: list[int] = field(default_factory=list)
     faces: list[dict] = field(default_factory=list)
     light_grid: bytes = b""
+    lightmaps: bytes = b""  # lump 14: 128*128*3 bytes a page
+    # optional full vertex records (st, lightmap st, normal, rgba) parallel to `vertices`
+    vertex_extras: list[tuple] | None = None
     visibility: tuple[int, int] | None = (1, 8)
     magic: bytes = b"IBSP"
     version: int = 46
@@ -65,8 +68,9 @@ class SyntheticLevel:
         models = b"".join(struct.pack("<6f4i", *m) for m in self.models)
         brushes = b"".join(struct.pack("<3i", *b) for b in self.brushes)
         sides = b"".join(struct.pack("<2i", *s) for s in self.brush_sides)
-        vertices = b"".join(struct.pack("<3f2f2f3f4B", *v, 0, 0, 0, 0, 0, 0, 1, 255, 255, 255, 255)
-                            for v in self.vertices)
+        default_extra = (0, 0, 0, 0, 0, 0, 1, 255, 255, 255, 255)
+        extras = self.vertex_extras or [default_extra] * len(self.vertices)
+        vertices = b"".join(struct.pack("<3f2f2f3f4B", *v, *e) for v, e in zip(self.vertices, extras))
         faces = b"".join(
             struct.pack("<12i3f9f2i", f["shader"], f["fog"], f["type"], f["first_vert"], f["num_verts"],
                         f["first_index"], f["num_indexes"], f["lightmap"], *f["lm"], *f["lm_origin"],
@@ -76,7 +80,7 @@ class SyntheticLevel:
         vis = b"" if self.visibility is None else (
             struct.pack("<2i", *self.visibility) + b"\xff" * (self.visibility[0] * self.visibility[1]))
         return [entity_text, shaders, planes, nodes, leafs, ints(self.leaf_surfaces), ints(self.leaf_brushes),
-                models, brushes, sides, vertices, ints(self.mesh_verts), b"", faces, b"", self.light_grid, vis]
+                models, brushes, sides, vertices, ints(self.mesh_verts), b"", faces, self.lightmaps, self.light_grid, vis]
 
     def to_bytes(self) -> bytes:
         lumps = self.lump_bytes()

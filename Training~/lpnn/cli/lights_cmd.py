@@ -1,0 +1,157 @@
+"""`lpnn scene lights`: recover a level's point-light rig from its baked lightmaps (Documentation~/lights.md).
+
+  lpnn scene lights LEVEL [--grid NxNxM] [--scheme NAME] --out RIG.json
+  lpnn scene lights --compare RIG.json LEVEL
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+from .errors import UserError
+from .scene_cmd import LEVEL_HELP, level_user_errors
+
+
+def register(actions: argparse._SubParsersAction) -> None:
+    from ..lights.optimise import DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
+    from ..lights.pipeline import DEFAULT_GRID, DEFAULT_MAX_EDGE
+
+    lights = actions.add_parser("lights", help="recover the level's point lights from its lightmaps (a rig file)",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    lights.add_argument("level", metavar="LEVEL", help=LEVEL_HELP)
+    what = lights.add_mutually_exclusive_group(required=True)
+    what.add_argument("--out", type=Path, metavar="RIG.json", help="write the recovered rig here (and its objective "
+                      "curve as RIG.curve.csv / RIG.curve.png beside it)")
+    what.add_argument("--compare", type=Path, metavar="RIG.json",
+                      help="compare this rig with the level's light entities (when it kept them) and its light grid")
+    lights.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM",
+                        help=f"initial lights: cells of the world box along x, y, z; only cells centred in open space "
+                             f"get a light (default {'x'.join(map(str, DEFAULT_GRID))})")
+    lights.add_argument("--scheme", default=DEFAULT_SCHEME, choices=sorted(SCHEMES),
+                        help=f"optimisation phases (seed Table 5.1; default {DEFAULT_SCHEME})")
+    lights.add_argument("--max-edge", default=str(DEFAULT_MAX_EDGE), metavar="UNITS",
+                        help=f"subdivide target triangles to this longest edge in Quake units, or 'none' for the "
+                             f"BSP's vertices only (default {DEFAULT_MAX_EDGE:g})")
+    lights.add_argument("--refresh", type=int, default=DEFAULT_REFRESH, metavar="N",
+                        help=f"recompute shadow rays every N iterations (default {DEFAULT_REFRESH})")
+    lights.add_argument("--no-textures", action="store_true", help="albedo 0.5 everywhere instead of the pk3 textures")
+    lights.add_argument("--quiet", action="store_true", help="no progress bar")
+    lights.set_defaults(handler=_lights)
+
+
+def parse_grid(text: str) -> tuple[int, int, int]:
+    parts = text.lower().split("x")
+    try:
+        dims = tuple(int(p) for p in parts)
+    except ValueError:
+        dims = ()
+    if len(dims) != 3 or not all(1 <= d <= 64 for d in dims):
+        raise UserError(f"--grid {text!r} must be three whole numbers from 1 to 64 joined by 'x', e.g. 8x8x3")
+    return dims  # type: ignore[return-value]
+
+
+def parse_max_edge(text: str) -> float | None:
+    if text.lower() == "none":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (value >= 1.0 and value < float("inf")):
+        raise UserError(f"--max-edge {text!r} must be a number of Quake units >= 1, or 'none'")
+    return value
+
+
+@contextmanager
+def rig_user_errors() -> Iterator[None]:
+    from ..lights.rig import RigError
+
+    with level_user_errors():
+        try:
+            yield
+        except RigError as exc:
+            raise UserError(str(exc)) from exc
+
+
+def _lights(args: argparse.Namespace) -> None:
+    if args.compare is not None:
+        _compare(args)
+        return
+    from tqdm import tqdm
+
+    from ..lights.curves import write_curve_csv, write_curve_png
+    from ..lights.pipeline import fit_scene, load_scene, rig_of
+    from ..lights.rig import write_rig
+    from ..scenes.levels import load_level
+
+    grid = parse_grid(args.grid)
+    max_edge = parse_max_edge(args.max_edge)
+    if args.refresh < 1:
+        raise UserError(f"--refresh {args.refresh} must be at least 1 iteration")
+    with rig_user_errors():
+        level = load_level(args.level)
+        scene = load_scene(level, max_edge=max_edge, textures=not args.no_textures)
+    print(f"{level.name}: {scene.target.point_count:,} target points (max edge "
+          f"{scene.max_edge if scene.max_edge is not None else 'none'}), projection loss "
+          f"{scene.target.projection_loss:.3f}, textures {scene.albedo.found} of {len(scene.albedo.images)} shaders")
+    bar = tqdm(desc=f"fit {args.scheme}", unit="it", file=sys.stderr, disable=args.quiet)
+
+    def progress(done: int, budget: int) -> None:
+        bar.total = budget
+        bar.update(done - bar.n)
+
+    try:
+        with rig_user_errors():
+            try:
+                result = fit_scene(scene, grid, args.scheme, args.refresh, progress)
+            except ValueError as exc:
+                raise UserError(str(exc)) from exc
+    finally:
+        bar.close()
+    rig = rig_of(scene, result, grid, args.scheme)
+    with rig_user_errors():
+        path = write_rig(args.out, rig)
+    stem = args.out.with_suffix("")
+    write_curve_csv(stem.with_name(stem.name + ".curve.csv"), result.curve)
+    write_curve_png(stem.with_name(stem.name + ".curve.png"), {args.scheme: result.curve}, f"{level.name}: {args.scheme}")
+    casting = scene.model.raycaster.cast_seconds if scene.model.raycaster is not None else 0.0
+    print(f"{path}: {rig.count} lights (of {result.lights.count} initial), objective {result.objective:.4f}, "
+          f"{result.iterations} iterations in {result.seconds:.1f} s ({result.seconds / max(result.iterations, 1):.2f} s "
+          f"an iteration), {result.rays:,} shadow rays ({result.rays / casting if casting > 0 else 0:,.0f} rays/s "
+          f"inside the raycaster)")
+
+
+def _compare(args: argparse.Namespace) -> None:
+    from ..lights.compare import compare_grid, compare_rigs, relight_grid, stored_grid
+    from ..lights.rig import entity_lights, read_rig
+    from ..scenes.levels import load_level
+    from ..scenes.raycast import EmbreeRaycaster
+    from ..scenes.surfaces import ray_geometry
+
+    with rig_user_errors():
+        rig = read_rig(args.compare)
+        level = load_level(args.level)
+        real = entity_lights(level.bsp.entities, level.name)
+        stored = stored_grid(level.bsp)
+    if rig.bsp_sha256 and rig.bsp_sha256 != level.sha256:
+        print(f"warning: {args.compare} was recovered from a different file than {level.location} "
+              f"(sha256 {rig.bsp_sha256[:12]}... vs {level.sha256[:12]}...)", file=sys.stderr)
+    if real.rig.count:
+        c = compare_rigs(rig, real.rig)
+        print(f"rig vs the level's {c.real_lights} point-light entities ({c.recovered_lights} recovered): "
+              f"{c.matched_share:.1%} of real intensity has a recovered light within 1 m; intensity-weighted "
+              f"distance real->recovered {c.real_to_recovered:.2f} m, recovered->real {c.recovered_to_real:.2f} m; "
+              f"total intensity recovered {c.recovered_power:,.0f} vs real {c.real_power:,.0f}")
+    else:
+        print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
+    geometry = ray_geometry(level.bsp)
+    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    sets = [("the rig", rig)] + ([("the level's own lights (yardstick)", real.rig)] if real.rig.count else [])
+    for label, lights in sets:
+        g = compare_grid(stored, relight_grid(stored.positions, lights, raycaster))
+        print(f"light grid re-lit from {label} vs stored, {g.nodes:,} valid nodes: relative irradiance error mean "
+              f"{g.mean_error:.3f}, p95 {g.p95_error:.3f} (quality.md); plain relative error {g.plain_relative:.3f}")

@@ -1,0 +1,13 @@
+"""The light rig from baked lighting: recover point lights from a level's lightmaps.
+
+The inverse method of the third seed document (Documentation~/lights.md): a radiance target on the
+level's surfaces (lightmap x texture, mass-lumped L2 projection), a differentiable forward model of
+point lights with Embree shadow rays, and Adam / L-BFGS phases that fit the lights to the target.
+Modules, one responsibility each:
+  surfaces    the lit surfaces of a level as one attributed triangle mesh (lightmap / vertex-lit)
+  textures    albedo from the level's pk3 textures (Pillow), with the documented fallback
+  target      Algorithm 4.1: texture x lightmap projected onto the mesh vertices; subdivision
+  model       radiance of point lights at the target points, its gradient, shadow-ray visibility
+  rig         the rig file (JSON): write, read, validate; the level's own light entities
+  optimise    initial grid in open space, penalties, Adam / L-BFGS phases, schemes
+"""

@@ -1,0 +1,111 @@
+"""The evaluation of Documentation~/benchmarks.md §8: schemes x levels, with the real rig as yardstick.
+
+    python -m lpnn.lights.evaluate --levels aggressor kaos oa_bases3 q3dm6ish --schemes adam lbfgs mixed --out DIR
+
+Per level, the scene is built once; per scheme, a fresh fit from the same initial grid writes
+DIR/LEVEL.SCHEME.json (the rig) and .curve.csv, and one PNG per level overlays the schemes' curves.
+The yardstick row ("real rig") is the level's own light entities and worldspawn ambient through the
+same forward model and the same light-grid comparison: what a perfect recovery of q3map2's point
+lights would score with this model (levels that kept no light entities have no such row).
+Prints one Markdown table row per (level, scheme) and writes DIR/summary.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ..core.atomic import write_text_atomic
+from ..scenes.levels import load_level
+from .compare import compare_grid, compare_rigs, relight_grid, stored_grid
+from .curves import write_curve_csv, write_curve_png
+from .model import Lights
+from .optimise import SCHEMES
+from .pipeline import DEFAULT_GRID, fit_scene, load_scene, rig_of
+from .rig import entity_lights, write_rig
+
+HEADER = ("| level | scheme | target points | lights | objective | iterations | s / iteration | rays/s | "
+          "matched within 1 m | distance real→rec. | grid error mean (p95) |\n|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path) -> list[dict[str, Any]]:
+    level = load_level(name)
+    scene = load_scene(level)
+    raycaster = scene.model.raycaster
+    real = entity_lights(level.bsp.entities, level.name)
+    stored = stored_grid(level.bsp)
+    rows: list[dict[str, Any]] = []
+    if real.rig.count:
+        lights = Lights(real.rig.quake_positions(), real.rig.colours, real.rig.intensities, ambient=real.rig.ambient)
+        objective = scene.model.objective(lights, scene.model.visibility(lights), with_gradient=False).value
+        g = compare_grid(stored, relight_grid(stored.positions, real.rig, raycaster))
+        rows.append(dict(level=level.name, scheme="real rig", points=scene.target.point_count, lights=real.rig.count,
+                         objective=objective, grid_mean=g.mean_error, grid_p95=g.p95_error,
+                         grid_plain=g.plain_relative, ambient=real.rig.ambient.tolist()))
+    curves = {}
+    for scheme in schemes:
+        rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
+        started = time.perf_counter()
+        result = fit_scene(scene, grid, scheme)
+        seconds = time.perf_counter() - started
+        rig = rig_of(scene, result, grid, scheme)
+        write_rig(out / f"{level.name}.{scheme}.json", rig)
+        write_curve_csv(out / f"{level.name}.{scheme}.curve.csv", result.curve)
+        curves[scheme] = result.curve
+        cast = raycaster.cast_seconds - cast_before
+        row = dict(level=level.name, scheme=scheme, points=scene.target.point_count, lights=rig.count,
+                   initial_lights=result.lights.count, objective=result.objective, iterations=result.iterations,
+                   seconds=seconds, seconds_per_iteration=seconds / max(result.iterations, 1),
+                   rays=scene.model.rays - rays_before,
+                   rays_per_second=(scene.model.rays - rays_before) / cast if cast > 0 else 0.0,
+                   ambient=rig.ambient.tolist())
+        if real.rig.count:
+            c = compare_rigs(rig, real.rig)
+            row.update(matched=c.matched_share, real_to_recovered=c.real_to_recovered,
+                       recovered_to_real=c.recovered_to_real)
+        g = compare_grid(stored, relight_grid(stored.positions, rig, raycaster))
+        row.update(grid_mean=g.mean_error, grid_p95=g.p95_error, grid_plain=g.plain_relative)
+        rows.append(row)
+        print(table_row(row), flush=True)
+    write_curve_png(out / f"{level.name}.curves.png", curves, f"{level.name}: objective by scheme "
+                    f"({'x'.join(map(str, grid))} initial grid)")
+    return rows
+
+
+def table_row(row: dict[str, Any]) -> str:
+    def fmt(key: str, pattern: str) -> str:
+        return pattern.format(row[key]) if key in row else "–"
+
+    return (f"| {row['level']} | {row['scheme']} | {row['points']:,} | {row['lights']} | {row['objective']:.4f} | "
+            f"{fmt('iterations', '{}')} | {fmt('seconds_per_iteration', '{:.2f}')} | {fmt('rays_per_second', '{:,.0f}')} | "
+            f"{fmt('matched', '{:.0%}')} | {fmt('real_to_recovered', '{:.2f} m')} | "
+            f"{row['grid_mean']:.3f} ({row['grid_p95']:.3f}) |")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--levels", nargs="+", required=True, metavar="LEVEL")
+    parser.add_argument("--schemes", nargs="+", default=["adam", "lbfgs", "mixed"], choices=sorted(SCHEMES))
+    parser.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR")
+    args = parser.parse_args(argv)
+    grid = tuple(int(p) for p in args.grid.split("x"))
+    args.out.mkdir(parents=True, exist_ok=True)
+    print(HEADER, flush=True)
+    rows = []
+    for name in args.levels:
+        level_rows = evaluate_level(name, args.schemes, grid, args.out)  # type: ignore[arg-type]
+        rows += level_rows
+        for row in level_rows:
+            if row["scheme"] == "real rig":
+                print(table_row(row), flush=True)
+    write_text_atomic(args.out / "summary.json", json.dumps(rows, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,250 @@
+"""Forward model: radiance of point lights at the target points, its gradient, and visibility.
+
+Light j: position x_j (Quake units), colour c_j (RGB in [0, 1]), intensity I_j (q3map2's `light`
+value); one ambient colour b (bytes, RGB) for the whole level. At target point i (position p_i,
+unit normal n_i, projected albedo a_i), as q3map2 bakes a luxel (light_ydnar.c: every luxel starts
+at the worldspawn ambient, lights add, ColorToBytes clamps to 255 keeping the hue):
+
+    E_i = b + 7500 * sum_j c_j I_j V_ij max(0, n_i . d_ij) / (|d_ij| max(|d_ij|, R0)^2)   (bytes)
+    m_i = a_i * (4/255) * clamp(E_i),   clamp(E) = E * min(1, 255 / max_c E_c),
+    d_ij = x_j - p_i,   R0 = 16 units,
+
+i.e. q3map2's default point light (inverse square, distance clamped to 16 units, Lambert cosine,
+quake3-bsp.md §5) in the linear units of the target (4/255 a byte), so a recovered I is directly
+comparable with a level's light entities. Without the clamp, the 1/r^2 peak next to a light is
+thousands of bytes where the lightmap holds 255, and that peak decides the whole fit. V_ij in {0, 1}
+is an Embree shadow ray from p_i (offset RAY_OFFSET along n_i) to x_j. Visibility is *held fixed*
+between refreshes (the optimiser recomputes it every few iterations): the gradient is exact for
+fixed V and ignores the movement of shadow edges.
+
+Objective: area-weighted relative squared error (the mass-lumped L2 norm of the seed's target),
+    L = sum_i A_i |m_i - r_i|^2 / sum_i A_i |r_i|^2      (1 with no light, 0 at a perfect fit).
+Gradients are analytic, accumulated over chunks of points so memory stays bounded, and evaluated
+only on the (point, light) pairs with V_ij = 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..scenes.lightgrid import LINEAR_PER_BYTE
+from ..scenes.raycast import EmbreeRaycaster
+from .target import RadianceTarget
+
+POINT_SCALE = 7500.0  # q3map2 pointScale
+MIN_DISTANCE = 16.0  # q3map2 clamps the distance of point lights to 16 units
+LINEAR_SCALE = POINT_SCALE * LINEAR_PER_BYTE
+BYTE_MAX = 255.0  # a lightmap byte saturates here (q3map2 ColorToBytes keeps the hue)
+RAY_OFFSET = 0.5  # units off the surface, so a shadow ray does not hit its own face
+# Shadow rays are cast only where a light could add at least this many bytes (q3map2 drops
+# contributions of 1 or less), assuming up to RANGE_HEADROOM x its intensity (and at least
+# RANGE_FLOOR_INTENSITY) before the next refresh.
+RANGE_MIN_BYTES = 1.0
+RANGE_HEADROOM = 4.0
+RANGE_FLOOR_INTENSITY = 300.0
+POINTS_PER_CHUNK = 4096  # shadow rays are set up this many points at a time
+PAIRS_PER_CHUNK = 262_144  # (point, light) pairs evaluated at a time: ~60 MB of temporaries
+
+
+@dataclass
+class Lights:
+    positions: np.ndarray  # (J, 3) Quake units
+    colours: np.ndarray  # (J, 3) in [0, 1]
+    intensities: np.ndarray  # (J,) >= 0
+    ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) bytes added everywhere
+
+    @property
+    def count(self) -> int:
+        return len(self.positions)
+
+
+@dataclass(frozen=True)
+class Gradient:
+    value: float
+    positions: np.ndarray  # (J, 3)
+    colours: np.ndarray  # (J, 3)
+    intensities: np.ndarray  # (J,)
+    ambient: np.ndarray  # (3,)
+
+
+class ForwardModel:
+    def __init__(self, target: RadianceTarget, raycaster: EmbreeRaycaster | None) -> None:
+        self.points = target.positions
+        self.normals = target.normals
+        self.albedo = target.albedo
+        self.radiance = target.radiance
+        total_area = float(target.areas.sum())
+        self.weights = target.areas / total_area if total_area > 0 else np.zeros_like(target.areas)
+        norm = float(np.sum(self.weights[:, None] * self.radiance ** 2))
+        # an all-black target: any light is error; normalise by 1 instead of dividing by zero
+        self.norm = norm if norm > 0 else 1.0
+        self.raycaster = raycaster
+        self.rays = 0
+        self._pairs_of: np.ndarray | None = None  # the visibility matrix whose pairs are cached
+        self._pairs: list = []
+
+    @property
+    def point_count(self) -> int:
+        return len(self.points)
+
+    # ------------------------------------------------------------------------------ visibility
+
+    def visibility(self, lights: Lights) -> np.ndarray:
+        """(N, J) bool: light j reaches point i (in front of it, within range, no occluder)."""
+        visible = np.zeros((self.point_count, lights.count), dtype=bool)
+        reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
+        max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
+        for start in range(0, self.point_count, POINTS_PER_CHUNK):
+            chunk = slice(start, start + POINTS_PER_CHUNK)
+            d = lights.positions[None, :, :] - self.points[chunk, None, :]
+            squared = np.einsum("cjk,cjk->cj", d, d)
+            candidate = (np.einsum("cjk,ck->cj", d, self.normals[chunk]) > 0) & (squared <= max_squared[None, :])
+            point, light = np.nonzero(candidate)
+            if point.size == 0:
+                continue
+            if self.raycaster is None:
+                visible[start + point, light] = True
+                continue
+            origins = self.points[chunk][point] + RAY_OFFSET * self.normals[chunk][point]
+            offsets = lights.positions[light] - origins
+            lengths = np.linalg.norm(offsets, axis=1)
+            reachable = lengths > RAY_OFFSET
+            directions = offsets[reachable] / lengths[reachable, None]
+            distances, _ = self.raycaster.cast(origins[reachable], directions, float(lengths[reachable].max()))
+            self.rays += int(reachable.sum())
+            free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
+            visible[start + point[reachable][free], light[reachable][free]] = True
+        return visible
+
+    # --------------------------------------------------------------------------------- radiance
+
+    def radiance_of(self, lights: Lights, visible: np.ndarray) -> np.ndarray:
+        """(N, 3) modelled radiance m_i."""
+        out = np.zeros((self.point_count, 3))
+        emitted = lights.colours * lights.intensities[:, None]  # (J, 3)
+        for chunk, pairs in self._chunks(visible):
+            t = self._transfer(lights, pairs)
+            light = lights.ambient + POINT_SCALE * _sum_by(pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light],
+                                                           chunk.stop - chunk.start)
+            out[chunk] = self.albedo[chunk] * LINEAR_PER_BYTE * saturate(light)
+        return out
+
+    def _chunks(self, visible: np.ndarray):
+        """(point slice, its visible pairs) over chunks of points: the sparse form of V.
+
+        Only pairs with V_ij = 1 are evaluated (6-13 % of all pairs on OpenArena levels with the
+        default grid), so a chunk costs what its visible pairs cost, not N x J. The pairs of one
+        visibility matrix are built once (it is fixed between refreshes) and chunked at point
+        boundaries with at most about PAIRS_PER_CHUNK pairs each, bounding the temporaries.
+        """
+        if self._pairs_of is not visible:
+            self._pairs_of, self._pairs = visible, list(self._split(visible))
+        return self._pairs
+
+    def _split(self, visible: np.ndarray):
+        point, light = np.nonzero(visible)  # row-major: sorted by point
+        count = len(point)
+        first_pair = 0
+        first_point = 0
+        while first_point < self.point_count:
+            end_pair = min(first_pair + PAIRS_PER_CHUNK, count)
+            end_point = self.point_count if end_pair >= count else max(int(point[end_pair]), first_point + 1)
+            end_pair = int(np.searchsorted(point, end_point))
+            pick = slice(first_pair, end_pair)
+            yield slice(first_point, end_point), _Pairs(point=point[pick], light=light[pick],
+                                                        positions=self.points[point[pick]],
+                                                        normals=self.normals[point[pick]])
+            first_pair, first_point = end_pair, end_point
+
+    def _transfer(self, lights: Lights, pairs: "_Pairs") -> "_Transfer":
+        """g = cos / (q max(q, R0)^2) per visible pair (0 where the light is behind the point now),
+        and the pieces of its gradient: d, q, n.d."""
+        d = lights.positions[pairs.light] - pairs.positions  # (P, 3)
+        q = np.maximum(np.sqrt(np.einsum("pk,pk->p", d, d)), 1e-9)
+        ndot = np.einsum("pk,pk->p", d, pairs.normals)
+        front = ndot > 0
+        clamped_sq = np.maximum(q * q, MIN_DISTANCE * MIN_DISTANCE)
+        g = np.where(front, ndot / (q * clamped_sq), 0.0)
+        return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0))
+
+    def objective(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
+        """L and dL / d(every light parameter and the ambient), visibility fixed. `visible` is read,
+        never modified: its pairs are cached until another matrix is passed."""
+        value = 0.0
+        grad_pos = np.zeros((lights.count, 3))
+        grad_emitted = np.zeros((lights.count, 3))
+        grad_ambient = np.zeros(3)
+        emitted = lights.colours * lights.intensities[:, None]
+        for chunk, pairs in self._chunks(visible):
+            t = self._transfer(lights, pairs)
+            local = pairs.point - chunk.start
+            albedo = self.albedo[chunk]
+            light = lights.ambient + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light], len(albedo))
+            residual = albedo * LINEAR_PER_BYTE * saturate(light) - self.radiance[chunk]
+            weight = self.weights[chunk][:, None]
+            value += float(np.sum(weight * residual ** 2))
+            if not with_gradient:
+                continue
+            upstream = saturate_backward(light, 2.0 * weight * residual * albedo * LINEAR_PER_BYTE / self.norm)  # dL/dE
+            grad_ambient += upstream.sum(axis=0)
+            back = POINT_SCALE * upstream[local]  # dL/d(sum g e), per pair
+            grad_emitted += _sum_by(pairs.light, t.g[:, None] * back, lights.count)
+            u = np.einsum("pk,pk->p", back, emitted[pairs.light])  # dL/dg per pair
+            # dg/dx for q >= R0: n/q^3 - 3 (n.d) d / q^5; for q < R0: n/(R0^2 q) - (n.d) d/(R0^2 q^3)
+            far = t.q >= MIN_DISTANCE
+            clamped_sq = np.where(far, t.q * t.q, MIN_DISTANCE * MIN_DISTANCE)
+            along_normal = np.where(t.ndot > 0, 1.0 / (t.q * clamped_sq), 0.0)
+            along_d = t.ndot * np.where(far, 3.0 / t.q ** 5, 1.0 / (MIN_DISTANCE * MIN_DISTANCE * t.q ** 3))
+            per_pair = (u * along_normal)[:, None] * pairs.normals - (u * along_d)[:, None] * t.d
+            grad_pos += _sum_by(pairs.light, per_pair, lights.count)
+        return Gradient(
+            value=value / self.norm,
+            positions=grad_pos,
+            colours=grad_emitted * lights.intensities[:, None],
+            intensities=np.einsum("jk,jk->j", grad_emitted, lights.colours),
+            ambient=grad_ambient,
+        )
+
+
+def saturate(light: np.ndarray) -> np.ndarray:
+    """(N, 3) bytes clamped as q3map2's ColorToBytes: scaled down to a largest channel of 255."""
+    peak = light.max(axis=1, keepdims=True)
+    return np.where(peak > BYTE_MAX, light * (BYTE_MAX / np.maximum(peak, BYTE_MAX)), light)
+
+
+def saturate_backward(light: np.ndarray, upstream: np.ndarray) -> np.ndarray:
+    """dL/dE from dL/d(saturate(E)): for a clamped row with largest channel k,
+    d(255 E_c / E_k)/dE_m = (255 / E_k) (delta_cm - delta_mk E_c / E_k)."""
+    peak = light.max(axis=1, keepdims=True)
+    over = peak[:, 0] > BYTE_MAX
+    out = upstream.copy()
+    if over.any():
+        p, e, b = peak[over], light[over], upstream[over]
+        scaled = (BYTE_MAX / p) * b
+        top = np.argmax(e, axis=1)
+        scaled[np.arange(len(e)), top] -= (BYTE_MAX / p[:, 0]) * np.einsum("nk,nk->n", b, e) / p[:, 0]
+        out[over] = scaled
+    return out
+
+
+@dataclass(frozen=True)
+class _Pairs:
+    point: np.ndarray  # (P,) int64 target point
+    light: np.ndarray  # (P,) int64 light
+    positions: np.ndarray  # (P, 3) the points' positions
+    normals: np.ndarray  # (P, 3) the points' normals
+
+
+@dataclass(frozen=True)
+class _Transfer:
+    g: np.ndarray  # (P,)
+    d: np.ndarray  # (P, 3)
+    q: np.ndarray  # (P,)
+    ndot: np.ndarray  # (P,) n.d where the light is in front, else 0
+
+
+def _sum_by(index: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
+    """(length, 3): rows of `values` (P, 3) summed by `index` (a scatter-add, one bincount a column)."""
+    return np.stack([np.bincount(index, weights=values[:, k], minlength=length) for k in range(3)], axis=1)

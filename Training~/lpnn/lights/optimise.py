@@ -1,0 +1,290 @@
+"""Fit point lights to the radiance target: initial grid in open space, penalties, Adam / L-BFGS phases.
+
+Schemes follow the seed's Table 5.1 (Documentation~/lights.md §4). Parameters are optimised in
+scaled units so one step size fits all: position / POSITION_UNIT, colour as is (in [0, 1]),
+intensity / INTENSITY_UNIT, the level's ambient / AMBIENT_UNIT (with the intensities). Bounds:
+colour in [0, 1], intensity >= 0, ambient in [0, 255] bytes, position inside the world
+box; Adam projects onto them after each step, L-BFGS-B (scipy) enforces them itself.
+
+Visibility is recomputed every `refresh` iterations (and at each phase start) and held fixed in
+between: Adam keeps its moments across refreshes; L-BFGS runs in rounds of `refresh` iterations
+with fixed visibility (its curvature memory restarts each round), and stops when a round ends
+before its limit (converged) or the phase's iteration limit is reached.
+
+Penalties (the seed's future work), added to the objective with their gradients:
+  - clearance: mu * sum_j max(0, 1 - d_j / CLEARANCE)^2, d_j = distance from light j to the nearest
+    target point: keeps lights off the surfaces, where the 1/r^2 peak fits single bright spots;
+  - in walls / outside: at every refresh, a light whose position is in solid or outside the map
+    (the importer's solid test) goes back to where it was at the previous refresh (open space);
+  - inside the level: the position bounds above.
+Deterministic: no random numbers; the same level and settings give the same rig.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import minimize
+from scipy.spatial import cKDTree
+
+from ..scenes.lightgrid import LINEAR_PER_BYTE
+from .model import BYTE_MAX, ForwardModel, Gradient, Lights
+
+POSITION_UNIT = 64.0  # Quake units per scaled position unit (one light grid cell)
+INTENSITY_UNIT = 1000.0
+AMBIENT_UNIT = 64.0  # bytes
+CLEARANCE = 24.0  # Quake units (0.61 m)
+CLEARANCE_WEIGHT = 1e-3
+MAX_INTENSITY = 1e6
+DEFAULT_REFRESH = 10
+ADAM_BETAS = (0.9, 0.999)
+ADAM_EPSILON = 1e-8
+
+POSITION, COLOUR, INTENSITY = "position", "colour", "intensity"
+ALL = (POSITION, COLOUR, INTENSITY)
+
+
+@dataclass(frozen=True)
+class Phase:
+    algorithm: str  # "adam" or "lbfgs"
+    parameters: tuple[str, ...]
+    step: float  # Adam's learning rate; L-BFGS-B has no step size (the seed's 1.0 is its default)
+    iterations: int
+
+
+ADAM_ITERATIONS = 100
+LBFGS_ITERATIONS = 200
+SCHEMES: dict[str, tuple[Phase, ...]] = {
+    # seed Table 5.1, schemes 1-5 (its Adam limit was 400 a phase; ours is ADAM_ITERATIONS)
+    "adam-colour-first": (Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
+                          Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "adam-position-first": (Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS),
+                            Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
+                            Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "mixed": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "adam": (Phase("adam", ALL, 0.1, ADAM_ITERATIONS),) * 3,
+    "lbfgs": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS),) * 3,
+    # not the seed's: a short smoke run (one L-BFGS phase of 20 iterations) for checking a whole pak
+    "quick": (Phase("lbfgs", ALL, 1.0, 20),),
+}
+DEFAULT_SCHEME = "mixed"
+
+
+@dataclass
+class CurvePoint:
+    phase: int
+    algorithm: str
+    iteration: int  # iterations so far over all phases (one Adam step / one L-BFGS iteration)
+    evaluations: int  # objective evaluations so far
+    objective: float  # fit term only (penalties excluded)
+    penalty: float
+    seconds: float
+    rays: int
+
+
+@dataclass
+class FitResult:
+    lights: Lights
+    objective: float
+    curve: list[CurvePoint] = field(default_factory=list)
+    seconds: float = 0.0
+    rays: int = 0
+    ray_seconds: float = 0.0
+    iterations: int = 0
+
+
+Progress = Callable[[int, int], None]  # (iterations done, iteration budget)
+OpenTest = Callable[[np.ndarray], np.ndarray]  # (J, 3) Quake positions -> (J,) bool open
+
+
+def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int], is_open: OpenTest) -> np.ndarray:
+    """Cell centres of an nx x ny x nz grid over the box, kept where they are in open space."""
+    axes = [mins[k] + (np.arange(n) + 0.5) * (maxs[k] - mins[k]) / n for k, n in enumerate(dims)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    return grid[is_open(grid)]
+
+
+def initial_intensity(model: ForwardModel, positions: np.ndarray) -> Lights:
+    """White lights of one common intensity and a grey ambient: the least-squares fit of the two
+    scales to the target (closed form, without the byte clamp); the ambient is dropped if negative."""
+    unit = Lights(positions=positions, colours=np.ones((len(positions), 3)), intensities=np.ones(len(positions)))
+    visible = model.visibility(Lights(positions, unit.colours, np.full(len(positions), 1000.0)))
+    lit = model.radiance_of(unit, visible).ravel()  # per unit intensity
+    flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
+    weights = np.repeat(model.weights, 3)
+    target = model.radiance.ravel()
+    basis = np.stack([lit, flat], axis=1)
+    gram = basis.T @ (weights[:, None] * basis)
+    rhs = basis.T @ (weights * target)
+    scale, ambient = np.linalg.lstsq(gram, rhs, rcond=None)[0] if np.all(np.isfinite(gram)) else (1.0, 0.0)
+    if ambient < 0:  # a negative ambient is not a light: fit the scale alone
+        scale, ambient = (rhs[0] / gram[0, 0] if gram[0, 0] > 0 else 1.0), 0.0
+    unit.intensities = np.full(len(positions), float(np.clip(scale, 1.0, MAX_INTENSITY)))
+    unit.ambient = np.full(3, float(np.clip(ambient, 0.0, BYTE_MAX)))
+    return unit
+
+
+class Fitter:
+    """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled)
+    then the ambient (3, scaled); the ambient is optimised with the intensities."""
+
+    def __init__(self, model: ForwardModel, bounds: tuple[np.ndarray, np.ndarray], is_open: OpenTest,
+                 surface_points: np.ndarray, refresh: int = DEFAULT_REFRESH,
+                 progress: Progress | None = None) -> None:
+        if refresh < 1:
+            raise ValueError(f"refresh {refresh} must be at least 1 iteration")
+        self.model = model
+        self.lower, self.upper = bounds
+        self.is_open = is_open
+        self.surfaces = cKDTree(surface_points)
+        self.refresh = refresh
+        self.progress = progress
+        self.curve: list[CurvePoint] = []
+        self.iterations = 0
+        self.evaluations = 0
+        self.started = time.perf_counter()
+        self.budget = 0
+
+    # ------------------------------------------------------------------------ packing
+
+    @staticmethod
+    def _pack(lights: Lights) -> np.ndarray:
+        rows = np.concatenate([lights.positions / POSITION_UNIT, lights.colours,
+                               lights.intensities[:, None] / INTENSITY_UNIT], axis=1)
+        return np.concatenate([rows.ravel(), lights.ambient / AMBIENT_UNIT])
+
+    @staticmethod
+    def _rows(x: np.ndarray) -> np.ndarray:
+        """The lights' (J, 7) rows of a parameter vector (a view)."""
+        return x[:-3].reshape(-1, 7)
+
+    @classmethod
+    def _unpack(cls, x: np.ndarray) -> Lights:
+        rows = cls._rows(x)
+        return Lights(positions=rows[:, 0:3] * POSITION_UNIT, colours=rows[:, 3:6].copy(),
+                      intensities=rows[:, 6] * INTENSITY_UNIT, ambient=x[-3:] * AMBIENT_UNIT)
+
+    @staticmethod
+    def _mask(parameters: tuple[str, ...], count: int) -> np.ndarray:
+        columns = np.zeros(7, dtype=bool)
+        columns[0:3] = POSITION in parameters
+        columns[3:6] = COLOUR in parameters
+        columns[6] = INTENSITY in parameters
+        return np.concatenate([np.tile(columns, count), np.full(3, INTENSITY in parameters)])
+
+    def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:
+        low = np.concatenate([self.lower / POSITION_UNIT, np.zeros(3), [0.0]])
+        high = np.concatenate([self.upper / POSITION_UNIT, np.ones(3), [MAX_INTENSITY / INTENSITY_UNIT]])
+        return (np.concatenate([np.tile(low, count), np.zeros(3)]),
+                np.concatenate([np.tile(high, count), np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
+
+    # ---------------------------------------------------------------------- objective
+
+    def _evaluate(self, x: np.ndarray, visible: np.ndarray) -> tuple[float, float, np.ndarray]:
+        lights = self._unpack(x)
+        fit: Gradient = self.model.objective(lights, visible)
+        rows = np.concatenate([fit.positions * POSITION_UNIT, fit.colours,
+                               fit.intensities[:, None] * INTENSITY_UNIT], axis=1)
+        distance, nearest = self.surfaces.query(lights.positions)
+        distance = np.asarray(distance, dtype=np.float64)
+        short = np.maximum(0.0, 1.0 - distance / CLEARANCE)
+        penalty = CLEARANCE_WEIGHT * float(np.sum(short ** 2))
+        away = lights.positions - self.surfaces.data[nearest]
+        safe = np.where(distance > 0, distance, 1.0)[:, None]
+        rows[:, 0:3] += (-2.0 * CLEARANCE_WEIGHT * short / CLEARANCE)[:, None] * away / safe * POSITION_UNIT
+        self.evaluations += 1
+        return fit.value, penalty, np.concatenate([rows.ravel(), fit.ambient * AMBIENT_UNIT])
+
+    def _record(self, phase: int, algorithm: str, value: float, penalty: float) -> None:
+        self.curve.append(CurvePoint(phase=phase, algorithm=algorithm, iteration=self.iterations,
+                                     evaluations=self.evaluations, objective=value, penalty=penalty,
+                                     seconds=time.perf_counter() - self.started, rays=self.model.rays))
+        if self.progress is not None:
+            self.progress(self.iterations, self.budget)
+
+    def _refresh(self, x: np.ndarray, anchor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lights in solid / outside go back to their anchor; new visibility."""
+        blocked = ~self.is_open(self._unpack(x).positions)
+        if blocked.any():
+            x = x.copy()
+            self._rows(x)[blocked, 0:3] = anchor[blocked]
+        return x, self.model.visibility(self._unpack(x))
+
+    # ------------------------------------------------------------------------ phases
+
+    def fit(self, lights: Lights, phases: tuple[Phase, ...]) -> FitResult:
+        self.budget = sum(p.iterations for p in phases)
+        x = self._pack(lights)
+        visible = self.model.visibility(lights)
+        value, penalty, _ = self._evaluate(x, visible)
+        self._record(0, "start", value, penalty)
+        for number, phase in enumerate(phases, start=1):
+            run = self._adam if phase.algorithm == "adam" else self._lbfgs
+            x = run(number, phase, x)
+        final = self._unpack(x)
+        visible = self.model.visibility(final)
+        value, penalty, _ = self._evaluate(x, visible)
+        self._record(len(phases), "final", value, penalty)
+        return FitResult(lights=final, objective=value, curve=self.curve,
+                         seconds=time.perf_counter() - self.started, rays=self.model.rays,
+                         iterations=self.iterations)
+
+    def _adam(self, number: int, phase: Phase, x: np.ndarray) -> np.ndarray:
+        count = len(self._rows(x))
+        mask = self._mask(phase.parameters, count)
+        low, high = self._box(count)
+        first = np.zeros_like(x)
+        second = np.zeros_like(x)
+        anchor = self._rows(x)[:, 0:3].copy()
+        visible = None
+        for step in range(1, phase.iterations + 1):
+            if visible is None or (step - 1) % self.refresh == 0:
+                x, visible = self._refresh(x, anchor)
+                anchor = self._rows(x)[:, 0:3].copy()
+            value, penalty, grad = self._evaluate(x, visible)
+            grad = np.where(mask, grad, 0.0)
+            first = ADAM_BETAS[0] * first + (1 - ADAM_BETAS[0]) * grad
+            second = ADAM_BETAS[1] * second + (1 - ADAM_BETAS[1]) * grad * grad
+            corrected = (first / (1 - ADAM_BETAS[0] ** step)) / (np.sqrt(second / (1 - ADAM_BETAS[1] ** step)) + ADAM_EPSILON)
+            x = np.clip(x - phase.step * corrected, low, high)
+            self.iterations += 1
+            self._record(number, "adam", value, penalty)
+        return x
+
+    def _lbfgs(self, number: int, phase: Phase, x: np.ndarray) -> np.ndarray:
+        count = len(self._rows(x))
+        free = self._mask(phase.parameters, count)
+        low, high = self._box(count)
+        bounds = list(zip(low[free], high[free]))
+        anchor = self._rows(x)[:, 0:3].copy()
+        done = 0
+        while done < phase.iterations:
+            x, visible = self._refresh(x, anchor)
+            anchor = self._rows(x)[:, 0:3].copy()
+            last: dict[str, float] = {}
+
+            def objective(y: np.ndarray, visible: np.ndarray = visible, fixed: np.ndarray = x,
+                          last: dict[str, float] = last) -> tuple[float, np.ndarray]:
+                full = fixed.copy()
+                full[free] = y
+                value, penalty, grad = self._evaluate(full, visible)
+                last.update(value=value, penalty=penalty)
+                return value + penalty, grad[free]
+
+            def on_iteration(_: np.ndarray, last: dict[str, float] = last) -> None:
+                # L-BFGS-B reports the point its line search accepted, the last one evaluated
+                self.iterations += 1
+                self._record(number, "lbfgs", last["value"], last["penalty"])
+
+            limit = min(self.refresh, phase.iterations - done)
+            result = minimize(objective, x[free], jac=True, method="L-BFGS-B", bounds=bounds,
+                              callback=on_iteration, options={"maxiter": limit})
+            x = x.copy()
+            x[free] = result.x
+            done += max(int(result.nit), 1)
+            if result.nit < limit:  # converged for this visibility: the phase is done
+                break
+        return x

@@ -1,0 +1,217 @@
+"""The light rig file (JSON, Documentation~/lights.md §5) and a level's own light entities.
+
+A rig is a list of point lights in Unity metres and axes (the importer's mapping, scenes/coords.py),
+with a colour normalised to a largest component of 1 and an intensity in q3map2 `light` units
+(the falloff is q3map2's default point light, model.py), plus the level's ambient in lightmap
+bytes, so a recovered rig and a level's light entities (and worldspawn ambient) are directly
+comparable.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..core.atomic import write_text_atomic
+from ..scenes.coords import quake_to_unity, unity_to_quake
+from ..scenes.entities import light_entities, parse_vector
+from ..scenes.errors import BspError
+from .model import BYTE_MAX
+
+FORMAT = "lpnn-light-rig"
+VERSION = 1
+FALLOFF = "q3map2-point"  # 7500 * I * cos / max(r, 16 units)^2 bytes (model.py)
+DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light` / `light`
+SPAWNFLAG_LINEAR = 1
+
+
+class RigError(ValueError):
+    """A rig file cannot be used; the message names the file, the light and the value."""
+
+
+@dataclass
+class Rig:
+    positions: np.ndarray  # (J, 3) Unity metres
+    colours: np.ndarray  # (J, 3) largest component 1 (or all 0 for a black light)
+    intensities: np.ndarray  # (J,) q3map2 light units, >= 0
+    ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) lightmap bytes added everywhere
+    level: str = ""
+    bsp_sha256: str = ""
+    scheme: str = ""
+    objective: float | None = None
+    extra: dict[str, Any] = field(default_factory=dict)  # grid, iterations, timings: informative only
+
+    @property
+    def count(self) -> int:
+        return len(self.positions)
+
+    def quake_positions(self) -> np.ndarray:
+        return unity_to_quake(self.positions)
+
+    @classmethod
+    def from_quake(cls, positions: np.ndarray, colours: np.ndarray, intensities: np.ndarray, **info: Any) -> "Rig":
+        """Normalise colours to a largest component of 1, moving their scale into the intensity."""
+        colours = np.asarray(colours, dtype=np.float64)
+        peak = colours.max(axis=1) if len(colours) else np.zeros(0)
+        safe = np.where(peak > 0, peak, 1.0)
+        return cls(positions=quake_to_unity(positions), colours=np.where(peak[:, None] > 0, colours / safe[:, None], 1.0),
+                   intensities=np.asarray(intensities, dtype=np.float64) * np.where(peak > 0, peak, 0.0), **info)
+
+
+def write_rig(path: Path, rig: Rig) -> Path:
+    validate_rig(rig, str(path))
+    document = {
+        "format": FORMAT,
+        "version": VERSION,
+        "level": rig.level,
+        "bsp_sha256": rig.bsp_sha256,
+        "units": {"position": "m, Unity axes", "intensity": "q3map2 light"},
+        "falloff": FALLOFF,
+        "scheme": rig.scheme,
+        "objective": rig.objective,
+        "ambient": [round(float(v), 4) for v in rig.ambient],
+        "lights": [{"position": [round(float(v), 6) for v in p], "color": [round(float(v), 6) for v in c],
+                    "intensity": round(float(i), 4)}
+                   for p, c, i in zip(rig.positions, rig.colours, rig.intensities)],
+        "info": rig.extra,
+    }
+    return write_text_atomic(path, json.dumps(document, indent=1, allow_nan=False) + "\n")
+
+
+def read_rig(path: Path) -> Rig:
+    where = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RigError(f"{where}: cannot read the rig: {exc}") from exc
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise RigError(f"{where}: not JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from exc
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise RigError(f"{where}: not a light rig (its 'format' must be {FORMAT!r}); write one with lpnn scene lights")
+    if document.get("version") != VERSION:
+        raise RigError(f"{where}: rig version {document.get('version')!r} is not supported (this lpnn reads {VERSION})")
+    lights = document.get("lights")
+    if not isinstance(lights, list) or not lights:
+        raise RigError(f"{where}: 'lights' must be a non-empty list of lights")
+    positions, colours, intensities = [], [], []
+    for index, light in enumerate(lights):
+        if not isinstance(light, dict):
+            raise RigError(f"{where}: light {index} is not an object with position, color and intensity")
+        positions.append(_numbers(light.get("position"), 3, f"{where}: light {index}: 'position'"))
+        colours.append(_numbers(light.get("color"), 3, f"{where}: light {index}: 'color'"))
+        intensities.append(_numbers([light.get("intensity")], 1, f"{where}: light {index}: 'intensity'")[0])
+    objective = document.get("objective")
+    ambient = _numbers(document.get("ambient"), 3, f"{where}: 'ambient'")
+    rig = Rig(positions=np.array(positions), colours=np.array(colours), intensities=np.array(intensities),
+              ambient=np.array(ambient),
+              level=str(document.get("level", "")), bsp_sha256=str(document.get("bsp_sha256", "")),
+              scheme=str(document.get("scheme", "")),
+              objective=float(objective) if isinstance(objective, (int, float)) else None,
+              extra=document.get("info") if isinstance(document.get("info"), dict) else {})
+    validate_rig(rig, where)
+    return rig
+
+
+def validate_rig(rig: Rig, where: str) -> None:
+    if rig.ambient.shape != (3,) or not np.isfinite(rig.ambient).all() or (rig.ambient < 0).any() \
+            or (rig.ambient > BYTE_MAX).any():
+        raise RigError(f"{where}: ambient {rig.ambient.tolist()} must be 3 numbers in [0, 255] (lightmap bytes)")
+    for index in range(rig.count):
+        intensity = float(rig.intensities[index])
+        if not math.isfinite(intensity) or intensity < 0:
+            raise RigError(f"{where}: light {index}: intensity {intensity!r} must be a finite number >= 0 "
+                           f"(q3map2 light units; a negative, NaN or infinite light is not a point light)")
+        colour = rig.colours[index]
+        if not np.isfinite(colour).all() or (colour < 0).any() or (colour > 1 + 1e-9).any():
+            raise RigError(f"{where}: light {index}: color {colour.tolist()} must be 3 numbers in [0, 1]")
+        if not np.isfinite(rig.positions[index]).all():
+            raise RigError(f"{where}: light {index}: position {rig.positions[index].tolist()} is not finite")
+
+
+def _numbers(value: Any, count: int, what: str) -> list[float]:
+    if not isinstance(value, list) or len(value) != count or \
+            not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+        raise RigError(f"{what} = {value!r} is not {count} number(s)")
+    return [float(v) for v in value]
+
+
+@dataclass(frozen=True)
+class EntityLights:
+    rig: Rig  # point lights (the ones a point-light rig can match)
+    linear: np.ndarray  # (J,) bool: spawnflags 1 (linear falloff)
+    skipped: dict[str, int]  # reason -> light entities left out
+
+
+def entity_lights(entities: list[dict[str, str]], level_name: str) -> EntityLights:
+    """The level's light entities as q3map2 reads them (quake3-bsp.md §5): origin, `_light` then
+    `light` (300 when missing or 0) x `scale`, `_color` normalised to max 1. Suns and negative
+    (subtractive) lights are left out and counted; spotlights are kept as point lights."""
+    positions, colours, intensities, linear = [], [], [], []
+    skipped = {"sun": 0, "negative or zero": 0, "no origin": 0, "grid only (lightJunior)": 0}
+    for number, entity in enumerate(light_entities(entities)):
+        what = f"{level_name}: light entity {number}"
+        reason = _not_a_lightmap_point_light(entity)
+        if reason is not None:
+            skipped[reason] += 1
+            continue
+        if "origin" not in entity:
+            skipped["no origin"] += 1
+            continue
+        origin = parse_vector(entity["origin"], 3, f"{what}: key 'origin'")
+        intensity = _float(entity.get("_light", entity.get("light", "0")), f"{what}: key '_light'")
+        if intensity == 0:
+            intensity = DEFAULT_ENTITY_INTENSITY
+        intensity *= _float(entity.get("scale", "1"), f"{what}: key 'scale'")
+        if intensity <= 0:
+            skipped["negative or zero"] += 1
+            continue
+        colour = np.array(parse_vector(entity["_color"], 3, f"{what}: key '_color'")) if "_color" in entity else np.ones(3)
+        if colour.max() <= 0:
+            colour = np.ones(3)
+        positions.append(origin)
+        colours.append(colour / colour.max())
+        intensities.append(intensity)
+        linear.append(int(_float(entity.get("spawnflags", "0"), f"{what}: key 'spawnflags'")) & SPAWNFLAG_LINEAR != 0)
+    rig = Rig.from_quake(np.array(positions).reshape(-1, 3), np.array(colours).reshape(-1, 3),
+                         np.array(intensities), ambient=worldspawn_ambient(entities, level_name),
+                         level=level_name, scheme="light entities")
+    return EntityLights(rig=rig, linear=np.array(linear, dtype=bool), skipped=skipped)
+
+
+def worldspawn_ambient(entities: list[dict[str, str]], level_name: str) -> np.ndarray:
+    """q3map2's ambient (bytes every luxel starts at, light.c LightWorld): worldspawn `_ambient`, or
+    `ambient` when that is 0, times `_color` as given (white when absent or zero), clamped to [0, 255]."""
+    world = entities[0] if entities else {}
+    value = _float(world.get("_ambient", "0"), f"{level_name}: worldspawn key '_ambient'")
+    if value == 0:
+        value = _float(world.get("ambient", "0"), f"{level_name}: worldspawn key 'ambient'")
+    colour = np.array(parse_vector(world["_color"], 3, f"{level_name}: worldspawn key '_color'")) \
+        if "_color" in world else np.ones(3)
+    if not np.any(colour):
+        colour = np.ones(3)
+    return np.clip(value * colour, 0.0, BYTE_MAX)
+
+
+def _not_a_lightmap_point_light(entity: dict[str, str]) -> str | None:
+    if entity.get("classname", "").lower() == "lightjunior":  # lights the grid only, not the lightmaps
+        return "grid only (lightJunior)"
+    if entity.get("_sun", "0") not in ("", "0"):
+        return "sun"
+    return None
+
+
+def _float(text: str, what: str) -> float:
+    try:
+        value = float(text.split()[0]) if text.split() else 0.0
+    except ValueError as exc:
+        raise BspError(f"{what}: {text!r} is not a number") from exc
+    if not math.isfinite(value):
+        raise BspError(f"{what}: {text!r} is not finite")
+    return value

@@ -1,0 +1,54 @@
+"""Rig-vs-rig figures and the light grid re-lit from a rig, on hand-computed cases."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lpnn.lights.compare import GridNodes, compare_grid, compare_rigs, relight_grid, shade
+from lpnn.lights.rig import Rig
+from lpnn.scenes.coords import METRES_PER_UNIT
+
+
+def rig(quake_positions: list[list[float]], intensities: list[float]) -> Rig:
+    positions = np.array(quake_positions, dtype=float).reshape(-1, 3)
+    return Rig.from_quake(positions, np.ones_like(positions), np.array(intensities, dtype=float))
+
+
+def test_rig_comparison_by_hand() -> None:
+    metre = 1.0 / METRES_PER_UNIT  # Quake units
+    real = rig([[0, 0, 0], [1000, 0, 0]], [300, 100])
+    recovered = rig([[0.5 * metre, 0, 0], [1000 + 3 * metre, 0, 0], [5000, 0, 0]], [200, 100, 1])
+    c = compare_rigs(recovered, real)
+    assert c.matched_share == pytest.approx(0.75)  # the 300 light is matched at 0.5 m; the 100 one is 3 m off
+    assert c.real_to_recovered == pytest.approx((300 * 0.5 + 100 * 3) / 400)
+    # the third light (1 of 301) is below the 1 % share: it cannot match, but it pays in the reverse distance
+    far = np.linalg.norm((5000 - 1000) * METRES_PER_UNIT)
+    assert c.recovered_to_real == pytest.approx((200 * 0.5 + 100 * 3 + 1 * far) / 301)
+    with pytest.raises(ValueError, match="at least one light"):
+        compare_rigs(rig([], []), real)
+
+
+def test_relit_grid_of_one_light_by_hand() -> None:
+    node = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 5000.0]])
+    one = rig([[0, 0, 100]], [300])
+    one.ambient = np.array([4.0, 5.0, 6.0])
+    relit = relight_grid(node, one, raycaster=None)
+    value = 7500 * 300 / 100 ** 2  # 225 bytes, straight up
+    np.testing.assert_allclose(relit.direction[0], [0, 0, 1])
+    np.testing.assert_allclose(relit.directed[0], value)
+    np.testing.assert_allclose(relit.ambient[0], 0.125 * value + one.ambient)  # 0.25 (1 - 1) c + 0.125 D + ambient
+    np.testing.assert_allclose(relit.directed[1], 0.0)  # 4900 units away: 0.094 byte, dropped by q3map2
+    np.testing.assert_allclose(relit.ambient[1], one.ambient)
+    bright = relight_grid(node[:1], rig([[0, 0, 20]], [300]), raycaster=None)
+    np.testing.assert_allclose(bright.directed[0], 255.0)  # 5625 bytes clamped, hue kept
+
+
+def test_grid_comparison_is_zero_for_the_same_grid_and_scales() -> None:
+    stored = GridNodes(positions=np.zeros((2, 3)), ambient=np.array([[10.0, 20, 30], [5, 5, 5]]),
+                       directed=np.array([[50.0, 50, 50], [0, 0, 0]]), direction=np.array([[0, 0, 1.0], [1, 0, 0]]))
+    same = compare_grid(stored, stored)
+    assert same.mean_error == 0.0 and same.plain_relative == 0.0
+    half = GridNodes(stored.positions, stored.ambient / 2, stored.directed / 2, stored.direction)
+    assert compare_grid(stored, half).plain_relative == pytest.approx(0.5)
+    assert shade(stored)[0, 4 * 3 + 2] == pytest.approx(30 + 50)  # +z is D14 direction 4; blue

@@ -1,0 +1,55 @@
+"""The inverse problem end to end on the analytic room: known lights -> target -> fitted rig."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lpnn.lights.model import ForwardModel
+from lpnn.lights.optimise import ALL, SCHEMES, Fitter, Phase, initial_grid, initial_intensity
+from synthetic_room import ROOM_SIDE, TRUE_LIGHTS, inside_room, lit_room
+
+BOUNDS = (np.full(3, 1.0), np.full(3, ROOM_SIDE - 1.0))
+GRID = (2, 2, 2)
+
+
+@pytest.fixture(scope="module")
+def room() -> ForwardModel:
+    return lit_room(TRUE_LIGHTS)[0]
+
+
+def fit(room: ForwardModel, phases: tuple[Phase, ...]):
+    start = initial_grid(BOUNDS[0], BOUNDS[1], GRID, inside_room)
+    return Fitter(room, BOUNDS, inside_room, room.points).fit(initial_intensity(room, start), phases)
+
+
+def test_initial_grid_is_in_open_space_only() -> None:
+    grid = initial_grid(BOUNDS[0], BOUNDS[1], (5, 5, 5), inside_room)
+    assert len(grid) == 125 - 3  # the centre column (x = y = 128) at z = 26, 77 and 128 is in the pillar
+    assert inside_room(grid).all()
+
+
+def test_lbfgs_recovers_the_lights(room: ForwardModel) -> None:
+    result = fit(room, SCHEMES["lbfgs"])
+    power = result.lights.intensities * result.lights.colours.max(axis=1)
+    strongest = np.argsort(-power)[:2]
+    for true_position, true_colour, true_intensity in zip(TRUE_LIGHTS.positions, TRUE_LIGHTS.colours,
+                                                          TRUE_LIGHTS.intensities):
+        match = strongest[np.argmin(np.linalg.norm(result.lights.positions[strongest] - true_position, axis=1))]
+        assert np.linalg.norm(result.lights.positions[match] - true_position) < 2.0  # Quake units (5 cm)
+        emitted = result.lights.colours[match] * result.lights.intensities[match]
+        np.testing.assert_allclose(emitted, true_colour * true_intensity, rtol=0.02)
+    assert power.sum() - power[strongest].sum() < 0.01 * power.sum()  # the spare lights went dark
+    np.testing.assert_allclose(result.lights.ambient, TRUE_LIGHTS.ambient, atol=0.2)  # bytes
+    assert result.objective < 1e-4
+    assert inside_room(result.lights.positions).all()
+    objectives = [point.objective for point in result.curve]
+    assert objectives[-1] < 1e-3 * objectives[0]
+
+
+def test_the_fit_is_deterministic(room: ForwardModel) -> None:
+    phases = (Phase("adam", ALL, 0.1, 12), Phase("lbfgs", ALL, 1.0, 12))
+    first, second = fit(room, phases), fit(room, phases)
+    np.testing.assert_array_equal(first.lights.positions, second.lights.positions)
+    np.testing.assert_array_equal(first.lights.intensities, second.lights.intensities)
+    assert [p.objective for p in first.curve] == [p.objective for p in second.curve]

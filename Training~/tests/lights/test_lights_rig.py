@@ -1,0 +1,92 @@
+"""The rig file: round trip, validation of hostile files, and a level's light entities as q3map2 reads them."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lpnn.lights.rig import Rig, RigError, entity_lights, read_rig, write_rig
+from lpnn.scenes.coords import quake_to_unity
+from lpnn.scenes.entities import parse_entities
+
+
+def sample_rig() -> Rig:
+    return Rig.from_quake(np.array([[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]]), np.array([[0.5, 0.25, 0.0], [1.0, 1.0, 1.0]]),
+                          np.array([300.0, 50.0]), ambient=np.array([4.0, 5.0, 6.0]), level="room", bsp_sha256="ab" * 32, scheme="mixed", objective=0.0125)
+
+
+def test_round_trip_normalises_colour_and_converts_to_unity_metres(tmp_path: Path) -> None:
+    rig = sample_rig()
+    np.testing.assert_allclose(rig.colours[0], [1.0, 0.5, 0.0])  # largest component 1 ...
+    assert rig.intensities[0] == pytest.approx(150.0)  # ... its scale moved into the intensity
+    path = write_rig(tmp_path / "rig.json", rig)
+    back = read_rig(path)
+    np.testing.assert_allclose(back.positions, quake_to_unity(np.array([[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]])), atol=1e-6)
+    np.testing.assert_allclose(back.quake_positions(), [[64.0, 32.0, 128.0], [0.0, -40.0, 8.0]], atol=1e-4)
+    np.testing.assert_allclose(back.intensities, [150.0, 50.0])
+    np.testing.assert_allclose(back.ambient, [4.0, 5.0, 6.0])
+    assert (back.level, back.scheme, back.objective, back.bsp_sha256) == ("room", "mixed", 0.0125, "ab" * 32)
+    document = json.loads(path.read_text())
+    assert document["format"] == "lpnn-light-rig" and document["falloff"] == "q3map2-point"
+
+
+def edited(tmp_path: Path, change) -> Path:
+    path = write_rig(tmp_path / "rig.json", sample_rig())
+    document = json.loads(path.read_text())
+    change(document)
+    path.write_text(json.dumps(document))
+    return path
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["lights"][1].update(intensity=-5.0), r"light 1: intensity -5\.0 must be a finite number >= 0"),
+    (lambda d: d["lights"][0].update(intensity=float("nan")), r"light 0: intensity nan must be a finite number"),
+    (lambda d: d["lights"][0].update(color=[1.0, 2.0, 0.0]), r"light 0: color \[1\.0, 2\.0, 0\.0\] must be 3 numbers in \[0, 1\]"),
+    (lambda d: d["lights"][0].update(position=[1.0, "x", 0.0]), r"light 0: 'position' = \[1\.0, 'x', 0\.0\] is not 3 number"),
+    (lambda d: d["lights"][0].pop("intensity"), r"light 0: 'intensity' = \[None\] is not 1 number"),
+    (lambda d: d.update(lights=[]), r"'lights' must be a non-empty list"),
+    (lambda d: d.update(ambient=[1.0, -2.0, 0.0]), r"ambient \[1\.0, -2\.0, 0\.0\] must be 3 numbers in \[0, 255\]"),
+    (lambda d: d.pop("ambient"), r"'ambient' = None is not 3 number"),
+    (lambda d: d.update(format="something"), r"not a light rig"),
+    (lambda d: d.update(version=9), r"rig version 9 is not supported"),
+], ids=["negative", "nan", "colour", "position", "missing", "empty", "negative ambient", "no ambient", "format",
+        "version"])
+def test_hostile_rig_files_are_rejected_with_the_value(tmp_path: Path, change, message: str) -> None:
+    with pytest.raises(RigError, match=message):
+        read_rig(edited(tmp_path, change))
+
+
+def test_unreadable_rig_files(tmp_path: Path) -> None:
+    (tmp_path / "bad.json").write_text("{ not json")
+    with pytest.raises(RigError, match=r"bad\.json: not JSON"):
+        read_rig(tmp_path / "bad.json")
+    with pytest.raises(RigError, match=r"absent\.json: cannot read the rig"):
+        read_rig(tmp_path / "absent.json")
+
+
+def test_writing_an_invalid_rig_is_refused_and_leaves_no_file(tmp_path: Path) -> None:
+    rig = sample_rig()
+    rig.intensities[0] = np.nan
+    with pytest.raises(RigError, match="intensity nan"):
+        write_rig(tmp_path / "rig.json", rig)
+    assert not (tmp_path / "rig.json").exists()
+
+
+def test_light_entities_as_q3map2_reads_them() -> None:
+    text = ('{\n"classname" "worldspawn"\n"_ambient" "0"\n"ambient" "20"\n"_color" "1 0.5 0"\n}\n'
+            '{\n"classname" "light"\n"origin" "10 20 30"\n}\n'  # no intensity: 300
+            '{\n"classname" "light"\n"origin" "0 0 64"\n"_light" "200"\n"light" "999"\n"scale" "1.5"\n"_color" "0.5 0.25 0"\n"spawnflags" "1"\n}\n'
+            '{\n"classname" "light"\n"origin" "0 0 0"\n"light" "-100"\n}\n'  # subtractive
+            '{\n"classname" "light"\n"origin" "0 0 0"\n"_sun" "1"\n"target" "t"\n}\n'
+            '{\n"classname" "lightJunior"\n"origin" "5 5 5"\n"light" "100"\n}\n'
+            '{\n"classname" "light"\n"origin" "1 2 3"\n"light" "0"\n"scale" "-1"\n}\n')
+    found = entity_lights(parse_entities(text, "t.bsp"), "t")
+    np.testing.assert_allclose(found.rig.intensities, [300.0, 300.0])  # _light first, x scale
+    np.testing.assert_allclose(found.rig.colours[1], [1.0, 0.5, 0.0])
+    np.testing.assert_allclose(found.rig.quake_positions()[0], [10, 20, 30], atol=1e-9)
+    assert found.linear.tolist() == [False, True]
+    np.testing.assert_allclose(found.rig.ambient, [20, 10, 0])  # `ambient` as `_ambient` is 0, x _color
+    assert found.skipped == {"sun": 1, "negative or zero": 2, "no origin": 0, "grid only (lightJunior)": 1}
