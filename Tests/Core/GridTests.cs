@@ -238,6 +238,22 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void FromIdsNamesABadCellSizeWithADotUnderAnyCulture()
+        {
+            var culture = System.Threading.Thread.CurrentThread.CurrentCulture;
+            System.Threading.Thread.CurrentThread.CurrentCulture = new CultureInfo("el-GR");
+            try
+            {
+                var error = Assert.Throws<GridException>(() => EvaluationGrid.FromIds(-0.5, new[] { new LatticeId(0, 0, 0) }));
+                StringAssert.StartsWith("cell size -0.5 must", error.Message);
+            }
+            finally
+            {
+                System.Threading.Thread.CurrentThread.CurrentCulture = culture;
+            }
+        }
+
+        [Test]
         public void FromIdsRequiresStrictGridOrderAndSubsetKeepsIt()
         {
             var ids = new[] { new LatticeId(0, 0, 0), new LatticeId(1, 0, 0), new LatticeId(0, 1, 0) };
