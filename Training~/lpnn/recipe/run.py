@@ -4,7 +4,6 @@ with the same options resumes where it stopped (and a rerun from scratch gives t
 from __future__ import annotations
 
 import json
-import multiprocessing
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -13,6 +12,7 @@ from typing import Any, Callable, Iterable, Sequence
 from ..cli.errors import UserError
 from ..core.atomic import write_text_atomic
 from ..core.capture import Capture, read_capture, write_capture
+from ..core.processes import worker_pool
 from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member
 from .config import RecipeConfig
@@ -139,8 +139,7 @@ def _parallel(function: Callable, tasks: Sequence, workers: int) -> Iterable:
     if workers <= 1 or len(tasks) <= 1:
         yield from map(function, tasks)
         return
-    # fork keeps start-up cheap; nothing heavy (TensorFlow) is imported before these steps
-    with multiprocessing.get_context("fork").Pool(workers) as pool:
+    with worker_pool(workers) as pool:
         yield from pool.imap_unordered(function, tasks)
 
 
