@@ -25,7 +25,6 @@ from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placemen
 from ..quality.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.reference_fast import fast_decimation
 
-DEMO_LEVEL = "oa_dm1"
 Log = Callable[[str], None]
 
 
