@@ -4,7 +4,9 @@
 (onnxruntime, TensorFlow, OpenMP in numpy's BLAS) can leave the child holding a lock no thread will
 ever release; Python 3.12 warns when it happens and 3.14 no longer forks by default on Linux. `spawn`
 starts a fresh interpreter instead: each worker imports what its task needs once, and everything
-handed to it must pickle.
+handed to it must pickle. A script of yours that calls the recipe or the two-process fast reference must
+keep its top-level code under `if __name__ == "__main__":` (Python's rule for spawn: each worker imports
+the main script again); the `lpnn` command already does.
 """
 
 from __future__ import annotations
