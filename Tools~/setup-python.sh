@@ -10,12 +10,29 @@ PY=$(command -v python3.11 || command -v python3)
 lock="$TRAINING_DIR/requirements.lock"
 hash=$(sha256sum "$lock" | cut -c1-12)
 venv="${LPNN_VENV:-$LPNN_CACHE/venv-$hash}"
-if [ ! -f "$venv/.lpnn-ready" ]; then
-  log "creating Python environment $venv (TensorFlow is ~1.7 GB; done once per requirements change)"
-  rm -rf "$venv"
-  mkdir -p "$(dirname "$venv")"
-  "$PY" -m venv "$venv"
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$lock"
-  touch "$venv/.lpnn-ready"
+ready="$venv/.lpnn-ready"        # written last: the environment is complete
+ours="$venv/.lpnn-created-here" # written first: this script made the folder, so it may remove a half-built one
+if [ ! -f "$ready" ]; then
+  # One creator at a time: `make demo` and `make test` started together must not both rebuild the same venv.
+  mkdir -p "$LPNN_CACHE"
+  if command -v flock >/dev/null 2>&1; then
+    exec 9>"$LPNN_CACHE/setup-python.lock"
+    flock -n 9 || { log "waiting for another setup of the Python environment to finish"; flock 9; }
+  else
+    log "no flock on this machine: do not start two setups of the Python environment at once"
+  fi
+  if [ ! -f "$ready" ]; then
+    if [ -e "$venv" ] && [ ! -f "$ours" ]; then
+      die "$venv exists but was not created by this script (no $(basename "$ready")); it is left untouched. \
+Point LPNN_VENV at a new folder, or remove $venv yourself if it is a broken copy of ours"
+    fi
+    log "creating Python environment $venv (TensorFlow is ~1.7 GB; done once per requirements change)"
+    rm -rf "$venv"  # only a half-built environment of ours reaches here
+    mkdir -p "$venv"
+    touch "$ours"
+    "$PY" -m venv "$venv"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$lock"
+    touch "$ready"
+  fi
 fi
 echo "$venv/bin/python"

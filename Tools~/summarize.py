@@ -12,11 +12,16 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 
+NUNIT2_FAILED = {"Failure", "Error", "NotRunnable", "Cancelled"}
+
+
 def nunit2(root: ET.Element) -> tuple[int, int, int]:
-    total = int(root.get("total", 0))
-    failed = int(root.get("errors", 0)) + int(root.get("failures", 0)) + int(root.get("invalid", 0))
-    skipped = int(root.get("not-run", 0))
-    return total - failed - skipped if total >= failed + skipped else 0, failed, skipped
+    """Counted from the test cases themselves: the summary's `total` counts only executed tests (inconclusive
+    ones among them) while `not-run` counts ignored and invalid ones too, so no sum of its attributes is right."""
+    cases = list(root.iter("test-case"))
+    passed = sum(1 for c in cases if c.get("executed") == "True" and c.get("result") == "Success")
+    failed = sum(1 for c in cases if c.get("result") in NUNIT2_FAILED)
+    return passed, failed, len(cases) - passed - failed  # skipped: ignored, skipped, inconclusive
 
 
 def junit(root: ET.Element) -> tuple[int, int, int]:

@@ -213,10 +213,12 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
-        public void LatticeIdsBeyondTwoToTheThirtyAreRefused()
+        public void LatticeIdsBeyondTwoToTheTwentyThreeAreRefused()
         {
-            var error = Assert.Throws<GridException>(() => GridBuilder.Build(new[] { Box(1e6, 0, 0, 1e6 + 1e-3, 1e-3, 1e-3) }, 1e-4));
-            StringAssert.Contains("±2^30", error.Message);
+            // 1e6 / 0.1 = 1e7 cells from the origin: beyond 2^23, float32 positions of neighbours may coincide.
+            var error = Assert.Throws<GridException>(() => GridBuilder.Build(new[] { Box(1e6, 0, 0, 1e6 + 0.2, 0.1, 0.1) }, 0.1));
+            StringAssert.Contains("±2^23", error.Message);
+            StringAssert.Contains("float32", error.Message);
         }
 
         [Test]
@@ -235,6 +237,22 @@ namespace Lpnn.Probes.Core.Tests
         {
             Assert.That(GridBuilder.Build(new[] { Box(0, 0, 0, 0.01, 0.01, 0.01) }, 1e-3).Count, Is.EqualTo(11 * 11 * 11));
             Assert.That(GridBuilder.Build(new[] { Box(0, 0, 0, 1, 1, 1) }, 1e6).Count, Is.EqualTo(1));
+        }
+
+        [Test]
+        public void FromIdsNamesABadCellSizeWithADotUnderAnyCulture()
+        {
+            var culture = System.Threading.Thread.CurrentThread.CurrentCulture;
+            System.Threading.Thread.CurrentThread.CurrentCulture = new CultureInfo("el-GR");
+            try
+            {
+                var error = Assert.Throws<GridException>(() => EvaluationGrid.FromIds(-0.5, new[] { new LatticeId(0, 0, 0) }));
+                StringAssert.StartsWith("cell size -0.5 must", error.Message);
+            }
+            finally
+            {
+                System.Threading.Thread.CurrentThread.CurrentCulture = culture;
+            }
         }
 
         [Test]

@@ -1,3 +1,5 @@
+using System;
+using System.Collections.Generic;
 using System.Globalization;
 using System.Threading;
 using Lpnn.Probes.Core.Json;
@@ -22,6 +24,16 @@ namespace Lpnn.Probes.Core.Tests
 
         [TearDown]
         public void RestoreCulture() => Thread.CurrentThread.CurrentCulture = _culture;
+
+        [Test]
+        public void MedianTakesTheMiddleOrTheMeanOfTheTwoMiddleValuesAndKeepsItsInput()
+        {
+            var odd = new[] { 3.0, -1.0, 2.0 };
+            Assert.That(Statistics.Median(odd), Is.EqualTo(2.0));
+            Assert.That(odd, Is.EqualTo(new[] { 3.0, -1.0, 2.0 }));
+            Assert.That(Statistics.Median(new List<double> { 4.0, 1.0, 3.0, 2.0 }), Is.EqualTo(2.5));
+            Assert.Throws<ArgumentException>(() => Statistics.Median(new double[0]));
+        }
 
         [Test]
         public void NumbersAreWrittenWithADotAndParsedBackExactly()

@@ -68,6 +68,21 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void AOneCellTetrahedronOfAVolumeOneHundredThousandCellsLongIsNotFlat()
+        {
+            // Local frame of extent 1: the probes' tetrahedron has 6 × volume 1e-15, below the old absolute 1e-14.
+            var positions = new[]
+            {
+                new Vector3(0, 0, 0), new Vector3(1, 0, 0), new Vector3(0, 1, 0), new Vector3(0, 0, 1),
+                new Vector3(0.2f, 0.2f, 0.2f), new Vector3(100000, 0, 0),
+            };
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.LinearField(positions, Vector3.Zero));
+            var result = PlacementError.Evaluate(reference, new[] { 0, 1, 2, 3 }, new[] { 0, 1, 2, 3 });
+            Assert.That(result.OutsidePoints, Is.EqualTo(1));
+            Assert.That(result.PointIrradiance[4], Is.LessThan(1e-6)); // interpolated inside (float32 SH: ~3e-8)
+        }
+
+        [Test]
         public void ALinearFieldIsReproducedExactlyInsideTheHull()
         {
             var grid = QualityFixtures.Box(7, 7, 7, 0.5);

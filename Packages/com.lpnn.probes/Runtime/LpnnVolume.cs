@@ -167,7 +167,6 @@ namespace Lpnn.Probes
         public void SetBackend(ScoringBackendPreference preference) => backend = preference;
         public void SetScoringPointLimit(int limit) => scoringPointLimit = Mathf.Max(1, limit);
         public void SetGroundTruth(LightProbeGroup group) => groundTruthGroup = group;
-        public void SetDatasetFolder(string folder) => datasetFolder = folder ?? "";
 
         private void OnValidate()
         {

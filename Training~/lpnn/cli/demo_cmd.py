@@ -17,7 +17,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..demo.run import DEMO_LEVEL
+    from ..demo import DEMO_LEVEL
     from ..quality.arguments import DEFAULT_TOLERANCE, tolerance
 
     parser = subparsers.add_parser("demo", help="place probes on a held-out level and compare (the README's main job)",

@@ -13,12 +13,12 @@ import pkgutil
 import sys
 
 from .. import __version__
+from ..core.atomic import OutputPathError
 from ..core.capture import CaptureError
 from .errors import UserError
 
 EXIT_OK = 0
 EXIT_FAILED = 1
-EXIT_USAGE = 2
 EXIT_CANCELLED = 130
 
 
@@ -40,8 +40,15 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         result = args.handler(args)
-    except (UserError, CaptureError) as exc:
+    except (UserError, CaptureError, OutputPathError) as exc:
         print(f"lpnn {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    except OSError as exc:
+        # A file-system failure no command anticipated (a folder it creates, a file it reads): the path
+        # and the system's reason, not a traceback.
+        where = f" ({exc.filename})" if exc.filename else ""
+        print(f"lpnn {args.command}: error: {exc.strerror or exc}{where}; check the path and its permissions",
+              file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt:
         print(f"lpnn {args.command}: cancelled; nothing partial was written", file=sys.stderr)

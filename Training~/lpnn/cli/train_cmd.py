@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -30,6 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..train.baselines import baselines
     from ..train.checkpoint import default_checkpoint_path
     from ..train.config import TrainConfig, config_from_dict, load_config
     from ..train.diagnostics import is_settled
@@ -51,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
           f"{result.epochs_run}{' (early stop)' if result.stopped_early else ''}, {result.seconds:.1f} s")
     print("validation: " + ", ".join(f"{k} {validation[k]:.4f}" for k in ("roc_auc", "pr_auc", "roc_auc_mean", "pr_auc_mean")
                                      if isinstance(validation.get(k), float)))
+    print(_yardsticks(validation.get("roc_auc"), baselines(result.split.train, result.split.validation, config.seed)))
     batchnorm = card.training["batchnorm_check"]
     print(f"BatchNorm running stats vs data: max mean shift {batchnorm['max_mean_shift']:.3f} std, "
           f"max |log variance ratio| {batchnorm['max_abs_log_variance_ratio']:.3f}"
@@ -60,3 +63,17 @@ def run(args: argparse.Namespace) -> int:
         print(f"note: {note}")
     print(f"wrote {run_info.model_path}, {card_path(run_info.model_path)}, {run_info.checkpoint_path}")
     return 0
+
+
+MARGIN_OVER_BASELINES = 0.01  # ROC-AUC the network should gain over the simple rules to be worth its cost
+
+
+def _yardsticks(network: object, base: Any) -> str:
+    """One line: the network's validation ROC-AUC beside the best single feature's and a logistic regression's."""
+    line = (f"yardsticks on the validation points (ROC-AUC): network {network:.4f}; best single feature "
+            f"{base.feature} ({'higher' if base.feature_sign > 0 else 'lower'} = needs a probe) "
+            f"{base.feature_roc_auc:.4f}; logistic regression on the features {base.logistic_roc_auc:.4f}"
+            if isinstance(network, float) else "yardsticks: no validation ROC-AUC (a validation set with one class)")
+    if isinstance(network, float) and network < max(base.feature_roc_auc, base.logistic_roc_auc) + MARGIN_OVER_BASELINES:
+        line += " -- the network does not beat these simple rules: more or more varied training captures may help"
+    return line

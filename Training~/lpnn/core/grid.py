@@ -20,6 +20,9 @@ import numpy as np
 DEFAULT_POINT_LIMIT = 2_000_000
 ROWS_PER_POINT_LIMIT = 4  # the candidate-row bound is 4 x point limit (grid.md "Limits")
 ID_BOUND = 2**30  # |i|, |j|, |k| <= 2^30 so neighbour offsets never overflow int32
+# A built grid stays within +-2^23 cells of the origin: positions h*id are float32, whose spacing at h*2^23
+# is at most h, so up to there neighbouring points keep distinct positions (beyond, they may round to one).
+BUILD_ID_BOUND = 2**23
 CELL_TOLERANCE = 1e-9  # "exactly touching" tolerance, relative to one cell
 SIGNIFICANT_DIGITS = 3  # cell-size suggestions
 FITTING_STEPS = 400  # at most this many third-digit steps up, then down, when suggesting a cell size
@@ -130,7 +133,7 @@ def _validate_boxes(boxes: Iterable[Box]) -> list[Box]:
 
 
 def _box_range(box: Box, h: float, number: int) -> _BoxRange:
-    """Lattice range [ceil(lo/h - 1e-9), floor(hi/h + 1e-9)] per axis, guarding the +-2^30 id bound."""
+    """Lattice range [ceil(lo/h - 1e-9), floor(hi/h + 1e-9)] per axis, guarding the +-2^23 build bound."""
     u, v, w = np.abs(box.half_edges)
     reach = u + v + w + h / 2.0  # |u_a| + |v_a| + |w_a| + h/2
     lo = box.center - reach
@@ -139,12 +142,12 @@ def _box_range(box: Box, h: float, number: int) -> _BoxRange:
     last = np.floor(hi / h + CELL_TOLERANCE)
     for axis in range(3):
         for bound, index in ((lo[axis], first[axis]), (hi[axis], last[axis])):
-            if not (math.isfinite(index) and abs(index) <= ID_BOUND):
+            if not (math.isfinite(index) and abs(index) <= BUILD_ID_BOUND):
                 raise GridError(
                     f"cell size {h:g} is too small for box {number}: its bound {'xyz'[axis]} = {bound:g} is lattice "
-                    f"index {index:g}, beyond the limit of +-2^30 ({ID_BOUND:,}) cells from the origin; use a cell "
-                    f"size of at least {round_up_significant(abs(bound) / ID_BOUND):.3g} or move the box closer to "
-                    "the origin"
+                    f"index {index:g}, beyond the limit of +-2^23 ({BUILD_ID_BOUND:,}) cells from the origin where "
+                    "float32 positions still tell neighbouring points apart; use a cell size of at least "
+                    f"{round_up_significant(abs(bound) / BUILD_ID_BOUND):.3g} or move the box closer to the origin"
                 )
     return _BoxRange(lo=tuple(int(v) for v in first), hi=tuple(int(v) for v in last))
 

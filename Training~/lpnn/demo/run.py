@@ -25,7 +25,6 @@ from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placemen
 from ..quality.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.reference_fast import fast_decimation
 
-DEMO_LEVEL = "oa_dm1"
 Log = Callable[[str], None]
 
 
@@ -56,10 +55,13 @@ class DemoResult:
 
 
 def held_out_in_card(card: Any, level: str) -> bool | None:
+    """Whether the card lists `level` as held out; None when the card does not say (not made by the recipe)."""
     recipe = card.training.get("recipe") if isinstance(card.training, dict) else None
-    if not isinstance(recipe, dict):
+    levels = recipe.get("levels") if isinstance(recipe, dict) else None
+    held_out = levels.get("held_out") if isinstance(levels, dict) else None
+    if not isinstance(held_out, list):
         return None
-    return level in recipe["levels"]["held_out"]
+    return level in held_out
 
 
 def _lpnn(name: str, placement: LpnnPlacement, inference: float) -> MethodResult:

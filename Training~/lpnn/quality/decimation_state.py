@@ -58,8 +58,8 @@ class DecimationState:
 
     def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
         if field.point_count >= (1 << VERTEX_KEY_BITS):
-            raise ValueError(f"the fast reference handles fewer than {1 << VERTEX_KEY_BITS:,} candidates, "
-                             f"got {field.point_count:,}: use a larger cell size")
+            raise GeometryError(f"the fast reference handles fewer than {1 << VERTEX_KEY_BITS:,} candidates, "
+                                f"got {field.point_count:,}: use a larger cell size")
         self.field = field
         self.values = field.values(metric)
         self.error_of = POINT_ERRORS[metric]

@@ -18,14 +18,18 @@ or it does not close within the size limits; the caller also checks the hole's v
 
 Heights are taken relative to v (|x - v|^2 + tie-break: the same lifting up to an affine function),
 so the keys keep their precision: on grids competing keys differ only by the tie-break, about 1e-5
-of the squared spacing. The loops are compiled with numba (cached on disk after the first run):
+of the squared spacing. The loops are compiled with numba (cached on disk after the first run, in the project's cache folder):
 they are short, branchy and per-probe, which numpy cannot vectorise well.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from ..core.cache import use_project_cache_for_numba
+
+use_project_cache_for_numba()
+from numba import njit  # noqa: E402  (after the cache folder is chosen)
 
 ON_PLANE = 1e-9  # |dist| <= this x |n|^1.5 (a spacing^3 scale): the point lies on the face's plane
 MAX_LINK = 96  # larger links go to Qhull

@@ -10,13 +10,13 @@ slower when other work competes for the cores.
 
 from __future__ import annotations
 
-import multiprocessing
 import traceback
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 
 import numpy as np
 
+from ..core.processes import CONTEXT, worker_process
 from .decimation_state import DecimationState, GlobalRemoval, LocalRemoval
 from .metric import ReferenceField
 
@@ -105,9 +105,8 @@ class ParallelCosts(SerialCosts):
     """This process plus one worker replica, each evaluating half of every batch."""
 
     def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
-        context = multiprocessing.get_context("fork")
-        self.connection, worker_end = context.Pipe()
-        self.worker = context.Process(target=_replica, args=(worker_end, field, metric, initial), daemon=True)
+        self.connection, worker_end = CONTEXT.Pipe()
+        self.worker = worker_process(_replica, (worker_end, field, metric, initial))
         self.worker.start()
         super().__init__(field, metric, initial)
         self.owner: dict[int, int] = {}  # 0 = here, 1 = worker

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-FLAT_VOLUME = 1e-14  # |6 x volume| below this (local units, extent ~1) is a flat tetrahedron
+# A tetrahedron is flat when |6 x volume| <= this x |e1| |e2| |e3| (its edges from vertex 0). Relative to its own
+# edges, so it holds at any cell size and extent: an absolute 1e-14 on the unit-extent frame dropped every
+# tetrahedron of a grid with more than ~46,000 cells along an axis. The zero-volume ties a tetrahedraliser
+# emits for cospherical grid points leave only rounding noise (~1e-16 of the edge product); a real
+# tetrahedron of grid points has 6 x volume >= h^3, i.e. above 1e-12 x its edge product unless its edges
+# span more than ~10,000 cells while it stays one cell thin. Documentation~/quality.md §1; C# TetrahedralMesh.
+FLAT_RELATIVE_VOLUME = 1e-12
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -23,6 +29,12 @@ def edge_frames(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nd
     return e1, e2, e3, np.einsum("ij,ij->i", e1, _cross(e2, e3))
 
 
+def is_flat(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray, det: np.ndarray) -> np.ndarray:
+    """(T,) True where the tetrahedron with edges e1, e2, e3 (T, 3) and 6 x signed volume det is flat."""
+    edge_product = np.sqrt(np.einsum("ij,ij->i", e1, e1) * np.einsum("ij,ij->i", e2, e2) * np.einsum("ij,ij->i", e3, e3))
+    return ~(np.abs(det) > FLAT_RELATIVE_VOLUME * edge_product)
+
+
 def orient_and_invert(points: np.ndarray, tets: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Drop flat tetrahedra, orient the rest positively; returns tets, inverses (T, 3, 3), 6 x volume
@@ -31,7 +43,7 @@ def orient_and_invert(points: np.ndarray, tets: np.ndarray
     The inverse of the edge matrix [e1 e2 e3] has rows (e2 x e3, e3 x e1, e1 x e2) / det.
     """
     e1, e2, e3, det = edge_frames(points, tets)
-    keep = np.abs(det) > FLAT_VOLUME
+    keep = ~is_flat(e1, e2, e3, det)
     out, e1, e2, e3, det = tets[keep].copy(), e1[keep], e2[keep], e3[keep], det[keep]
     negative = det < 0.0
     if np.any(negative):  # swapping vertices 2 and 3 flips the orientation

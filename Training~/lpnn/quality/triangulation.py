@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from .tet_geometry import edge_frames, is_flat
+
 DUPLICATE_TOLERANCE = 1e-7  # two probes closer than this fraction of the extent are duplicates
 FLAT_TOLERANCE = 1e-7  # a set thinner than this fraction of its length is coplanar/collinear
 TIE_BREAK_FRACTION = 1e-5  # lifted-height perturbation, as a fraction of the squared spacing
@@ -225,11 +227,10 @@ def lower_hull_tets(lifted: np.ndarray) -> np.ndarray:
     return lower_hull(lifted)[0]
 
 
-def oriented_tets(points: np.ndarray, tets: np.ndarray, relative_volume: float) -> np.ndarray:
-    """Drop zero-volume tetrahedra (vertical facets that slipped through) and orient the rest positively."""
-    _, determinant = barycentric_inverse(points, tets)
-    extent = float(np.max(np.ptp(points, axis=0))) if points.shape[0] else 1.0
-    keep = np.abs(determinant) > relative_volume * extent**3
+def oriented_tets(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """Drop flat tetrahedra (vertical facets that slipped through) and orient the rest positively."""
+    e1, e2, e3, determinant = edge_frames(points, tets)
+    keep = ~is_flat(e1, e2, e3, determinant)
     out = tets[keep].copy()
     negative = determinant[keep] < 0.0
     out[negative, 2], out[negative, 3] = tets[keep][negative, 3], tets[keep][negative, 2]
@@ -247,7 +248,7 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedral
     local = used_frame.to_local(positions)
     _check_not_duplicate(local, positions)
     _check_not_flat(local)
-    tets = oriented_tets(local, lower_hull_tets(used_frame.lifted(positions)), relative_volume=1e-14)
+    tets = oriented_tets(local, lower_hull_tets(used_frame.lifted(positions)))
     used = np.zeros(count, dtype=bool)
     used[tets.reshape(-1)] = True
     if not np.all(used):

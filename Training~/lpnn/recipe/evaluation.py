@@ -9,14 +9,13 @@ of per-crop ratios, so a crop with small errors weighs as much as one with large
 from __future__ import annotations
 
 import math
-import multiprocessing
-import os
 import statistics
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
 from ..core.capture import read_capture
+from ..core.processes import worker_pool
 from ..quality.arguments import DEFAULT_TOLERANCE
 from ..quality.bench import BenchConfig, bench_capture
 from ..quality.lpnn_placement import RECOMMENDED_REFINE
@@ -56,18 +55,14 @@ def evaluate_crop(task: tuple[str, str]) -> dict[str, Any]:
 
 def evaluate_crops(capture_paths: Sequence[Path], model_path: Path, workers: int,
                    progress: Callable[[Iterable, int], Iterable] = lambda items, total: items) -> list[dict[str, Any]]:
-    """Every crop, sorted by name. Workers are spawned (the caller may hold TensorFlow's threads)."""
+    """Every crop, sorted by name. Workers start as core/processes.py says."""
     tasks = [(str(path), str(model_path)) for path in capture_paths]
     if workers <= 1 or len(tasks) <= 1:
         results = list(progress(map(evaluate_crop, tasks), len(tasks)))
     else:
-        with multiprocessing.get_context("spawn").Pool(workers, initializer=_quiet_worker) as pool:
+        with worker_pool(workers) as pool:
             results = list(progress(pool.imap_unordered(evaluate_crop, tasks), len(tasks)))
     return sorted(results, key=lambda crop: crop["name"])
-
-
-def _quiet_worker() -> None:
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
 # ------------------------------------------------------------------------------------------ summary

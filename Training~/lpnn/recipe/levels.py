@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
-from ..scenes.levels import pak_members
 from .config import RecipeConfig
 
 
@@ -19,11 +17,6 @@ class LevelSplit:
         if level in self.held_out:
             return "held_out"
         return "validation" if level in self.validation else "train"
-
-
-def level_names(pak: Path) -> list[str]:
-    """Level names of the pak (`maps/NAME.bsp`), sorted."""
-    return sorted(Path(member).stem for member in pak_members(pak))
 
 
 def split_levels(names: list[str], config: RecipeConfig) -> LevelSplit:

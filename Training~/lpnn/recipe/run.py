@@ -4,15 +4,15 @@ with the same options resumes where it stopped (and a rerun from scratch gives t
 from __future__ import annotations
 
 import json
-import multiprocessing
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 from ..cli.errors import UserError
 from ..core.atomic import write_text_atomic
 from ..core.capture import Capture, read_capture, write_capture
+from ..core.processes import worker_pool
 from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member
 from .config import RecipeConfig
@@ -38,8 +38,11 @@ class StepTimes:
 
     @classmethod
     def load(cls, file: Path) -> "StepTimes":
-        stored = json.loads(file.read_text(encoding="utf-8")) if file.exists() else {}
-        return cls(file=file, seconds={str(k): float(v) for k, v in stored.items()})
+        stored = read_work_json(file) if file.exists() else {}
+        try:
+            return cls(file=file, seconds={str(k): float(v) for k, v in stored.items()})
+        except (AttributeError, TypeError, ValueError) as exc:
+            raise _damaged(file, "not a table of seconds per step") from exc
 
     def record(self, step: str, start: float) -> None:
         self.seconds[step] = round(self.seconds.get(step, 0.0) + time.perf_counter() - start, 3)
@@ -83,6 +86,18 @@ class RecipePaths:
         return self.crops / f"{level}@{cell_size:.4g}m.done.json"
 
 
+def _damaged(path: Path, reason: str) -> UserError:
+    return UserError(f"{path} is damaged ({reason}): delete it to redo that step, or use a new --work folder")
+
+
+def read_work_json(path: Path) -> Any:
+    """A JSON file of the work folder; a damaged one (cut short, edited by hand) is a UserError naming it."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise _damaged(path, str(exc)) from exc
+
+
 def config_record(config: RecipeConfig) -> dict:
     record = asdict(config)
     record["levels"] = list(config.levels) if config.levels is not None else None
@@ -93,7 +108,7 @@ def check_manifest(paths: RecipePaths, config: RecipeConfig, pak: Path) -> None:
     """A work folder belongs to one set of options: resuming with other options would mix results."""
     record = {"pak": str(pak), "config": config_record(config)}
     if paths.manifest.exists():
-        stored = json.loads(paths.manifest.read_text(encoding="utf-8"))
+        stored = read_work_json(paths.manifest)
         if stored != record:
             raise UserError(f"{paths.work} was made with other recipe options or another pak; "
                             "use a new --work folder (or delete this one) to start over")
@@ -124,8 +139,7 @@ def _parallel(function: Callable, tasks: Sequence, workers: int) -> Iterable:
     if workers <= 1 or len(tasks) <= 1:
         yield from map(function, tasks)
         return
-    # fork keeps start-up cheap; nothing heavy (TensorFlow) is imported before these steps
-    with multiprocessing.get_context("fork").Pool(workers) as pool:
+    with worker_pool(workers) as pool:
         yield from pool.imap_unordered(function, tasks)
 
 
@@ -138,7 +152,7 @@ def make_crops(paths: RecipePaths, pak: Path, members: list[str], config: Recipe
         for cell in config.cell_sizes:
             record_path = paths.survey_record(name, cell)
             if record_path.exists():
-                records[f"{name}@{cell}"] = json.loads(record_path.read_text(encoding="utf-8"))
+                records[f"{name}@{cell}"] = read_work_json(record_path)
             else:
                 todo.append((str(pak), member, cell, config, str(paths.crops)))
     for record in _progress(_parallel(_crop_task, todo, config.workers), len(todo), "cropping levels"):
@@ -274,7 +288,10 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
 def evaluate_held_out(paths: RecipePaths, names: list[str], config: RecipeConfig, log: Log) -> dict:
     """The held-out summary (cached in evaluation.json with the per-crop results, and bench.csv)."""
     if paths.evaluation.exists():  # the per-crop results are kept; the summary is recomputed from them
-        crops = json.loads(paths.evaluation.read_text(encoding="utf-8"))["crops"]
+        stored = read_work_json(paths.evaluation)
+        crops = stored.get("crops") if isinstance(stored, dict) else None
+        if not isinstance(crops, list):
+            raise _damaged(paths.evaluation, "no list of 'crops'")
     else:
         files = [paths.labelled / f"{n}.lpnncap" for n in names]
         crops = evaluate_crops(files, paths.model, config.workers,

@@ -1,6 +1,6 @@
 """Quake III BSP (IBSP, version 46) reader: every lump as a numpy structured array, validated.
 
-Layout: ../shared/reference/quake3-bsp.md §1 (id's qfiles.h). Records are decoded with
+Layout: id's `code/qcommon/qfiles.h` (github.com/id-Software/Quake-III-Arena). Records are decoded with
 `np.frombuffer` and structured little-endian dtypes; every count, range and index the importer
 relies on is checked up front, so a damaged file fails here with a `BspError` naming the file,
 the lump, the record and the value, never later inside numpy.

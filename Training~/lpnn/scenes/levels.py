@@ -21,6 +21,11 @@ PAK_ENV = "LPNN_OPENARENA_PAK"
 DEBIAN_PAK = Path("/usr/share/games/openarena/baseoa/pak1-maps.pk3")
 INSTALL_HINT = "run Tools~/install-openarena.sh (Debian package openarena-081-maps) or set LPNN_OPENARENA_PAK"
 PAK_SEPARATOR = ".pk3:"
+# The largest level we accept, loose or packed. Map packs are shared by strangers and a small .pk3 can
+# inflate to gigabytes (a zip bomb), so a member is refused before it is read whole. The largest BSP in
+# OpenArena's pak1-maps.pk3 is 7.6 MB (ctf_inyard); 256 MiB leaves a wide margin for real maps.
+MAX_LEVEL_BYTES = 256 << 20
+_READ_CHUNK = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -58,6 +63,7 @@ def load_level(spec: str) -> Level:
     if spec.lower().endswith(".bsp") or os.sep in spec or "/" in spec:
         path = Path(spec)
         try:
+            _check_level_size(str(path), path.stat().st_size, "is")
             data = path.read_bytes()
         except OSError as exc:
             raise BspError(f"{path}: cannot read the level: {exc.strerror or exc}") from exc
@@ -74,11 +80,33 @@ def load_pak_member(pak: Path, member: str) -> Level:
                                if n.lower().startswith("maps/") and n.lower().endswith(".bsp"))
             raise BspError(f"{pak}: has no member {member!r}; its levels are: {', '.join(available) or 'none'}")
         location = f"{pak.name}:{stored}"
+        _check_level_size(location, archive.getinfo(stored).file_size, "declares")
         try:
-            data = archive.read(stored)
+            data = _read_member_capped(archive, stored, location)
         except (zipfile.BadZipFile, OSError, EOFError) as exc:
             raise BspError(f"{location}: cannot be extracted: {exc}") from exc
     return Level(name=Path(stored).stem, location=location, pak=pak, data=data, bsp=read_bsp(data, location))
+
+
+def _check_level_size(location: str, size: int, verb: str) -> None:
+    if size > MAX_LEVEL_BYTES:
+        raise BspError(f"{location}: {verb} {size:,} bytes, more than the {MAX_LEVEL_BYTES:,} bytes a level may have; "
+                       "refused unread (a damaged or hostile file: use a level from a trusted source)")
+
+
+def _read_member_capped(archive: zipfile.ZipFile, member: str, location: str) -> bytes:
+    """The member's bytes, inflating no more than the cap whatever its header declares."""
+    chunks: list[bytes] = []
+    total = 0
+    with archive.open(member) as stream:
+        while chunk := stream.read(_READ_CHUNK):
+            total += len(chunk)
+            if total > MAX_LEVEL_BYTES:
+                raise BspError(f"{location}: inflates to more than the {MAX_LEVEL_BYTES:,} bytes a level may have "
+                               f"although its header declares {archive.getinfo(member).file_size:,}; refused "
+                               "(a damaged or hostile file: use a level from a trusted source)")
+            chunks.append(chunk)
+    return b"".join(chunks)
 
 
 def _open_pak(pak: Path) -> zipfile.ZipFile:

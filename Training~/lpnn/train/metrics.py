@@ -129,13 +129,16 @@ def monitor_direction(monitor: str, metrics: Sequence[CaptureMetric]) -> bool:
     raise UserError(f"monitor {monitor!r} is not a validation metric; choose one of {known}")
 
 
+EXAMPLE_METRIC = "lpnn.quality.validation:PLACEMENT_ERROR_20"  # named in error messages: must load
+
+
 def load_metric_plugins(specs: Sequence[str]) -> list[CaptureMetric]:
     """`module:attribute` specs naming a CaptureMetric, a list of them, or a no-argument factory of either."""
     loaded: list[CaptureMetric] = []
     for spec in specs:
         module_name, _, attribute = spec.partition(":")
         if not module_name or not attribute:
-            raise UserError(f"metric {spec!r}: expected 'module:attribute', e.g. 'lpnn.quality.metrics:placement_error'")
+            raise UserError(f"metric {spec!r}: expected 'module:attribute', e.g. '{EXAMPLE_METRIC}'")
         try:
             target = getattr(importlib.import_module(module_name), attribute)
         except (ImportError, AttributeError) as exc:

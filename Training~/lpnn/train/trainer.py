@@ -13,6 +13,7 @@ import numpy as np
 import keras
 import tensorflow as tf
 
+from ..cli.errors import UserError
 from .batches import Batch, BatchSampler
 from .config import TrainConfig
 from .data import Cloud, Normalisation, Split, normalisation_from, positive_weight
@@ -87,6 +88,14 @@ def _summary(metrics: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in metrics.items() if k != "per_capture"}
 
 
+def _stop_if_diverged(losses: Sequence[float], epoch: int, config: TrainConfig) -> None:
+    """A non-finite loss means the weights are lost (NaN spreads through every later step): stop and say why."""
+    if not np.all(np.isfinite(losses)):
+        raise UserError(f"training diverged in epoch {epoch} (the loss became {losses[-1]}): lower the learning "
+                        f"rate, now {config.learning_rate:g} (e.g. \"learning_rate\": {config.learning_rate / 10:g} "
+                        "in the --config file)")
+
+
 def fit(split: Split, config: TrainConfig, metrics: Sequence[CaptureMetric] = DEFAULT_METRICS,
         on_improvement: ImprovementCallback | None = None, progress: bool = True) -> TrainResult:
     """Trains on `split.train`, validates on `split.validation` every epoch, restores the best weights.
@@ -128,6 +137,7 @@ def fit(split: Split, config: TrainConfig, metrics: Sequence[CaptureMetric] = DE
             for _ in range(config.steps_per_epoch):
                 losses.append(trainer.train_step(sampler.next_batch()))
                 bar.update(1)
+            _stop_if_diverged(losses, epoch, config)
             validation = evaluate_metrics(split.validation, trainer.predict(split.validation), metrics)
             value = float(validation[config.monitor])
             improved = _improved(value, best_value, higher_is_better, config.min_delta) or best_weights is None

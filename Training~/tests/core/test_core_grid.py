@@ -142,14 +142,26 @@ def test_tiny_and_huge_cell_sizes():
 
 
 def test_id_bound_is_guarded():
-    with pytest.raises(GridError, match=r"cell size 1e-09 .*2\^30") as error:
+    with pytest.raises(GridError, match=r"cell size 1e-09 .*2\^23") as error:
         build_grid([aabb([0, 0, 0], [10, 10, 10])], 1e-9)
-    assert "9.32e-09" in str(error.value)  # 10.0000000005 / 2^30 rounded up to 3 digits
-    edge = [2.0**30 + 0.4, 0, 0]  # reaches 2^30 + 0.9: lattice range ends exactly at 2^30
-    assert build_grid([aabb(edge, edge)], 1.0).ids.tolist() == [[2**30, 0, 0]]
-    beyond = [-(2.0**30) - 0.6, 0, 0]  # reaches -2^30 - 1.1: one cell too far
-    with pytest.raises(GridError, match=r"bound x = -1\.07374e\+09"):
+    assert "1.2e-06" in str(error.value)  # 10.0000000005 / 2^23 rounded up to 3 digits
+    edge = [2.0**23 + 0.4, 0, 0]  # reaches 2^23 + 0.9: lattice range ends exactly at 2^23
+    assert build_grid([aabb(edge, edge)], 1.0).ids.tolist() == [[2**23, 0, 0]]
+    beyond = [-(2.0**23) - 0.6, 0, 0]  # reaches -2^23 - 1.1: one cell too far
+    with pytest.raises(GridError, match=r"bound x = -8\.38861e\+06"):
         build_grid([aabb(beyond, beyond)], 1.0)
+
+
+def test_far_from_the_origin_neighbouring_points_keep_distinct_float32_positions():
+    """At the build bound every point has its own position; one cell size smaller, the grid is refused
+    (there, float32 positions of neighbouring points would coincide)."""
+    h = 0.3
+    near_bound = 2.0**23 * h - 3.0
+    grid = build_grid([aabb([near_bound, 0, 0], [near_bound + 2.0, 0.0, 0.0])], h)
+    x = grid.positions[:, 0]
+    assert x.size >= 6 and np.unique(x).size == x.size and np.all(np.diff(x) > 0)
+    with pytest.raises(GridError, match=r"2\^23 .*float32"):
+        build_grid([aabb([4 * near_bound, 0, 0], [4 * near_bound + 2.0, 0.0, 0.0])], h)
 
 
 @pytest.mark.parametrize("h", [0.0, -0.5, float("nan"), float("inf"), "abc"])

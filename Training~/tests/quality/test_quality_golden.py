@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import pytest
@@ -19,14 +19,12 @@ from lpnn.quality.metric import POINT_ERRORS, ReferenceField, placement_error, p
 from lpnn.quality.policies import place_tolerance, prefix_selection
 from lpnn.quality.triangulation import tetrahedralize
 
-GOLDEN = Path(__file__).resolve().parents[3] / "Tests" / "Data" / "placement_error_golden.json"
+GOLDEN_NAME = "placement_error_golden.json"
 
 
 @pytest.fixture(scope="module")
-def golden() -> dict[str, Any]:
-    if not GOLDEN.exists():
-        pytest.skip("golden file not generated yet: Tests/Data/placement_error_golden.json")
-    return json.loads(GOLDEN.read_text(encoding="utf-8"))
+def golden(golden_path: Callable[[str], Path]) -> dict[str, Any]:
+    return json.loads(golden_path(GOLDEN_NAME).read_text(encoding="utf-8"))
 
 
 def _field(golden: dict[str, Any]) -> ReferenceField:

@@ -145,3 +145,33 @@ def test_report_renders_the_card_and_the_document_check_finds_it() -> None:
 def test_report_refuses_a_card_without_recipe_figures() -> None:
     with pytest.raises(ValueError, match="no recipe figures"):
         report_markdown(_card())
+
+
+def test_a_card_without_the_recipe_levels_does_not_say_whether_a_level_is_held_out() -> None:
+    from types import SimpleNamespace
+
+    from lpnn.demo.run import held_out_in_card
+
+    assert held_out_in_card(SimpleNamespace(training={"recipe": {}}), "oa_dm1") is None
+    assert held_out_in_card(SimpleNamespace(training={"recipe": {"levels": {"held_out": None}}}), "oa_dm1") is None
+    assert held_out_in_card(SimpleNamespace(training={"recipe": {"levels": {"held_out": ["oa_dm1"]}}}), "oa_dm1")
+
+
+@pytest.mark.parametrize("damaged", ['{"pak": "x", ', "\xff\xfe", "[]"])
+def test_a_damaged_work_file_is_named_with_what_to_do(tmp_path, damaged: str) -> None:
+    from pathlib import Path
+
+    from lpnn.cli.errors import UserError
+    from lpnn.recipe.run import RecipePaths, StepTimes, check_manifest, evaluate_held_out
+
+    paths = RecipePaths(tmp_path)
+    for file in (paths.manifest, paths.evaluation, tmp_path / "times.json"):
+        file.write_bytes(damaged.encode("latin-1"))
+    config = RecipeConfig()
+    if damaged != "[]":  # valid JSON that differs from the options is the other error ("made with other options")
+        with pytest.raises(UserError, match=r"recipe\.json is damaged .*delete it to redo that step"):
+            check_manifest(paths, config, Path("pak.pk3"))
+    with pytest.raises(UserError, match=r"evaluation\.json is damaged"):
+        evaluate_held_out(paths, [], config, print)
+    with pytest.raises(UserError, match=r"times\.json is damaged"):
+        StepTimes.load(tmp_path / "times.json")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +11,7 @@ import pytest
 from lpnn.scenes.bsp import read_bsp
 from lpnn.scenes.entities import light_entities, parse_entities
 from lpnn.scenes.errors import BspError
+from lpnn.scenes import levels
 from lpnn.scenes.levels import PAK_ENV, load_level
 from synthetic_bsp import make_level, set_lump, write_pk3
 
@@ -279,3 +281,30 @@ def test_missing_and_broken_paks(tmp_path: Path) -> None:
         load_level(f"{broken}:maps/a.bsp")
     with pytest.raises(BspError, match="cannot read the level"):
         load_level(str(tmp_path / "absent.bsp"))
+
+
+def _deflated_pk3(path: Path, member: str, data: bytes) -> Path:
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr(member, data)
+    return path
+
+
+def test_a_member_declaring_more_than_the_cap_is_refused_unread(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A zip bomb: a small pk3 whose member inflates far beyond any real level is refused from its header."""
+    monkeypatch.setattr(levels, "MAX_LEVEL_BYTES", 1 << 16)
+    pak = _deflated_pk3(tmp_path / "bomb.pk3", "maps/x.bsp", bytes(1 << 20))
+    assert pak.stat().st_size < 1 << 16  # the archive itself is small
+    with pytest.raises(BspError, match=r"bomb.pk3:maps/x.bsp: declares 1,048,576 bytes, more than the 65,536 bytes"):
+        load_level(f"{pak}:maps/x.bsp")
+    loose = tmp_path / "big.bsp"
+    loose.write_bytes(bytes((1 << 16) + 1))
+    with pytest.raises(BspError, match=r"big.bsp: is 65,537 bytes, more than the 65,536 bytes"):
+        load_level(str(loose))
+
+
+def test_inflating_stops_at_the_cap_whatever_the_header_declares(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    pak = _deflated_pk3(tmp_path / "bomb.pk3", "maps/x.bsp", bytes(1 << 20))
+    monkeypatch.setattr(levels, "MAX_LEVEL_BYTES", 1 << 16)
+    with zipfile.ZipFile(pak) as archive:
+        with pytest.raises(BspError, match=r"inflates to more than the 65,536 bytes .* declares 1,048,576"):
+            levels._read_member_capped(archive, "maps/x.bsp", "bomb.pk3:maps/x.bsp")

@@ -120,3 +120,10 @@ def test_bad_monitor_and_plugin_specs_are_user_errors() -> None:
         load_metric_plugins(["no_colon_here"])
     with pytest.raises(UserError, match="cannot load"):
         load_metric_plugins(["lpnn_no_such_module_xyz:metric"])
+
+
+def test_the_example_in_the_spec_error_loads() -> None:
+    with pytest.raises(UserError) as refused:
+        load_metric_plugins(["no-colon"])
+    example = str(refused.value).split("e.g. '")[1].rstrip("'")
+    assert [metric.name for metric in load_metric_plugins([example])] == ["placement_error_20"]

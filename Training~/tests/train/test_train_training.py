@@ -90,3 +90,12 @@ def test_losses_ignore_padding_and_balance_classes() -> None:
     assert float(weighted_bce(weight)(labels, logits, mask)) == pytest.approx(expected, rel=1e-6)
     assert float(focal(weight, 0.0)(labels, logits, mask)) == pytest.approx(expected, rel=1e-6)
     assert float(focal(weight, 2.0)(labels, logits, mask)) < expected  # easy points are discounted
+
+
+def test_a_diverging_run_stops_and_says_to_lower_the_learning_rate(dataset_dir) -> None:
+    from lpnn.cli.errors import UserError
+
+    config = config_from_dict({**TINY_CONFIG, "epochs": 2, "steps_per_epoch": 5, "learning_rate": 1e30})
+    split = load_split([dataset_dir], [], seed=0, val_fraction=0.2)
+    with pytest.raises(UserError, match=r"training diverged in epoch 1 .*lower the learning rate, now 1e\+30"):
+        fit(split, config, progress=False)

@@ -45,10 +45,6 @@ namespace Lpnn.Probes.Editor
             return _result;
         }
 
-        /// <summary>The last result when it is still the selection for these inputs, else null.</summary>
-        public SelectionResult Current(EvaluationGrid grid, float[] scores, SelectionSettings settings) =>
-            SameInputs(grid, scores, settings) ? _result : null;
-
         private void Remember(EvaluationGrid grid, float[] scores, SelectionSettings settings)
         {
             _grid = grid;

@@ -1,5 +1,6 @@
 using System;
 using System.Collections.Generic;
+using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Sh;
 
 namespace Lpnn.Probes.Core.Features
@@ -23,10 +24,7 @@ namespace Lpnn.Probes.Core.Features
                 double y = DcLuminance(sh, n);
                 if (y > 0) positive.Add(y);
             }
-            if (positive.Count == 0) return 1.0;
-            positive.Sort();
-            int middle = positive.Count / 2;
-            return positive.Count % 2 == 1 ? positive[middle] : (positive[middle - 1] + positive[middle]) / 2;
+            return positive.Count == 0 ? 1.0 : Statistics.Median(positive);
         }
     }
 }

@@ -67,10 +67,11 @@ namespace Lpnn.Probes.Core.Grid
         {
             double cells = coordinate / _cellSize;
             double index = lower ? Math.Ceiling(cells - TouchTolerance) : Math.Floor(cells + TouchTolerance);
-            if (double.IsNaN(index) || Math.Abs(index) > LatticeId.MaxCoordinate)
+            if (double.IsNaN(index) || Math.Abs(index) > LatticeId.MaxBuiltCoordinate)
                 throw new GridException(
                     "cell size " + InvariantFormat.Number(_cellSize) + " is too small for bounds reaching " +
-                    InvariantFormat.Number(coordinate) + ": lattice ids would exceed ±2^30; use a larger cell size or move the volume closer to the origin");
+                    InvariantFormat.Number(coordinate) + ": lattice ids would exceed ±2^23 cells from the origin, where float32 " +
+                    "positions can no longer tell neighbouring points apart; use a larger cell size or move the volume closer to the origin");
             return (long)index;
         }
 

@@ -1,6 +1,7 @@
 using System;
 using System.Collections.Generic;
 using System.Numerics;
+using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Grid
 {
@@ -33,7 +34,7 @@ namespace Lpnn.Probes.Core.Grid
         public static EvaluationGrid FromIds(double cellSize, IReadOnlyList<LatticeId> ids)
         {
             if (!(cellSize > 0) || double.IsInfinity(cellSize))
-                throw new GridException("cell size " + cellSize + " must be a finite number greater than 0");
+                throw new GridException("cell size " + InvariantFormat.Number(cellSize) + " must be a finite number greater than 0");
             if (ids == null || ids.Count == 0) throw new GridException("a grid needs at least one point");
             var flat = new int[ids.Count * 3];
             for (int n = 0; n < ids.Count; n++)

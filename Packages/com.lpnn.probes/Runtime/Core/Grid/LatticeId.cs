@@ -9,6 +9,10 @@ namespace Lpnn.Probes.Core.Grid
         /// <summary>Largest |coordinate| allowed, so neighbour offsets can never overflow an int.</summary>
         public const int MaxCoordinate = 1 << 30;
 
+        /// <summary>Largest |coordinate| the grid builder produces: positions (cell size × id) are float32, whose
+        /// spacing at cell size × 2^23 is at most one cell, so up to there neighbouring points keep distinct positions.</summary>
+        public const int MaxBuiltCoordinate = 1 << 23;
+
         public readonly int I;
         public readonly int J;
         public readonly int K;

@@ -53,7 +53,6 @@ namespace Lpnn.Probes.Core.Numerics
         public static bool IsFiniteNumber(double value) => !double.IsNaN(value) && !double.IsInfinity(value);
 
         public static Double3 FromVector3(Vector3 v) => new Double3(v.X, v.Y, v.Z);
-        public Vector3 ToVector3() => new Vector3((float)X, (float)Y, (float)Z);
 
         public bool Equals(Double3 other) => X.Equals(other.X) && Y.Equals(other.Y) && Z.Equals(other.Z);
         public override bool Equals(object obj) => obj is Double3 other && Equals(other);

@@ -12,8 +12,11 @@ namespace Lpnn.Probes.Core.Quality
     /// would turn interior faces into false hull faces, so they are left out (as the Python reference does).</summary>
     internal sealed class TetrahedralMesh
     {
-        /// <summary>|6 × volume| at or below this (local units, extent 1) is a flat tetrahedron.</summary>
-        public const double FlatVolume = 1e-14;
+        /// <summary>A tetrahedron is flat when |6 × volume| is at or below this × |e1|·|e2|·|e3| (its edges from vertex 0):
+        /// relative to its own edges, so it holds at any cell size and extent (an absolute 1e-14 on the unit-extent frame
+        /// dropped every tetrahedron beyond ~46,000 cells along an axis). Same rule as the Python reference
+        /// (lpnn/quality/tet_geometry.py FLAT_RELATIVE_VOLUME; Documentation~/quality.md §1).</summary>
+        public const double FlatRelativeVolume = 1e-12;
 
         /// <summary>Probe positions in the local frame, x, y, z per probe.</summary>
         public readonly double[] Points;
@@ -81,7 +84,9 @@ namespace Lpnn.Probes.Core.Quality
             double e2x = p[3 * c] - p[3 * a], e2y = p[3 * c + 1] - p[3 * a + 1], e2z = p[3 * c + 2] - p[3 * a + 2];
             double e3x = p[3 * d] - p[3 * a], e3y = p[3 * d + 1] - p[3 * a + 1], e3z = p[3 * d + 2] - p[3 * a + 2];
             double det = e1x * (e2y * e3z - e2z * e3y) + e1y * (e2z * e3x - e2x * e3z) + e1z * (e2x * e3y - e2y * e3x);
-            if (!(Math.Abs(det) > FlatVolume)) return;
+            double edgeProduct = Math.Sqrt((e1x * e1x + e1y * e1y + e1z * e1z) * (e2x * e2x + e2y * e2y + e2z * e2z) *
+                                           (e3x * e3x + e3y * e3y + e3z * e3z));
+            if (!(Math.Abs(det) > FlatRelativeVolume * edgeProduct)) return;
             if (det < 0)
             {
                 // Swapping the last two vertices (and edges) flips the orientation.

@@ -1,4 +1,5 @@
 using System;
+using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Selection
 {
@@ -21,7 +22,7 @@ namespace Lpnn.Probes.Core.Selection
             for (int n = 0; n < scores.Length; n++) clipped[n] = Clip(scores[n]);
             var weights = new double[scores.Length];
             if (scores.Length == 0) return weights;
-            double median = Median(clipped);
+            double median = Statistics.Median(clipped);
             // median ≥ ScoreFloor > 0, so the division is always defined; sqrt is the correctly rounded x^0.5.
             for (int n = 0; n < weights.Length; n++) weights[n] = Math.Sqrt(clipped[n] / median);
             return weights;
@@ -34,15 +35,6 @@ namespace Lpnn.Probes.Core.Selection
             double s = score;
             if (s < ScoreFloor) return ScoreFloor;
             return s > ScoreCeiling ? ScoreCeiling : s;
-        }
-
-        /// <summary>The middle value, or the mean of the two middle values for an even count.</summary>
-        private static double Median(double[] values)
-        {
-            var sorted = (double[])values.Clone();
-            Array.Sort(sorted);
-            int middle = sorted.Length / 2;
-            return sorted.Length % 2 == 1 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
         }
     }
 }

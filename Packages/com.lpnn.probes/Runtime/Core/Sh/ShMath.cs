@@ -18,20 +18,6 @@ namespace Lpnn.Probes.Core.Sh
             return rgb * CoefficientsPerChannel + coefficient;
         }
 
-        /// <summary>Polynomials (1, y, z, x, xy, yz, 3z²−1, xz, x²−y²) of a unit direction.</summary>
-        public static void Basis(double x, double y, double z, double[] p)
-        {
-            p[0] = 1.0;
-            p[1] = y;
-            p[2] = z;
-            p[3] = x;
-            p[4] = x * y;
-            p[5] = y * z;
-            p[6] = 3.0 * z * z - 1.0;
-            p[7] = x * z;
-            p[8] = x * x - y * y;
-        }
-
         /// <summary>Shading value of one probe in a unit direction, in double, summed in coefficient order.</summary>
         public static void Evaluate(float[] sh, int offset, double x, double y, double z,
             out double r, out double g, out double b)

@@ -1,0 +1,24 @@
+"""The project's cache folder ($LPNN_CACHE, else ~/.cache/lpnn-probes: the folder Tools~/lib.sh uses), and
+numba's compiled-function cache inside it instead of beside the sources (a read-only install, a clean checkout)."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+CACHE_ENV = "LPNN_CACHE"
+NUMBA_CACHE_ENV = "NUMBA_CACHE_DIR"
+
+
+def project_cache_dir() -> Path:
+    configured = os.environ.get(CACHE_ENV)
+    return Path(configured) if configured else Path.home() / ".cache" / "lpnn-probes"
+
+
+def use_project_cache_for_numba() -> None:
+    """Call before the first `import numba`; a NUMBA_CACHE_DIR the user set is kept."""
+    os.environ.setdefault(NUMBA_CACHE_ENV, str(project_cache_dir() / "numba"))
+    numba = sys.modules.get("numba")
+    if numba is not None and not numba.config.CACHE_DIR:  # imported before us: its config already read the env
+        numba.config.CACHE_DIR = os.environ[NUMBA_CACHE_ENV]

@@ -1,0 +1,28 @@
+"""The flat-tetrahedron rule: relative to each tetrahedron's own edges, so fine grids keep their tetrahedra."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lpnn.quality.tet_geometry import orient_and_invert
+from lpnn.quality.triangulation import tetrahedralize
+
+
+def test_a_cell_sized_tetrahedron_of_a_very_fine_grid_is_kept_and_a_flat_one_dropped() -> None:
+    """Local frame of extent 1 with 100,000 cells along x: a one-cell tetrahedron has 6 x volume 1e-15."""
+    h = 1e-5
+    points = np.array([[0, 0, 0], [h, 0, 0], [0, h, 0], [0, 0, h], [h, h, 0], [1, 0, 0]], dtype=np.float64)
+    tets, _, volume6, kept = orient_and_invert(points, np.array([[0, 1, 2, 3], [0, 1, 2, 4]]))
+    assert kept.tolist() == [True, False]  # the second is four points of one plane
+    np.testing.assert_allclose(volume6, [h**3], rtol=1e-9)
+
+
+def test_a_grid_far_finer_than_46000_cells_per_axis_tetrahedralises() -> None:
+    """Probes one cell apart at one end of a 100,000-cell-long set, plus one at the far end."""
+    near = np.array([[i, j, k] for i in range(2) for j in range(2) for k in range(2)], dtype=np.float64)
+    world = np.vstack([near, [[100_000.0, 0.5, 0.5]]])
+    mesh = tetrahedralize(world)
+    assert np.isin(np.arange(len(world)), mesh.tets).all()
+    inside = np.abs(np.linalg.det(np.stack([mesh.points[mesh.tets[:, m]] - mesh.points[mesh.tets[:, 0]]
+                                            for m in (1, 2, 3)], axis=2)))
+    assert inside.sum() > 0.0
