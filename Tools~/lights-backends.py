@@ -25,7 +25,8 @@ import numpy as np
 
 from lpnn.lights.model import BYTE_MAX, LINEAR_PER_BYTE, MIN_DISTANCE, POINT_SCALE, RAY_OFFSET
 from lpnn.lights.optimise import initial_grid, initial_intensity
-from lpnn.lights.pipeline import DEFAULT_GRID, load_scene
+from lpnn.lights.pipeline import load_scene
+from lpnn.lights.settings import DEFAULT_GRID
 from lpnn.scenes.levels import load_level
 from lpnn.scenes.surfaces import ray_geometry
 

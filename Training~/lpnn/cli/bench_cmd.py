@@ -22,8 +22,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import DEFAULT_TOLERANCE, fractions, refine_factor, tolerance
-    from ..quality.bench import DEFAULT_BUDGETS
+    from ..quality.arguments import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")

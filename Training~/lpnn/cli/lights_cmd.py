@@ -17,8 +17,7 @@ from .scene_cmd import LEVEL_HELP, level_user_errors
 
 
 def register(actions: argparse._SubParsersAction) -> None:
-    from ..lights.optimise import DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
-    from ..lights.pipeline import DEFAULT_GRID, DEFAULT_MAX_EDGE
+    from ..lights.settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
 
     lights = actions.add_parser("lights", help="recover the level's point lights from its lightmaps (a rig file)",
                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -24,8 +24,8 @@ from ..scenes.levels import load_level
 from .compare import compare_grid, compare_rigs, relight_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
 from .model import Lights
-from .optimise import SCHEMES
-from .pipeline import DEFAULT_GRID, fit_scene, load_scene, rig_of
+from .pipeline import fit_scene, load_scene, rig_of
+from .settings import DEFAULT_GRID, SCHEMES
 from .rig import entity_lights, write_rig
 
 HEADER = ("| level | scheme | target points | lights | objective | iterations | s / iteration | rays/s | "

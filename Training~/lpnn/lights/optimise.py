@@ -32,6 +32,7 @@ from scipy.spatial import cKDTree
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from .model import BYTE_MAX, ForwardModel, Gradient, Lights
+from .settings import COLOUR, DEFAULT_REFRESH, INTENSITY, POSITION, Phase
 
 POSITION_UNIT = 64.0  # Quake units per scaled position unit (one light grid cell)
 INTENSITY_UNIT = 1000.0
@@ -39,38 +40,9 @@ AMBIENT_UNIT = 64.0  # bytes
 CLEARANCE = 24.0  # Quake units (0.61 m)
 CLEARANCE_WEIGHT = 1e-3
 MAX_INTENSITY = 1e6
-DEFAULT_REFRESH = 10
 ADAM_BETAS = (0.9, 0.999)
 ADAM_EPSILON = 1e-8
 
-POSITION, COLOUR, INTENSITY = "position", "colour", "intensity"
-ALL = (POSITION, COLOUR, INTENSITY)
-
-
-@dataclass(frozen=True)
-class Phase:
-    algorithm: str  # "adam" or "lbfgs"
-    parameters: tuple[str, ...]
-    step: float  # Adam's learning rate; L-BFGS-B has no step size (the seed's 1.0 is its default)
-    iterations: int
-
-
-ADAM_ITERATIONS = 100
-LBFGS_ITERATIONS = 200
-SCHEMES: dict[str, tuple[Phase, ...]] = {
-    # seed Table 5.1, schemes 1-5 (its Adam limit was 400 a phase; ours is ADAM_ITERATIONS)
-    "adam-colour-first": (Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
-                          Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
-    "adam-position-first": (Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS),
-                            Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
-                            Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
-    "mixed": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
-    "adam": (Phase("adam", ALL, 0.1, ADAM_ITERATIONS),) * 3,
-    "lbfgs": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS),) * 3,
-    # not the seed's: a short smoke run (one L-BFGS phase of 20 iterations) for checking a whole pak
-    "quick": (Phase("lbfgs", ALL, 1.0, 20),),
-}
-DEFAULT_SCHEME = "mixed"
 
 
 @dataclass

@@ -15,16 +15,14 @@ from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
 from ..scenes.surfaces import ray_geometry
 from .model import ForwardModel
-from .optimise import DEFAULT_REFRESH, SCHEMES, FitResult, Fitter, initial_grid, initial_intensity
+from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import Rig
+from .settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
 
-DEFAULT_GRID = (8, 8, 3)
-# Subdivide target triangles to this longest edge (Quake units): a lightmap texel is 16 units, so 64
-# keeps ~4 texels between target points, and MAX_TARGET_POINTS bounds the cost on big levels.
-DEFAULT_MAX_EDGE = 64.0
+# MAX_TARGET_POINTS bounds the cost of DEFAULT_MAX_EDGE's subdivision (settings.py) on big levels.
 MAX_TARGET_POINTS = 100_000
 BOX_MARGIN = 1.0  # Quake units inside the world box: positions on its faces are outside the map
 
@@ -84,7 +82,7 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
                       is_open=is_open, bounds=bounds, max_edge=used_edge, seconds=seconds)
 
 
-def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = "mixed",
+def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None) -> FitResult:
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from .arguments import DEFAULT_TOLERANCE
+from .arguments import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
@@ -36,7 +36,6 @@ from .policies import (Placement, SelectionForCount, budget_count, place_toleran
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
 from .reference_fast import fast_decimation
 
-DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",

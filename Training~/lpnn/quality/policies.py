@@ -52,7 +52,7 @@ def checked_fraction(fraction: float) -> float:
 def checked_tolerance(tolerance: float) -> float:
     value = float(tolerance)
     if not (math.isfinite(value) and value > 0.0):
-        raise PolicyError(f"tolerance {tolerance!r} must be a mean error > 0, e.g. 0.02 for 2 %")
+        raise PolicyError(f"tolerance {tolerance!r} must be a mean error > 0, e.g. 0.05 (the default of bench, the demo and the editor)")
     return value
 
 

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from lpnn.lights.model import ForwardModel
-from lpnn.lights.optimise import ALL, SCHEMES, Fitter, Phase, initial_grid, initial_intensity
+from lpnn.lights.optimise import Fitter, initial_grid, initial_intensity
+from lpnn.lights.settings import ALL, SCHEMES, Phase
 from synthetic_room import ROOM_SIDE, TRUE_LIGHTS, inside_room, lit_room
 
 BOUNDS = (np.full(3, 1.0), np.full(3, ROOM_SIDE - 1.0))

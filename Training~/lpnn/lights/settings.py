@@ -1,0 +1,45 @@
+"""The fit's settings and their defaults: the optimisation schemes (seed Table 5.1), the initial grid,
+the target's subdivision and the visibility refresh (Documentation~/lights.md §4).
+
+Kept free of numerical libraries: `lpnn --help` builds every parser from these without importing
+scipy or Embree.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+DEFAULT_GRID = (8, 8, 3)  # initial lights: cells of the world box along x, y, z
+# Subdivide target triangles to this longest edge (Quake units): a lightmap texel is 16 units, so 64
+# keeps ~4 texels between target points.
+DEFAULT_MAX_EDGE = 64.0
+DEFAULT_REFRESH = 10  # iterations between shadow-ray recomputations
+
+POSITION, COLOUR, INTENSITY = "position", "colour", "intensity"
+ALL = (POSITION, COLOUR, INTENSITY)
+
+
+@dataclass(frozen=True)
+class Phase:
+    algorithm: str  # "adam" or "lbfgs"
+    parameters: tuple[str, ...]
+    step: float  # Adam's learning rate; L-BFGS-B has no step size (the seed's 1.0 is its default)
+    iterations: int
+
+
+ADAM_ITERATIONS = 100
+LBFGS_ITERATIONS = 200
+SCHEMES: dict[str, tuple[Phase, ...]] = {
+    # seed Table 5.1, schemes 1-5 (its Adam limit was 400 a phase; ours is ADAM_ITERATIONS)
+    "adam-colour-first": (Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
+                          Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "adam-position-first": (Phase("adam", (POSITION,), 0.1, ADAM_ITERATIONS),
+                            Phase("adam", (COLOUR, INTENSITY), 0.1, ADAM_ITERATIONS),
+                            Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "mixed": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS), Phase("adam", ALL, 0.1, ADAM_ITERATIONS)),
+    "adam": (Phase("adam", ALL, 0.1, ADAM_ITERATIONS),) * 3,
+    "lbfgs": (Phase("lbfgs", ALL, 1.0, LBFGS_ITERATIONS),) * 3,
+    # not the seed's: a short smoke run (one L-BFGS phase of 20 iterations) for checking a whole pak
+    "quick": (Phase("lbfgs", ALL, 1.0, 20),),
+}
+DEFAULT_SCHEME = "mixed"
