@@ -15,9 +15,9 @@ from ..quality.probes_file import write_probes_json
 from .run import DemoResult
 
 LABELS = {"lpnn": "LPNN (shipped model)", "lpnn-refine": "LPNN + refine x2", "fast-reference": "fast reference",
-          "uniform": "uniform grid", "heuristic": "heuristic"}
+          "uniform": "uniform grid", "heuristic": "heuristic", "insertion": "insertion (non-learned)"}
 STYLE = {"lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"), "fast-reference": ("tab:green", "-"),
-         "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--")}
+         "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"), "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
 
 
@@ -33,22 +33,20 @@ def table(result: DemoResult) -> str:
              "import: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()),
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
-             f"{'method':<22}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
-    for name in ("lpnn", "lpnn-refine", "fast-reference", "heuristic", "uniform"):
+             f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
+    for name in ("lpnn", "lpnn-refine", "fast-reference", "insertion", "heuristic", "uniform"):
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
-        lines.append(f"{LABELS[name]:<22}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
+        lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
                      f"{guarded_ratio(m.probes, reference.probes):>7.2f}{guarded_ratio(m.probes, uniform.probes):>7.2f}"
                      f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}  {stages}")
     count = result.methods["lpnn"].probes
     same = result.same_count
-    lines += ["", f"At LPNN's {count} probes: mean error LPNN {same['lpnn'].irradiance.mean:.4f}, "
-                  f"reference {same['fast-reference'].irradiance.mean:.4f} "
-                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['fast-reference'].irradiance.mean):.2f}), "
-                  f"uniform {same['uniform'].irradiance.mean:.4f} "
-                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['uniform'].irradiance.mean):.2f}), "
-                  f"heuristic {same['heuristic'].irradiance.mean:.4f} "
-                  f"(LPNN x{guarded_ratio(same['lpnn'].irradiance.mean, same['heuristic'].irradiance.mean):.2f})"]
+    lpnn_error = same["lpnn"].irradiance.mean
+    others = ", ".join(f"{LABELS[name].split(' (')[0]} {same[name].irradiance.mean:.4f} "
+                       f"(LPNN x{guarded_ratio(lpnn_error, same[name].irradiance.mean):.2f})"
+                       for name in ("fast-reference", "insertion", "uniform", "heuristic"))
+    lines += ["", f"At LPNN's {count} probes: mean error LPNN {lpnn_error:.4f}, {others}"]
     return "\n".join(lines) + "\n"
 
 

@@ -19,6 +19,7 @@ from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from ..quality.arguments import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
+from ..quality.insertion import insertion_ranking
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
 from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
@@ -117,7 +118,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     result.methods["fast-reference"] = MethodResult("fast-reference", target.indices,
                                                     evaluate_placement(field_, target.indices),
                                                     {"reference": reference_seconds})
-    log("comparing: uniform grid and heuristic")
+    log("comparing: uniform grid, heuristic and insertion (the best non-learned method, quality.md)")
     uniform = uniform_selector(grid)
     start = time.perf_counter()
     heuristic = heuristic_ranking(grid, capture.sh, capture.lighting_scale)
@@ -125,11 +126,16 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     heuristic_select = prefix_selection(grid, heuristic)
     result.methods["uniform"] = _searched("uniform", field_, uniform, tolerance, 0.0)
     result.methods["heuristic"] = _searched("heuristic", field_, heuristic_select, tolerance, heuristic_seconds)
+    start = time.perf_counter()
+    insertion = insertion_ranking(field_, grid)
+    insertion_seconds = time.perf_counter() - start
+    insertion_select = prefix_selection(grid, insertion)
+    result.methods["insertion"] = _searched("insertion", field_, insertion_select, tolerance, insertion_seconds)
 
     count = result.methods["lpnn"].probes
     lpnn_select = prefix_selection(grid, lpnn.ranking)
     selections: dict[str, SelectionForCount] = {
-        "lpnn": lpnn_select, "uniform": uniform, "heuristic": heuristic_select,
+        "lpnn": lpnn_select, "uniform": uniform, "heuristic": heuristic_select, "insertion": insertion_select,
         "fast-reference": lambda k: reference.prefix(max(k, reference.smallest_count))}
     result.same_count = {name: evaluate_placement(field_, select(count)) for name, select in selections.items()}
     counts = curve_counts(n)
