@@ -26,19 +26,35 @@ def _number(text: str, example: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. {example})") from None
 
 
+def budget_problem(value: float) -> str | None:
+    """Why `value` is not a budget fraction, or None: the one rule of the CLI and of quality/policies.py."""
+    if math.isfinite(value) and 0.0 < value <= 1.0:
+        return None
+    return "must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %"
+
+
+def tolerance_problem(value: float) -> str | None:
+    """Why `value` is not a tolerance (a mean error), or None: the one rule of the CLI and of quality/policies.py."""
+    if math.isfinite(value) and value > 0.0:
+        return None
+    return f"must be a mean error > 0, e.g. {DEFAULT_TOLERANCE:g} (the default of bench, the demo and the editor)"
+
+
 def fraction(text: str) -> float:
     """argparse type: a budget fraction in (0, 1] written with '.' decimals."""
     value = _number(text, "0.2")
-    if not (math.isfinite(value) and 0.0 < value <= 1.0):
-        raise argparse.ArgumentTypeError(f"{text!r} must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %")
+    problem = budget_problem(value)
+    if problem:
+        raise argparse.ArgumentTypeError(f"{text!r} {problem}")
     return value
 
 
 def tolerance(text: str) -> float:
     """argparse type: a mean error > 0 written with '.' decimals."""
-    value = _number(text, "0.05")
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"{text!r} must be a mean error > 0, e.g. 0.05 (the default of bench, the demo and the editor)")
+    value = _number(text, f"{DEFAULT_TOLERANCE:g}")
+    problem = tolerance_problem(value)
+    if problem:
+        raise argparse.ArgumentTypeError(f"{text!r} {problem}")
     return value
 
 

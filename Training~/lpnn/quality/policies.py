@@ -14,7 +14,6 @@ curve), so the answer there is the exact smallest count.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -22,6 +21,7 @@ import numpy as np
 
 from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, percentile_count
+from .arguments import budget_problem, tolerance_problem
 from .decimation import MINIMUM_PROBES, Decimation
 from .metric import PRIMARY_METRIC, ReferenceField, placement_error
 
@@ -44,15 +44,17 @@ class Placement:
 
 def checked_fraction(fraction: float) -> float:
     value = float(fraction)
-    if not (math.isfinite(value) and 0.0 < value <= 1.0):
-        raise PolicyError(f"budget {fraction!r} must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %")
+    problem = budget_problem(value)
+    if problem:
+        raise PolicyError(f"budget {fraction!r} {problem}")
     return value
 
 
 def checked_tolerance(tolerance: float) -> float:
     value = float(tolerance)
-    if not (math.isfinite(value) and value > 0.0):
-        raise PolicyError(f"tolerance {tolerance!r} must be a mean error > 0, e.g. 0.05 (the default of bench, the demo and the editor)")
+    problem = tolerance_problem(value)
+    if problem:
+        raise PolicyError(f"tolerance {tolerance!r} {problem}")
     return value
 
 
