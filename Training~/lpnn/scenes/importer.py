@@ -78,6 +78,42 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     light_grid = LightGrid.from_bsp(level.bsp)
     seconds["read"] = time.perf_counter() - clock
 
+    grid, lattice_points, removed = _open_grid(level, boxes, cell_size, point_limit, seconds, progress)
+
+    clock = time.perf_counter()
+    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, grid, drop_unlit, progress)
+    positions = grid.positions
+    seconds["sh"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    soup = ray_geometry(level.bsp)
+    raycaster = EmbreeRaycaster(quake_to_unity(soup.vertices), soup.triangles)
+    seconds["geometry"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    feature_progress = None if progress is None else (lambda done, total: progress("features", done, total))
+    features, scale = extract_features(grid, sh, raycaster, progress=feature_progress)
+    seconds["features"] = time.perf_counter() - clock
+    seconds["rays"] = raycaster.cast_seconds  # part of "features"
+    rays = raycaster.rays_cast
+
+    source_info = _source_info(level, bounds_label, rays, removed, unlit, removed_unlit)
+    if timings_in_source:
+        source_info["feature_seconds"] = round(seconds["features"], 3)
+    capture = Capture(
+        ids=grid.ids, positions=positions, sh=sh, features=features, schema=LPNN_V1.id,
+        feature_names=list(LPNN_V1.names), cell_size=float(cell_size), lighting_scale=float(scale), units="m",
+        source=source_info,
+    )
+    return ImportResult(capture=capture, level=level, removed_solid=removed, unlit_points=unlit,
+                        removed_unlit=removed_unlit, lattice_points=lattice_points, rays=rays,
+                        triangles=soup.triangle_count, seconds=seconds)
+
+
+def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_limit: int,
+               seconds: dict[str, float], progress: Progress | None) -> tuple[EvaluationGrid, int, int]:
+    """The lattice of the bounds without its points in solid or outside the map:
+    (grid, lattice points, points removed); BspError when none or too many remain."""
     clock = time.perf_counter()
     try:
         lattice = build_grid(boxes if boxes is not None else [auto_box(level)], cell_size,
@@ -101,10 +137,14 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
                        f"use a cell of about {suggestion:.3g} m or a higher point limit")
     grid = lattice.subset(~blocked)
     seconds["solid"] = time.perf_counter() - clock
+    return grid, lattice.point_count, removed
 
-    clock = time.perf_counter()
-    positions = grid.positions
-    sh, lit = light_grid.sh_at(positions, None if progress is None else
+
+def _sampled_sh(level: Level, light_grid: LightGrid, grid: EvaluationGrid, drop_unlit: bool,
+                progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
+    """SH of the light grid at every point, as the capture stores it (float32):
+    (grid, sh, unlit points kept, unlit points removed); drop_unlit removes the unlit ones."""
+    sh, lit = light_grid.sh_at(grid.positions, None if progress is None else
                                (lambda done, total: progress("light grid", done, total)))
     unlit = int(np.count_nonzero(~lit))
     removed_unlit = 0
@@ -112,22 +152,13 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
         if unlit == grid.point_count:
             raise BspError(f"{level.location}: all {unlit:,} evaluation points left are unlit (every light grid "
                            f"corner is zero); import without dropping unlit points to keep them with black SH")
-        grid, positions, sh, removed_unlit, unlit = grid.subset(lit), positions[lit], sh[lit], unlit, 0
-    sh = sh.astype(np.float32)  # what the capture stores: features are computed from exactly these values
-    seconds["sh"] = time.perf_counter() - clock
+        grid, sh, removed_unlit, unlit = grid.subset(lit), sh[lit], unlit, 0
+    return grid, sh.astype(np.float32), unlit, removed_unlit  # features are computed from exactly these values
 
-    clock = time.perf_counter()
-    soup = ray_geometry(level.bsp)
-    raycaster = EmbreeRaycaster(quake_to_unity(soup.vertices), soup.triangles)
-    seconds["geometry"] = time.perf_counter() - clock
 
-    clock = time.perf_counter()
-    feature_progress = None if progress is None else (lambda done, total: progress("features", done, total))
-    features, scale = extract_features(grid, sh, raycaster, progress=feature_progress)
-    seconds["features"] = time.perf_counter() - clock
-    seconds["rays"] = raycaster.cast_seconds  # part of "features"
-    rays = raycaster.rays_cast
-
+def _source_info(level: Level, bounds_label: str, rays: int, removed: int, unlit: int,
+                 removed_unlit: int) -> dict[str, str | int | float | bool]:
+    """The capture's `source` section (file-formats.md): where the points came from and what was removed."""
     source_info: dict[str, str | int | float | bool] = {"backend": BACKEND, "level": level.name}
     if level.pak is not None:
         source_info["pak"] = level.pak.name
@@ -141,16 +172,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
         "unlit_points": unlit,
         "removed_unlit": removed_unlit,
     })
-    if timings_in_source:
-        source_info["feature_seconds"] = round(seconds["features"], 3)
-    capture = Capture(
-        ids=grid.ids, positions=positions, sh=sh, features=features, schema=LPNN_V1.id,
-        feature_names=list(LPNN_V1.names), cell_size=float(cell_size), lighting_scale=float(scale), units="m",
-        source=source_info,
-    )
-    return ImportResult(capture=capture, level=level, removed_solid=removed, unlit_points=unlit,
-                        removed_unlit=removed_unlit, lattice_points=lattice.point_count, rays=rays,
-                        triangles=soup.triangle_count, seconds=seconds)
+    return source_info
 
 
 def solid_mask(level: Level, grid: EvaluationGrid, progress: Progress | None = None) -> np.ndarray:
