@@ -77,12 +77,9 @@ def _register(faces: np.ndarray, seen: np.ndarray, count: int, a: int, b: int, c
 
 
 @njit(cache=True)
-def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_hull: bool, out: np.ndarray) -> int:
-    """Fill `out` with the hole tetrahedra of probe v (star (S, 4), global ids); returns their count,
-    or -1 when wrapping failed. on_hull: v lies on the hull (not a vertex of it), so a face the
-    wrapping creates may have nothing on its far side (it lies on the hull)."""
-    # Link points (local numbering), coordinates relative to v and heights.
-    link = np.empty(MAX_LINK, dtype=np.int64)
+def _collect_link(star: np.ndarray, v: int, link: np.ndarray) -> int:
+    """Write the distinct vertices of the star (S, 4) other than v into `link`; their count, or -1 when
+    there are more than it holds."""
     d = 0
     for t in range(star.shape[0]):
         for j in range(4):
@@ -95,10 +92,60 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
                     known = True
                     break
             if not known:
-                if d == MAX_LINK:
+                if d == link.shape[0]:
                     return -1
                 link[d] = u
                 d += 1
+    return d
+
+
+DEGENERATE_FACE = -2  # _lowest_apex: the face {a, b, c} has no area
+
+
+@njit(cache=True)
+def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int) -> int:
+    """The link point on the positive side of face (a, b, c) whose lifted point lies lowest above the
+    face's lifted plane (the regular-triangulation apex); -1 when none, DEGENERATE_FACE for a flat face."""
+    e1 = x[b] - x[a]
+    e2 = x[c] - x[a]
+    n0 = e1[1] * e2[2] - e1[2] * e2[1]
+    n1 = e1[2] * e2[0] - e1[0] * e2[2]
+    n2 = e1[0] * e2[1] - e1[1] * e2[0]
+    g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]
+    g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]
+    g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]
+    gram = g11 * g22 - g12 * g12
+    if not gram > 0.0:
+        return DEGENERATE_FACE
+    db, dc = h[b] - h[a], h[c] - h[a]
+    alpha, beta = (db * g22 - dc * g12) / gram, (dc * g11 - db * g12) / gram
+    floor = ON_PLANE * gram ** 0.75
+    best, best_key = -1, np.inf
+    for p in range(d):
+        if p == a or p == b or p == c:
+            continue
+        e30, e31, e32 = x[p, 0] - x[a, 0], x[p, 1] - x[a, 1], x[p, 2] - x[a, 2]
+        distance = n0 * e30 + n1 * e31 + n2 * e32
+        if distance <= floor:
+            continue
+        rise = h[p] - h[a] - alpha * (e1[0] * e30 + e1[1] * e31 + e1[2] * e32) \
+            - beta * (e2[0] * e30 + e2[1] * e31 + e2[2] * e32)
+        key = rise / distance
+        if key < best_key:
+            best, best_key = p, key
+    return best
+
+
+@njit(cache=True)
+def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_hull: bool, out: np.ndarray) -> int:
+    """Fill `out` with the hole tetrahedra of probe v (star (S, 4), global ids); returns their count,
+    or -1 when wrapping failed. on_hull: v lies on the hull (not a vertex of it), so a face the
+    wrapping creates may have nothing on its far side (it lies on the hull)."""
+    # Link points (local numbering), coordinates relative to v and heights.
+    link = np.empty(MAX_LINK, dtype=np.int64)
+    d = _collect_link(star, v, link)
+    if d < 0:
+        return -1
     x = np.empty((d, 3))
     h = np.empty(d)
     for i in range(d):
@@ -139,33 +186,9 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
         here = _find_face(faces, count, a, b, c)
         if seen[here] >= 2:
             continue  # closed meanwhile
-        e1 = x[b] - x[a]
-        e2 = x[c] - x[a]
-        n0 = e1[1] * e2[2] - e1[2] * e2[1]
-        n1 = e1[2] * e2[0] - e1[0] * e2[2]
-        n2 = e1[0] * e2[1] - e1[1] * e2[0]
-        g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]
-        g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]
-        g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]
-        gram = g11 * g22 - g12 * g12
-        if not gram > 0.0:
+        best = _lowest_apex(x, h, d, a, b, c)
+        if best == DEGENERATE_FACE:
             return -1
-        db, dc = h[b] - h[a], h[c] - h[a]
-        alpha, beta = (db * g22 - dc * g12) / gram, (dc * g11 - db * g12) / gram
-        floor = ON_PLANE * gram ** 0.75
-        best, best_key = -1, np.inf
-        for p in range(d):
-            if p == a or p == b or p == c:
-                continue
-            e30, e31, e32 = x[p, 0] - x[a, 0], x[p, 1] - x[a, 1], x[p, 2] - x[a, 2]
-            distance = n0 * e30 + n1 * e31 + n2 * e32
-            if distance <= floor:
-                continue
-            rise = h[p] - h[a] - alpha * (e1[0] * e30 + e1[1] * e31 + e1[2] * e32) \
-                - beta * (e2[0] * e30 + e2[1] * e31 + e2[2] * e32)
-            key = rise / distance
-            if key < best_key:
-                best, best_key = p, key
         if best < 0 and on_hull and head > boundary_faces:
             seen[here] = 2  # a face of the hull: nothing on its far side
             continue
