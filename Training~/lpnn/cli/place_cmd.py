@@ -1,13 +1,15 @@
 """`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
 
-  lpnn place CAPTURE (--model M.onnx | --scores SCORES.csv | --method fast|uniform|heuristic|random)
+  lpnn place CAPTURE (--model M.onnx | --scores SCORES.csv | --method fast|insertion|uniform|heuristic|apv|random)
              [--refine F] [--topk] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
 --topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K spread
-points and decimates down to K. SCORES.csv is what `lpnn score` writes (index,i,j,k,score).
+points and decimates down to K. SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
+reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
+lattice, the curvature heuristic, an APV-style geometry density, random.
 Prints the probes kept, the error and (LPNN) the time split.
 """
 
@@ -23,7 +25,7 @@ if TYPE_CHECKING:
     from ..core.capture import Capture
     from ..quality.metric import PlacementQuality
 
-PLACE_METHODS = ("fast", "uniform", "heuristic", "random")
+PLACE_METHODS = ("fast", "insertion", "uniform", "heuristic", "apv", "random")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -36,7 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     source.add_argument("--model", metavar="M.onnx", help="score the points with this model (and its card)")
     source.add_argument("--scores", metavar="SCORES.csv", help="scores from `lpnn score` (index,i,j,k,score)")
     source.add_argument("--method", choices=PLACE_METHODS,
-                        help="fast reference, uniform lattice, curvature-weighted farthest-point heuristic, or random (seeded)")
+                        help="fast reference, insertion (the best non-learned method measured), uniform lattice, curvature-weighted "
+                             "farthest-point heuristic, APV-style geometry density, or random (seeded)")
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
     parser.add_argument("--refine", type=refine_factor, metavar="F",
@@ -90,8 +93,10 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
 
 def _place(args: argparse.Namespace, capture: Capture) -> int:
     from ..core.grid import EvaluationGrid
+    from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.cli_support import progress_bar, run_reference
+    from ..quality.insertion import insertion_ranking
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
@@ -115,6 +120,10 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
         else:
             if args.method == "heuristic":
                 ranking, what = heuristic_ranking(grid, capture.sh, capture.lighting_scale), "farthest-point heuristic"
+            elif args.method == "insertion":
+                ranking, what = insertion_ranking(field, grid), "insertion (coarse-to-fine, error-driven)"
+            elif args.method == "apv":
+                ranking, what = apv_ranking(grid, capture.features, capture.feature_names), "APV-style geometry density"
             else:
                 ranking, what = random_ranking(n, args.seed), f"random (seed {args.seed})"
             select = prefix_selection(grid, ranking)

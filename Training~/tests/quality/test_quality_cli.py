@@ -58,7 +58,7 @@ def test_label_refuses_the_faithful_method_on_large_captures(tmp_path: Path, med
     assert "use --method fast" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("method", ["fast", "uniform", "heuristic", "random"])
+@pytest.mark.parametrize("method", ["fast", "insertion", "uniform", "heuristic", "apv", "random"])
 def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, method: str,
                                     capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / f"{method}.probes.json"
