@@ -29,6 +29,8 @@ step "package layout: .meta files, asmdefs, package.json" python3 "Tools~/check-
 
 if PY=$(bash "Tools~/setup-python.sh"); then
   echo "pass set up Python environment" >> "$checks"
+  step "lint Python (ruff: ordinary checks, and the package's layers in Tools~/lint-python.py)" \
+    "$PY" "Tools~/lint-python.py" || true
   export LPNN_OPENARENA_PAK
   LPNN_OPENARENA_PAK=$(bash "Tools~/install-openarena.sh") || echo "fail install openarena-081-maps" >> "$checks"
   reports+=("$BUILD_DIR/reports/pytest.xml")

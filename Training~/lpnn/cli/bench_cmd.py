@@ -22,7 +22,8 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, fractions, refine_factor, tolerance
+    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+    from .arguments import fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
@@ -46,9 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..core.capture import dataset_files, read_capture, safe_file_stem
     from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
-    from ..quality.cli_support import user_errors
+    from .errors import user_errors
     from ..quality.plots import error_plot, time_plot
-    from .errors import UserError
+    from ..errors import UserError
 
     if args.repeats < 1 or args.reference_repeats < 1:
         raise UserError("--repeats and --reference-repeats must be >= 1")

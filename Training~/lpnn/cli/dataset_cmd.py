@@ -27,7 +27,7 @@ from ..core.capture import (
     validate_capture,
 )
 from ..core.legacy import LegacyFormatError, legacy_to_capture
-from .errors import UserError
+from ..errors import UserError
 
 EXIT_PROBLEMS = 1
 

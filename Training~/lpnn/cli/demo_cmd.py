@@ -18,7 +18,8 @@ from pathlib import Path
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..demo import DEMO_LEVEL
-    from ..quality.arguments import DEFAULT_TOLERANCE, tolerance
+    from ..quality.policy_rules import DEFAULT_TOLERANCE
+    from .arguments import tolerance
 
     parser = subparsers.add_parser("demo", help="place probes on a held-out level and compare (the README's main job)",
                                    description="Headless demo on a real level with a model.")
@@ -34,7 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     from ..demo.report import table, write_outputs
     from ..demo.run import held_out_in_card, run_demo
-    from ..quality.cli_support import user_errors
+    from .errors import user_errors
     from ..scenes.importer import DEFAULT_CELL, import_level
     from ..scenes.levels import load_pak_member
     from ..train.onnx_scoring import OnnxScorer

@@ -1,5 +1,21 @@
-"""Errors a user can act on: printed as one line by the CLI, without a traceback."""
+"""The placement steps' input errors as one-line messages naming the capture (`lpnn place`, `bench`, `label`, `demo`)."""
+
+from __future__ import annotations
+
+import contextlib
+from typing import Iterator
+
+from ..core.selection import SelectionError
+from ..errors import UserError
+from ..quality.metric import MetricError
+from ..quality.policies import PolicyError
+from ..quality.triangulation import GeometryError
 
 
-class UserError(Exception):
-    """A problem with the user's input or environment; the message says what to do."""
+@contextlib.contextmanager
+def user_errors(source: str) -> Iterator[None]:
+    """Turn the quality package's input errors into one-line UserErrors naming the capture."""
+    try:
+        yield
+    except (GeometryError, MetricError, PolicyError, SelectionError) as exc:
+        raise UserError(f"{source}: {exc}") from exc

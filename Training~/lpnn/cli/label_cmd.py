@@ -19,7 +19,8 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import REFERENCE_METHODS, add_policy_arguments
+    from ..quality.policy_rules import REFERENCE_METHODS
+    from .arguments import add_policy_arguments
 
     parser = subparsers.add_parser("label", help="label captures with an error-driven reference placement",
                                    description="Write reference-placement labels into captures (quality.md).")
@@ -39,9 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..core.capture import dataset_files
     from ..quality.bench import failure_reason
-    from ..quality.cli_support import user_errors
+    from .errors import user_errors
     from ..quality.policies import reference_label_source
-    from .errors import UserError
+    from ..errors import UserError
 
     files = dataset_files(args.captures)
     if not files:
@@ -76,10 +77,11 @@ def _label_one(path: Path, args: argparse.Namespace, source: str, out_dir: Path 
 
     from ..core.atomic import write_new_atomic
     from ..core.capture import encode_capture, read_capture, write_capture
-    from ..quality.cli_support import progress_bar, run_reference
+    from ..quality.reference import run_reference
+    from .progress import progress_bar
     from ..quality.metric import ReferenceField
     from ..quality.policies import budget_count, reference_count, reference_tolerance
-    from .errors import UserError
+    from ..errors import UserError
 
     capture = read_capture(path)
     field = ReferenceField.from_capture(capture)

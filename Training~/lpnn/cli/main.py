@@ -13,9 +13,7 @@ import pkgutil
 import sys
 
 from .. import __version__
-from ..core.atomic import OutputPathError
-from ..core.capture import CaptureError
-from .errors import UserError
+from ..errors import LpnnError
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -40,7 +38,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         result = args.handler(args)
-    except (UserError, CaptureError, OutputPathError) as exc:
+    except LpnnError as exc:  # every error raised on purpose: its message says what to do (lpnn/errors.py)
         print(f"lpnn {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_FAILED
     except OSError as exc:

@@ -50,7 +50,7 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_bench(args: argparse.Namespace) -> int:
-    from ..cli.errors import UserError
+    from ..errors import UserError
     from ..train.benchmark import DEFAULT_SIZES, format_report, scoring_benchmark, training_throughput
 
     sizes = tuple(args.sizes) if args.sizes else DEFAULT_SIZES

@@ -29,7 +29,7 @@ PLACE_METHODS = ("fast", "insertion", "uniform", "heuristic", "apv", "random")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.arguments import add_policy_arguments, refine_factor
+    from .arguments import add_policy_arguments, refine_factor
 
     parser = subparsers.add_parser("place", help="place probes in a capture (budget or error tolerance)",
                                    description="Choose probe positions for a capture and write *.probes.json.")
@@ -55,8 +55,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..core.capture import read_capture
-    from ..quality.cli_support import user_errors
-    from .errors import UserError
+    from .errors import user_errors
+    from ..errors import UserError
 
     if args.method is not None and (args.refine is not None or args.topk):
         raise UserError("--refine and --topk apply to LPNN scores: use them with --model or --scores")
@@ -95,7 +95,8 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
     from ..core.grid import EvaluationGrid
     from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
-    from ..quality.cli_support import progress_bar, run_reference
+    from ..quality.reference import run_reference
+    from .progress import progress_bar
     from ..quality.insertion import insertion_ranking
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,

@@ -55,7 +55,7 @@ def _run(args: argparse.Namespace) -> int:
 def _report(args: argparse.Namespace) -> int:
     from ..recipe.publish import documented_table, report_markdown
     from ..train.modelcard import ModelCard, card_path
-    from .errors import UserError
+    from ..errors import UserError
 
     table = report_markdown(ModelCard.read(card_path(args.model)))
     if not args.check:

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from ..scenes.defaults import DEFAULT_CELL, DEFAULT_POINT_LIMIT
-from .errors import UserError
+from ..errors import UserError
 
 LEVEL_HELP = "a .bsp file, PAK.pk3:maps/NAME.bsp, or a map name in the default pak (LPNN_OPENARENA_PAK or the Debian path)"
 

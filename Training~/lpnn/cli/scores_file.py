@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import UserError
+from ..errors import UserError
 
 SCORES_HEADER = ("index", "i", "j", "k", "score")
 

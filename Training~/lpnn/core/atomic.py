@@ -14,6 +14,8 @@ import tempfile
 from pathlib import Path
 from typing import Callable, Iterator, BinaryIO
 
+from ..errors import LpnnError
+
 # Failures of the write itself (not of the path): the disk or the user's quota is full, or the file is
 # larger than the file system allows.
 _SPACE_ERRNOS = frozenset(getattr(errno, name) for name in ("ENOSPC", "EDQUOT", "EFBIG") if hasattr(errno, name))
@@ -22,7 +24,7 @@ _NO_HARD_LINK_ERRNOS = frozenset(getattr(errno, name) for name in ("EPERM", "ENO
                                  if hasattr(errno, name))
 
 
-class OutputPathError(Exception):
+class OutputPathError(LpnnError):
     """An output path that cannot be written; the message names the path and what to do."""
 
 

@@ -16,6 +16,7 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from .atomic import write_atomic, write_new_atomic
 from .schema import schema_by_id
 
@@ -41,7 +42,7 @@ KNOWN_HEADER_KEYS = (
 SH_CHANNELS = "rgb"
 
 
-class CaptureError(ValueError):
+class CaptureError(InvalidInputError):
     """A capture could not be read or written; the message names file, record/field and problem."""
 
 

@@ -14,6 +14,7 @@ from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from . import sh as shmath
 from .grid import EvaluationGrid
 from .schema import LPNN_V1
@@ -48,7 +49,7 @@ RAY_DIRECTIONS.setflags(write=False)
 LIGHT_VALUES = D14.shape[0] * 3  # the 42 numbers rel() compares
 
 
-class FeatureError(ValueError):
+class FeatureError(InvalidInputError):
     """Features cannot be extracted from these inputs; the message names the bad point and the fix."""
 
 

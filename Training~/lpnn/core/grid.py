@@ -17,6 +17,8 @@ from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
+from ..errors import InvalidInputError
+
 DEFAULT_POINT_LIMIT = 2_000_000
 ROWS_PER_POINT_LIMIT = 4  # the candidate-row bound is 4 x point limit (grid.md "Limits")
 ID_BOUND = 2**30  # |i|, |j|, |k| <= 2^30 so neighbour offsets never overflow int32
@@ -32,7 +34,7 @@ BYTES_PER_POINT_FIXED = 12 + 12 + 108 + 4 + 1 + 32 + 168
 BYTES_PER_FEATURE = 4
 
 
-class GridError(ValueError):
+class GridError(InvalidInputError):
     """The grid cannot be built as asked; the message names the bad value and what to change."""
 
 
@@ -190,7 +192,7 @@ def _box_rows(box: Box, h: float, number: int, box_range: _BoxRange) -> Iterator
     a_x = axes[:, 0]
     zero_x = a_x == 0.0
     safe_a_x = np.where(zero_x, 1.0, a_x)
-    (i_lo, j_lo, k_lo), (i_hi, j_hi, k_hi) = box_range.lo, box_range.hi
+    (i_lo, j_lo, k_lo), (i_hi, j_hi, _) = box_range.lo, box_range.hi
     row_width = j_hi - j_lo + 1
     total = box_range.row_count
     for start in range(0, total, ROW_CHUNK):

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from .grid import EvaluationGrid
 
 # Lattice coordinates beyond this cannot be grid ids (|id| <= 2^30); clipping keeps the int64
@@ -18,7 +19,7 @@ from .grid import EvaluationGrid
 _FAR_OUTSIDE = 2.0**40
 
 
-class LabelError(ValueError):
+class LabelError(InvalidInputError):
     """The probe positions cannot be used as labels; the message names the probe and the fix."""
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from .capture import Capture
 from .schema import THESIS30
 
@@ -25,7 +26,7 @@ _COUNT = re.compile(r"\+?\d+")
 _LABELS = {"true": 1, "false": 0}
 
 
-class LegacyFormatError(ValueError):
+class LegacyFormatError(InvalidInputError):
     """A legacy file does not follow the thesis layout; the message names file, line and value."""
 
 

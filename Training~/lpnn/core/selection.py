@@ -13,6 +13,7 @@ from typing import Iterable
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from .grid import Box, EvaluationGrid
 
 POLICIES = ("percentile", "budget", "threshold")
@@ -20,7 +21,7 @@ PERCENTILE_ROUNDING = 1e-9  # absorbs binary rounding: (1 - 0.9) * 125 + 0.5 is 
 TETRAHEDRON_POINTS = 4
 
 
-class SelectionError(ValueError):
+class SelectionError(InvalidInputError):
     """A policy parameter is out of range, or no valid probe set exists; the message says what to change."""
 
 

@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from .features import D14
 from .spread_kernel import weighted_farthest_points
 
@@ -35,7 +36,7 @@ SCORE_FLOOR = 1e-6  # scores are clipped to [SCORE_FLOOR, 1] (NaN -> SCORE_FLOOR
 DEFAULT_EXPONENT = 0.5
 
 
-class SpreadError(ValueError):
+class SpreadError(InvalidInputError):
     """The spread ranking's inputs are invalid; the message names the value and what to do."""
 
 

@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..quality.arguments import DEFAULT_TOLERANCE
+from ..quality.policy_rules import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
 from ..quality.insertion import insertion_ranking
 from ..quality.decimation import Decimation

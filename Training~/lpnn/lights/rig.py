@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from ..core.atomic import write_text_atomic
 from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.entities import light_entities, parse_vector
@@ -30,7 +31,7 @@ DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light`
 SPAWNFLAG_LINEAR = 1
 
 
-class RigError(ValueError):
+class RigError(InvalidInputError):
     """A rig file cannot be used; the message names the file, the light and the value."""
 
 

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from ..core.grid import EvaluationGrid
 from .baselines import hull_corners
 
@@ -35,7 +36,7 @@ RAY_REACH_CELLS = 4.0  # features.md: R = 4h
 NEAREST_SURFACE = "nearest_surface"
 
 
-class ApvError(ValueError):
+class ApvError(InvalidInputError):
     """The APV-style baseline cannot run on this capture; the message says why and what to do."""
 
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from .arguments import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
@@ -199,7 +199,7 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
     rows = []
     for fraction in config.budgets:
         count = budget_count(fraction, field_.point_count)
-        indices, selection_seconds = timed(lambda: method.select(count), config.repeats)
+        indices, selection_seconds = timed(lambda count=count: method.select(count), config.repeats)
         precomputed = method.decimation is not None  # a reference: its whole ordering is in method.seconds
         timing = _Timing(method.seconds + (0.0 if precomputed else selection_seconds),
                          selection=None if precomputed else selection_seconds)

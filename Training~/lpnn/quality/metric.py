@@ -26,6 +26,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from ..core import sh as shmath
 from ..core.capture import Capture
 from ..core.features import D14, scene_scale
@@ -39,7 +40,7 @@ PRIMARY_METRIC = "irradiance"
 PERCENTILE = 95.0
 
 
-class MetricError(ValueError):
+class MetricError(InvalidInputError):
     """The metric cannot be computed from these inputs; the message names the bad value."""
 
 

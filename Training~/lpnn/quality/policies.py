@@ -19,16 +19,17 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import InvalidInputError
 from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, percentile_count
-from .arguments import budget_problem, tolerance_problem
+from .policy_rules import budget_problem, tolerance_problem
 from .decimation import MINIMUM_PROBES, Decimation
 from .metric import PRIMARY_METRIC, ReferenceField, placement_error
 
 SelectionForCount = Callable[[int], np.ndarray]
 
 
-class PolicyError(ValueError):
+class PolicyError(InvalidInputError):
     """A policy parameter is out of range; the message names it and the valid range."""
 
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from ..errors import InvalidInputError
 from .tet_geometry import edge_frames, is_flat
 
 DUPLICATE_TOLERANCE = 1e-7  # two probes closer than this fraction of the extent are duplicates
@@ -33,7 +34,7 @@ QHULL_OPTIONS = "Qt"  # triangulated output; no Qbb/Qz: those are for Qhull's ow
 VERTEX_KEY_BITS = 21  # three vertex ids fit one int64 face key when there are < 2^21 points
 
 
-class GeometryError(ValueError):
+class GeometryError(InvalidInputError):
     """The probe set cannot be tetrahedralised; the message names the problem and what to do."""
 
 

@@ -16,7 +16,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 from ..core.capture import read_capture
 from ..core.processes import worker_pool
-from ..quality.arguments import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from ..quality.bench import BenchConfig, bench_capture
 from ..quality.lpnn_placement import RECOMMENDED_REFINE
 from ..quality.metric import guarded_ratio

@@ -9,9 +9,9 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from ..cli.errors import UserError
+from ..errors import UserError
 from ..core.atomic import write_text_atomic
-from ..core.capture import Capture, read_capture, write_capture
+from ..core.capture import read_capture, write_capture
 from ..core.processes import worker_pool
 from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member
@@ -179,7 +179,7 @@ def label_crops(paths: RecipePaths, names: list[str], config: RecipeConfig, log:
     todo = [(str(paths.crops / f"{n}.lpnncap"), str(paths.labelled / f"{n}.lpnncap"), config.label_budget)
             for n in names if not (paths.labelled / f"{n}.lpnncap").exists()]
     seconds: dict[str, float] = {}
-    for name, spent, points in _progress(_parallel(_label_task, todo, config.workers), len(todo), "labelling crops"):
+    for name, spent, _points in _progress(_parallel(_label_task, todo, config.workers), len(todo), "labelling crops"):
         seconds[name] = spent
     if todo:
         log(f"  labelled {len(todo)} crops with the fast reference ({sum(seconds.values()):.0f} s of reference time)")

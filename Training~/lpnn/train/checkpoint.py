@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..cli.errors import UserError
+from ..errors import UserError
 from ..core.atomic import write_bytes_atomic
 from .config import model_config_from_dict
 from .model import MODEL_NAME, PointNet

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..cli.errors import UserError
+from ..errors import UserError
 
 LOSSES = ("weighted_bce", "focal")
 POINTWISE_LAYERS = ("dense", "conv1d")

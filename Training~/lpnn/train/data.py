@@ -14,7 +14,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from ..cli.errors import UserError
+from ..errors import UserError
 from ..core.capture import Capture, dataset_files, read_capture
 from .modelcard import schema_mismatch
 

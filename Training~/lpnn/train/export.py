@@ -14,7 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 import onnx
 
-from ..cli.errors import UserError
+from ..errors import LpnnError, UserError
 from ..core.atomic import write_bytes_atomic
 from .modelcard import CARD_FORMAT, CARD_VERSION, INPUT_NAME, OPSET, OUTPUT_NAME, ModelCard, card_path
 from .onnx_scoring import create_session, library_versions
@@ -31,7 +31,7 @@ PARITY_MAX_REAL_POINTS = 50_000  # per real capture: enough to cover its value r
 DYNAMIC_DIMS = ("batch", "points")
 
 
-class ExportError(UserError):
+class ExportError(LpnnError):
     """The exported graph breaks the model contract (ops, opset, I/O) or disagrees with Keras."""
 
 

@@ -6,7 +6,7 @@ from typing import Any, Callable
 
 import tensorflow as tf
 
-from ..cli.errors import UserError
+from ..errors import UserError
 
 LossFunction = Callable[[Any, Any, Any], Any]
 

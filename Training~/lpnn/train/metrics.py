@@ -17,7 +17,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..cli.errors import UserError
+from ..errors import UserError
 
 RankingFunction = Callable[[np.ndarray, np.ndarray], float]
 
@@ -129,7 +129,7 @@ def monitor_direction(monitor: str, metrics: Sequence[CaptureMetric]) -> bool:
     raise UserError(f"monitor {monitor!r} is not a validation metric; choose one of {known}")
 
 
-EXAMPLE_METRIC = "lpnn.quality.validation:PLACEMENT_ERROR_20"  # named in error messages: must load
+EXAMPLE_METRIC = "lpnn.train.placement_metric:PLACEMENT_ERROR_20"  # named in error messages: must load
 
 
 def load_metric_plugins(specs: Sequence[str]) -> list[CaptureMetric]:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from ..cli.errors import UserError
+from ..errors import UserError
 from ..core.atomic import write_text_atomic
 
 CARD_FORMAT = "lpnn.modelcard"

@@ -14,7 +14,7 @@ import numpy as np
 import onnxruntime as ort
 
 from .. import __version__
-from ..cli.errors import UserError
+from ..errors import UserError
 from .modelcard import INPUT_NAME, OUTPUT_NAME, ModelCard, card_path, check_features
 
 DEFAULT_THREADS = 2

@@ -13,7 +13,7 @@ import numpy as np
 import keras
 import tensorflow as tf
 
-from ..cli.errors import UserError
+from ..errors import UserError
 from .batches import Batch, BatchSampler
 from .config import TrainConfig
 from .data import Cloud, Normalisation, Split, normalisation_from, positive_weight

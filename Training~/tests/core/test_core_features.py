@@ -151,7 +151,7 @@ def reference_lighting(grid: EvaluationGrid, sh: np.ndarray) -> np.ndarray:
                float(np.mean((lum - lum.mean()) ** 2)) / floor**2]
         row += [float(np.mean((e[:, c] - e[:, c].mean()) ** 2)) / floor**2 for c in range(3)]
 
-        def at(axis, offset):
+        def at(axis, offset, ident=ident):
             moved = list(ident)
             moved[axis] += offset
             return table.get(tuple(moved))

@@ -16,7 +16,7 @@ from lpnn.quality.lpnn_placement import largest_seeded_count, lpnn_placement, se
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.policies import PolicyError, bounded_tolerance, budget_count, place_tolerance, prefix_selection
 from lpnn.quality.reference_fast import fast_decimation
-from lpnn.quality.validation import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
+from lpnn.train.placement_metric import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
 
 
 class StubScorer:

@@ -10,9 +10,10 @@ from lpnn.train.config import ModelConfig
 from lpnn.train.model import PointNet, multiply_adds_per_point
 
 F = 5
+SMALL_MODEL = ModelConfig(trunk=(8, 16), head=(8,), dropout=0.0)  # frozen: safe as a default
 
 
-def make_model(config: ModelConfig = ModelConfig(trunk=(8, 16), head=(8,), dropout=0.0),
+def make_model(config: ModelConfig = SMALL_MODEL,
                mean: np.ndarray | None = None, std: np.ndarray | None = None) -> PointNet:
     mean = np.zeros(F, np.float32) if mean is None else mean
     std = np.ones(F, np.float32) if std is None else std

@@ -1,6 +1,6 @@
 """The placement error as a training validation metric (`lpnn train --metric`).
 
-    lpnn train DATASET --out model.onnx --metric lpnn.quality.validation:PLACEMENT_ERROR_20
+    lpnn train DATASET --out model.onnx --metric lpnn.train.placement_metric:PLACEMENT_ERROR_20
 
 reports, per held-out capture, the mean placement error of the model's 20 % placement (budget
 policy on the spread ranking of its scores, the way LPNN scores become probes: quality.md §4,
@@ -17,9 +17,9 @@ import numpy as np
 from ..core.grid import EvaluationGrid
 from ..core.selection import rank
 from ..core.spread import spread_ranking
-from ..train.metrics import CaptureMetric
-from .metric import ReferenceField, placement_error
-from .policies import budget_count, prefix_selection
+from ..quality.metric import ReferenceField, placement_error
+from ..quality.policies import budget_count, prefix_selection
+from .metrics import CaptureMetric
 
 
 def placement_error_at(fraction: float, topk: bool = False) -> CaptureMetric:

@@ -1,7 +1,7 @@
 """Command-line argument types shared by `lpnn label`, `lpnn place` and `lpnn bench`.
 
 Light on purpose (argparse and math only): the commands register their options at `lpnn --help`
-time, before any heavy import.
+time, before any heavy import. The rules themselves are `quality/policy_rules.py`'s.
 """
 
 from __future__ import annotations
@@ -9,13 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 
-REFERENCE_METHODS = ("fast", "faithful")
-# Mean irradiance error of the tolerance policy (~10 % relative irradiance error) in the benchmark, the
-# recipe's evaluation and the demo: at 0.02 the noisy Quake light grids need 2/3 of all points.
-DEFAULT_TOLERANCE = 0.05
-# Budgets of `lpnn bench` and the recipe's evaluation: down to 1 %, where artists' smallest counts lie.
-# Here, not in bench.py, so that building the CLI parser imports no numerical library.
-DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
+from ..quality.policy_rules import DEFAULT_TOLERANCE, budget_problem, tolerance_problem
 
 
 def _number(text: str, example: str) -> float:
@@ -24,20 +18,6 @@ def _number(text: str, example: str) -> float:
         return float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number (use '.' for decimals, e.g. {example})") from None
-
-
-def budget_problem(value: float) -> str | None:
-    """Why `value` is not a budget fraction, or None: the one rule of the CLI and of quality/policies.py."""
-    if math.isfinite(value) and 0.0 < value <= 1.0:
-        return None
-    return "must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %"
-
-
-def tolerance_problem(value: float) -> str | None:
-    """Why `value` is not a tolerance (a mean error), or None: the one rule of the CLI and of quality/policies.py."""
-    if math.isfinite(value) and value > 0.0:
-        return None
-    return f"must be a mean error > 0, e.g. {DEFAULT_TOLERANCE:g} (the default of bench, the demo and the editor)"
 
 
 def fraction(text: str) -> float:

@@ -1,0 +1,31 @@
+"""The rules of the placement policies' parameters and their defaults, shared by the commands,
+`quality/policies.py`, the benchmark, the recipe and the demo: one definition each.
+
+Light on purpose (math only): the CLI registers its options at `lpnn --help` time, before any heavy import.
+"""
+
+from __future__ import annotations
+
+import math
+
+REFERENCE_METHODS = ("fast", "faithful")
+# Mean irradiance error of the tolerance policy (~10 % relative irradiance error) in the benchmark, the
+# recipe's evaluation and the demo: at 0.02 the noisy Quake light grids need 2/3 of all points.
+DEFAULT_TOLERANCE = 0.05
+# Budgets of `lpnn bench` and the recipe's evaluation: down to 1 %, where artists' smallest counts lie.
+# Here, not in bench.py, so that building the CLI parser imports no numerical library.
+DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
+
+
+def budget_problem(value: float) -> str | None:
+    """Why `value` is not a budget fraction, or None: the one rule of the CLI and of quality/policies.py."""
+    if math.isfinite(value) and 0.0 < value <= 1.0:
+        return None
+    return "must be a fraction of the points in (0, 1], e.g. 0.2 for 20 %"
+
+
+def tolerance_problem(value: float) -> str | None:
+    """Why `value` is not a tolerance (a mean error), or None: the one rule of the CLI and of quality/policies.py."""
+    if math.isfinite(value) and value > 0.0:
+        return None
+    return f"must be a mean error > 0, e.g. {DEFAULT_TOLERANCE:g} (the default of bench, the demo and the editor)"
