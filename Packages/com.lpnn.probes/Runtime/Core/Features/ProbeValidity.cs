@@ -16,6 +16,10 @@ namespace Lpnn.Probes.Core.Features
         /// level, so a ray that leaves the scene misses, and a point deep inside a thick mesh still meets its back faces.</summary>
         public const float RayLength = 10000f;
 
+        /// <summary>The optional capture section (float32 [N]) holding each point's back-face fraction
+        /// (Documentation~/file-formats.md; Python: lpnn.core.validity.CAPTURE_SECTION).</summary>
+        public const string CaptureSection = "back_face_fraction";
+
         /// <summary>Share of back-face hits among one point's rays.</summary>
         public static double BackFaceFraction(Vector3[] directions, bool[] hits, Vector3[] normals)
         {
