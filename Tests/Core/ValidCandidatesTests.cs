@@ -186,6 +186,13 @@ namespace Lpnn.Probes.Core.Tests
                 Assert.That(features.BackFaceFractions[n], Is.EqualTo(inside ? 18f / 26 : 0f).Within(1e-6), "point " + n);
                 Assert.That(valid[n], Is.EqualTo(!inside), "point " + n);
             }
+            // an exported capture carries the fractions, so `lpnn place` can exclude the same points
+            var capture = Lpnn.Probes.Core.Captures.Capture.FromGrid(grid, sh, features);
+            var section = capture.ExtraSections[0];
+            Assert.That(section.Name, Is.EqualTo(ProbeValidity.CaptureSection));
+            Assert.That(section.DType, Is.EqualTo("float32"));
+            Assert.That(section.Shape, Is.EqualTo(new[] { grid.Count }));
+            Assert.That(BitConverter.ToSingle(section.Data, 4 * 2), Is.EqualTo(features.BackFaceFractions[2]));
         }
     }
 }
