@@ -8,9 +8,12 @@ winding calls front) points along the ray. Misses count as rays, not as back fac
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from .selection import degenerate_shape
 
 if TYPE_CHECKING:
     from .capture import Capture
@@ -92,12 +95,10 @@ def without_invalid(capture: "Capture", valid: np.ndarray | None) -> "Capture":
     """The capture restricted to its valid points (every per-point array, extra sections included), so no selection
     path can pick a point inside geometry. Refuses when the valid points cannot hold a probe group (fewer than 4, or
     all in one plane: Unity tetrahedralises the probes)."""
-    from dataclasses import replace
-
     if valid is None or valid.all():
         return capture
-    ids = capture.ids[valid].astype(np.int64)
-    shape = _degeneracy(ids)
+    ids = capture.ids[valid]
+    shape = degenerate_shape(ids)
     if shape is not None:
         raise ValueError(
             f"only {len(ids):,} of {capture.point_count:,} points are valid ({shape}); the other "
@@ -108,21 +109,3 @@ def without_invalid(capture: "Capture", valid: np.ndarray | None) -> "Capture":
         capture, ids=capture.ids[valid], positions=capture.positions[valid], sh=capture.sh[valid],
         features=capture.features[valid], labels=None if capture.labels is None else capture.labels[valid],
         extra_sections={name: array[valid] for name, array in capture.extra_sections.items()})
-
-
-def _degeneracy(ids: np.ndarray) -> str | None:
-    """None when the integer lattice ids span a tetrahedron, else the shape they are confined to (exact)."""
-    if len(ids) == 0:
-        return "none at all"
-    offsets = ids - ids[0]
-    moved = np.flatnonzero(np.any(offsets != 0, axis=1))
-    if len(moved) == 0:
-        return "a single point"
-    u = offsets[moved[0]]
-    normals = np.cross(u, offsets)
-    off_line = np.flatnonzero(np.any(normals != 0, axis=1))
-    if len(off_line) == 0:
-        return "all on one line"
-    if not np.any(offsets @ normals[off_line[0]] != 0):
-        return "all in one plane"
-    return None

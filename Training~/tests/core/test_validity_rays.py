@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.core.validity import RAY_LENGTH, back_face_fractions, invalid
+from lpnn.core.analytic_scene import AnalyticScene
+from lpnn.core.validity import CAPTURE_SECTION, RAY_LENGTH, back_face_fractions, invalid, valid_points, without_invalid
 
 
 class SolidSlab:
@@ -47,3 +48,22 @@ def test_far_faces_count_so_deep_solid_is_found() -> None:
 def test_bad_positions_are_refused() -> None:
     with pytest.raises(ValueError, match=r"\(N, 3\)"):
         back_face_fractions(np.zeros((2, 2)), SolidSlab())
+
+
+def test_without_invalid_keeps_every_per_point_array_aligned_and_refuses_flat_sets() -> None:
+    capture = AnalyticScene.random(3, cell_size=0.5, room_size=(1.5, 1.25, 1.25)).capture(name="room")
+    n = capture.point_count
+    fractions = np.where(np.arange(n) % 3 == 0, 0.5, 0.0).astype(np.float32)
+    marked = capture.with_labels(np.arange(n) % 2, "test")
+    marked = type(marked)(**{**marked.__dict__, "extra_sections": {CAPTURE_SECTION: fractions}})
+    valid = valid_points(marked)
+    assert valid is not None and valid.tolist() == (np.arange(n) % 3 != 0).tolist()
+    kept = without_invalid(marked, valid)
+    assert kept.point_count == int(valid.sum())
+    for name in ("ids", "positions", "sh", "features", "labels"):
+        assert np.array_equal(getattr(kept, name), getattr(marked, name)[valid]), name
+    assert np.array_equal(kept.extra_sections[CAPTURE_SECTION], fractions[valid])
+    assert valid_points(capture) is None and without_invalid(capture, None) is capture
+    flat = capture.ids[:, 2] == capture.ids[0, 2]
+    with pytest.raises(ValueError, match="all in one plane"):
+        without_invalid(capture, flat)
