@@ -141,6 +141,27 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void TheNetworkSeesOnlyTheValidRowsAndInvalidPointsScoreZero()
+        {
+            var schema = FeatureSchema.LpnnV1;
+            int stride = schema.Count;
+            var values = new float[4 * stride];
+            for (int i = 0; i < values.Length; i++) values[i] = i;
+            var features = new FeatureSet(schema, 4, values, 2.0, new[] { 0f, 0.9f, 0.1f, 1f });
+            var valid = new[] { true, false, true, false };
+            var rows = ValidCandidates.ValidRows(features, valid);
+            Assert.That(rows.PointCount, Is.EqualTo(2));
+            Assert.That(rows[0, 0], Is.EqualTo(0f));
+            Assert.That(rows[1, 0], Is.EqualTo(2f * stride), "the second valid row is grid point 2");
+            Assert.That(rows[1, stride - 1], Is.EqualTo(3f * stride - 1));
+            Assert.That(rows.BackFaceFractions, Is.EqualTo(new[] { 0f, 0.1f }));
+            Assert.That(rows.LightingScale, Is.EqualTo(2.0));
+            Assert.That(ValidCandidates.Scatter(new[] { 0.7f, 0.3f }, valid), Is.EqualTo(new[] { 0.7f, 0f, 0.3f, 0f }));
+            Assert.Throws<SelectionException>(() => ValidCandidates.Scatter(new[] { 0.7f }, valid));
+            Assert.That(ValidCandidates.ValidRows(features, null), Is.SameAs(features));
+        }
+
+        [Test]
         public void FractionsBecomeTheMaskAtTheThresholdAndBadFractionsAreRefused()
         {
             Assert.That(ValidCandidates.FromBackFaceFractions(new[] { 0f, 0.25f, 6f / 26, 7f / 26, 1f }),

@@ -68,13 +68,16 @@ namespace Lpnn.Probes.Editor
             var grid = FreshGrid(volume, session);
             if (session.Features == null || session.Features.PointCount != grid.Count)
                 throw new LpnnException("there are no features for this grid; run the Features step first");
-            var outcome = LpnnScoring.Score(volume, session, session.Features, grid.CellSize);
+            // Points inside geometry never reach the network (it was trained on clouds without them) and get score 0;
+            // fewer than 4 non-coplanar valid points stop here with what to do.
+            bool[] valid = ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            ValidCandidates.Check(grid, valid);
+            var outcome = LpnnScoring.Score(volume, session, ValidCandidates.ValidRows(session.Features, valid), grid.CellSize);
+            float[] scores = ValidCandidates.Scatter(outcome.Scores, valid);
             string model = volume.Model != null ? volume.Model.name : "";
             // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
-            // Points inside geometry are scored like the others (the gizmos show them) but can never be selected.
-            bool[] valid = ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
             Undo.RecordObject(volume, "Score LPNN evaluation points");
-            volume.LastScores.Set(grid.CopyIds(), outcome.Scores, grid.CellSize, outcome.DeviceName, model, valid);
+            volume.LastScores.Set(grid.CopyIds(), scores, grid.CellSize, outcome.DeviceName, model, valid);
             // On a prefab instance a direct field write is lost at the next prefab reload unless recorded as an override
             // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);

@@ -56,6 +56,42 @@ namespace Lpnn.Probes.Core.Selection
                 "their faces point outwards (a mesh seen from behind counts as inside), then extract the features again");
         }
 
+        /// <summary>The feature rows of the valid points, in grid order: the network's input. It pools over the whole cloud
+        /// and was trained on clouds without points inside geometry (the importer removes them), so invalid points would
+        /// shift every other point's score.</summary>
+        public static FeatureSet ValidRows(FeatureSet features, IReadOnlyList<bool> valid)
+        {
+            if (features == null) throw new ArgumentNullException(nameof(features));
+            if (valid == null) return features;
+            if (valid.Count != features.PointCount)
+                throw new SelectionException("the validity mask needs one flag per point: got " + valid.Count + " for " + features.PointCount + " points");
+            int stride = features.Schema.Count, kept = features.PointCount - CountInvalid(valid);
+            var values = new float[(long)kept * stride];
+            var fractions = features.BackFaceFractions == null ? null : new float[kept];
+            for (int n = 0, m = 0; n < features.PointCount; n++)
+            {
+                if (!valid[n]) continue;
+                Array.Copy(features.Values, (long)n * stride, values, (long)m * stride, stride);
+                if (fractions != null) fractions[m] = features.BackFaceFractions[n];
+                m++;
+            }
+            return new FeatureSet(features.Schema, kept, values, features.LightingScale, fractions);
+        }
+
+        /// <summary>Scores of the valid points (in their order) put back in grid order; an invalid point gets 0, the least
+        /// importance (it is never selected anyway).</summary>
+        public static float[] Scatter(float[] validScores, IReadOnlyList<bool> valid)
+        {
+            if (validScores == null) throw new ArgumentNullException(nameof(validScores));
+            if (valid == null) return validScores;
+            int kept = valid.Count - CountInvalid(valid);
+            if (validScores.Length != kept)
+                throw new SelectionException("got " + validScores.Length + " scores for " + kept + " valid points");
+            var scores = new float[valid.Count];
+            for (int n = 0, m = 0; n < valid.Count; n++) scores[n] = valid[n] ? validScores[m++] : 0f;
+            return scores;
+        }
+
         /// <summary>The ranking without the invalid points, order kept.</summary>
         public static int[] Filter(int[] ranking, IReadOnlyList<bool> valid)
         {
