@@ -26,6 +26,8 @@ namespace Lpnn.Probes.Core.Tests
         {
             var golden = TestData.ReadJson("validity_golden.json");
             Assert.That(golden.Get("threshold").AsNumber, Is.EqualTo(ProbeValidity.BackFaceThreshold));
+            Assert.That(golden.Get("ray_length").AsNumber, Is.EqualTo((double)ProbeValidity.RayLength));
+            Assert.That(golden.Get("capture_section").AsString, Is.EqualTo(ProbeValidity.CaptureSection));
             var cases = golden.Get("cases").Items;
             Assert.That(cases.Count, Is.GreaterThanOrEqualTo(7));
             foreach (var c in cases)

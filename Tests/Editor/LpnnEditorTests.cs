@@ -125,6 +125,44 @@ namespace Lpnn.Probes.Editor.Tests
             Assert.That(Vector3.Distance(firstWorld, firstPoint), Is.LessThan(1e-4f));
         }
 
+        /// <summary>A closed mesh block in the middle of the room (a non-convex MeshCollider: PhysX reports its faces to
+        /// rays from inside, with their winding normals): exactly the grid points inside it are invalid, and no selection
+        /// places a probe there even when they score highest.</summary>
+        [Test]
+        public void PointsInsideAClosedMeshAreNeverProbes()
+        {
+            var block = GameObject.CreatePrimitive(PrimitiveType.Cube);
+            Object.DestroyImmediate(block.GetComponent<Collider>());
+            block.AddComponent<MeshCollider>().sharedMesh = block.GetComponent<MeshFilter>().sharedMesh;
+            block.transform.position = new Vector3(0, 1.5f, 0);
+            block.transform.localScale = new Vector3(2.2f, 1.2f, 1.2f); // interior: |x| < 1.1, 0.9 < y < 2.1, |z| < 0.6
+            RunUpToScores();
+            var record = _room.Volume.LastScores;
+            var grid = _session.Grid;
+            Assert.That(record.Valid, Is.Not.Null);
+            int inside = 0;
+            for (int n = 0; n < grid.Count; n++)
+            {
+                var p = grid.GetPosition(n);
+                bool inBlock = System.Math.Abs(p.X) < 1.1 && p.Y > 0.9 && p.Y < 2.1 && System.Math.Abs(p.Z) < 0.6;
+                if (inBlock) inside++;
+                Assert.That(record.Valid[n], Is.EqualTo(!inBlock), "point " + n + " at " + p);
+            }
+            Assert.That(inside, Is.EqualTo(45));
+            Assert.That(record.InvalidCount, Is.EqualTo(inside));
+
+            var favoured = (float[])record.Scores.Clone();
+            for (int n = 0; n < grid.Count; n++) favoured[n] = record.Valid[n] ? 0f : 1f; // every invalid point outranks every valid one
+            record.Set(record.Ids, favoured, record.CellSize, record.Backend, record.Model, record.Valid);
+            foreach (var settings in new[] { SelectionSettings.Budget(40, true), SelectionSettings.Spread(40, true), SelectionSettings.Threshold(0.5, true) })
+            {
+                _room.Volume.SetSelection(settings);
+                var selection = LpnnPipeline.Select(_room.Volume, _session);
+                Assert.That(selection.Indices.All(index => record.Valid[index]), Is.True, settings.Policy + " selected a point inside the block");
+            }
+            Object.DestroyImmediate(block);
+        }
+
         [Test]
         public void ApplyIsUndoable()
         {

@@ -71,7 +71,10 @@ def main() -> None:
         case("grazing hits are not back faces", back=0, front=10, grazing=16),
         case("13 back faces and 13 misses: the fraction is over all rays", back=13, front=0),
     ]
+    # How far the validity rays reach (metres) and the capture section that carries the fractions: constants of the
+    # contract that both languages must share, not outputs of the rule.
     document = {"contract": "Documentation~/features.md, Probe validity", "threshold": 0.25,
+                "ray_length": 10000.0, "capture_section": "back_face_fraction",
                 "written_by": "Tools~/golden/make_validity_golden.py (by construction)", "cases": cases}
     OUT.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
     print(f"wrote {OUT}")

@@ -16,6 +16,7 @@ Prints the probes kept, the error and (LPNN) the time split.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -54,19 +55,35 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..core.capture import read_capture
-    from .errors import user_errors
+    from ..core.validity import BACK_FACE_THRESHOLD, valid_points, without_invalid
     from ..errors import UserError
+    from .errors import user_errors
 
     if args.method is not None and (args.refine is not None or args.topk):
         raise UserError("--refine and --topk apply to LPNN scores: use them with --model or --scores")
     capture = read_capture(args.capture)
+    # The one place where points inside geometry leave (a capture exported from Unity carries their back-face
+    # fractions): every method below sees, places and is measured on the valid points only.
+    try:
+        valid = valid_points(capture)
+        candidates = without_invalid(capture, valid)
+    except ValueError as exc:
+        raise UserError(f"{args.capture}: {exc}") from exc
+    if valid is not None and not valid.all():
+        print(f"{Path(args.capture).name}: {int(np.count_nonzero(~valid)):,} of {capture.point_count:,} points are inside "
+              f"geometry (back-face fraction above {BACK_FACE_THRESHOLD:g}) and are never probes", file=sys.stderr)
     with user_errors(args.capture):
-        return _place_lpnn(args, capture) if args.method is None else _place(args, capture)
+        if args.method is None:
+            return _place_lpnn(args, candidates, capture.ids, valid)
+        return _place(args, candidates)
 
 
-def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
-    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, or --topk)."""
+def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
+    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, or --topk). A scores file lists every
+    point of the capture file (`all_ids`); only the valid points' scores are used."""
     from ..quality.lpnn_placement import lpnn_placement
 
     if args.model is not None:
@@ -76,7 +93,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
     else:
         from .scores_file import read_scores_csv
 
-        scorer, scores, what = None, read_scores_csv(args.scores, capture.ids), f"scores {Path(args.scores).name}"
+        scores = read_scores_csv(args.scores, all_ids)
+        scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
     placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
                                refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture)
     tier = "top-K" if args.topk else "spread"

@@ -43,6 +43,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     where.add_argument("--out", type=Path, metavar="CAPTURE", help="write (or replace) this .lpnncap file")
     where.add_argument("--append-to", type=Path, metavar="FOLDER",
                        help="add the capture to this dataset folder as LEVEL.lpnncap (-2, -3... if taken)")
+    imp.add_argument("--validity", choices=("bsp", "rays", "both"), default="bsp",
+                     help="which points cannot hold a probe: 'bsp' (default) in solid or outside the map by the exact "
+                          "BSP test; 'rays' by Unity's probe-validity rule (more than a quarter of 26 rays hit back "
+                          "faces); 'both' either (Documentation~/openarena.md)")
     imp.add_argument("--reproducible", action="store_true",
                      help="leave the wall-clock feature_seconds out of the capture: same level + cell = same bytes")
     imp.add_argument("--quiet", action="store_true", help="no progress bars")
@@ -92,7 +96,7 @@ def _import(args: argparse.Namespace) -> None:
     with level_user_errors(), _progress_bars(enabled=not args.quiet) as progress:
         result = import_level(args.level, args.cell, boxes=boxes, point_limit=args.point_limit, bounds_label=label,
                               drop_unlit=args.drop_unlit, timings_in_source=not args.reproducible,
-                              progress=progress)
+                              progress=progress, validity=args.validity)
     clock = time.perf_counter()
     if args.out is not None:
         path = write_capture(args.out, result.capture)
@@ -104,7 +108,9 @@ def _import(args: argparse.Namespace) -> None:
     total = sum(v for k, v in seconds.items() if k != "rays")  # rays are part of features
     ray_rate = result.rays / seconds["rays"] if seconds["rays"] > 0 else float("inf")
     print(f"{path}: {result.capture.point_count:,} points of {result.lattice_points:,} "
-          f"({result.removed_solid:,} in solid or outside removed, {result.removed_unlit:,} unlit removed, "
+          f"({result.removed_solid:,} in solid or outside removed, "
+          + (f"{result.removed_invalid:,} inside geometry by the rays removed, " if args.validity != "bsp" else "")
+          + f"{result.removed_unlit:,} unlit removed, "
           f"{result.unlit_points:,} unlit kept), cell {args.cell:g} m, "
           f"{result.triangles:,} ray triangles")
     print("seconds: " + ", ".join(f"{k} {v:.2f}" for k, v in seconds.items()) + f"; total {total:.2f}")

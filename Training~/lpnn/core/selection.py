@@ -181,6 +181,21 @@ class _ExactLattice:
         return (relative[:, 0] * normal[0] + relative[:, 1] * normal[1] + relative[:, 2] * normal[2]) != 0
 
 
+def degenerate_shape(ids: np.ndarray) -> str | None:
+    """None when the integer lattice ids (N, 3) span a tetrahedron, else the shape they are confined to (exact):
+    "none at all", "a single point", "all on one line" or "all in one plane"."""
+    if len(ids) == 0:
+        return "none at all"
+    lattice = _ExactLattice(np.asarray(ids))
+    moved = np.flatnonzero(np.any(lattice.ids != lattice.ids[0], axis=1))
+    if len(moved) == 0:
+        return "a single point"
+    off_line = np.flatnonzero(lattice.off_line(0, int(moved[0])))
+    if len(off_line) == 0:
+        return "all on one line"
+    return None if lattice.off_plane(0, int(moved[0]), int(off_line[0])).any() else "all in one plane"
+
+
 def _first_ranked(ranking: np.ndarray, candidates: np.ndarray) -> int | None:
     """The highest-ranked point where `candidates` (N,) is true, or None."""
     ordered = candidates[ranking]

@@ -1,5 +1,9 @@
 """Level -> capture: evaluation grid, removal of points in solid, SH from the light grid, features.
 
+Which points cannot hold a probe (`validity`, openarena.md "Probe validity in the importer"): "bsp" (default) removes
+the points in solid or outside the map by the exact BSP test; "rays" by the probe-validity rule of the Unity pipeline
+alone (lpnn.core.validity: more than a quarter of the 26 rays meet back faces); "both" removes what either finds.
+
 Everything is in Unity axes and metres (coords.py); the capture is the one Unity would export for
 the same volume (file-formats.md), so training and evaluation run on real baked lighting.
 """
@@ -17,6 +21,7 @@ from ..core.capture import Capture
 from ..core.features import extract_features
 from ..core.grid import Box, EvaluationGrid, GridError, build_grid
 from ..core.schema import LPNN_V1
+from ..core.validity import back_face_fractions, invalid
 from .coords import quake_to_unity, unity_to_quake
 from .defaults import DEFAULT_CELL, DEFAULT_POINT_LIMIT
 from .errors import BspError
@@ -31,6 +36,8 @@ BACKEND = "openarena"
 # The lattice before solid removal may hold this many times the point limit: only ids and
 # positions exist at that stage (~24 bytes a point), and big open levels lose most of it.
 LATTICE_FACTOR = 4
+VALIDITY_MODES = ("bsp", "rays", "both")
+DEFAULT_VALIDITY = "bsp"  # exact where a BSP exists; the measured reasons not to add the rays are in openarena.md
 
 Progress = Callable[[str, int, int], None]  # (step, done, total)
 
@@ -39,13 +46,15 @@ Progress = Callable[[str, int, int], None]  # (step, done, total)
 class ImportResult:
     capture: Capture
     level: Level
-    removed_solid: int
+    removed_solid: int  # by the BSP test (validity "bsp" or "both")
+    removed_invalid: int  # by the ray rule, beyond those (validity "rays" or "both")
     unlit_points: int  # points in the capture where every light grid corner is zero: black SH
     removed_unlit: int  # unlit points dropped (drop_unlit)
     lattice_points: int
     rays: int
     triangles: int
-    # read, grid, solid, sh, geometry, features (of which rays: time inside the raycaster); the CLI adds write
+    # read, geometry, grid, solid, validity, sh, features (rays: time inside the raycaster, features and validity
+    # rays together); the CLI adds write
     seconds: dict[str, float] = field(default_factory=dict)
 
 
@@ -59,7 +68,7 @@ def auto_box(level: Level) -> Box:
 def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: list[Box] | None = None,
                  point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
                  drop_unlit: bool = False, timings_in_source: bool = True,
-                 progress: Progress | None = None) -> ImportResult:
+                 progress: Progress | None = None, validity: str = DEFAULT_VALIDITY) -> ImportResult:
     """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
     are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
 
@@ -72,13 +81,21 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     """
     if point_limit < 1:
         raise ValueError(f"point_limit {point_limit} must be at least 1")
+    if validity not in VALIDITY_MODES:
+        raise ValueError(f"validity {validity!r} must be one of {', '.join(VALIDITY_MODES)}")
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     level = load_level(source) if isinstance(source, str) else source
     light_grid = LightGrid.from_bsp(level.bsp)
     seconds["read"] = time.perf_counter() - clock
 
-    grid, lattice_points, removed = _open_grid(level, boxes, cell_size, point_limit, seconds, progress)
+    clock = time.perf_counter()
+    soup = ray_geometry(level.bsp)
+    raycaster = EmbreeRaycaster(quake_to_unity(soup.vertices), soup.triangles)
+    seconds["geometry"] = time.perf_counter() - clock
+
+    grid, lattice_points, removed, removed_invalid = _open_grid(level, boxes, cell_size, point_limit, validity, raycaster,
+                                                                seconds, progress)
 
     clock = time.perf_counter()
     grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, grid, drop_unlit, progress)
@@ -86,18 +103,13 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     seconds["sh"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    soup = ray_geometry(level.bsp)
-    raycaster = EmbreeRaycaster(quake_to_unity(soup.vertices), soup.triangles)
-    seconds["geometry"] = time.perf_counter() - clock
-
-    clock = time.perf_counter()
     feature_progress = None if progress is None else (lambda done, total: progress("features", done, total))
     features, scale = extract_features(grid, sh, raycaster, progress=feature_progress)
     seconds["features"] = time.perf_counter() - clock
-    seconds["rays"] = raycaster.cast_seconds  # part of "features"
+    seconds["rays"] = raycaster.cast_seconds  # part of "features" (and of "validity" when the rays judge validity)
     rays = raycaster.rays_cast
 
-    source_info = _source_info(level, bounds_label, rays, removed, unlit, removed_unlit)
+    source_info = _source_info(level, bounds_label, rays, validity, removed, removed_invalid, unlit, removed_unlit)
     if timings_in_source:
         source_info["feature_seconds"] = round(seconds["features"], 3)
     capture = Capture(
@@ -105,15 +117,17 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
         feature_names=list(LPNN_V1.names), cell_size=float(cell_size), lighting_scale=float(scale), units="m",
         source=source_info,
     )
-    return ImportResult(capture=capture, level=level, removed_solid=removed, unlit_points=unlit,
+    return ImportResult(capture=capture, level=level, removed_solid=removed, removed_invalid=removed_invalid, unlit_points=unlit,
                         removed_unlit=removed_unlit, lattice_points=lattice_points, rays=rays,
                         triangles=soup.triangle_count, seconds=seconds)
 
 
-def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_limit: int,
-               seconds: dict[str, float], progress: Progress | None) -> tuple[EvaluationGrid, int, int]:
-    """The lattice of the bounds without its points in solid or outside the map:
-    (grid, lattice points, points removed); BspError when none or too many remain."""
+def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_limit: int, validity: str,
+               raycaster: EmbreeRaycaster, seconds: dict[str, float],
+               progress: Progress | None) -> tuple[EvaluationGrid, int, int, int]:
+    """The lattice of the bounds without the points that cannot hold a probe (`validity`: in solid or outside the map
+    by the BSP, inside geometry by the rays, or either): (grid, lattice points, removed by the BSP, removed by the
+    rays beyond those); BspError when none or too many remain."""
     clock = time.perf_counter()
     try:
         lattice = build_grid(boxes if boxes is not None else [auto_box(level)], cell_size,
@@ -124,20 +138,30 @@ def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_li
     seconds["grid"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    blocked = solid_mask(level, lattice, progress)
+    blocked = solid_mask(level, lattice, progress) if validity != "rays" else np.zeros(lattice.point_count, dtype=bool)
     removed = int(np.count_nonzero(blocked))
-    remaining = lattice.point_count - removed
+    seconds["solid"] = time.perf_counter() - clock
+    clock = time.perf_counter()
+    removed_invalid = 0
+    if validity != "bsp":
+        candidates = np.flatnonzero(~blocked)
+        inside = invalid(back_face_fractions(lattice.positions[candidates], raycaster))
+        blocked[candidates[inside]] = True
+        removed_invalid = int(np.count_nonzero(inside))
+    seconds["validity"] = time.perf_counter() - clock
+    remaining = lattice.point_count - removed - removed_invalid
     if remaining == 0:
-        raise BspError(f"{level.location}: all {lattice.point_count:,} evaluation points of the bounds are in solid "
-                       f"or outside the map: choose bounds inside the level (or --bounds auto)")
+        raise BspError(f"{level.location}: all {lattice.point_count:,} evaluation points of the bounds are in solid, "
+                       f"outside the map or inside geometry (validity {validity}): choose bounds inside the level "
+                       f"(or --bounds auto)")
     if remaining > point_limit:
         suggestion = cell_size * (remaining / point_limit) ** (1.0 / 3.0)
         raise BspError(f"{level.location}: {remaining:,} evaluation points remain at cell size {cell_size:g} m "
-                       f"(after removing {removed:,} in solid), more than the point limit {point_limit:,}: "
+                       f"(after removing {removed + removed_invalid:,} in solid or inside geometry), more than the point "
+                       f"limit {point_limit:,}: "
                        f"use a cell of about {suggestion:.3g} m or a higher point limit")
     grid = lattice.subset(~blocked)
-    seconds["solid"] = time.perf_counter() - clock
-    return grid, lattice.point_count, removed
+    return grid, lattice.point_count, removed, removed_invalid
 
 
 def _sampled_sh(level: Level, light_grid: LightGrid, grid: EvaluationGrid, drop_unlit: bool,
@@ -156,9 +180,10 @@ def _sampled_sh(level: Level, light_grid: LightGrid, grid: EvaluationGrid, drop_
     return grid, sh.astype(np.float32), unlit, removed_unlit  # features are computed from exactly these values
 
 
-def _source_info(level: Level, bounds_label: str, rays: int, removed: int, unlit: int,
-                 removed_unlit: int) -> dict[str, str | int | float | bool]:
-    """The capture's `source` section (file-formats.md): where the points came from and what was removed."""
+def _source_info(level: Level, bounds_label: str, rays: int, validity: str, removed: int, removed_invalid: int,
+                 unlit: int, removed_unlit: int) -> dict[str, str | int | float | bool]:
+    """The capture's `source` section (file-formats.md): where the points came from and what was removed. A capture
+    without `validity` was imported before the option existed, i.e. with "bsp"."""
     source_info: dict[str, str | int | float | bool] = {"backend": BACKEND, "level": level.name}
     if level.pak is not None:
         source_info["pak"] = level.pak.name
@@ -168,7 +193,9 @@ def _source_info(level: Level, bounds_label: str, rays: int, removed: int, unlit
         "bounds": bounds_label,
         "patch_level": PATCH_LEVEL,
         "rays": rays,
+        "validity": validity,
         "removed_solid": removed,
+        "removed_invalid": removed_invalid,
         "unlit_points": unlit,
         "removed_unlit": removed_unlit,
     })

@@ -8,13 +8,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lpnn.core.validity import BACK_FACE_THRESHOLD, back_face_fraction, invalid
+from lpnn.core.validity import BACK_FACE_THRESHOLD, CAPTURE_SECTION, RAY_LENGTH, back_face_fraction, invalid
 
 GOLDEN = Path(__file__).resolve().parents[3] / "Tests" / "Data" / "validity_golden.json"
 
 
-def test_threshold_matches_the_golden() -> None:
-    assert json.loads(GOLDEN.read_text(encoding="utf-8"))["threshold"] == BACK_FACE_THRESHOLD
+def test_threshold_ray_length_and_section_match_the_golden() -> None:
+    golden = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    assert golden["threshold"] == BACK_FACE_THRESHOLD
+    assert golden["ray_length"] == RAY_LENGTH
+    assert golden["capture_section"] == CAPTURE_SECTION
 
 
 def test_every_golden_case() -> None:

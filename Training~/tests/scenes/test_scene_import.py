@@ -43,8 +43,8 @@ def test_import_removes_solid_and_samples_the_grid(bsp_path: Path) -> None:
     assert capture.features.shape == (67, 19) and np.isfinite(capture.features).all()
     assert capture.source == {
         "backend": "openarena", "level": "synthetic", "bsp_sha256": level.sha256, "importer": "lpnn 0.1.0",
-        "bounds": "auto", "patch_level": 8, "rays": 67 * 26, "removed_solid": REMOVED,
-        "unlit_points": 0, "removed_unlit": 0,
+        "bounds": "auto", "patch_level": 8, "rays": 67 * 26, "validity": "bsp", "removed_solid": REMOVED,
+        "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0,
     }
     assert result.rays == 67 * 26
 
@@ -135,3 +135,36 @@ def test_pack_check_reports_every_failing_level(tmp_path: Path, level_bytes: byt
     summary = capsys.readouterr().out
     assert "1 of 3 levels imported" in summary and "2 failed" in summary and "dark:" in summary
     assert main(["scene", "check-pack", str(pak), "--levels", "nope"]) == 1
+
+
+@pytest.mark.parametrize("validity", ["bsp", "rays", "both"])
+def test_validity_modes_remove_what_each_test_finds(bsp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                    validity: str) -> None:
+    # The ray rule is stubbed to flag every point below z = 100 Quake units, so the test sees exactly where the
+    # importer applies it (the rule itself: tests/core/test_validity_*.py).
+    judged: list[int] = []
+
+    def below_100_units(positions: np.ndarray, raycaster: object) -> np.ndarray:
+        judged.append(len(positions))
+        return np.where(unity_to_quake(positions)[:, 2] < 100, 1.0, 0.0)
+
+    monkeypatch.setattr("lpnn.scenes.importer.back_face_fractions", below_100_units)
+    result = import_level(str(bsp_path), timings_in_source=False, validity=validity)
+    quake = unity_to_quake(result.capture.positions.astype(np.float64))
+    low = 2 * 25  # lattice points at z = 0 and 64 units: two layers of 5 x 5
+    low_open = low - 8 - 2 * 10  # minus the cube's 8 corners and the 2 x 10 low points with x >= 192
+    expected = {"bsp": (REMOVED, 0), "rays": (0, low), "both": (REMOVED, low_open)}[validity]
+    assert (result.removed_solid, result.removed_invalid) == expected
+    assert result.capture.point_count == LATTICE - sum(expected)
+    assert result.capture.source["validity"] == validity
+    assert result.capture.source["removed_invalid"] == expected[1]
+    if validity == "bsp":
+        assert judged == []
+    else:
+        assert not (quake[:, 2] < 100).any()
+        assert judged == [LATTICE if validity == "rays" else LATTICE - REMOVED]
+
+
+def test_unknown_validity_mode_is_refused(bsp_path: Path) -> None:
+    with pytest.raises(ValueError, match="validity 'walls' must be one of bsp, rays, both"):
+        import_level(str(bsp_path), validity="walls")

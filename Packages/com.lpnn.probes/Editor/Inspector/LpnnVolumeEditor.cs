@@ -142,6 +142,9 @@ namespace Lpnn.Probes.Editor
             var record = Volume.LastScores;
             if (!record.IsEmpty)
                 EditorGUILayout.LabelField("Stored scores", InvariantFormat.Count(record.Count) + " points, " + record.Backend + ", model '" + record.Model + "'");
+            if (!record.IsEmpty)
+                EditorGUILayout.LabelField("Invalid points", record.Valid == null ? "unknown (scored before validity): run Features and Scoring again"
+                    : InvariantFormat.Count(record.InvalidCount) + " inside geometry (never probes)");
         }
 
         private void PlacementSection()
@@ -347,7 +350,7 @@ namespace Lpnn.Probes.Editor
             try
             {
                 grid = LpnnPipeline.ScoredGrid(Volume, Session);
-                result = _preview.Get(grid, record.Scores, Volume.GetSelectionSettings(), out error);
+                result = _preview.Get(grid, record, Volume.GetSelectionSettings(), out error);
             }
             catch (LpnnException e)
             {
@@ -360,11 +363,21 @@ namespace Lpnn.Probes.Editor
                 return null;
             }
             string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
-                           InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + ".";
+                           InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + "." + ValidityLine(record);
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, grid, out MessageType type), type);
             if (!_estimate.Has(result, Session) && Session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button("Estimate error"))
                 _estimate.Get(result, Session, grid, out bool _);
             return result;
+        }
+
+        /// <summary>The preview's line on invalid points (Documentation~/features.md "Probe validity").</summary>
+        private static string ValidityLine(LpnnScoreRecord record)
+        {
+            if (record.Valid == null)
+                return "\nValidity unknown (scored before validity existed): run Features and Scoring again to exclude points inside geometry.";
+            int invalid = record.InvalidCount;
+            return invalid == 0 ? "" : "\n" + InvariantFormat.Count(invalid) + " of " + InvariantFormat.Count(record.Count) +
+                                       " points are inside geometry (more than a quarter of their rays hit back faces) and are never probes.";
         }
 
         /// <summary>The estimated error line under the probe count: live on small grids, on request on large ones.</summary>
@@ -383,7 +396,7 @@ namespace Lpnn.Probes.Editor
         private string SearchTolerance()
         {
             var grid = LpnnPipeline.ScoredGrid(Volume, Session);
-            var result = _preview.Search(grid, Volume.LastScores.Scores, Volume.GetSelectionSettings(), PlacementInputs.Evaluator(Session, grid));
+            var result = _preview.Search(grid, Volume.LastScores, Volume.GetSelectionSettings(), PlacementInputs.Evaluator(Session, grid));
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + LpnnPipeline.Extras(result);
         }
 

@@ -8,7 +8,10 @@ namespace Lpnn.Probes.Editor
     /// <summary>The core's IRaycaster on Unity physics: one batched RaycastCommand job per call, hitting faces of either
     /// side (QueryParameters.hitBackfaces) and ignoring triggers (UnityCsReference 2022.3
     /// Modules/Physics/ScriptBindings/QueryCommand.bindings.cs; 6000.0 same file). Call inside a <see cref="RaycastScope"/>
-    /// so transforms are synced and the volume's own colliders are out of the way.</summary>
+    /// so transforms are synced and the volume's own colliders are out of the way. The probe-validity rule reads the hit
+    /// normal's orientation: on a back-face hit PhysX reports the triangle's winding normal, turning it toward the ray only
+    /// for meshes flagged double-sided (NVIDIAGameWorks/PhysX physx/source/geomutils/src/mesh/GuMidphaseBV4.cpp,
+    /// raycast_triangleMesh_BV4), which MeshCollider does not set (Documentation~/features.md "Probe validity").</summary>
     public sealed class PhysicsRaycaster : IRaycaster
     {
         private const int MinCommandsPerJob = 256;

@@ -59,7 +59,8 @@ namespace Lpnn.Probes.Editor
                     "'), so the rays passed through them; add colliders or enable 'Add Temporary Colliders'";
             }
             session.SetFeatures(features);
-            return InvariantFormat.Count(features.PointCount) + " × " + features.Schema.Count + " features (" + features.Schema.Id + ")";
+            int invalid = ValidCandidates.CountInvalid(ValidCandidates.FromBackFaceFractions(features.BackFaceFractions));
+            return InvariantFormat.Count(features.PointCount) + " × " + features.Schema.Count + " features (" + features.Schema.Id + ")" + InvalidNote(invalid);
         }
 
         public static string Score(LpnnVolume volume, LpnnSession session)
@@ -67,11 +68,16 @@ namespace Lpnn.Probes.Editor
             var grid = FreshGrid(volume, session);
             if (session.Features == null || session.Features.PointCount != grid.Count)
                 throw new LpnnException("there are no features for this grid; run the Features step first");
-            var outcome = LpnnScoring.Score(volume, session, session.Features, grid.CellSize);
+            // Points inside geometry never reach the network (it was trained on clouds without them) and get score 0;
+            // fewer than 4 non-coplanar valid points stop here with what to do.
+            bool[] valid = ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            ValidCandidates.Check(grid, valid);
+            var outcome = LpnnScoring.Score(volume, session, ValidCandidates.ValidRows(session.Features, valid), grid.CellSize);
+            float[] scores = ValidCandidates.Scatter(outcome.Scores, valid);
             string model = volume.Model != null ? volume.Model.name : "";
             // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
             Undo.RecordObject(volume, "Score LPNN evaluation points");
-            volume.LastScores.Set(grid.CopyIds(), outcome.Scores, grid.CellSize, outcome.DeviceName, model);
+            volume.LastScores.Set(grid.CopyIds(), scores, grid.CellSize, outcome.DeviceName, model, valid);
             // On a prefab instance a direct field write is lost at the next prefab reload unless recorded as an override
             // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
@@ -81,9 +87,9 @@ namespace Lpnn.Probes.Editor
             var policy = volume.GetSelectionSettings().Policy;
             if (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance)
             {
-                int[] computedNow = PlacementInputs.Scored(grid, volume.LastScores.Scores).SpreadOrder;
+                int[] computedNow = PlacementInputs.Scored(grid, volume.LastScores).SpreadOrder;
             }
-            return InvariantFormat.Count(outcome.Scores.Length) + " scores on " + outcome.DeviceName +
+            return InvariantFormat.Count(outcome.Scores.Length) + " scores on " + outcome.DeviceName + InvalidNote(volume.LastScores.InvalidCount) +
                    (outcome.Fallback.Length > 0 ? " (after: " + outcome.Fallback + ")" : "");
         }
 
@@ -101,7 +107,7 @@ namespace Lpnn.Probes.Editor
             var grid = ScoredGrid(volume, session);
             var settings = volume.GetSelectionSettings();
             var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
-            selection = ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores.Scores), settings, measure);
+            selection = ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
             return PositionsOf(grid, selection);
         }
 
@@ -128,6 +134,10 @@ namespace Lpnn.Probes.Editor
             for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
             return positions;
         }
+
+        /// <summary>", N inside geometry (never probes)" when some points are invalid.</summary>
+        public static string InvalidNote(int invalid) =>
+            invalid == 0 ? "" : ", " + InvariantFormat.Count(invalid) + " inside geometry (never probes)";
 
         public static string Extras(SelectionResult selection)
         {

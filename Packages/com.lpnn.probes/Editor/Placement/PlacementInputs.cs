@@ -15,12 +15,14 @@ namespace Lpnn.Probes.Editor
         private static readonly ConditionalWeakTable<float[], ScoredPoints> Rankings = new ConditionalWeakTable<float[], ScoredPoints>();
         private static readonly ConditionalWeakTable<float[], ReferenceLighting> References = new ConditionalWeakTable<float[], ReferenceLighting>();
 
-        /// <summary>The grid's scores with their rankings (computed on first use, then kept).</summary>
-        public static ScoredPoints Scored(EvaluationGrid grid, float[] scores)
+        /// <summary>The grid's stored scores and valid points with their rankings (computed on first use, then kept; the
+        /// record replaces its validity flags together with its scores, so the scores' identity is the key).</summary>
+        public static ScoredPoints Scored(EvaluationGrid grid, LpnnScoreRecord record)
         {
+            var scores = record.Scores;
             if (Rankings.TryGetValue(scores, out var points) && points.Grid == grid) return points;
             Rankings.Remove(scores);
-            points = new ScoredPoints(grid, scores);
+            points = new ScoredPoints(grid, scores, record.Valid);
             Rankings.Add(scores, points);
             return points;
         }

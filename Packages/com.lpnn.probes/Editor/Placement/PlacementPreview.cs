@@ -17,8 +17,9 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The result, or null with <paramref name="error"/> set when the settings cannot be applied (or, for the
         /// tolerance policy, when no search has run for them yet).</summary>
-        public SelectionResult Get(EvaluationGrid grid, float[] scores, SelectionSettings settings, out string error)
+        public SelectionResult Get(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, out string error)
         {
+            var scores = record.Scores;
             if (!SameInputs(grid, scores, settings) || (_result == null && _error == null))
             {
                 Remember(grid, scores, settings);
@@ -29,7 +30,7 @@ namespace Lpnn.Probes.Editor
                 }
                 else
                 {
-                    Compute(() => ProbeSelector.Select(PlacementInputs.Scored(grid, scores), settings, null));
+                    Compute(() => ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, null));
                 }
             }
             error = _error;
@@ -37,10 +38,10 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>Runs the tolerance search for these inputs and keeps its result for <see cref="Get"/> and Apply.</summary>
-        public SelectionResult Search(EvaluationGrid grid, float[] scores, SelectionSettings settings, IPlacementErrorMeasure measure)
+        public SelectionResult Search(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure)
         {
-            Remember(grid, scores, settings);
-            _result = ProbeSelector.Select(PlacementInputs.Scored(grid, scores), settings, measure);
+            Remember(grid, record.Scores, settings);
+            _result = ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, measure);
             _error = null;
             return _result;
         }

@@ -84,8 +84,14 @@ namespace Lpnn.Probes.Core.Captures
                 throw new ArgumentException("need 27 SH floats per evaluation point", nameof(sh));
             if (features.PointCount != grid.Count)
                 throw new ArgumentException("features are for " + features.PointCount + " points, the grid has " + grid.Count, nameof(features));
+            // The rays' back-face fractions travel as an optional section, so `lpnn place` never picks a point inside
+            // geometry (Documentation~/file-formats.md, features.md "Probe validity").
+            var extra = features.BackFaceFractions == null ? null : new[]
+            {
+                new CaptureSection(ProbeValidity.CaptureSection, "float32", new[] { grid.Count }, CaptureFormat.ToBytes(features.BackFaceFractions)),
+            };
             return new Capture(grid.CopyIds(), grid.CopyPositions(), (float[])sh.Clone(), (float[])features.Values.Clone(),
-                features.Schema.Id, features.Schema.Names, grid.CellSize, units, features.LightingScale, labels, labelSource, source);
+                features.Schema.Id, features.Schema.Names, grid.CellSize, units, features.LightingScale, labels, labelSource, source, extra);
         }
 
         /// <summary>The same capture with labels (e.g. from ground-truth probes).</summary>

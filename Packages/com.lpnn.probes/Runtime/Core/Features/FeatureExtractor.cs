@@ -44,7 +44,8 @@ namespace Lpnn.Probes.Core.Features
             return sh;
         }
 
-        /// <summary>The full lpnn.features.v1 matrix (grid.Count × 19) and the scene scale it is relative to.</summary>
+        /// <summary>The full lpnn.features.v1 matrix (grid.Count × 19), the scene scale it is relative to, and each point's
+        /// back-face fraction from the same rays (<see cref="ProbeValidity"/>).</summary>
         public static FeatureSet Extract(EvaluationGrid grid, float[] sh, IRaycaster raycaster, ProgressCallback progress = null,
             CancellationToken cancel = default)
         {
@@ -56,8 +57,9 @@ namespace Lpnn.Probes.Core.Features
             var values = new float[(long)grid.Count * stride];
             double scale = SceneScale.Compute(sh, grid.Count);
             LightingFeatures.Compute(grid, sh, scale, values, stride, progress, cancel);
-            GeometryFeatures.Compute(grid, raycaster, values, stride, LightingFeatures.Count, progress, cancel);
-            return new FeatureSet(Schema, grid.Count, values, scale);
+            var backFaceFractions = new float[grid.Count];
+            GeometryFeatures.Compute(grid, raycaster, values, stride, LightingFeatures.Count, backFaceFractions, progress, cancel);
+            return new FeatureSet(Schema, grid.Count, values, scale, backFaceFractions);
         }
 
         private static void CheckFinite(EvaluationGrid grid, float[] sh)

@@ -7,15 +7,18 @@ using Lpnn.Probes.Core.Numerics;
 namespace Lpnn.Probes.Core.Features
 {
     /// <summary>Features 15–18 of lpnn.features.v1: how enclosed a point is, from 26 fixed rays of 4 cells
-    /// (Documentation~/features.md).</summary>
+    /// (Documentation~/features.md), and from the same rays each point's back-face fraction (<see cref="ProbeValidity"/>).
+    /// The rays are cast as far as <see cref="ProbeValidity.RayLength"/>: the features count only hits within 4 cells,
+    /// the validity rule every hit (a point deep inside a thick mesh sees its back faces only from afar).</summary>
     internal static class GeometryFeatures
     {
         public const int Count = 4;
         public const int RayLengthCells = 4;
         private const int PointsPerBatch = 2048;
 
+        /// <param name="backFaceFractions">One entry per grid point, written with the point's back-face fraction.</param>
         public static void Compute(EvaluationGrid grid, IRaycaster raycaster, float[] output, int stride, int firstFeature,
-            ProgressCallback progress, CancellationToken cancel)
+            float[] backFaceFractions, ProgressCallback progress, CancellationToken cancel)
         {
             if (raycaster == null) throw new ArgumentNullException(nameof(raycaster));
             int rays = DirectionSets.D26.GetLength(0);
@@ -48,9 +51,12 @@ namespace Lpnn.Probes.Core.Features
                     }
                 }
                 for (int r = 0; r < batchRays; r++) hits[r] = RayHit.Miss;
-                raycaster.Cast(origins, rayDirections, (float)far, hits);
+                raycaster.Cast(origins, rayDirections, Math.Max(ProbeValidity.RayLength, (float)far), hits);
                 for (int p = 0; p < points; p++)
+                {
                     Summarise(grid, first + p, hits, p * rays, rays, directions, near, far, output, (first + p) * stride + firstFeature);
+                    backFaceFractions[first + p] = (float)ProbeValidity.BackFaceFraction(directions, hits, p * rays);
+                }
             }
             progress?.Invoke("casting rays", grid.Count, grid.Count);
         }

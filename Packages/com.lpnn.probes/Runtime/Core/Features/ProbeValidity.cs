@@ -12,6 +12,14 @@ namespace Lpnn.Probes.Core.Features
     {
         public const double BackFaceThreshold = 0.25;
 
+        /// <summary>How far the validity rays reach (metres; Python: lpnn.core.validity.RAY_LENGTH): longer than any
+        /// level, so a ray that leaves the scene misses, and a point deep inside a thick mesh still meets its back faces.</summary>
+        public const float RayLength = 10000f;
+
+        /// <summary>The optional capture section (float32 [N]) holding each point's back-face fraction
+        /// (Documentation~/file-formats.md; Python: lpnn.core.validity.CAPTURE_SECTION).</summary>
+        public const string CaptureSection = "back_face_fraction";
+
         /// <summary>Share of back-face hits among one point's rays.</summary>
         public static double BackFaceFraction(Vector3[] directions, bool[] hits, Vector3[] normals)
         {
@@ -22,10 +30,28 @@ namespace Lpnn.Probes.Core.Features
                 throw new ArgumentException("directions (" + rays + "), hits (" + hits.Length + ") and normals (" + normals.Length + ") differ in length");
             int back = 0;
             for (int r = 0; r < rays; r++)
-                if (hits[r] && (double)normals[r].X * directions[r].X + (double)normals[r].Y * directions[r].Y + (double)normals[r].Z * directions[r].Z > 0.0)
-                    back++;
+                if (hits[r] && IsBackFace(normals[r], directions[r])) back++;
             return back / (double)rays;
         }
+
+        /// <summary>Share of back-face hits among the rays of one point whose results start at
+        /// <paramref name="offset"/> in <paramref name="hits"/> (one per direction; a miss has infinite distance).</summary>
+        public static double BackFaceFraction(Vector3[] directions, RayHit[] hits, int offset)
+        {
+            if (directions == null || hits == null) throw new ArgumentNullException(directions == null ? nameof(directions) : nameof(hits));
+            int rays = directions.Length;
+            if (rays == 0) throw new ArgumentException("a point needs at least one ray", nameof(directions));
+            if (offset < 0 || offset + rays > hits.Length)
+                throw new ArgumentException("the point's " + rays + " rays from " + offset + " do not fit in " + hits.Length + " results");
+            int back = 0;
+            for (int r = 0; r < rays; r++)
+                if (hits[offset + r].IsHit && IsBackFace(hits[offset + r].Normal, directions[r])) back++;
+            return back / (double)rays;
+        }
+
+        /// <summary>True when the ray meets the surface from behind: its oriented normal points along the ray.</summary>
+        public static bool IsBackFace(Vector3 normal, Vector3 direction) =>
+            (double)normal.X * direction.X + (double)normal.Y * direction.Y + (double)normal.Z * direction.Z > 0.0;
 
         /// <summary>True when the back-face share exceeds the threshold: the point is inside geometry.</summary>
         public static bool IsInvalid(double backFaceFraction, double threshold = BackFaceThreshold) => backFaceFraction > threshold;

@@ -46,30 +46,32 @@ namespace Lpnn.Probes.Core.Selection
             return Select(new ScoredPoints(grid, scores), settings, null);
         }
 
-        /// <param name="points">The grid and its scores, with their rankings cached across calls.</param>
+        /// <param name="points">The grid, its scores and which points are valid, with their rankings cached across calls.
+        /// Only valid points are ever selected, by every policy and every completion step.</param>
         /// <param name="measure">The placement error, needed by the Tolerance policy only (may be null otherwise).</param>
         public static SelectionResult Select(ScoredPoints points, SelectionSettings settings, IPlacementErrorMeasure measure)
         {
             if (points == null) throw new ArgumentNullException(nameof(points));
             settings.Validate();
-            int n = points.Count;
+            int n = points.ValidCount;
+            var valid = points.Valid;
             switch (settings.Policy)
             {
                 case SelectionPolicy.Percentile:
-                    return Complete(points.Grid, Prefix(points.ScoreOrder, PercentileCount(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder);
+                    return Complete(points.Grid, Prefix(points.ScoreOrder, PercentileCount(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder, valid);
                 case SelectionPolicy.Budget:
-                    return Complete(points.Grid, Prefix(points.ScoreOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder);
+                    return Complete(points.Grid, Prefix(points.ScoreOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.ScoreOrder, valid);
                 case SelectionPolicy.Spread:
-                    return Complete(points.Grid, Prefix(points.SpreadOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.SpreadOrder);
+                    return Complete(points.Grid, Prefix(points.SpreadOrder, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, points.SpreadOrder, valid);
                 case SelectionPolicy.Threshold:
                     double[] remapped = ScoreRanking.Remap(points.Scores);
                     var kept = new HashSet<int>();
-                    for (int p = 0; p < n; p++)
-                        if (!float.IsNaN(points.Scores[p]) && remapped[p] >= settings.Value) kept.Add(p);
-                    return Complete(points.Grid, kept, settings.KeepBoundsCorners, points.ScoreOrder);
+                    for (int p = 0; p < points.Count; p++)
+                        if ((valid == null || valid[p]) && !float.IsNaN(points.Scores[p]) && remapped[p] >= settings.Value) kept.Add(p);
+                    return Complete(points.Grid, kept, settings.KeepBoundsCorners, points.ScoreOrder, valid);
                 default:
                     if (measure == null) throw MissingMeasure();
-                    return WithinTolerance(points.Grid, points.SpreadOrder, settings, measure);
+                    return WithinTolerance(points.Grid, points.SpreadOrder, settings, measure, valid);
             }
         }
 
@@ -77,20 +79,28 @@ namespace Lpnn.Probes.Core.Selection
         /// baseline for comparisons): the smallest prefix, completed like every other selection (bounds corners,
         /// tetrahedron), whose mean error is ≤ τ (<see cref="ToleranceSearch"/>). The error is measured on exactly the
         /// set that is returned.</summary>
-        public static SelectionResult WithinTolerance(EvaluationGrid grid, int[] ranking, SelectionSettings settings, IPlacementErrorMeasure measure)
+        public static SelectionResult WithinTolerance(EvaluationGrid grid, int[] ranking, SelectionSettings settings, IPlacementErrorMeasure measure) =>
+            WithinTolerance(grid, ranking, settings, measure, null);
+
+        /// <param name="valid">One flag per grid point (null: all valid); <paramref name="ranking"/> must then rank exactly
+        /// the valid points.</param>
+        public static SelectionResult WithinTolerance(EvaluationGrid grid, int[] ranking, SelectionSettings settings, IPlacementErrorMeasure measure,
+            bool[] valid)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
-            if (ranking == null || ranking.Length != grid.Count)
-                throw new SelectionException("the tolerance search needs a ranking of all " + grid.Count + " points, got " + (ranking?.Length ?? 0));
-            CheckPermutation(ranking);
+            int candidates = valid == null ? grid.Count : grid.Count - ValidCandidates.CountInvalid(valid);
+            if (ranking == null || ranking.Length != candidates)
+                throw new SelectionException("the tolerance search needs a ranking of all " + candidates + (valid == null ? "" : " valid") +
+                                             " points, got " + (ranking?.Length ?? 0));
+            CheckRanking(ranking, grid.Count, valid);
             if (settings.Policy != SelectionPolicy.Tolerance)
                 throw new SelectionException("the tolerance search needs tolerance settings, got the " + settings.Policy + " policy");
             settings.Validate();
             if (measure == null) throw MissingMeasure();
             var tried = new Dictionary<int, SelectionResult>();
-            var search = ToleranceSearch.Run(grid.Count, count =>
+            var search = ToleranceSearch.Run(ranking.Length, count =>
             {
-                var selection = Complete(grid, Prefix(ranking, count), settings.KeepBoundsCorners, ranking);
+                var selection = Complete(grid, Prefix(ranking, count), settings.KeepBoundsCorners, ranking, valid);
                 tried[count] = selection;
                 return measure.MeanError(selection.Indices);
             }, settings.Value);
@@ -102,14 +112,18 @@ namespace Lpnn.Probes.Core.Selection
             new SelectionException("the tolerance policy measures the placement error against the lighting at every evaluation point; " +
                                    "sample the lighting first (Lighting data step), or choose the Spread policy with a probe count");
 
-        private static void CheckPermutation(int[] ranking)
+        /// <summary>Every point of the ranking is a grid point, valid, and listed once (with the length checked by the
+        /// caller, the ranking is then exactly the valid points).</summary>
+        private static void CheckRanking(int[] ranking, int pointCount, bool[] valid)
         {
-            var seen = new bool[ranking.Length];
+            var seen = new bool[pointCount];
             for (int r = 0; r < ranking.Length; r++)
             {
                 int point = ranking[r];
-                if ((uint)point >= (uint)ranking.Length)
-                    throw new SelectionException("ranking position " + r + " names point " + point + ", outside the " + ranking.Length + " points");
+                if ((uint)point >= (uint)pointCount)
+                    throw new SelectionException("ranking position " + r + " names point " + point + ", outside the " + pointCount + " points");
+                if (valid != null && !valid[point])
+                    throw new SelectionException("ranking position " + r + " names point " + point + ", which is inside geometry (invalid) and can never be a probe");
                 if (seen[point]) throw new SelectionException("ranking lists point " + point + " twice");
                 seen[point] = true;
             }
@@ -123,10 +137,10 @@ namespace Lpnn.Probes.Core.Selection
         }
 
         /// <summary>The options applied after every policy, in the documented order: bounds corners, then the
-        /// tetrahedron guarantee (which takes its extra points from <paramref name="ranking"/>).</summary>
-        private static SelectionResult Complete(EvaluationGrid grid, HashSet<int> selected, bool keepBoundsCorners, int[] ranking)
+        /// tetrahedron guarantee (which takes its extra points from <paramref name="ranking"/>, a ranking of valid points).</summary>
+        private static SelectionResult Complete(EvaluationGrid grid, HashSet<int> selected, bool keepBoundsCorners, int[] ranking, bool[] valid)
         {
-            int corners = keepBoundsCorners ? AddCorners(grid, selected) : 0;
+            int corners = keepBoundsCorners ? AddCorners(grid, selected, valid) : 0;
             int added = TetrahedronGuarantee.Ensure(grid, ranking, selected);
             var indices = new int[selected.Count];
             selected.CopyTo(indices);
@@ -135,8 +149,9 @@ namespace Lpnn.Probes.Core.Selection
         }
 
         /// <summary>The grid point whose cell holds each box corner (a grid point unless a filter such as "drop
-        /// points inside walls" removed it, in which case that corner is skipped); returns how many were added.</summary>
-        private static int AddCorners(EvaluationGrid grid, ISet<int> selected)
+        /// points inside walls" removed it, in which case that corner is skipped; so is a corner inside geometry);
+        /// returns how many were added.</summary>
+        private static int AddCorners(EvaluationGrid grid, ISet<int> selected, bool[] valid)
         {
             if (grid.Boxes.Count == 0)
                 throw new SelectionException("this grid was rebuilt from stored ids and has no boxes, so the bounds corners are unknown; turn off 'keep bounds corners'");
@@ -147,7 +162,7 @@ namespace Lpnn.Probes.Core.Selection
                 {
                     var corner = box.Corner(c);
                     int index = LatticeId.TryCellOf(corner, grid.CellSize, out var id) ? grid.IndexOf(id) : -1;
-                    if (index >= 0 && selected.Add(index)) added++;
+                    if (index >= 0 && (valid == null || valid[index]) && selected.Add(index)) added++;
                 }
             }
             return added;
