@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from lpnn.core.features import RAY_DIRECTIONS, RAY_LENGTH_CELLS
-from lpnn.core.grid import build_grid
+from lpnn.core.grid_builder import build_grid
 from lpnn.core.validity import back_face_fraction, invalid
 from lpnn.scenes.bsp import FACE_MESH, FACE_PATCH, FACE_POLYGON
 from lpnn.scenes.coords import quake_to_unity, unity_to_quake

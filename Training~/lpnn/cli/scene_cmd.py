@@ -163,7 +163,8 @@ def _check_settings(cell: float, point_limit: int) -> None:
 
 def _parse_bounds(values: list[str]) -> tuple[list[Any] | None, str]:
     """(boxes, label): boxes None for 'auto'."""
-    from ..core.grid import Box, GridError
+    from ..core.grid import GridError
+    from ..core.grid_box import Box
 
     if values == ["auto"]:
         return None, "auto"

@@ -16,7 +16,9 @@ import numpy as np
 from . import sh as shmath
 from .capture import Capture
 from .features import extract_features
-from .grid import DEFAULT_POINT_LIMIT, Box, EvaluationGrid, build_grid
+from .grid import EvaluationGrid
+from .grid_box import Box
+from .grid_builder import DEFAULT_POINT_LIMIT, build_grid
 from .schema import LPNN_V1
 
 

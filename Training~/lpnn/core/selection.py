@@ -14,7 +14,8 @@ from typing import Iterable
 import numpy as np
 
 from ..errors import InvalidInputError
-from .grid import Box, EvaluationGrid
+from .grid import EvaluationGrid
+from .grid_box import Box
 
 POLICIES = ("percentile", "budget", "threshold")
 PERCENTILE_ROUNDING = 1e-9  # absorbs binary rounding: (1 - 0.9) * 125 + 0.5 is 12.999... in double

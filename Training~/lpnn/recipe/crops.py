@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.capture import Capture
-from ..core.grid import Box, GridError
+from ..core.grid import GridError
+from ..core.grid_box import Box
 from ..scenes.bsp import BspError
 from ..scenes.importer import import_level
 from ..scenes.levels import Level

@@ -19,7 +19,9 @@ import numpy as np
 from .. import __version__
 from ..core.capture import Capture
 from ..core.features import extract_features
-from ..core.grid import Box, EvaluationGrid, GridError, build_grid
+from ..core.grid import EvaluationGrid, GridError
+from ..core.grid_box import Box
+from ..core.grid_builder import build_grid
 from ..core.schema import LPNN_V1
 from ..core.validity import back_face_fractions, invalid
 from .coords import quake_to_unity, unity_to_quake

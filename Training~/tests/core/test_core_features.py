@@ -20,7 +20,9 @@ from lpnn.core.features import (
     lighting_features,
     scene_scale,
 )
-from lpnn.core.grid import Box, EvaluationGrid, build_grid
+from lpnn.core.grid import EvaluationGrid
+from lpnn.core.grid_box import Box
+from lpnn.core.grid_builder import build_grid
 from lpnn.core.schema import LPNN_V1
 
 W = (0.2126, 0.7152, 0.0722)

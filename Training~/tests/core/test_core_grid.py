@@ -9,15 +9,9 @@ import time
 import numpy as np
 import pytest
 
-from lpnn.core.grid import (
-    Box,
-    EvaluationGrid,
-    GridError,
-    build_grid,
-    count_points,
-    fitting_cell_size,
-    round_up_significant,
-)
+from lpnn.core.grid import EvaluationGrid, GridError, round_up_significant
+from lpnn.core.grid_box import Box
+from lpnn.core.grid_builder import build_grid, count_points, fitting_cell_size
 
 aabb = Box.axis_aligned
 

@@ -7,7 +7,8 @@ import time
 import numpy as np
 import pytest
 
-from lpnn.core.grid import Box, build_grid
+from lpnn.core.grid_box import Box
+from lpnn.core.grid_builder import build_grid
 from lpnn.core.labels import LabelError, LabelStats, labels_from_probes
 
 

@@ -7,7 +7,9 @@ import itertools
 import numpy as np
 import pytest
 
-from lpnn.core.grid import Box, EvaluationGrid, build_grid
+from lpnn.core.grid import EvaluationGrid
+from lpnn.core.grid_box import Box
+from lpnn.core.grid_builder import build_grid
 from lpnn.core.selection import (
     SelectionError,
     ensure_tetrahedron,

@@ -6,7 +6,7 @@ import numpy as np
 
 from lpnn.core.analytic_scene import load_scene
 from lpnn.core.features import extract_features
-from lpnn.core.grid import build_grid
+from lpnn.core.grid_builder import build_grid
 from lpnn.core.schema import LPNN_V1
 
 GOLDEN = "features_golden.json"

@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.core.grid import Box, GridError, build_grid, count_points, fitting_cell_size
+from lpnn.core.grid import GridError
+from lpnn.core.grid_box import Box
+from lpnn.core.grid_builder import build_grid, count_points, fitting_cell_size
 
 
 def boxes_of(case: dict) -> list[Box]:

@@ -9,7 +9,8 @@ import pytest
 
 from lpnn.cli.main import main
 from lpnn.core.capture import encode_capture, read_capture
-from lpnn.core.grid import Box, GridError
+from lpnn.core.grid import GridError
+from lpnn.core.grid_box import Box
 from lpnn.scenes.coords import METRES_PER_UNIT, quake_to_unity, unity_to_quake
 from lpnn.scenes.errors import BspError
 from lpnn.scenes.defaults import DEFAULT_CELL
