@@ -64,6 +64,24 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
     return start[np.argsort(rank_of[start], kind="stable")]
 
 
+def insertion_batch(field: ReferenceField, order: np.ndarray, metric: str = PRIMARY_METRIC,
+                    growth: float = INSERTION_GROWTH) -> np.ndarray:
+    """One round given the probes so far (`order`): the next points to insert, in insertion order (module
+    text); empty when every other point is interpolated exactly. The C# core's InsertionRanking.NextBatch."""
+    values = field.values(metric)
+    indices, others, stencil = probe_stencil(field, order)
+    blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    errors = POINT_ERRORS[metric](blended, values[others], field.scale)
+    by_cell = np.lexsort((others, -errors, stencil.cell))  # per cell: worst first, ties by index
+    first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
+    worst = first[errors[first] > EXACT]
+    if worst.shape[0] == 0:
+        return np.zeros(0, dtype=np.int64)
+    cell_error = np.bincount(stencil.cell, errors, minlength=int(stencil.cell.max()) + 1)
+    worst = worst[np.lexsort((others[worst], -cell_error[stencil.cell[worst]]))]
+    return others[worst[:max(1, int(math.ceil(growth * len(order))))]]
+
+
 def insertion_ranking(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
                       growth: float = INSERTION_GROWTH) -> np.ndarray:
     """The insertion order of the module text: (N,) int64, every point once."""
@@ -71,22 +89,13 @@ def insertion_ranking(field: ReferenceField, grid: EvaluationGrid, metric: str =
     if not (math.isfinite(growth) and growth > 0.0):
         raise ValueError(f"growth {growth!r} must be a fraction > 0 of the current probes (e.g. {INSERTION_GROWTH})")
     n = field.point_count
-    values = field.values(metric)
     order = list(typical_tetrahedron(field, grid, metric).tolist())
     chosen = np.zeros(n, dtype=bool)
     chosen[order] = True
     while len(order) < n:
-        indices, others, stencil = probe_stencil(field, np.asarray(order, dtype=np.int64))
-        blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
-        errors = POINT_ERRORS[metric](blended, values[others], field.scale)
-        by_cell = np.lexsort((others, -errors, stencil.cell))  # per cell: worst first, ties by index
-        first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
-        worst = first[errors[first] > EXACT]
-        if worst.shape[0] == 0:
+        batch = insertion_batch(field, np.asarray(order, dtype=np.int64), metric, growth)
+        if batch.shape[0] == 0:
             break  # every remaining point is interpolated exactly
-        cell_error = np.bincount(stencil.cell, errors, minlength=int(stencil.cell.max()) + 1)
-        worst = worst[np.lexsort((others[worst], -cell_error[stencil.cell[worst]]))]
-        batch = others[worst[:max(1, int(math.ceil(growth * len(order))))]]
         order.extend(batch.tolist())
         chosen[batch] = True
     rest = np.flatnonzero(~chosen)
