@@ -265,5 +265,46 @@ namespace Lpnn.Probes.Core.Tests
 
             Assert.Throws<ArgumentNullException>(() => InsertionRanking.Rank(grid, reference, null));
         }
+
+        // ---- the method choice ---------------------------------------------------------------------------------------
+
+        [Test]
+        public void TheDefaultMethodIsInsertionAndOnlyTheNetworkNeedsScores()
+        {
+            // Documentation~/benchmarks.md §7.1: insertion beats the shipped network at every budget from 5 % and at τ.
+            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.Insertion));
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Network), Is.True);
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Insertion), Is.False);
+            // Stored in scenes: values never move.
+            Assert.That((int)PlacementMethod.Network, Is.EqualTo(0));
+            Assert.That((int)PlacementMethod.Insertion, Is.EqualTo(1));
+        }
+
+        [Test]
+        public void PoliciesOverARankingKeepItsPrefixesAndTheToleranceSearchUsesIt()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            var tetrahedralizer = new BowyerWatsonDelaunay();
+            int[] ranking = InsertionRanking.Rank(grid, reference, tetrahedralizer);
+
+            var budget = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Budget(10), null);
+            Assert.That(budget.Indices, Is.EqualTo(ranking.Take(10).OrderBy(p => p)));
+            var spread = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Spread(10), null);
+            Assert.That(spread.Indices, Is.EqualTo(budget.Indices));
+            var percentile = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Percentile(0.75), null);
+            Assert.That(percentile.Indices, Is.EqualTo(ranking.Take(12).OrderBy(p => p)));
+
+            var measure = new PlacementEvaluator(reference, tetrahedralizer);
+            var tolerance = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Tolerance(0.02), measure);
+            Assert.That(tolerance.Tolerance.MeanError, Is.LessThanOrEqualTo(0.02));
+            Assert.That(tolerance.Indices, Is.EqualTo(ranking.Take(tolerance.Tolerance.Count).OrderBy(p => p)));
+            Assert.That(measure.MeanError(tolerance.Indices), Is.EqualTo(tolerance.Tolerance.MeanError));
+
+            var threshold = Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Threshold(0.5), null));
+            StringAssert.Contains("needs the network's scores", threshold.Message);
+            Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking.Take(5).ToArray(), SelectionSettings.Budget(3), null));
+        }
     }
 }
