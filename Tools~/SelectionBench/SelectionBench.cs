@@ -37,12 +37,7 @@ public static class SelectionBench
         foreach (int n in sizes)
         {
             var watch = Stopwatch.StartNew();
-            var ids = new List<LatticeId>(n * n * n);
-            for (int k = 0; k < n; k++)
-                for (int j = 0; j < n; j++)
-                    for (int i = 0; i < n; i++)
-                        ids.Add(new LatticeId(i, j, k));
-            var grid = EvaluationGrid.FromIds(0.5, ids);
+            var grid = Lattice(n);
             double build = watch.Elapsed.TotalSeconds;
             int count = grid.Count;
             var random = new Random(1);
@@ -80,6 +75,17 @@ public static class SelectionBench
         return 0;
     }
 
+    /// <summary>The n³ lattice at cell 0.5, in grid order.</summary>
+    private static EvaluationGrid Lattice(int n)
+    {
+        var ids = new List<LatticeId>(n * n * n);
+        for (int k = 0; k < n; k++)
+            for (int j = 0; j < n; j++)
+                for (int i = 0; i < n; i++)
+                    ids.Add(new LatticeId(i, j, k));
+        return EvaluationGrid.FromIds(0.5, ids);
+    }
+
     /// <summary>Smooth synthetic lighting (two waves and a bright corner), so every cell has a clear worst point.</summary>
     private static float[] SyntheticSh(EvaluationGrid grid)
     {
@@ -96,12 +102,7 @@ public static class SelectionBench
 
     private static void InsertionParts(int n)
     {
-        var ids = new List<LatticeId>(n * n * n);
-        for (int k = 0; k < n; k++)
-            for (int j = 0; j < n; j++)
-                for (int i = 0; i < n; i++)
-                    ids.Add(new LatticeId(i, j, k));
-        var grid = EvaluationGrid.FromIds(0.5, ids);
+        var grid = Lattice(n);
         float[] sh = SyntheticSh(grid);
         var watch = Stopwatch.StartNew();
         var reference = ReferenceLighting.FromGrid(grid, sh);

@@ -133,8 +133,25 @@ namespace Lpnn.Probes.Core.Quality
                 throw new PlacementErrorException("the insertion ranking needs at least 4 evaluation points to start from a tetrahedron, got " + n +
                                                   ": make the volume larger or the cell size smaller");
             int[] candidates = NearestMedian(reference, Math.Min(n, Math.Max(4, (int)Math.Ceiling(TypicalFraction * n))));
-            int[] spread = SpreadOut(reference.Local, candidates);
+            // Only the spread order's head is normally needed (its first 4, and the guarantee's first point off their
+            // plane): rank a short prefix, and the whole candidate set only when the guarantee reached beyond it.
+            for (int length = Math.Min(candidates.Length, SpreadPrefix); ; length = candidates.Length)
+            {
+                int[] start = StartFrom(grid, SpreadOut(reference.Local, candidates, length), out bool beyondPrefix);
+                if (!beyondPrefix || length == candidates.Length) return start;
+            }
+        }
 
+        /// <summary>Farthest-point steps computed before falling back to the whole candidate set (quality.md §5.1 needs
+        /// the spread order only up to the tetrahedron guarantee's pick).</summary>
+        private const int SpreadPrefix = 64;
+
+        /// <param name="spread">A prefix of the candidates' spread order (at least 4 points).</param>
+        /// <param name="beyondPrefix">Set when the guarantee took a point ranked after that prefix: the answer then
+        /// depends on the rest of the spread order, and the caller must pass all of it.</param>
+        private static int[] StartFrom(EvaluationGrid grid, int[] spread, out bool beyondPrefix)
+        {
+            int n = grid.Count;
             var preference = new int[n];
             var rankOf = new int[n];
             var inSpread = new bool[n];
@@ -154,6 +171,7 @@ namespace Lpnn.Probes.Core.Quality
             var start = new int[selected.Count];
             selected.CopyTo(start);
             Array.Sort(start, (a, b) => rankOf[a].CompareTo(rankOf[b]));
+            beyondPrefix = rankOf[start[start.Length - 1]] >= spread.Length;
             return start;
         }
 
@@ -177,19 +195,24 @@ namespace Lpnn.Probes.Core.Quality
                 deviation[p] = PointErrorMetrics.Irradiance(median, reference.Light, values * p, reference.SceneScale);
                 points[p] = p;
             }
-            Array.Sort(points, (a, b) =>
+            // A sort on primitive keys (fast), then equal deviations back into index order (that sort is not stable).
+            Array.Sort(deviation, points);
+            for (int start = 0; start < n;)
             {
-                int byDeviation = deviation[a].CompareTo(deviation[b]);
-                return byDeviation != 0 ? byDeviation : a.CompareTo(b);
-            });
+                int end = start + 1;
+                while (end < n && deviation[end] == deviation[start]) end++;
+                if (end - start > 1) Array.Sort(points, start, end - start);
+                start = end;
+            }
             var nearest = new int[count];
             Array.Copy(points, nearest, count);
             return nearest;
         }
 
-        /// <summary>The candidates (point indices) in farthest-point order: first the one farthest from their centroid
-        /// (ties: earlier candidate), then unweighted farthest-point sampling (ties: earlier candidate).</summary>
-        private static int[] SpreadOut(double[] local, int[] candidates)
+        /// <summary>The first <paramref name="length"/> candidates (point indices) in farthest-point order: first the one
+        /// farthest from their centroid (ties: earlier candidate), then unweighted farthest-point sampling (ties: earlier
+        /// candidate).</summary>
+        private static int[] SpreadOut(double[] local, int[] candidates, int length)
         {
             int count = candidates.Length;
             var x = new double[count];
@@ -222,9 +245,9 @@ namespace Lpnn.Probes.Core.Quality
             }
             var ones = new double[count];
             for (int k = 0; k < count; k++) ones[k] = 1;
-            int[] order = FarthestPointSampling.Rank(x, y, z, ones, new[] { first }, count);
-            var spread = new int[count];
-            for (int k = 0; k < count; k++) spread[k] = candidates[order[k]];
+            int[] order = FarthestPointSampling.Rank(x, y, z, ones, new[] { first }, length);
+            var spread = new int[length];
+            for (int k = 0; k < length; k++) spread[k] = candidates[order[k]];
             return spread;
         }
 
