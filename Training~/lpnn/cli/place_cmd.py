@@ -106,7 +106,7 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
     from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.cli_support import progress_bar, run_reference
-    from ..quality.insertion import insertion_ranking
+    from ..quality.insertion import InsertionOrder
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
@@ -127,11 +127,11 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
         if args.method == "uniform":
             select = uniform_selector(grid)
             what = "uniform lattice"
+        elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
+            select, what = InsertionOrder(field, grid).selection(), "insertion (coarse-to-fine, error-driven)"
         else:
             if args.method == "heuristic":
                 ranking, what = heuristic_ranking(grid, capture.sh, capture.lighting_scale), "farthest-point heuristic"
-            elif args.method == "insertion":
-                ranking, what = insertion_ranking(field, grid), "insertion (coarse-to-fine, error-driven)"
             elif args.method == "apv":
                 ranking, what = apv_ranking(grid, capture.features, capture.feature_names), "APV-style geometry density"
             else:
