@@ -11,3 +11,4 @@ mcs -nologo -langversion:7.2 -r:System.Numerics.dll -r:System.Numerics.Vectors.d
 PY=$(bash "Tools~/setup-python.sh")
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_sh_golden.py" "$REPO_ROOT/Tests/Data"
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_quality_golden.py" "$REPO_ROOT/Tests/Data"
+PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_insertion_golden.py" "$REPO_ROOT/Tests/Data"

@@ -1,5 +1,6 @@
 using Lpnn.Probes.Core.Batch;
 using Lpnn.Probes.Core.Scoring;
+using Lpnn.Probes.Core.Selection;
 using NUnit.Framework;
 
 namespace Lpnn.Probes.Core.Tests
@@ -14,7 +15,7 @@ namespace Lpnn.Probes.Core.Tests
             {
                 "Unity", "-batchmode", "-projectPath", "/tmp/p", "-executeMethod", "Lpnn.Probes.Editor.LpnnBatch.Run",
                 "-lpnnScene", "Assets/Corridor.unity", "-lpnnMode", "export", "-lpnnOut", "/data/set", "-lpnnBake",
-                "-lpnnBackend", "CPU", "-lpnnVolume", "LPNN Probes", "-lpnnLabels", "Ground truth", "-logFile", "-",
+                "-lpnnBackend", "CPU", "-lpnnMethod", "Network", "-lpnnVolume", "LPNN Probes", "-lpnnLabels", "Ground truth", "-logFile", "-",
             });
             Assert.That(options.ScenePath, Is.EqualTo("Assets/Corridor.unity"));
             Assert.That(options.Mode, Is.EqualTo(BatchMode.Export));
@@ -24,6 +25,7 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(options.VolumeName, Is.EqualTo("LPNN Probes"));
             Assert.That(options.LabelsGroupName, Is.EqualTo("Ground truth"));
             Assert.That(options.SaveScene, Is.False);
+            Assert.That(options.Method, Is.EqualTo(PlacementMethod.Network));
         }
 
         [Test]
@@ -34,6 +36,7 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(options.Bake, Is.False);
             Assert.That(options.Backend, Is.EqualTo(ScoringBackendPreference.Auto));
             Assert.That(options.OutputFolder, Is.Null);
+            Assert.That(options.Method, Is.Null, "no -lpnnMethod: each volume's own method");
         }
 
         [TestCase(new[] { "-lpnnMode", "place" }, "missing -lpnnScene")]
@@ -41,6 +44,7 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase(new[] { "-lpnnScene", "-lpnnBake" }, "-lpnnScene needs a value")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMode", "train" }, "-lpnnMode 'train' must be place or export")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnBackend", "tpu" }, "-lpnnBackend 'tpu' must be auto, gpu or cpu")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "-lpnnMethod 'heuristic' must be insertion")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnScenes", "B.unity" }, "unknown argument -lpnnScenes")]
         public void BadArgumentsAreExplained(string[] args, string expected)
         {

@@ -33,6 +33,25 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(odd, Is.EqualTo(new[] { 3.0, -1.0, 2.0 }));
             Assert.That(Statistics.Median(new List<double> { 4.0, 1.0, 3.0, 2.0 }), Is.EqualTo(2.5));
             Assert.Throws<ArgumentException>(() => Statistics.Median(new double[0]));
+            Assert.Throws<ArgumentException>(() => Statistics.Median(new[] { 1.0, double.NaN, 2.0 }));
+        }
+
+        [Test]
+        public void MedianBySelectionEqualsTheMiddleOfTheSortedValues()
+        {
+            var random = new Random(3);
+            foreach (int count in new[] { 1, 2, 3, 10, 11, 257, 1000, 1001 })
+            {
+                foreach (int distinct in new[] { 1, 2, 7, 1000000 })
+                {
+                    var values = new double[count];
+                    for (int n = 0; n < count; n++) values[n] = random.Next(distinct) * 0.37 - 5;
+                    var sorted = (double[])values.Clone();
+                    Array.Sort(sorted);
+                    double expected = count % 2 == 1 ? sorted[count / 2] : (sorted[count / 2 - 1] + sorted[count / 2]) / 2;
+                    Assert.That(Statistics.Median(values), Is.EqualTo(expected), count + " values, " + distinct + " distinct");
+                }
+            }
         }
 
         [Test]

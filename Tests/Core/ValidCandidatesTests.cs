@@ -57,6 +57,35 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void ARankingNotMadeOfScoresNeverYieldsAnInvalidPoint()
+        {
+            // The insertion method's path (ProbeSelector.SelectFromRanking): a ranking that lists the slab's points first.
+            var grid = Cube();
+            var valid = SlabInvalid(grid);
+            var ranking = ScoreRanking.Rank(ScoresFavouringTheSlab(grid));
+            var settings = new[]
+            {
+                SelectionSettings.Percentile(0.9, true), SelectionSettings.Budget(20, true), SelectionSettings.Budget(1, true),
+                SelectionSettings.Spread(12, true), SelectionSettings.Budget(1),
+            };
+            foreach (var setting in settings)
+            {
+                AssertAllValid(ProbeSelector.SelectFromRanking(grid, ranking, setting, null, valid), valid, setting.Policy + " " + setting.Value);
+                // Control: without the flags the same ranking does pick slab points.
+                var unmasked = ProbeSelector.SelectFromRanking(grid, ranking, setting, null);
+                Assert.That(Array.Exists(unmasked.Indices, index => !valid[index]), Is.True, "control " + setting.Policy);
+            }
+            var measure = new CountingMeasure();
+            AssertAllValid(ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Tolerance(0.02, true), measure, valid), valid, "tolerance");
+            foreach (var asked in measure.Asked)
+                foreach (int index in asked) Assert.That(valid[index], Is.True, "a measured set holds invalid point " + index);
+            // Fewer than 4 valid points is refused with the counts, not answered with invalid ones.
+            var almostNone = new bool[grid.Count];
+            almostNone[0] = almostNone[1] = true;
+            Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Budget(20), null, almostNone));
+        }
+
+        [Test]
         public void NoPolicyNorCompletionStepSelectsAnInvalidPoint()
         {
             var grid = Cube();

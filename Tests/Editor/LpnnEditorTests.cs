@@ -1,4 +1,5 @@
 using System.Collections;
+using System.Collections.Generic;
 using System.IO;
 using System.Linq;
 using System.Threading;
@@ -52,11 +53,32 @@ namespace Lpnn.Probes.Editor.Tests
             Assert.That(warning, Is.EqualTo(""), "every wall of the test room has a collider");
         }
 
-        /// <summary>… then the model card check and the scores on the CPU.</summary>
+        /// <summary>… then the model card check and the scores on the CPU; placement by the network's scores (a new volume
+        /// places by insertion, PlacementMethods.Default).</summary>
         private void RunUpToScores()
         {
             RunUpToFeatures();
             LpnnPipeline.Score(_room.Volume, _session);
+            _room.Volume.SetMethod(PlacementMethod.Network);
+        }
+
+        [Test]
+        public void ANewVolumePlacesByInsertionFromTheLightingAloneWithUnitysTetrahedra()
+        {
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion));
+            LpnnPipeline.BuildGrid(_room.Volume, _session);
+            using (var lighting = _room.AnalyticLighting())
+                LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
+            // No features, no scores: the insertion ranking needs only the sampled lighting.
+            _room.Volume.SetSelection(SelectionSettings.Tolerance(SelectionSettings.DefaultTolerance, false));
+            var reported = new List<long>();
+            LpnnPipeline.Apply(_room.Volume, _session, (stage, done, total) => reported.Add(done), CancellationToken.None);
+            var selection = LpnnPipeline.Select(_room.Volume, _session);
+            Assert.That(_room.Volume.TargetGroup.probePositions.Length, Is.EqualTo(selection.Indices.Length));
+            Assert.That(selection.Tolerance.MeanError, Is.LessThanOrEqualTo(SelectionSettings.DefaultTolerance));
+            Assert.That(reported.Count, Is.GreaterThan(1), "the ranking reports its rounds");
+            int[] ranking = PlacementInputs.KnownInsertionRanking(_session, _session.Grid);
+            Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, _session.Grid.Count)));
         }
 
         [Test]

@@ -2,12 +2,18 @@ using System;
 using System.Collections.Generic;
 using System.Diagnostics;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Tests.Support;
 
 /// <summary>Times the C# selection paths on synthetic n³ lattices (issue 13 item 4: none may be quadratic):
 /// the score ranking, the spread ranking (a 5 % budget and the whole order), the tetrahedron guarantee on a flat
 /// prefix, and the tolerance search over spread prefixes with a cheap stand-in error (a placement error in C# needs
 /// Unity's tetrahedralizer, which does not run here: this times the selection side of the search only).
+/// Then the parts of the insertion ranking (Quality.InsertionRanking) that run without Unity: the reference lighting, the
+/// typical tetrahedron, and one round given a mesh (the Freudenthal–Kuhn tetrahedra of the stride-4 sub-lattice as the
+/// probes' mesh). The whole ranking tetrahedralises the probes every round with Unity's tetrahedraliser; the tests' own
+/// Delaunay is O(n²) per call, so the whole ranking's time can only be measured in Unity.
 /// Usage: mono SelectionBench.exe [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points).</summary>
 public static class SelectionBench
 {
@@ -31,12 +37,7 @@ public static class SelectionBench
         foreach (int n in sizes)
         {
             var watch = Stopwatch.StartNew();
-            var ids = new List<LatticeId>(n * n * n);
-            for (int k = 0; k < n; k++)
-                for (int j = 0; j < n; j++)
-                    for (int i = 0; i < n; i++)
-                        ids.Add(new LatticeId(i, j, k));
-            var grid = EvaluationGrid.FromIds(0.5, ids);
+            var grid = Lattice(n);
             double build = watch.Elapsed.TotalSeconds;
             int count = grid.Count;
             var random = new Random(1);
@@ -68,6 +69,55 @@ public static class SelectionBench
                 "{0:N0} | {1:F2} | {2:F2} | {3:F2} | {4:F2} | {5:F3} | {6:F2} ({7})",
                 count, build, scoreSeconds, budgetSeconds, allSeconds, tetraSeconds, toleranceSeconds, result.Tolerance.Evaluated.Count));
         }
+        Console.WriteLine();
+        Console.WriteLine("points | reference lighting s | typical tetrahedron s | one insertion round given the mesh s (probes, tetrahedra, batch)");
+        foreach (int n in sizes) InsertionParts(n);
         return 0;
+    }
+
+    /// <summary>The n³ lattice at cell 0.5, in grid order.</summary>
+    private static EvaluationGrid Lattice(int n)
+    {
+        var ids = new List<LatticeId>(n * n * n);
+        for (int k = 0; k < n; k++)
+            for (int j = 0; j < n; j++)
+                for (int i = 0; i < n; i++)
+                    ids.Add(new LatticeId(i, j, k));
+        return EvaluationGrid.FromIds(0.5, ids);
+    }
+
+    /// <summary>Smooth synthetic lighting (two waves and a bright corner), so every cell has a clear worst point.</summary>
+    private static float[] SyntheticSh(EvaluationGrid grid)
+    {
+        var sh = new float[27 * grid.Count];
+        for (int p = 0; p < grid.Count; p++)
+        {
+            var x = grid.GetPosition(p);
+            double wave = 1.0 + 0.5 * Math.Sin(0.7 * x.X) * Math.Cos(0.4 * x.Z) + 2.0 / (1.0 + x.LengthSquared());
+            for (int c = 0; c < 27; c++)
+                sh[27 * p + c] = (float)(c % 9 == 0 ? wave * (1.0 - 0.2 * (c / 9)) : 0.1 * wave * Math.Sin(c + 0.3 * x.Y));
+        }
+        return sh;
+    }
+
+    private static void InsertionParts(int n)
+    {
+        var grid = Lattice(n);
+        float[] sh = SyntheticSh(grid);
+        var watch = Stopwatch.StartNew();
+        var reference = ReferenceLighting.FromGrid(grid, sh);
+        double referenceSeconds = watch.Elapsed.TotalSeconds;
+        watch.Restart();
+        InsertionRanking.TypicalTetrahedron(grid, reference);
+        double typicalSeconds = watch.Elapsed.TotalSeconds;
+        const int stride = 4;
+        int[] probes = QualityFixtures.LatticeProbes(grid, stride);
+        int side = (n - 1) / stride + 1;
+        int[] tetrahedra = QualityFixtures.KuhnTetrahedra(side, side, side);
+        watch.Restart();
+        int[] batch = InsertionRanking.NextBatch(reference, probes, tetrahedra);
+        double roundSeconds = watch.Elapsed.TotalSeconds;
+        Console.WriteLine(string.Format(System.Globalization.CultureInfo.InvariantCulture, "{0:N0} | {1:F2} | {2:F2} | {3:F2} ({4:N0}, {5:N0}, {6:N0})",
+            grid.Count, referenceSeconds, typicalSeconds, roundSeconds, probes.Length, tetrahedra.Length / 4, batch.Length));
     }
 }

@@ -26,6 +26,7 @@ namespace Lpnn.Probes
             public const string ModelCard = nameof(modelCard);
             public const string Backend = nameof(backend);
             public const string ScoringPointLimit = nameof(scoringPointLimit);
+            public const string Method = nameof(placementMethod);
             public const string Policy = nameof(policy);
             public const string Percentile = nameof(percentile);
             public const string Budget = nameof(budget);
@@ -65,6 +66,11 @@ namespace Lpnn.Probes
 
         [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
         [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
+
+        [Tooltip("What ranks the points. Insertion (default) inserts probes where interpolating the sampled lighting is worst: no features " +
+                 "or model needed, about a second per 1,000 points, and measured better than the network at every budget from 5 % and at the " +
+                 "tolerance (Documentation~/benchmarks.md §7.1). Network ranks by the model's scores: milliseconds, after the Features and Scoring steps.")]
+        [SerializeField] private PlacementMethod placementMethod = PlacementMethods.Default;
 
         [Tooltip("How scores become probes. Tolerance (default) keeps as few spread-ranked probes as the placement error allows; " +
                  "Spread keeps Budget probes spread out and packed where the model sees lighting change; Percentile is the thesis' rule.")]
@@ -113,6 +119,8 @@ namespace Lpnn.Probes
         public LightProbeGroup GroundTruthGroup => groundTruthGroup;
         public string DatasetFolder => datasetFolder ?? "";
         public bool ShowGizmos => showGizmos;
+        /// <summary>What ranks the points (<see cref="PlacementMethods.Default"/> for a new volume).</summary>
+        public PlacementMethod Method => placementMethod;
         public LpnnScoreRecord LastScores => lastScores ?? (lastScores = new LpnnScoreRecord());
 
         /// <summary>The selection settings in the core's terms.</summary>
@@ -164,6 +172,7 @@ namespace Lpnn.Probes
         }
 
         public void SetLighting(LightingSource source) => lightingSource = source;
+        public void SetMethod(PlacementMethod method) => placementMethod = method;
         public void SetBackend(ScoringBackendPreference preference) => backend = preference;
         public void SetScoringPointLimit(int limit) => scoringPointLimit = Mathf.Max(1, limit);
         public void SetGroundTruth(LightProbeGroup group) => groundTruthGroup = group;

@@ -32,14 +32,15 @@ fast non-learned" bar a learned tier has to beat. Deterministic: ties go to the 
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
 from ..core import sh as shmath
 from ..core.grid import EvaluationGrid
-from ..core.selection import ensure_tetrahedron
+from ..core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ..core.spread import farthest_point_ranking
-from .metric import POINT_ERRORS, PRIMARY_METRIC, ReferenceField, checked_metric, probe_stencil
+from .metric import POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
@@ -64,30 +65,69 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
     return start[np.argsort(rank_of[start], kind="stable")]
 
 
+def insertion_batch(field: ReferenceField, order: np.ndarray, metric: str = PRIMARY_METRIC,
+                    growth: float = INSERTION_GROWTH) -> np.ndarray:
+    """One round given the probes so far (`order`): the next points to insert, in insertion order (module
+    text); empty when every other point is interpolated exactly. The C# core's InsertionRanking.NextBatch."""
+    values = field.values(metric)
+    indices, others, stencil = probe_stencil(field, order)
+    blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    errors = POINT_ERRORS[metric](blended, values[others], field.scale)
+    by_cell = np.lexsort((others, -errors, stencil.cell))  # per cell: worst first, ties by index
+    first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
+    worst = first[errors[first] > EXACT]
+    if worst.shape[0] == 0:
+        return np.zeros(0, dtype=np.int64)
+    cell_error = np.bincount(stencil.cell, errors, minlength=int(stencil.cell.max()) + 1)
+    worst = worst[np.lexsort((others[worst], -cell_error[stencil.cell[worst]]))]
+    return others[worst[:max(1, int(math.ceil(growth * len(order))))]]
+
+
+class InsertionOrder:
+    """The insertion order, computed only as far as it is asked for: `prefix(K)` runs rounds until K points
+    are ranked. A budget K or the tolerance policy's search (exponential from 4, then bisection: it never
+    asks beyond twice its answer) thus costs the rounds up to that count, not the ~log(N / 4) / log(1 +
+    growth) rounds of the whole ranking; prefixes are those of `insertion_ranking` exactly."""
+
+    def __init__(self, field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
+                 growth: float = INSERTION_GROWTH) -> None:
+        checked_metric(metric)
+        if not (math.isfinite(growth) and growth > 0.0):
+            raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
+                              f"(e.g. {INSERTION_GROWTH})")
+        self._field, self._metric, self._growth = field, metric, growth
+        self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
+        self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
+        self.rounds = 0
+
+    def prefix(self, count: int) -> np.ndarray:
+        """The first min(count, N) points of the ranking, in order."""
+        n = self._field.point_count
+        count = min(int(count), n)
+        while self._order.shape[0] < count and not self._exhausted:
+            batch = insertion_batch(self._field, self._order, self._metric, self._growth)
+            self.rounds += 1
+            if batch.shape[0] == 0:
+                self._exhausted = True
+            else:
+                self._order = np.concatenate([self._order, batch])
+        if self._order.shape[0] < count:  # exhausted: the rest by index
+            chosen = np.zeros(n, dtype=bool)
+            chosen[self._order] = True
+            self._order = np.concatenate([self._order, np.flatnonzero(~chosen)])
+        return self._order[:count]
+
+    def selection(self) -> Callable[[int], np.ndarray]:
+        """K -> the first K points (at least the starting tetrahedron's four; sorted), as
+        policies.prefix_selection(grid, insertion_ranking(...)) gives them, without the rest of the ranking."""
+        def select(count: int) -> np.ndarray:
+            prefix = self.prefix(max(int(count), TETRAHEDRON_POINTS))
+            return np.sort(prefix[:max(int(count), min(TETRAHEDRON_POINTS, prefix.shape[0]))])
+
+        return select
+
+
 def insertion_ranking(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
                       growth: float = INSERTION_GROWTH) -> np.ndarray:
     """The insertion order of the module text: (N,) int64, every point once."""
-    checked_metric(metric)
-    if not (math.isfinite(growth) and growth > 0.0):
-        raise ValueError(f"growth {growth!r} must be a fraction > 0 of the current probes (e.g. {INSERTION_GROWTH})")
-    n = field.point_count
-    values = field.values(metric)
-    order = list(typical_tetrahedron(field, grid, metric).tolist())
-    chosen = np.zeros(n, dtype=bool)
-    chosen[order] = True
-    while len(order) < n:
-        indices, others, stencil = probe_stencil(field, np.asarray(order, dtype=np.int64))
-        blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
-        errors = POINT_ERRORS[metric](blended, values[others], field.scale)
-        by_cell = np.lexsort((others, -errors, stencil.cell))  # per cell: worst first, ties by index
-        first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
-        worst = first[errors[first] > EXACT]
-        if worst.shape[0] == 0:
-            break  # every remaining point is interpolated exactly
-        cell_error = np.bincount(stencil.cell, errors, minlength=int(stencil.cell.max()) + 1)
-        worst = worst[np.lexsort((others[worst], -cell_error[stencil.cell[worst]]))]
-        batch = others[worst[:max(1, int(math.ceil(growth * len(order))))]]
-        order.extend(batch.tolist())
-        chosen[batch] = True
-    rest = np.flatnonzero(~chosen)
-    return np.concatenate([np.asarray(order, dtype=np.int64), rest])
+    return InsertionOrder(field, grid, metric, growth).prefix(field.point_count)

@@ -23,3 +23,15 @@ def test_unity_volume_takes_its_defaults_from_core() -> None:
     source = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
     assert "private SelectionPolicy policy = SelectionSettings.DefaultPolicy;" in source
     assert "private float tolerance = (float)SelectionSettings.DefaultTolerance;" in source
+
+
+def test_the_default_placement_method_is_insertion_in_core_the_volume_and_the_cli() -> None:
+    """benchmarks.md §7.1: with the dense lighting (always there in `lpnn place` and in the Unity pipeline) insertion
+    beats the shipped network, so both default to it."""
+    from lpnn.cli.place_cmd import DEFAULT_METHOD
+
+    core = (PACKAGE / "Core" / "Selection" / "PlacementMethod.cs").read_text(encoding="utf-8")
+    assert "public const PlacementMethod Default = PlacementMethod.Insertion;" in core
+    assert DEFAULT_METHOD == "insertion"
+    volume = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
+    assert "private PlacementMethod placementMethod = PlacementMethods.Default;" in volume

@@ -7,9 +7,9 @@ import numpy as np
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.baselines import heuristic_ranking, random_ranking, uniform_selector
-from lpnn.quality.insertion import insertion_ranking, typical_tetrahedron
+from lpnn.quality.insertion import InsertionOrder, insertion_ranking, typical_tetrahedron
 from lpnn.quality.metric import POINT_ERRORS, ReferenceField, placement_error
-from lpnn.quality.policies import budget_count, prefix_selection
+from lpnn.quality.policies import budget_count, place_tolerance, prefix_selection
 from lpnn.quality.triangulation import flatness
 
 from quality_support import MEDIUM_ROOM, room_capture
@@ -53,3 +53,24 @@ def test_insertion_beats_the_heuristic_random_and_uniform_at_a_20_percent_budget
         assert inserted < heuristic and inserted < 0.7 * random and inserted < 0.7 * uniform, seed
         ratios.append(inserted / heuristic)
     assert np.mean(ratios) < 0.85, ratios
+
+
+def test_the_lazy_order_gives_the_full_rankings_selections_with_fewer_rounds(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    grid = _grid(medium_capture)
+    full = insertion_ranking(field, grid)
+    eager = prefix_selection(grid, full)
+    lazy_order = InsertionOrder(field, grid)
+    lazy = lazy_order.selection()
+    count = budget_count(0.05, medium_capture.point_count)
+    np.testing.assert_array_equal(lazy(count), eager(count))
+    rounds_for_budget = lazy_order.rounds
+    for k in (1, 2, 3, 4, 5, count // 2, count, 3 * count, medium_capture.point_count):
+        np.testing.assert_array_equal(lazy(k), eager(k), err_msg=f"count {k}")
+    everything = InsertionOrder(field, grid)
+    everything.prefix(medium_capture.point_count)
+    assert rounds_for_budget < everything.rounds / 2  # a 5 % budget needs well under half the rounds
+    # The tolerance policy's answer is the same, found without ranking every point.
+    searched = InsertionOrder(field, grid)
+    assert place_tolerance(field, searched.selection(), 0.05).requested == place_tolerance(field, eager, 0.05).requested
+    assert searched.prefix(1).shape[0] == 1 and searched.rounds < everything.rounds

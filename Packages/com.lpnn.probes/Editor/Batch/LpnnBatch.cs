@@ -5,6 +5,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Batch;
 using Lpnn.Probes.Core.Json;
 using Lpnn.Probes.Core.Placement;
+using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEditor.SceneManagement;
 using UnityEngine;
@@ -96,12 +97,14 @@ namespace Lpnn.Probes.Editor
             var savedLighting = volume.Lighting;
             var savedBackend = volume.Backend;
             var savedTruth = volume.GroundTruthGroup;
+            var savedMethod = volume.Method;
             try
             {
                 // Without -lpnnBake nothing is baked: the scene's existing probes are interpolated.
                 volume.SetLighting(options.Bake ? LightingSource.BakeAtEvaluationPoints : LightingSource.InterpolateSceneProbes);
                 volume.SetBackend(options.Backend);
                 if (truth != null) volume.SetGroundTruth(truth);
+                if (options.Method.HasValue) volume.SetMethod(options.Method.Value);
                 return RunVolumeSteps(volume, options, folder);
             }
             finally
@@ -109,6 +112,7 @@ namespace Lpnn.Probes.Editor
                 volume.SetLighting(savedLighting);
                 volume.SetBackend(savedBackend);
                 volume.SetGroundTruth(savedTruth);
+                volume.SetMethod(savedMethod);
             }
         }
 
@@ -116,28 +120,37 @@ namespace Lpnn.Probes.Editor
         {
             var session = LpnnSession.For(volume);
             var log = new List<string>();
+            // Place mode with the insertion method ranks by the lighting alone: no scores.
+            bool byScores = options.Mode == BatchMode.Export || PlacementMethods.NeedsScores(volume.Method);
+            System.Numerics.Vector3[] positions;
+            SelectionResult selection;
+            string stem = CaptureExport.DefaultStem(volume);
             using (var progress = new EditorProgressScope("LPNN batch " + volume.name))
             {
                 log.Add(LpnnPipeline.BuildGrid(volume, session));
                 log.Add(LpnnPipeline.SampleLighting(volume, session, options.Bake, progress.Callback, progress.Token));
+                // Features for every method: their rays find the points inside geometry, which never become probes.
                 log.Add(LpnnPipeline.ExtractFeatures(volume, session, progress.Callback, progress.Token, out string warning));
                 if (warning.Length > 0) Debug.LogWarning("[LPNN batch] " + volume.name + ": " + warning);
+                if (options.Mode == BatchMode.Export)
+                {
+                    log.Add("capture " + CaptureExport.Append(volume, session, folder, stem, out string labels) + " (" + labels + ")");
+                    return string.Join("; ", log);
+                }
+                if (byScores) log.Add(LpnnPipeline.Score(volume, session));
+                positions = LpnnPipeline.SelectedPositions(volume, session, progress.Callback, progress.Token, out selection);
             }
-            string stem = CaptureExport.DefaultStem(volume);
-            if (options.Mode == BatchMode.Export)
-            {
-                log.Add("capture " + CaptureExport.Append(volume, session, folder, stem, out string labels) + " (" + labels + ")");
-                return string.Join("; ", log);
-            }
-            log.Add(LpnnPipeline.Score(volume, session));
-            var positions = LpnnPipeline.SelectedPositions(volume, session, out var selection);
             // The positions file is the batch result; the group is filled too when the volume has one.
             if (volume.TargetGroup != null) ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             var source = JsonValue.NewObject();
             source.Set("scene", JsonValue.From(volume.gameObject.scene.path));
             source.Set("volume", JsonValue.From(volume.name));
-            source.Set("backend", JsonValue.From(volume.LastScores.Backend));
-            source.Set("model", JsonValue.From(volume.LastScores.Model));
+            source.Set("method", JsonValue.From(byScores ? "network" : "insertion"));
+            if (byScores)
+            {
+                source.Set("backend", JsonValue.From(volume.LastScores.Backend));
+                source.Set("model", JsonValue.From(volume.LastScores.Model));
+            }
             string path = Path.Combine(folder, stem + ProbePositionsFile.Extension);
             ProbePositionsFile.Save(path, positions, source);
             log.Add(positions.Length + " probes" + LpnnPipeline.Extras(selection) + " → " + path);

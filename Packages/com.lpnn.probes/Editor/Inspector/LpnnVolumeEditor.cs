@@ -151,6 +151,12 @@ namespace Lpnn.Probes.Editor
         {
             Header("5. Placement");
             Field(LpnnVolume.Fields.TargetGroup);
+            Field(LpnnVolume.Fields.Method);
+            serializedObject.ApplyModifiedProperties();
+            bool byScores = PlacementMethods.NeedsScores(Volume.Method);
+            if (byScores)
+                EditorGUILayout.HelpBox("The Network method was measured worse than Insertion at every budget from 5 % and at the tolerance " +
+                                        "(Documentation~/benchmarks.md §7.1); it is faster (milliseconds).", MessageType.None);
             var policy = PolicyPopup();
             switch (policy)
             {
@@ -165,13 +171,15 @@ namespace Lpnn.Probes.Editor
             var preview = PreviewCount();
             using (new EditorGUILayout.HorizontalScope())
             {
-                using (new EditorGUI.DisabledScope(Volume.LastScores.IsEmpty))
+                using (new EditorGUI.DisabledScope(byScores ? Volume.LastScores.IsEmpty : Session.Sh == null))
                 {
+                    if (!byScores && KnownInsertionRanking() == null && GUILayout.Button("Rank by insertion"))
+                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => RankByInsertion(progress, cancel));
                     if (policy == SelectionPolicy.Tolerance && GUILayout.Button("Find probes"))
-                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => SearchTolerance());
+                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => SearchTolerance(progress, cancel));
                     if (GUILayout.Button("Apply"))
                         StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
-                            preview != null ? LpnnPipeline.Apply(Volume, Session, preview) : LpnnPipeline.Apply(Volume, Session));
+                            preview != null ? LpnnPipeline.Apply(Volume, Session, preview) : LpnnPipeline.Apply(Volume, Session, progress, cancel));
                 }
                 if (GUILayout.Button("Clear"))
                     StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => { ProbeGroupWriter.Clear(Volume.TargetGroup); return "probes cleared"; });
@@ -269,9 +277,12 @@ namespace Lpnn.Probes.Editor
             bool ok = StepRunner.Run(Volume, session.VolumeStep, (p, c) => LpnnPipeline.BuildGrid(Volume, session))
                       && StepRunner.Run(Volume, session.LightingStep, (p, c) => LpnnPipeline.SampleLighting(Volume, session, true, p, c));
             string warning = "";
-            ok = ok && StepRunner.Run(Volume, session.FeaturesStep, (p, c) => LpnnPipeline.ExtractFeatures(Volume, session, p, c, out warning))
-                    && StepRunner.Run(Volume, session.ScoringStep, (p, c) => LpnnPipeline.Score(Volume, session))
-                    && StepRunner.Run(Volume, session.PlacementStep, (p, c) => LpnnPipeline.Apply(Volume, session));
+            // Features run for every method: their rays tell which points lie inside geometry (never probes). The insertion
+            // method ranks by the lighting alone, so it needs no scores.
+            ok = ok && StepRunner.Run(Volume, session.FeaturesStep, (p, c) => LpnnPipeline.ExtractFeatures(Volume, session, p, c, out warning));
+            if (PlacementMethods.NeedsScores(Volume.Method))
+                ok = ok && StepRunner.Run(Volume, session.ScoringStep, (p, c) => LpnnPipeline.Score(Volume, session));
+            ok = ok && StepRunner.Run(Volume, session.PlacementStep, (p, c) => LpnnPipeline.Apply(Volume, session, p, c));
             ReportWarning(session.FeaturesStep, warning);
         }
 
@@ -338,10 +349,17 @@ namespace Lpnn.Probes.Editor
         /// there is none yet).</summary>
         private SelectionResult PreviewCount()
         {
+            bool byScores = PlacementMethods.NeedsScores(Volume.Method);
             var record = Volume.LastScores;
-            if (record.IsEmpty)
+            if (byScores && record.IsEmpty)
             {
                 EditorGUILayout.HelpBox("No scores yet: run the Scoring step (or import a .probes.json).", MessageType.None);
+                return null;
+            }
+            if (!byScores && Session.Sh == null)
+            {
+                EditorGUILayout.HelpBox("No lighting yet: the insertion method ranks points by the Lighting data step's SH (or import a .probes.json).",
+                                        MessageType.None);
                 return null;
             }
             string error;
@@ -349,8 +367,25 @@ namespace Lpnn.Probes.Editor
             EvaluationGrid grid = null;
             try
             {
-                grid = LpnnPipeline.ScoredGrid(Volume, Session);
-                result = _preview.Get(grid, record, Volume.GetSelectionSettings(), out error);
+                grid = LpnnPipeline.PlacementGrid(Volume, Session);
+                if (byScores)
+                {
+                    result = _preview.Get(grid, record, Volume.GetSelectionSettings(), out error);
+                }
+                else
+                {
+                    int[] ranking = KnownInsertionRanking();
+                    if (ranking != null)
+                    {
+                        result = _preview.GetRanked(grid, ranking, PlacementInputs.ValidPoints(Session, grid), Volume.GetSelectionSettings(), out error);
+                    }
+                    else
+                    {
+                        result = null;
+                        error = "The insertion method ranks the points once (about a second per 1,000 points): press 'Rank by insertion' " +
+                                "(Apply and Find probes also rank first).";
+                    }
+                }
             }
             catch (LpnnException e)
             {
@@ -363,11 +398,21 @@ namespace Lpnn.Probes.Editor
                 return null;
             }
             string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
-                           InvariantFormat.Count(record.Count) + " points" + LpnnPipeline.Extras(result) + "." + ValidityLine(record);
+                           InvariantFormat.Count(grid.Count) + " points" + LpnnPipeline.Extras(result) + "." +
+                           (byScores ? ValidityLine(record) : InsertionValidityLine(PlacementInputs.ValidPoints(Session, grid)));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, grid, out MessageType type), type);
             if (!_estimate.Has(result, Session) && Session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button("Estimate error"))
                 _estimate.Get(result, Session, grid, out bool _);
             return result;
+        }
+
+        /// <summary>The insertion preview's line on invalid points: known only once the Features step ran on this grid.</summary>
+        private static string InsertionValidityLine(bool[] valid)
+        {
+            if (valid == null)
+                return "\nValidity unknown: run the Features step to exclude points inside geometry (its rays find them).";
+            int invalid = ValidCandidates.CountInvalid(valid);
+            return invalid == 0 ? "" : "\n" + InvariantFormat.Count(invalid) + " points inside geometry are never probes.";
         }
 
         /// <summary>The preview's line on invalid points (Documentation~/features.md "Probe validity").</summary>
@@ -393,11 +438,34 @@ namespace Lpnn.Probes.Editor
             return text;
         }
 
-        private string SearchTolerance()
+        private string SearchTolerance(ProgressCallback progress, System.Threading.CancellationToken cancel)
         {
-            var grid = LpnnPipeline.ScoredGrid(Volume, Session);
-            var result = _preview.Search(grid, Volume.LastScores, Volume.GetSelectionSettings(), PlacementInputs.Evaluator(Session, grid));
+            var grid = LpnnPipeline.PlacementGrid(Volume, Session);
+            var settings = Volume.GetSelectionSettings();
+            var result = PlacementMethods.NeedsScores(Volume.Method)
+                ? _preview.Search(grid, Volume.LastScores, settings, PlacementInputs.Evaluator(Session, grid))
+                : _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(Session, grid, progress, cancel), PlacementInputs.ValidPoints(Session, grid), settings, PlacementInputs.Evaluator(Session, grid));
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + LpnnPipeline.Extras(result);
+        }
+
+        /// <summary>The insertion ranking of the current lighting if already computed (never computes during a repaint).</summary>
+        private int[] KnownInsertionRanking()
+        {
+            try
+            {
+                return PlacementInputs.KnownInsertionRanking(Session, LpnnPipeline.FreshLitGrid(Volume, Session));
+            }
+            catch (LpnnException)
+            {
+                return null;
+            }
+        }
+
+        private string RankByInsertion(ProgressCallback progress, System.Threading.CancellationToken cancel)
+        {
+            var grid = LpnnPipeline.FreshLitGrid(Volume, Session);
+            PlacementInputs.RankByInsertion(Session, grid, progress, cancel);
+            return InvariantFormat.Count(grid.Count) + " points ranked by insertion";
         }
 
         /// <summary>The inference-package decision of <see cref="InferencePackageCheck"/> when something must change.</summary>

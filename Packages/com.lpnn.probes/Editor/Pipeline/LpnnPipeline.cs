@@ -93,28 +93,38 @@ namespace Lpnn.Probes.Editor
                    (outcome.Fallback.Length > 0 ? " (after: " + outcome.Fallback + ")" : "");
         }
 
-        /// <summary>The selection the current settings give on the last scores.</summary>
+        /// <summary>The selection the current settings give (the volume's method: the last scores, or the insertion ranking).</summary>
         public static SelectionResult Select(LpnnVolume volume, LpnnSession session)
         {
             SelectedPositions(volume, session, out var selection);
             return selection;
         }
 
-        /// <summary>World positions of the probes the current settings select on the last scores. The tolerance policy
-        /// measures placement errors against the Lighting step's SH with Unity's tetrahedralisation.</summary>
-        public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, out SelectionResult selection)
+        /// <summary>World positions of the probes the current settings select: on the last scores (Network), or on the
+        /// insertion ranking of the Lighting step's SH (Insertion, computed on first use). The tolerance policy measures
+        /// placement errors against that SH with Unity's tetrahedralisation.</summary>
+        public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, out SelectionResult selection) =>
+            SelectedPositions(volume, session, null, CancellationToken.None, out selection);
+
+        public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel,
+            out SelectionResult selection)
         {
-            var grid = ScoredGrid(volume, session);
+            var grid = PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
             var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
-            selection = ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
+            selection = PlacementMethods.NeedsScores(volume.Method)
+                ? ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure)
+                : ProbeSelector.SelectFromRanking(grid, PlacementInputs.RankByInsertion(session, FreshLitGrid(volume, session), progress, cancel), settings, measure,
+                    PlacementInputs.ValidPoints(session, grid));
             return PositionsOf(grid, selection);
         }
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
-        public static string Apply(LpnnVolume volume, LpnnSession session)
+        public static string Apply(LpnnVolume volume, LpnnSession session) => Apply(volume, session, null, CancellationToken.None);
+
+        public static string Apply(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
-            SelectedPositions(volume, session, out var selection);
+            SelectedPositions(volume, session, progress, cancel, out var selection);
             return Apply(volume, session, selection);
         }
 
@@ -122,7 +132,7 @@ namespace Lpnn.Probes.Editor
         /// target LightProbeGroup (one Undo step).</summary>
         public static string Apply(LpnnVolume volume, LpnnSession session, SelectionResult selection)
         {
-            var grid = ScoredGrid(volume, session);
+            var grid = PlacementGrid(volume, session);
             var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             return positions.Length + " probes placed" + Extras(selection);
@@ -158,6 +168,20 @@ namespace Lpnn.Probes.Editor
             if (session.GridSignature != GridSignature.Of(volume))
                 throw new LpnnException("the boxes, the transform or the cell size changed since the grid was built; build the grid again");
             return session.Grid;
+        }
+
+        /// <summary>The grid the volume's method places on: the scored grid (Network) or the session's lit grid (Insertion).</summary>
+        public static EvaluationGrid PlacementGrid(LpnnVolume volume, LpnnSession session) =>
+            PlacementMethods.NeedsScores(volume.Method) ? ScoredGrid(volume, session) : FreshLitGrid(volume, session);
+
+        /// <summary>The session's grid with its lighting (what the insertion method ranks), or an error saying which step to run.</summary>
+        public static EvaluationGrid FreshLitGrid(LpnnVolume volume, LpnnSession session)
+        {
+            var grid = FreshGrid(volume, session);
+            if (session.Sh == null)
+                throw new LpnnException("the insertion method ranks points by the lighting at every evaluation point, and there is none for this grid: " +
+                                        "run the Lighting data step (or choose the Network method)");
+            return grid;
         }
 
         /// <summary>The grid the stored scores belong to: the session's, or one rebuilt from the current boxes (after a

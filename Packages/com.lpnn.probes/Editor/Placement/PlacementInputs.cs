@@ -1,4 +1,6 @@
 using System.Runtime.CompilerServices;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Quality;
@@ -14,6 +16,14 @@ namespace Lpnn.Probes.Editor
     {
         private static readonly ConditionalWeakTable<float[], ScoredPoints> Rankings = new ConditionalWeakTable<float[], ScoredPoints>();
         private static readonly ConditionalWeakTable<float[], ReferenceLighting> References = new ConditionalWeakTable<float[], ReferenceLighting>();
+        private static readonly ConditionalWeakTable<float[], InsertionOrder> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrder>();
+
+        /// <summary>An insertion ranking with the grid it ranks.</summary>
+        private sealed class InsertionOrder
+        {
+            public EvaluationGrid Grid;
+            public int[] Ranking;
+        }
 
         /// <summary>The grid's stored scores and valid points with their rankings (computed on first use, then kept; the
         /// record replaces its validity flags together with its scores, so the scores' identity is the key).</summary>
@@ -34,6 +44,36 @@ namespace Lpnn.Probes.Editor
                 throw new LpnnException("the placement error compares against the lighting at every evaluation point, and there is none for this " +
                                         "grid (a script reload or a grid change drops it): run the Lighting data step");
             return References.GetValue(session.Sh, sh => ReferenceLighting.FromGrid(grid, sh));
+        }
+
+        /// <summary>The insertion ranking of the session's lighting (quality.md §5) with Unity's tetrahedralisation: computed on
+        /// first use (about a second per 1,000 points, with progress and cancel), then kept as long as that lighting.</summary>
+        public static int[] RankByInsertion(LpnnSession session, EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel)
+        {
+            int[] known = KnownInsertionRanking(session, grid);
+            if (known != null) return known;
+            var reference = Reference(session, grid);
+            int[] ranking = Core.Quality.InsertionRanking.Rank(grid, reference, new UnityTetrahedralizer(), Core.Quality.InsertionRanking.DefaultGrowth,
+                progress, cancel);
+            InsertionOrders.Remove(session.Sh);
+            InsertionOrders.Add(session.Sh, new InsertionOrder { Grid = grid, Ranking = ranking });
+            return ranking;
+        }
+
+        /// <summary>The insertion ranking if it was already computed for this lighting and grid, else null (never computes:
+        /// the inspector's repaint must stay fast).</summary>
+        public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid)
+        {
+            if (session.Sh == null || session.Grid != grid) return null;
+            return InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid ? known.Ranking : null;
+        }
+
+        /// <summary>The Features step's validity flags for this grid (features.md "Probe validity"), or null when the Features
+        /// step has not run on it (then every point is a candidate: the inspector says so).</summary>
+        public static bool[] ValidPoints(LpnnSession session, EvaluationGrid grid)
+        {
+            if (session.Features == null || session.Grid != grid || session.Features.BackFaceFractions == null) return null;
+            return ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
         }
 
         /// <summary>Measures probe sets of this grid with Unity's tetrahedralisation.</summary>

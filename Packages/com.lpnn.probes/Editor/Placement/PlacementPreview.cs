@@ -10,19 +10,27 @@ namespace Lpnn.Probes.Editor
     public sealed class PlacementPreview
     {
         private SelectionSettings _settings;
-        private float[] _scores;
+        /// <summary>What the selection was made from: the scores (Network) or the insertion ranking (Insertion).</summary>
+        private object _source;
         private EvaluationGrid _grid;
         private SelectionResult _result;
         private string _error;
 
         /// <summary>The result, or null with <paramref name="error"/> set when the settings cannot be applied (or, for the
         /// tolerance policy, when no search has run for them yet).</summary>
-        public SelectionResult Get(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, out string error)
+        public SelectionResult Get(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, out string error) =>
+            Get(grid, record.Scores, settings, () => ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, null), out error);
+
+        /// <summary>As <see cref="Get(EvaluationGrid, LpnnScoreRecord, SelectionSettings, out string)"/> over a ranking that is
+        /// not made of scores (the insertion ranking), taking only the valid points (null: all).</summary>
+        public SelectionResult GetRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, out string error) =>
+            Get(grid, ranking, settings, () => ProbeSelector.SelectFromRanking(grid, ranking, settings, null, valid), out error);
+
+        private SelectionResult Get(EvaluationGrid grid, object source, SelectionSettings settings, System.Func<SelectionResult> select, out string error)
         {
-            var scores = record.Scores;
-            if (!SameInputs(grid, scores, settings) || (_result == null && _error == null))
+            if (!SameInputs(grid, source, settings) || (_result == null && _error == null))
             {
-                Remember(grid, scores, settings);
+                Remember(grid, source, settings);
                 if (settings.Policy == SelectionPolicy.Tolerance)
                 {
                     _result = null;
@@ -30,26 +38,33 @@ namespace Lpnn.Probes.Editor
                 }
                 else
                 {
-                    Compute(() => ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, null));
+                    Compute(select);
                 }
             }
             error = _error;
             return _result;
         }
 
-        /// <summary>Runs the tolerance search for these inputs and keeps its result for <see cref="Get"/> and Apply.</summary>
-        public SelectionResult Search(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure)
+        /// <summary>Runs the tolerance search for these inputs and keeps its result for <see cref="Get(EvaluationGrid, LpnnScoreRecord, SelectionSettings, out string)"/> and Apply.</summary>
+        public SelectionResult Search(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure) =>
+            Keep(grid, record.Scores, settings, ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, measure));
+
+        /// <summary>The tolerance search over a ranking that is not made of scores (the insertion ranking), valid points only.</summary>
+        public SelectionResult SearchRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, IPlacementErrorMeasure measure) =>
+            Keep(grid, ranking, settings, ProbeSelector.SelectFromRanking(grid, ranking, settings, measure, valid));
+
+        private SelectionResult Keep(EvaluationGrid grid, object source, SelectionSettings settings, SelectionResult result)
         {
-            Remember(grid, record.Scores, settings);
-            _result = ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, measure);
+            Remember(grid, source, settings);
+            _result = result;
             _error = null;
             return _result;
         }
 
-        private void Remember(EvaluationGrid grid, float[] scores, SelectionSettings settings)
+        private void Remember(EvaluationGrid grid, object source, SelectionSettings settings)
         {
             _grid = grid;
-            _scores = scores;
+            _source = source;
             _settings = settings;
         }
 
@@ -67,8 +82,8 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        private bool SameInputs(EvaluationGrid grid, float[] scores, SelectionSettings settings) =>
-            grid == _grid && scores == _scores && settings.Policy == _settings.Policy && settings.Value.Equals(_settings.Value) &&
+        private bool SameInputs(EvaluationGrid grid, object source, SelectionSettings settings) =>
+            grid == _grid && ReferenceEquals(source, _source) && settings.Policy == _settings.Policy && settings.Value.Equals(_settings.Value) &&
             settings.KeepBoundsCorners == _settings.KeepBoundsCorners;
     }
 }

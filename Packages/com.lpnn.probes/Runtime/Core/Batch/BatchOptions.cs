@@ -1,6 +1,7 @@
 using System;
 using System.Collections.Generic;
 using Lpnn.Probes.Core.Scoring;
+using Lpnn.Probes.Core.Selection;
 
 namespace Lpnn.Probes.Core.Batch
 {
@@ -20,7 +21,7 @@ namespace Lpnn.Probes.Core.Batch
     {
         public const string Usage =
             "-lpnnScene <Assets/…/Scene.unity> [-lpnnMode place|export] [-lpnnOut <folder>] [-lpnnBake] " +
-            "[-lpnnVolume <GameObject name>] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
+            "[-lpnnVolume <GameObject name>] [-lpnnMethod insertion|network] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
 
         public string ScenePath { get; private set; }
         public BatchMode Mode { get; private set; } = BatchMode.Place;
@@ -32,6 +33,8 @@ namespace Lpnn.Probes.Core.Batch
         /// <summary>Only the volume on the GameObject with this name; null means every volume.</summary>
         public string VolumeName { get; private set; }
         public ScoringBackendPreference Backend { get; private set; } = ScoringBackendPreference.Auto;
+        /// <summary>How place mode ranks the points for this run; null means each volume's own setting.</summary>
+        public PlacementMethod? Method { get; private set; }
         /// <summary>GameObject holding the ground-truth LightProbeGroup for capture labels; null means no labels.</summary>
         public string LabelsGroupName { get; private set; }
         /// <summary>Save the scene after placing (the LightProbeGroups changed); off by default so a run never edits assets unasked.</summary>
@@ -55,6 +58,7 @@ namespace Lpnn.Probes.Core.Batch
                     case "-lpnnSaveScene": options.SaveScene = true; break;
                     case "-lpnnMode": options.Mode = ParseMode(Value(commandLine, ref i)); break;
                     case "-lpnnBackend": options.Backend = ParseBackend(Value(commandLine, ref i)); break;
+                    case "-lpnnMethod": options.Method = ParseMethod(Value(commandLine, ref i)); break;
                     default: throw new LpnnException("unknown argument " + flag + "; usage: " + Usage);
                 }
             }
@@ -78,6 +82,16 @@ namespace Lpnn.Probes.Core.Batch
                 case "place": return BatchMode.Place;
                 case "export": return BatchMode.Export;
                 default: throw new LpnnException("-lpnnMode '" + text + "' must be place or export");
+            }
+        }
+
+        private static PlacementMethod ParseMethod(string text)
+        {
+            switch (text.ToLowerInvariant())
+            {
+                case "insertion": return PlacementMethod.Insertion;
+                case "network": return PlacementMethod.Network;
+                default: throw new LpnnException("-lpnnMethod '" + text + "' must be insertion (error-driven, the default for new volumes) or network (the model's scores)");
             }
         }
 

@@ -10,11 +10,49 @@ namespace Lpnn.Probes.Core.Numerics
         public static double Median(IReadOnlyList<double> values)
         {
             if (values == null || values.Count == 0) throw new ArgumentException("the median needs at least one value", nameof(values));
-            var sorted = new double[values.Count];
-            for (int n = 0; n < sorted.Length; n++) sorted[n] = values[n];
-            Array.Sort(sorted);
-            int middle = sorted.Length / 2;
-            return sorted.Length % 2 == 1 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
+            var copy = new double[values.Count];
+            for (int n = 0; n < copy.Length; n++)
+            {
+                copy[n] = values[n];
+                if (double.IsNaN(copy[n])) throw new ArgumentException("value " + n + " is NaN: the median of numbers only", nameof(values));
+            }
+            int middle = copy.Length / 2;
+            double upper = SelectInPlace(copy, middle);
+            if (copy.Length % 2 == 1) return upper;
+            // After selection everything before `middle` is ≤ upper: the lower middle value is their maximum.
+            double lower = double.NegativeInfinity;
+            for (int n = 0; n < middle; n++) lower = Math.Max(lower, copy[n]);
+            return (lower + upper) / 2;
+        }
+
+        /// <summary>The k-th smallest value (0-based), reordering <paramref name="values"/> so that every value before
+        /// position k is ≤ it and every value after is ≥ it: quickselect with median-of-three pivots, O(N) on average (a
+        /// full sort of 10⁶ doubles costs ~0.8 s under Mono; the insertion ranking takes 42 medians of N values).</summary>
+        private static double SelectInPlace(double[] a, int k)
+        {
+            int lo = 0, hi = a.Length - 1;
+            while (hi > lo)
+            {
+                int mid = lo + (hi - lo) / 2;
+                double x = a[lo], y = a[mid], z = a[hi];
+                double pivot = Math.Max(Math.Min(x, y), Math.Min(Math.Max(x, y), z));
+                int i = lo, j = hi;
+                while (i <= j)
+                {
+                    while (a[i] < pivot) i++;
+                    while (a[j] > pivot) j--;
+                    if (i > j) break;
+                    double t = a[i];
+                    a[i] = a[j];
+                    a[j] = t;
+                    i++;
+                    j--;
+                }
+                if (k <= j) hi = j;
+                else if (k >= i) lo = i;
+                else break;
+            }
+            return a[k];
         }
     }
 }

@@ -16,6 +16,28 @@ namespace Lpnn.Probes.Core.Quality
         public static PlacementErrorResult Evaluate(ReferenceLighting reference, int[] probes, int[] tetrahedra)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
+            int count = reference.Count;
+            var irradiance = new double[count];
+            var smape = new double[count];
+            int outside = 0;
+            InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+            {
+                if (stencil.Outside) outside++;
+                irradiance[n] = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+                smape[n] = PointErrorMetrics.Smape(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+            });
+            return new PlacementErrorResult(probes.Length, outside, irradiance, smape);
+        }
+
+        /// <summary>Receives one evaluation point that is not a probe: its stencil (probe-list indices, weights, cell) and
+        /// its 42 interpolated values (a buffer reused for the next point).</summary>
+        internal delegate void PointVisitor(int point, ref Stencil stencil, double[] interpolated);
+
+        /// <summary>Interpolates every evaluation point that is not a probe, in ascending index order, through the given
+        /// tetrahedra (inside: its tetrahedron; outside: the nearest hull point). Shared by the error and the insertion
+        /// ranking, so both read the same stencils.</summary>
+        internal static void InterpolateOthers(ReferenceLighting reference, int[] probes, int[] tetrahedra, PointVisitor visit)
+        {
             ProbeIndices.Check(probes, reference.Count);
             var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
             var locator = new TetrahedronLocator(mesh);
@@ -24,22 +46,16 @@ namespace Lpnn.Probes.Core.Quality
             int count = reference.Count;
             var isProbe = new bool[count];
             foreach (int p in probes) isProbe[p] = true;
-            var irradiance = new double[count];
-            var smape = new double[count];
             var interpolated = new double[ReferenceLighting.LightValues];
             var weights = new double[4];
             var stencil = new Stencil();
-            int outside = 0;
             for (int n = 0; n < count; n++)
             {
                 if (isProbe[n]) continue;
                 Locate(mesh, locator, hull, reference.Local, n, weights, ref stencil);
-                if (stencil.Outside) outside++;
                 Interpolate(reference.Light, probes, ref stencil, interpolated);
-                irradiance[n] = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
-                smape[n] = PointErrorMetrics.Smape(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+                visit(n, ref stencil, interpolated);
             }
-            return new PlacementErrorResult(probes.Length, outside, irradiance, smape);
         }
 
         /// <summary>The stencil of one evaluation point (for inspection and tests): probe-list indices and weights.</summary>
@@ -78,6 +94,7 @@ namespace Lpnn.Probes.Core.Quality
                 stencil.Weight2 = weights[2];
                 stencil.Weight3 = weights[3];
                 stencil.Outside = false;
+                stencil.Cell = t;
                 return;
             }
             int f = hull.Nearest(x, y, z, out double u, out double v, out double w);
@@ -90,6 +107,7 @@ namespace Lpnn.Probes.Core.Quality
             stencil.Weight2 = w;
             stencil.Weight3 = 0;
             stencil.Outside = true;
+            stencil.Cell = mesh.HullFaceOwners[f];
         }
 
         /// <summary>Σ wₖ·E(probeₖ) over the 42 values: the SH blend is linear, so this equals evaluating the blended SH.</summary>

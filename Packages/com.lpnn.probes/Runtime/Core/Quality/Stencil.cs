@@ -9,5 +9,8 @@ namespace Lpnn.Probes.Core.Quality
         public double Weight0, Weight1, Weight2, Weight3;
         /// <summary>True when the point is outside the probes' hull and takes the weights of its nearest hull point.</summary>
         public bool Outside;
+        /// <summary>The tetrahedron holding the point, or (outside) the one owning its nearest hull triangle: an index into
+        /// the mesh's checked tetrahedra, so points interpolated from the same cell share it.</summary>
+        public int Cell;
     }
 }

@@ -27,12 +27,16 @@ namespace Lpnn.Probes.Core.Quality
         public readonly double[] Inverse;
         /// <summary>3 probe indices per hull triangle.</summary>
         public readonly int[] HullFaces;
+        /// <summary>Per hull triangle, the tetrahedron it belongs to: the cell of a point outside the hull whose nearest
+        /// hull point lies on that triangle (the insertion ranking groups points by cell, quality.md §5).</summary>
+        public readonly int[] HullFaceOwners;
 
         public int TetrahedronCount => Tetrahedra.Length / 4;
         public int HullFaceCount => HullFaces.Length / 3;
 
-        private TetrahedralMesh(double[] points, int[] tetrahedra, double[] inverse, int[] hullFaces)
+        private TetrahedralMesh(double[] points, int[] tetrahedra, double[] inverse, int[] hullFaces, int[] hullFaceOwners)
         {
+            HullFaceOwners = hullFaceOwners;
             Points = points;
             Tetrahedra = tetrahedra;
             Inverse = inverse;
@@ -58,7 +62,8 @@ namespace Lpnn.Probes.Core.Quality
                 throw new PlacementErrorException("all " + InvariantFormat.Count(tetrahedra.Length / 4) + " tetrahedra are flat (no volume): the " + probes +
                                                   " probes lie in one plane; add a probe off that plane, e.g. make the volume two cells deep");
             int[] tets = kept.ToArray();
-            return new TetrahedralMesh(points, tets, inverse.ToArray(), HullOf(tets));
+            int[] hull = HullOf(tets, out int[] owners);
+            return new TetrahedralMesh(points, tets, inverse.ToArray(), hull, owners);
         }
 
         private static void CheckIndices(int[] tetrahedra, int probes)
@@ -115,13 +120,14 @@ namespace Lpnn.Probes.Core.Quality
             inverse.Add((ux * vy - uy * vx) / det);
         }
 
-        /// <summary>A triangle by its sorted corners, with the order it was listed in (to sort faces deterministically).</summary>
+        /// <summary>A triangle by its sorted corners, with the tetrahedron it came from (not part of the order).</summary>
         private struct FaceKey : IComparable<FaceKey>
         {
-            public int A, B, C;
+            public int A, B, C, Tetrahedron;
 
-            public FaceKey(int x, int y, int z)
+            public FaceKey(int x, int y, int z, int tetrahedron)
             {
+                Tetrahedron = tetrahedron;
                 // Sort three values so that equal faces get equal keys whatever the corner order.
                 if (x > y) { int t = x; x = y; y = t; }
                 if (y > z) { int t = y; y = z; z = t; }
@@ -143,20 +149,21 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>The faces used by exactly one tetrahedron; a face used by three or more means the input is not a
         /// tetrahedralisation.</summary>
-        private static int[] HullOf(int[] tets)
+        private static int[] HullOf(int[] tets, out int[] owners)
         {
             var faces = new FaceKey[tets.Length];
             int f = 0;
             for (int t = 0; t < tets.Length; t += 4)
             {
                 int a = tets[t], b = tets[t + 1], c = tets[t + 2], d = tets[t + 3];
-                faces[f++] = new FaceKey(b, c, d);
-                faces[f++] = new FaceKey(a, c, d);
-                faces[f++] = new FaceKey(a, b, d);
-                faces[f++] = new FaceKey(a, b, c);
+                faces[f++] = new FaceKey(b, c, d, t / 4);
+                faces[f++] = new FaceKey(a, c, d, t / 4);
+                faces[f++] = new FaceKey(a, b, d, t / 4);
+                faces[f++] = new FaceKey(a, b, c, t / 4);
             }
             Array.Sort(faces);
             var hull = new List<int>();
+            var owner = new List<int>();
             for (int start = 0; start < faces.Length;)
             {
                 int end = start + 1;
@@ -170,12 +177,14 @@ namespace Lpnn.Probes.Core.Quality
                     hull.Add(faces[start].A);
                     hull.Add(faces[start].B);
                     hull.Add(faces[start].C);
+                    owner.Add(faces[start].Tetrahedron);
                 }
                 start = end;
             }
             if (hull.Count == 0)
                 throw new PlacementErrorException("the tetrahedra have no boundary (every triangle is shared by two of them): the same " +
                                                   "tetrahedra are listed twice; pass each tetrahedron once");
+            owners = owner.ToArray();
             return hull.ToArray();
         }
     }

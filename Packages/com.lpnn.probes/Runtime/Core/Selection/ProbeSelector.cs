@@ -75,6 +75,43 @@ namespace Lpnn.Probes.Core.Selection
             }
         }
 
+        /// <summary>A policy over a ranking that is not made of scores (the insertion ranking, a reference ordering): Budget
+        /// and Spread keep its first K points, Percentile its first PercentileCount(p, N), Tolerance its smallest prefix
+        /// within τ (<see cref="WithinTolerance"/>); every selection is completed as usual (bounds corners, tetrahedron).
+        /// Threshold needs scores and is refused.</summary>
+        /// <param name="measure">The placement error, needed by the Tolerance policy only (may be null otherwise).</param>
+        /// <param name="valid">One flag per grid point (null: all valid): invalid points are dropped from the ranking and
+        /// never become probes (<see cref="ValidCandidates"/>); the valid ones must span a tetrahedron.</param>
+        public static SelectionResult SelectFromRanking(EvaluationGrid grid, int[] ranking, SelectionSettings settings, IPlacementErrorMeasure measure,
+            bool[] valid = null)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (ranking == null || ranking.Length != grid.Count)
+                throw new SelectionException("need a ranking of all " + grid.Count + " points, got " + (ranking?.Length ?? 0));
+            CheckRanking(ranking, grid.Count, null);
+            settings.Validate();
+            if (valid != null)
+            {
+                ValidCandidates.Check(grid, valid);
+                ranking = ValidCandidates.Filter(ranking, valid); // the valid points in ranking order: nothing else is a candidate
+            }
+            int n = ranking.Length;
+            switch (settings.Policy)
+            {
+                case SelectionPolicy.Percentile:
+                    return Complete(grid, Prefix(ranking, PercentileCount(settings.Value, n)), settings.KeepBoundsCorners, ranking, valid);
+                case SelectionPolicy.Budget:
+                case SelectionPolicy.Spread:
+                    return Complete(grid, Prefix(ranking, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, ranking, valid);
+                case SelectionPolicy.Threshold:
+                    throw new SelectionException("the score threshold policy needs the network's scores, and this ranking has none; " +
+                                                 "choose Tolerance, Spread or Budget (a prefix of the ranking), or the Network method");
+                default:
+                    if (measure == null) throw MissingMeasure();
+                    return WithinTolerance(grid, ranking, settings, measure, valid);
+            }
+        }
+
         /// <summary>The tolerance policy over any ranking (the spread ranking by default; a reference ordering or a
         /// baseline for comparisons): the smallest prefix, completed like every other selection (bounds corners,
         /// tetrahedron), whose mean error is ≤ τ (<see cref="ToleranceSearch"/>). The error is measured on exactly the

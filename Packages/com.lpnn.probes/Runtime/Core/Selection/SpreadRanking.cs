@@ -9,10 +9,7 @@ namespace Lpnn.Probes.Core.Selection
     /// ranking"): importance-weighted farthest-point sampling. The D14 extreme points first, then repeatedly the point
     /// maximising w(p)·D(p) (D = distance to the nearest point already ranked), ties to the lower index.
     ///
-    /// Exact and O(N log N) in practice: D only ever shrinks, so a max-heap holding each point's last known w·D is an
-    /// upper bound; the top entry is re-checked when it surfaces and re-inserted with its current value when stale, so
-    /// the first fresh top is the true maximum (and, the heap breaking ties by index, the lowest index among equals).
-    /// The distances are updated locally (<see cref="NearestChosenDistances"/>).</summary>
+    /// Exact and O(N log N) in practice (<see cref="FarthestPointSampling"/>).</summary>
     public static class SpreadRanking
     {
         /// <summary>All grid points in spread order.</summary>
@@ -38,8 +35,7 @@ namespace Lpnn.Probes.Core.Selection
             int pointCount = scores.Length;
             CheckFinite(positions);
             int length = Math.Min(count, pointCount);
-            var order = new int[length];
-            if (length == 0) return order;
+            if (length == 0) return new int[0];
 
             double[] weights = SpreadWeights.Compute(scores);
             var x = new double[pointCount];
@@ -51,36 +47,7 @@ namespace Lpnn.Probes.Core.Selection
                 y[n] = positions[3 * n + 1];
                 z[n] = positions[3 * n + 2];
             }
-            var distances = new NearestChosenDistances(x, y, z);
-            var chosen = new bool[pointCount];
-            int ranked = 0;
-            foreach (int seed in ExtremeSeeds.Find(positions))
-            {
-                if (ranked == length) return order;
-                order[ranked++] = seed;
-                chosen[seed] = true;
-                distances.Add(seed);
-            }
-
-            var heap = new RankHeap(pointCount - ranked);
-            for (int n = 0; n < pointCount; n++)
-                if (!chosen[n]) heap.Push(weights[n] * distances[n], n);
-            while (ranked < length)
-            {
-                int point = heap.TopPoint;
-                double stored = heap.TopValue;
-                double current = weights[point] * distances[point];
-                heap.Pop();
-                if (current != stored)
-                {
-                    // Stale: D shrank since the entry was pushed; its current value is the new upper bound.
-                    heap.Push(current, point);
-                    continue;
-                }
-                order[ranked++] = point;
-                distances.Add(point);
-            }
-            return order;
+            return FarthestPointSampling.Rank(x, y, z, weights, ExtremeSeeds.Find(positions), length);
         }
 
         private static void CheckFinite(float[] positions)

@@ -1,0 +1,268 @@
+using System;
+using System.Collections.Generic;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Error-driven insertion (Documentation~/quality.md §5), the best non-learned placement we measured: from a
+    /// "typical" tetrahedron, interpolate every point from the current probes and insert, per round, the worst point of
+    /// each tetrahedron, the cells with the largest summed error first, up to ceil(growth × probes) points per round,
+    /// until every point is a probe or interpolated exactly (the rest then follow by index). The insertion order is the
+    /// ranking: a budget is its prefix, the tolerance policy searches its prefixes. Port of the Python reference
+    /// (lpnn/quality/insertion.py), irradiance metric; parity pinned by Tests/Data/insertion_golden.json.
+    ///
+    /// Needs the dense lighting at every evaluation point and a tetrahedraliser (Unity's in the editor). Cost: about
+    /// log(N / 4) / log(1 + growth) rounds (~60 for 1,000 points), each one tetrahedralisation of the probes and one
+    /// location of the other points.</summary>
+    public static class InsertionRanking
+    {
+        /// <summary>Points inserted per round, as a fraction of the current probes (chosen on training crops, quality.md §5).</summary>
+        public const double DefaultGrowth = 0.1;
+
+        /// <summary>The starting tetrahedron is drawn from this fraction of the points nearest the median lighting.</summary>
+        public const double TypicalFraction = 0.1;
+
+        /// <summary>Per-point errors at or below this are exact interpolation: nothing to fix there.</summary>
+        public const double Exact = 1e-12;
+
+        private const string Stage = "insertion ranking";
+
+        /// <summary>Every grid point once, most important first.</summary>
+        /// <param name="reference">The dense lighting of exactly this grid's points.</param>
+        /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
+        /// <param name="growth">Fraction of the current probes inserted per round (&gt; 0).</param>
+        /// <param name="progress">Called after every round with the points ranked so far.</param>
+        public static int[] Rank(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = DefaultGrowth,
+            ProgressCallback progress = null, CancellationToken cancel = default)
+        {
+            if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
+            CheckGrowth(growth);
+            int[] start = TypicalTetrahedron(grid, reference);
+            int count = reference.Count;
+            var order = new List<int>(count);
+            var chosen = new bool[count];
+            foreach (int p in start)
+            {
+                order.Add(p);
+                chosen[p] = true;
+            }
+            while (order.Count < count)
+            {
+                cancel.ThrowIfCancellationRequested();
+                progress?.Invoke(Stage, order.Count, count);
+                int[] probes = order.ToArray();
+                int[] batch = NextBatch(reference, probes, tetrahedralizer.Tetrahedralize(PositionsOf(reference, probes)), growth);
+                if (batch.Length == 0) break;
+                foreach (int p in batch)
+                {
+                    order.Add(p);
+                    chosen[p] = true;
+                }
+            }
+            for (int n = 0; n < count; n++)
+                if (!chosen[n]) order.Add(n);
+            progress?.Invoke(Stage, count, count);
+            return order.ToArray();
+        }
+
+        /// <summary>One round given the mesh: the points to insert next, in insertion order — per cell its worst
+        /// interpolated point (ties: lower index), those with error above <see cref="Exact"/>, by summed cell error
+        /// (largest first; ties: lower index), the first max(1, ceil(growth × probes)). Empty when every other point is
+        /// interpolated exactly.</summary>
+        /// <param name="probes">The probes so far (evaluation point indices, in insertion order).</param>
+        /// <param name="tetrahedra">4 indices into <paramref name="probes"/> per tetrahedron.</param>
+        public static int[] NextBatch(ReferenceLighting reference, int[] probes, int[] tetrahedra, double growth = DefaultGrowth)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (tetrahedra == null) throw new ArgumentNullException(nameof(tetrahedra));
+            CheckGrowth(growth);
+            int cells = tetrahedra.Length / 4;
+            var cellError = new double[cells];
+            var worst = new int[cells];
+            for (int c = 0; c < cells; c++) worst[c] = -1;
+            var errors = new double[reference.Count];
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+            {
+                double e = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
+                errors[n] = e;
+                int cell = stencil.Cell;
+                cellError[cell] += e;
+                // Points arrive in ascending index order, so a strict > keeps the lower index among equal errors.
+                if (worst[cell] < 0 || e > errors[worst[cell]]) worst[cell] = n;
+            });
+            var candidates = new List<int>();
+            var candidateError = new List<double>();
+            for (int c = 0; c < cells; c++)
+            {
+                if (worst[c] < 0 || !(errors[worst[c]] > Exact)) continue;
+                candidates.Add(worst[c]);
+                candidateError.Add(cellError[c]);
+            }
+            var byCellError = new int[candidates.Count];
+            for (int k = 0; k < byCellError.Length; k++) byCellError[k] = k;
+            Array.Sort(byCellError, (a, b) =>
+            {
+                int bySum = candidateError[b].CompareTo(candidateError[a]);
+                return bySum != 0 ? bySum : candidates[a].CompareTo(candidates[b]);
+            });
+            int take = Math.Min(byCellError.Length, Math.Max(1, (int)Math.Ceiling(growth * probes.Length)));
+            var batch = new int[take];
+            for (int k = 0; k < take; k++) batch[k] = candidates[byCellError[k]];
+            return batch;
+        }
+
+        /// <summary>The start (quality.md §5): among the ceil(<see cref="TypicalFraction"/> × N) points (at least 4) whose
+        /// lighting is nearest the per-value median (the irradiance error to it; ties: lower index), the one farthest from
+        /// their centroid, then farthest-point sampling among them; its first four, completed to a non-flat tetrahedron
+        /// from that order and then every other point by index (<see cref="TetrahedronGuarantee"/>). Returned in that
+        /// preference order.</summary>
+        public static int[] TypicalTetrahedron(EvaluationGrid grid, ReferenceLighting reference)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            int n = reference.Count;
+            if (grid.Count != n)
+                throw new PlacementErrorException("the reference lighting has " + InvariantFormat.Count(n) + " points but the grid has " +
+                                                  InvariantFormat.Count(grid.Count) + "; sample the lighting for this grid");
+            if (n < ProbeIndices.Minimum)
+                throw new PlacementErrorException("the insertion ranking needs at least 4 evaluation points to start from a tetrahedron, got " + n +
+                                                  ": make the volume larger or the cell size smaller");
+            int[] candidates = NearestMedian(reference, Math.Min(n, Math.Max(4, (int)Math.Ceiling(TypicalFraction * n))));
+            // Only the spread order's head is normally needed (its first 4, and the guarantee's first point off their
+            // plane): rank a short prefix, and the whole candidate set only when the guarantee reached beyond it.
+            for (int length = Math.Min(candidates.Length, SpreadPrefix); ; length = candidates.Length)
+            {
+                int[] start = StartFrom(grid, SpreadOut(reference.Local, candidates, length), out bool beyondPrefix);
+                if (!beyondPrefix || length == candidates.Length) return start;
+            }
+        }
+
+        /// <summary>Farthest-point steps computed before falling back to the whole candidate set (quality.md §5.1 needs
+        /// the spread order only up to the tetrahedron guarantee's pick).</summary>
+        private const int SpreadPrefix = 64;
+
+        /// <param name="spread">A prefix of the candidates' spread order (at least 4 points).</param>
+        /// <param name="beyondPrefix">Set when the guarantee took a point ranked after that prefix: the answer then
+        /// depends on the rest of the spread order, and the caller must pass all of it.</param>
+        private static int[] StartFrom(EvaluationGrid grid, int[] spread, out bool beyondPrefix)
+        {
+            int n = grid.Count;
+            var preference = new int[n];
+            var rankOf = new int[n];
+            var inSpread = new bool[n];
+            int next = 0;
+            foreach (int p in spread)
+            {
+                inSpread[p] = true;
+                preference[next++] = p;
+            }
+            for (int p = 0; p < n; p++)
+                if (!inSpread[p]) preference[next++] = p;
+            for (int r = 0; r < n; r++) rankOf[preference[r]] = r;
+
+            var selected = new HashSet<int>();
+            for (int k = 0; k < 4; k++) selected.Add(spread[k]);
+            TetrahedronGuarantee.Ensure(grid, preference, selected);
+            var start = new int[selected.Count];
+            selected.CopyTo(start);
+            Array.Sort(start, (a, b) => rankOf[a].CompareTo(rankOf[b]));
+            beyondPrefix = rankOf[start[start.Length - 1]] >= spread.Length;
+            return start;
+        }
+
+        /// <summary>The <paramref name="count"/> points whose 42 values are nearest the per-value median (irradiance error),
+        /// nearest first, ties to the lower index.</summary>
+        private static int[] NearestMedian(ReferenceLighting reference, int count)
+        {
+            const int values = ReferenceLighting.LightValues;
+            int n = reference.Count;
+            var median = new double[values];
+            var column = new double[n];
+            for (int i = 0; i < values; i++)
+            {
+                for (int p = 0; p < n; p++) column[p] = reference.Light[values * p + i];
+                median[i] = Statistics.Median(column);
+            }
+            var deviation = new double[n];
+            var points = new int[n];
+            for (int p = 0; p < n; p++)
+            {
+                deviation[p] = PointErrorMetrics.Irradiance(median, reference.Light, values * p, reference.SceneScale);
+                points[p] = p;
+            }
+            // A sort on primitive keys (fast), then equal deviations back into index order (that sort is not stable).
+            Array.Sort(deviation, points);
+            for (int start = 0; start < n;)
+            {
+                int end = start + 1;
+                while (end < n && deviation[end] == deviation[start]) end++;
+                if (end - start > 1) Array.Sort(points, start, end - start);
+                start = end;
+            }
+            var nearest = new int[count];
+            Array.Copy(points, nearest, count);
+            return nearest;
+        }
+
+        /// <summary>The first <paramref name="length"/> candidates (point indices) in farthest-point order: first the one
+        /// farthest from their centroid (ties: earlier candidate), then unweighted farthest-point sampling (ties: earlier
+        /// candidate).</summary>
+        private static int[] SpreadOut(double[] local, int[] candidates, int length)
+        {
+            int count = candidates.Length;
+            var x = new double[count];
+            var y = new double[count];
+            var z = new double[count];
+            double cx = 0, cy = 0, cz = 0;
+            for (int k = 0; k < count; k++)
+            {
+                x[k] = local[3 * candidates[k]];
+                y[k] = local[3 * candidates[k] + 1];
+                z[k] = local[3 * candidates[k] + 2];
+                cx += x[k];
+                cy += y[k];
+                cz += z[k];
+            }
+            cx /= count;
+            cy /= count;
+            cz /= count;
+            int first = 0;
+            double farthest = double.NegativeInfinity;
+            for (int k = 0; k < count; k++)
+            {
+                double dx = x[k] - cx, dy = y[k] - cy, dz = z[k] - cz;
+                double d = Math.Sqrt(dx * dx + dy * dy + dz * dz);
+                if (d > farthest)
+                {
+                    farthest = d;
+                    first = k;
+                }
+            }
+            var ones = new double[count];
+            for (int k = 0; k < count; k++) ones[k] = 1;
+            int[] order = FarthestPointSampling.Rank(x, y, z, ones, new[] { first }, length);
+            var spread = new int[length];
+            for (int k = 0; k < length; k++) spread[k] = candidates[order[k]];
+            return spread;
+        }
+
+        private static Vector3[] PositionsOf(ReferenceLighting reference, int[] probes)
+        {
+            var positions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
+            return positions;
+        }
+
+        private static void CheckGrowth(double growth)
+        {
+            if (!(growth > 0) || double.IsInfinity(growth))
+                throw new PlacementErrorException("growth " + InvariantFormat.Number(growth) + " must be a fraction greater than 0 of the current probes (e.g. " +
+                                                  InvariantFormat.Number(DefaultGrowth) + ")");
+        }
+    }
+}

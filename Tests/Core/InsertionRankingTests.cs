@@ -1,0 +1,310 @@
+using System;
+using System.Collections.Generic;
+using System.Linq;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Sh;
+using Lpnn.Probes.Core.Tests.Support;
+using NUnit.Framework;
+
+namespace Lpnn.Probes.Core.Tests
+{
+    /// <summary>The insertion ranking (Documentation~/quality.md §5): parity with the Python reference through
+    /// Tests/Data/insertion_golden.json (certified unique answers, Tests/Data/README.md), and its behaviour on cases
+    /// whose answer is known by hand.</summary>
+    [TestFixture]
+    public class InsertionRankingTests
+    {
+        private static int[] Ints(JsonValue array) => array.Items.Select(v => (int)v.AsNumber).ToArray();
+
+        private sealed class GoldenCase
+        {
+            public string Name;
+            public JsonValue Json;
+            public EvaluationGrid Grid;
+            public ReferenceLighting Reference;
+
+            public static List<GoldenCase> ReadAll()
+            {
+                var golden = TestData.ReadJson("insertion_golden.json");
+                StringAssert.StartsWith("exact", golden.Get("tolerance").AsString);
+                Assert.That(golden.Get("exact_threshold").AsNumber, Is.EqualTo(InsertionRanking.Exact));
+                var cases = new List<GoldenCase>();
+                foreach (var c in golden.Get("cases").Items)
+                {
+                    var ids = c.Get("ids").Items.Select(row => new LatticeId((int)row.Items[0].AsNumber, (int)row.Items[1].AsNumber, (int)row.Items[2].AsNumber)).ToList();
+                    var grid = EvaluationGrid.FromIds(c.Get("cell_size").AsNumber, ids);
+                    var positions = c.Get("positions").Items;
+                    for (int n = 0; n < grid.Count; n++)
+                    {
+                        var p = grid.GetPosition(n);
+                        Assert.That(new[] { p.X, p.Y, p.Z }, Is.EqualTo(JsonArrays.Floats(positions[n])), "grid position of point " + n);
+                    }
+                    float[] sh = c.Get("sh").Items.SelectMany(JsonArrays.Floats).ToArray();
+                    cases.Add(new GoldenCase
+                    {
+                        Name = c.Get("name").AsString,
+                        Json = c,
+                        Grid = grid,
+                        Reference = ReferenceLighting.FromGrid(grid, sh, c.Get("lighting_scale").AsNumber),
+                    });
+                }
+                Assert.That(cases.Select(c => c.Name), Is.EqualTo(new[] { "enclosed", "outside", "plane" }));
+                return cases;
+            }
+        }
+
+        [Test]
+        public void TypicalTetrahedraEqualThePythonReference()
+        {
+            int checkedCases = 0;
+            foreach (var c in GoldenCase.ReadAll())
+            {
+                if (!c.Json.TryGet("typical_tetrahedron", out var expected)) continue;
+                Assert.That(InsertionRanking.TypicalTetrahedron(c.Grid, c.Reference), Is.EqualTo(Ints(expected)), c.Name);
+                checkedCases++;
+            }
+            Assert.That(checkedCases, Is.EqualTo(2));
+        }
+
+        [Test]
+        public void EveryRoundGivenItsMeshEqualsThePythonReference()
+        {
+            int rounds = 0;
+            foreach (var c in GoldenCase.ReadAll())
+            {
+                if (!c.Json.TryGet("rounds", out var list)) continue;
+                double growth = c.Json.Get("growth").AsNumber;
+                foreach (var round in list.Items)
+                {
+                    int[] probes = Ints(round.Get("probes"));
+                    int[] tetrahedra = round.Get("tetrahedra").Items.SelectMany(Ints).ToArray();
+                    Assert.That(InsertionRanking.NextBatch(c.Reference, probes, tetrahedra, growth), Is.EqualTo(Ints(round.Get("batch"))),
+                        c.Name + " round from " + probes.Length + " probes");
+                    rounds++;
+                }
+            }
+            Assert.That(rounds, Is.GreaterThan(10));
+        }
+
+        [Test]
+        public void OurDelaunayFindsTheGoldenTetrahedraSoTheCellsAreUnique()
+        {
+            foreach (var c in GoldenCase.ReadAll())
+            {
+                if (!c.Json.TryGet("rounds", out var list)) continue;
+                foreach (var round in list.Items)
+                {
+                    int[] probes = Ints(round.Get("probes"));
+                    var positions = probes.Select(p => c.Reference.GetPosition(p)).ToArray();
+                    Assert.That(TetrahedronKeys(new BowyerWatsonDelaunay().Tetrahedralize(positions)),
+                        Is.EqualTo(TetrahedronKeys(round.Get("tetrahedra").Items.SelectMany(Ints).ToArray())), c.Name);
+                }
+            }
+        }
+
+        private static List<string> TetrahedronKeys(int[] tetrahedra)
+        {
+            var keys = new List<string>();
+            for (int t = 0; t < tetrahedra.Length; t += 4)
+            {
+                var sorted = new[] { tetrahedra[t], tetrahedra[t + 1], tetrahedra[t + 2], tetrahedra[t + 3] };
+                Array.Sort(sorted);
+                keys.Add(string.Join(",", sorted));
+            }
+            keys.Sort(StringComparer.Ordinal);
+            return keys;
+        }
+
+        [Test]
+        public void TheWholeRankingEqualsThePythonReference()
+        {
+            var c = GoldenCase.ReadAll().Single(g => g.Name == "enclosed");
+            int[] ranking = InsertionRanking.Rank(c.Grid, c.Reference, new BowyerWatsonDelaunay(), c.Json.Get("growth").AsNumber);
+            Assert.That(ranking, Is.EqualTo(Ints(c.Json.Get("ranking"))));
+        }
+
+        // ---- behaviour on cases known by hand -------------------------------------------------------------------------
+
+        /// <summary>A 4 × 4 × 3 lattice, positions jittered into general position (a unique Delaunay).</summary>
+        private static EvaluationGrid Grid() => QualityFixtures.Box(4, 4, 3);
+
+        private static Vector3[] Jittered(EvaluationGrid grid) => QualityFixtures.Jittered(QualityFixtures.Positions(grid), 0.2f, 7);
+
+        [Test]
+        public void OnAnAffineFieldTheStartReproducesEverythingAndTheRestFollowsByIndex()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1)));
+            int[] ranking = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay());
+            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            Assert.That(ranking.Take(start.Length), Is.EqualTo(start));
+            // Inside the start's hull every point is exact, but most points lie outside it: the hull projection is not
+            // affine, so insertion goes on until the hull is covered; it must still be a permutation.
+            Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+        }
+
+        [Test]
+        public void WithUniformLightingFourProbesAreExactAndTheRestFollowsByIndex()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var probe = new ShL2();
+            probe.AddAmbientLight(new Vector3(0.3f, 0.2f, 0.1f));
+            var sh = new float[ShMath.FloatsPerProbe * grid.Count];
+            for (int n = 0; n < grid.Count; n++) probe.CopyTo(sh, ShMath.FloatsPerProbe * n);
+            var reference = ReferenceLighting.Create(positions, sh);
+            int[] ranking = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay());
+            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            // Every deviation is 0, so the candidates are the 5 lowest indices (ceil(0.1 × 48)), all in the bottom layer: the
+            // tetrahedron guarantee adds the first point off it (16, the first of the next layer). Nothing needs fixing after.
+            Assert.That(start.Take(4).All(p => p < 5), Is.True);
+            Assert.That(start.Length, Is.EqualTo(5));
+            Assert.That(start[4], Is.EqualTo(16));
+            var rest = Enumerable.Range(0, grid.Count).Where(p => !start.Contains(p));
+            Assert.That(ranking, Is.EqualTo(start.Concat(rest)));
+            Assert.That(new PlacementEvaluator(reference, new BowyerWatsonDelaunay()).MeanError(start), Is.LessThan(1e-12));
+        }
+
+        [Test]
+        public void TheWorstPointOfAnEnclosingTetrahedronIsInsertedFirst()
+        {
+            // Four corners of a large tetrahedron plus interior points on an affine field: interior points are exact,
+            // except one with a bump, which must come right after the corners' round.
+            var grid = QualityFixtures.Box(3, 3, 3);
+            int n = grid.Count;
+            var positions = Jittered(grid);
+            var sh = QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1));
+            int bumped = 13;  // the centre of the 3 × 3 × 3 box
+            for (int c = 0; c < ShMath.FloatsPerProbe; c += ShMath.CoefficientsPerChannel) sh[ShMath.FloatsPerProbe * bumped + c] += 3f;
+            var reference = ReferenceLighting.Create(positions, sh);
+            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            var tetrahedralizer = new BowyerWatsonDelaunay();
+            var everythingButBumped = Enumerable.Range(0, n).Where(p => p != bumped).ToArray();
+            int[] tetrahedra = tetrahedralizer.Tetrahedralize(everythingButBumped.Select(p => positions[p]).ToArray());
+            // From all other points, only the bumped one is wrong: it is the whole batch.
+            Assert.That(InsertionRanking.NextBatch(reference, everythingButBumped, tetrahedra), Is.EqualTo(new[] { bumped }));
+            Assert.That(start.Length, Is.GreaterThanOrEqualTo(4));
+        }
+
+        [Test]
+        public void APointRepeatedInTheBatchOrAProbeCannotHappen()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            int[] ranking = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay());
+            Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+            Assert.That(InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay()), Is.EqualTo(ranking), "deterministic");
+            // A larger growth inserts more per round but still ranks every point once.
+            int[] fast = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), 0.5);
+            Assert.That(fast.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+        }
+
+        [Test]
+        public void ProgressIsReportedAndCancellationStopsBetweenRounds()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            var reported = new List<long>();
+            InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), InsertionRanking.DefaultGrowth, (stage, done, total) =>
+            {
+                Assert.That(total, Is.EqualTo(grid.Count));
+                reported.Add(done);
+            });
+            Assert.That(reported.Count, Is.GreaterThan(2));
+            Assert.That(reported, Is.Ordered);
+            Assert.That(reported.Last(), Is.EqualTo(grid.Count));
+
+            using (var source = new CancellationTokenSource())
+            {
+                int rounds = 0;
+                Assert.Throws<OperationCanceledException>(() => InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), 0.1,
+                    (stage, done, total) => { if (++rounds == 2) source.Cancel(); }, source.Token));
+                Assert.That(rounds, Is.EqualTo(2));
+            }
+        }
+
+        [Test]
+        public void DegenerateInputsAreRefusedWithMessagesThatSayWhatToDo()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.LinearField(positions, Vector3.Zero));
+
+            var small = QualityFixtures.Box(3, 1, 1);
+            var smallReference = ReferenceLighting.Create(QualityFixtures.Positions(small), new float[ShMath.FloatsPerProbe * 3]);
+            var tooFew = Assert.Throws<PlacementErrorException>(() => InsertionRanking.TypicalTetrahedron(small, smallReference));
+            StringAssert.Contains("at least 4 evaluation points", tooFew.Message);
+
+            var mismatch = Assert.Throws<PlacementErrorException>(() => InsertionRanking.Rank(QualityFixtures.Box(4, 4, 2), reference, new BowyerWatsonDelaunay()));
+            StringAssert.Contains("sample the lighting for this grid", mismatch.Message);
+
+            foreach (double growth in new[] { 0.0, -0.1, double.NaN, double.PositiveInfinity })
+            {
+                var bad = Assert.Throws<PlacementErrorException>(() => InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), growth));
+                StringAssert.Contains("growth", bad.Message);
+            }
+
+            var flat = QualityFixtures.Box(4, 4, 1);
+            var flatPositions = QualityFixtures.Positions(flat);
+            var flatReference = ReferenceLighting.Create(flatPositions, QualityFixtures.LinearField(flatPositions, Vector3.Zero));
+            var plane = Assert.Throws<SelectionException>(() => InsertionRanking.Rank(flat, flatReference, new BowyerWatsonDelaunay()));
+            StringAssert.Contains("two cells deep", plane.Message);
+
+            var sh = QualityFixtures.LinearField(positions, Vector3.Zero);
+            sh[5] = float.NaN;
+            var nan = Assert.Throws<PlacementErrorException>(() => ReferenceLighting.Create(positions, sh));
+            StringAssert.Contains("not finite", nan.Message);
+
+            Assert.Throws<ArgumentNullException>(() => InsertionRanking.Rank(grid, reference, null));
+        }
+
+        // ---- the method choice ---------------------------------------------------------------------------------------
+
+        [Test]
+        public void TheDefaultMethodIsInsertionAndOnlyTheNetworkNeedsScores()
+        {
+            // Documentation~/benchmarks.md §7.1: insertion beats the shipped network at every budget from 5 % and at τ.
+            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.Insertion));
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Network), Is.True);
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Insertion), Is.False);
+            // Stored in scenes: values never move.
+            Assert.That((int)PlacementMethod.Network, Is.EqualTo(0));
+            Assert.That((int)PlacementMethod.Insertion, Is.EqualTo(1));
+        }
+
+        [Test]
+        public void PoliciesOverARankingKeepItsPrefixesAndTheToleranceSearchUsesIt()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            var tetrahedralizer = new BowyerWatsonDelaunay();
+            int[] ranking = InsertionRanking.Rank(grid, reference, tetrahedralizer);
+
+            var budget = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Budget(10), null);
+            Assert.That(budget.Indices, Is.EqualTo(ranking.Take(10).OrderBy(p => p)));
+            var spread = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Spread(10), null);
+            Assert.That(spread.Indices, Is.EqualTo(budget.Indices));
+            var percentile = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Percentile(0.75), null);
+            Assert.That(percentile.Indices, Is.EqualTo(ranking.Take(12).OrderBy(p => p)));
+
+            var measure = new PlacementEvaluator(reference, tetrahedralizer);
+            var tolerance = ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Tolerance(0.02), measure);
+            Assert.That(tolerance.Tolerance.MeanError, Is.LessThanOrEqualTo(0.02));
+            Assert.That(tolerance.Indices, Is.EqualTo(ranking.Take(tolerance.Tolerance.Count).OrderBy(p => p)));
+            Assert.That(measure.MeanError(tolerance.Indices), Is.EqualTo(tolerance.Tolerance.MeanError));
+
+            var threshold = Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking, SelectionSettings.Threshold(0.5), null));
+            StringAssert.Contains("needs the network's scores", threshold.Message);
+            Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking.Take(5).ToArray(), SelectionSettings.Budget(3), null));
+        }
+    }
+}

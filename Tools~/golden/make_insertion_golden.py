@@ -1,0 +1,275 @@
+"""Writes Tests/Data/insertion_golden.json (Tests/Data/README.md; contract: Documentation~/quality.md §5).
+
+Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The rankings come from the Python
+reference (lpnn.quality.insertion); the C# port (InsertionRanking) is an independent implementation that must
+agree: its own tetrahedraliser in the tests (Bowyer-Watson, Tests/Core/Support), its own point location (bucket
+grid), hull projection (BVH) and ordering code. Agreement is only meaningful where the answer is unique, so this
+script CERTIFIES each case with exact integer arithmetic before writing it (else it tries the next seed):
+- every round's tetrahedra are THE Delaunay tetrahedralisation of the probes: every other probe lies strictly
+  outside every circumsphere (exact integer in-sphere determinants, with a margin far above double rounding);
+- every other point lies strictly inside one tetrahedron (exact barycentric coordinates >= 1e-6), or, outside the
+  hull, projects into the interior of one hull triangle (weights >= 1e-6), so its cell is unique;
+- every decision of a round has a margin: per cell the worst error beats the next by > 1e-9 (relative), no error
+  lies in (1e-14, 1e-9) around the "exact" threshold, and the cells' summed errors differ by > 1e-9 (relative);
+- the typical tetrahedron's inputs: the deviation at the cut and the farthest-point distances are separated by
+  > 1e-9, or tie exactly in identical IEEE arithmetic (the "plane" case: lattice coordinates, exact zeros).
+
+    PYTHONPATH=Training~ python Tools~/golden/make_insertion_golden.py Tests/Data
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lpnn.core.atomic import write_text_atomic
+from lpnn.core.features import scene_scale
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.insertion import EXACT, INSERTION_GROWTH, insertion_batch, insertion_ranking, typical_tetrahedron
+from lpnn.quality.metric import POINT_ERRORS, ReferenceField, probe_stencil
+from lpnn.quality.triangulation import tetrahedralize
+
+CELL = 0.25  # dyadic: positions id x 0.25 are exact in float32, so exact integer geometry is the float geometry
+MARGIN = 1e-9
+INSIDE = 1e-6
+
+
+def exact(values: np.ndarray) -> list:
+    """float32 values as their exact double value (round-trips through a double parser)."""
+    out = np.asarray(values, dtype=np.float32).astype(np.float64)
+    return [float(v) for v in out.reshape(-1)] if out.ndim == 1 else [exact(row) for row in out]
+
+
+def grid_order(ids: np.ndarray) -> np.ndarray:
+    return ids[np.lexsort((ids[:, 0], ids[:, 1], ids[:, 2]))]
+
+
+def det(m: list[list[int]]) -> int:
+    """Exact determinant (Bareiss-free cofactor expansion; matrices of at most 5 rows)."""
+    if len(m) == 1:
+        return m[0][0]
+    return sum((-1) ** c * m[0][c] * det([row[:c] + row[c + 1:] for row in m[1:]]) for c in range(len(m)) if m[0][c])
+
+
+def orient(a, b, c, d) -> int:
+    return det([[int(b[i] - a[i]) for i in range(3)], [int(c[i] - a[i]) for i in range(3)], [int(d[i] - a[i]) for i in range(3)]])
+
+
+def insphere(a, b, c, d, e) -> int:
+    rows = []
+    for p in (a, b, c, d):
+        q = [int(p[i] - e[i]) for i in range(3)]
+        rows.append(q + [q[0] * q[0] + q[1] * q[1] + q[2] * q[2]])
+    return det(rows)
+
+
+def certify_delaunay(ids: np.ndarray, probes: np.ndarray, tets: np.ndarray, extent: int) -> bool:
+    """Every other probe strictly outside every circumsphere, by a margin relative to extent^5."""
+    pts = [tuple(int(v) for v in ids[p]) for p in probes]
+    bound = MARGIN * float(extent) ** 5
+    for t in tets:
+        a, b, c, d = (pts[int(v)] for v in t)
+        if orient(a, b, c, d) == 0:
+            return False
+        # The sign a point strictly inside the circumsphere gets: that of the centroid (coordinates x 4 stay integer).
+        scaled = [tuple(4 * v for v in p) for p in (a, b, c, d)]
+        inside = 1 if insphere(*scaled, tuple(a[i] + b[i] + c[i] + d[i] for i in range(3))) > 0 else -1
+        for k, e in enumerate(pts):
+            if k in (int(v) for v in t):
+                continue
+            if not insphere(a, b, c, d, e) * inside < -bound:  # strictly outside, with a margin
+                return False
+    return True
+
+
+def certify_cells_one(field: ReferenceField, ids: np.ndarray, indices: np.ndarray, stencil, row: int, point: int) -> bool:
+    """One point's cell is unique: strictly inside a tetrahedron (exact barycentrics), or projecting into a face interior."""
+    if stencil.outside[row]:
+        return bool(np.min(stencil.weights[row, :3]) >= INSIDE)
+    tri = tetrahedralize(field.world[indices], field.frame)
+    a, b, c, d = (tuple(int(v) for v in ids[indices[int(v)]]) for v in tri.tets[stencil.cell[row]])
+    q = tuple(int(v) for v in ids[point])
+    whole = orient(a, b, c, d)
+    lam = [Fraction(orient(q, b, c, d), whole), Fraction(orient(a, q, c, d), whole), Fraction(orient(a, b, q, d), whole),
+           Fraction(orient(a, b, c, q), whole)]
+    return min(lam) >= INSIDE
+
+
+def certify_cells(field: ReferenceField, ids: np.ndarray, order: np.ndarray) -> bool:
+    indices, others, stencil = probe_stencil(field, order)
+    return all(certify_cells_one(field, ids, indices, stencil, row, point) for row, point in enumerate(others))
+
+
+def separated(values: np.ndarray) -> bool:
+    """Distinct values, every pair more than MARGIN apart relative to the largest."""
+    v = np.sort(np.asarray(values, dtype=np.float64))
+    if v.shape[0] < 2:
+        return True
+    return bool(np.all(np.diff(v) > MARGIN * max(1e-300, float(np.max(np.abs(v))))))
+
+
+def certify_round(field: ReferenceField, order: np.ndarray) -> bool:
+    indices, others, stencil = probe_stencil(field, order)
+    errors = POINT_ERRORS["irradiance"](
+        np.einsum("mk,mkv->mv", stencil.weights, field.light[indices][stencil.vertices]), field.light[others], field.scale)
+    if np.any((errors > 1e-14) & (errors < 1e-9)):
+        return False
+    sums = []
+    for cell in np.unique(stencil.cell):
+        e = np.sort(errors[stencil.cell == cell])[::-1]
+        if e.shape[0] > 1 and e[0] > EXACT and not e[0] - e[1] > MARGIN * e[0]:
+            return False
+        if e[0] > EXACT:
+            sums.append(float(errors[stencil.cell == cell].sum()))
+    return separated(np.asarray(sums))
+
+
+def enclosed_case(seed: int) -> dict[str, Any] | None:
+    """40 points inside a large tetrahedron whose corners carry the typical lighting: every round's probes
+    include the corners, so no point is ever outside the hull, and every cell is certified unique."""
+    rng = np.random.default_rng(seed)
+    extent = 1024
+    corners = np.array([[0, 0, 0], [extent, 37, 91], [53, extent, 11], [29, 71, extent]], dtype=np.int64)
+    inner = []
+    while len(inner) < 36:
+        lam = rng.dirichlet(np.ones(4))
+        if lam.min() < 0.03:
+            continue
+        p = np.rint(lam @ corners).astype(np.int64)
+        if not any(np.array_equal(p, q) for q in inner):
+            inner.append(p)
+    ids = grid_order(np.concatenate([corners, np.asarray(inner)]))
+    n = ids.shape[0]
+    is_corner = np.array([any(np.array_equal(row, c) for c in corners) for row in ids])
+    base = np.array([1.0, 0.8, 0.6] * 9, dtype=np.float64) * np.array([1.0 if c % 9 == 0 else 0.15 for c in range(27)])
+    sh = np.tile(base, (n, 1))
+    bumps = rng.uniform(0.2, 0.6, (n, 27)) * rng.choice([-1.0, 1.0], (n, 27))
+    sh[~is_corner] += bumps[~is_corner] * np.array([1.0 if c % 9 == 0 else 0.3 for c in range(27)])
+    case = finish_case("enclosed", "40 points strictly inside a tetrahedron of 4 corners that carry the median lighting, general "
+                       "position (integer ids < 1024 at cell 0.25); full ranking with every round certified", ids, sh, extent)
+    if case is None or sorted(case["typical_tetrahedron"]) != sorted(np.flatnonzero(is_corner).tolist()):
+        return None  # the start must be the corners (typical lighting), else points would fall outside the hull
+    return case
+
+
+def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: int) -> dict[str, Any] | None:
+    grid, sh32, scale, field = _field(ids, sh)
+    start = typical_tetrahedron(field, grid)
+    ranking = insertion_ranking(field, grid)
+    rounds = []
+    order = start
+    while order.shape[0] < ids.shape[0]:
+        indices = order
+        tri = tetrahedralize(field.world[indices], field.frame)
+        if not (certify_delaunay(ids, indices, tri.tets, extent) and certify_cells(field, ids, indices) and certify_round(field, indices)):
+            return None
+        batch = insertion_batch(field, indices)
+        rounds.append({"probes": indices.tolist(), "tetrahedra": tri.tets.tolist(), "batch": batch.tolist()})
+        if batch.shape[0] == 0:
+            break
+        order = np.concatenate([order, batch])
+    np.testing.assert_array_equal(ranking[:order.shape[0]], order)
+    return {"name": name, "note": note, "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
+            "sh": exact(sh32), "lighting_scale": scale, "growth": INSERTION_GROWTH, "typical_tetrahedron": start.tolist(),
+            "rounds": rounds, "ranking": ranking.tolist()}
+
+
+def _field(ids: np.ndarray, sh: np.ndarray) -> tuple[EvaluationGrid, np.ndarray, float, ReferenceField]:
+    grid = EvaluationGrid(cell_size=CELL, ids=ids.astype(np.int32))
+    sh32 = np.asarray(sh, dtype=np.float32)
+    scale = float(np.float32(scene_scale(sh32.astype(np.float64))))
+    return grid, sh32, scale, ReferenceField.from_sh(grid.positions, sh32, scale)
+
+
+def outside_round_case(seed: int) -> dict[str, Any] | None:
+    """One round given the mesh, with points outside the probes' hull: 12 probes in the middle of the volume, and
+    the other points kept only where their cell is unique (strictly inside a tetrahedron, or projecting into the
+    interior of a hull triangle)."""
+    rng = np.random.default_rng(seed)
+    extent = 1024
+    probe_ids = rng.integers(256, 768, (12, 3))
+    others = rng.integers(0, extent, (200, 3))
+    ids = np.unique(np.concatenate([probe_ids, others]), axis=0)
+    for _ in range(3):
+        ids = grid_order(ids)
+        n = ids.shape[0]
+        sh = np.tile(np.array([1.0, 0.8, 0.6] * 9) * np.array([1.0 if c % 9 == 0 else 0.15 for c in range(27)]), (n, 1))
+        sh += np.random.default_rng(seed + 1).uniform(-0.4, 0.4, (n, 27))
+        grid, sh32, scale, field = _field(ids, sh)
+        probes = np.asarray([int(np.flatnonzero((ids == p).all(axis=1))[0]) for p in probe_ids], dtype=np.int64)
+        indices, rest, stencil = probe_stencil(field, probes)
+        keep = np.zeros(n, dtype=bool)
+        keep[probes] = True
+        for row, point in enumerate(rest):
+            keep[point] = certify_cells_one(field, ids, probes, stencil, row, point)
+        if np.all(keep):
+            break
+        ids = ids[keep]
+    else:
+        return None
+    if not (certify_delaunay(ids, probes, tetrahedralize(field.world[probes], field.frame).tets, extent)
+            and certify_cells(field, ids, probes) and certify_round(field, probes)):
+        return None
+    outside = int(np.count_nonzero(stencil.outside))
+    if outside < 10:
+        return None
+    tri = tetrahedralize(field.world[probes], field.frame)
+    batch = insertion_batch(field, probes)
+    return {"name": "outside", "note": f"{ids.shape[0]} random lattice points, 12 probes in random order; {outside} of the "
+            "other points lie outside the probes' hull", "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
+            "sh": exact(sh32), "lighting_scale": scale, "growth": INSERTION_GROWTH,
+            "rounds": [{"probes": probes.tolist(), "tetrahedra": tri.tets.tolist(), "batch": batch.tolist()}]}
+
+
+def plane_case() -> dict[str, Any]:
+    """A 5x5x5 lattice whose lighting depends on the layer only: the middle layer IS the median (deviation exactly 0),
+    so the typical candidates are its 13 lowest indices, all in one plane, and the tetrahedron guarantee must add
+    the first point off it (point 0). Ties here are exact in both languages (identical IEEE operations)."""
+    k, j, i = np.meshgrid(np.arange(5), np.arange(5), np.arange(5), indexing="ij")
+    ids = np.stack([i.ravel(), j.ravel(), k.ravel()], axis=1)
+    sh = np.zeros((ids.shape[0], 27))
+    layer = ids[:, 2].astype(np.float64)
+    for c in (0, 9, 18):
+        sh[:, c] = 1.0 + 0.5 * layer * layer
+    sh[:, 1] = 0.25 * layer
+    grid = EvaluationGrid(cell_size=CELL, ids=ids.astype(np.int32))
+    sh32 = np.asarray(sh, dtype=np.float32)
+    scale = float(np.float32(scene_scale(sh32.astype(np.float64))))
+    field = ReferenceField.from_sh(grid.positions, sh32, scale)
+    start = typical_tetrahedron(field, grid)
+    assert start.shape[0] == 5 and int(start[-1]) == 0, start  # the guarantee's extra point, by construction
+    return {"name": "plane", "note": "5x5x5 lattice, lighting by layer; the typical candidates lie in one plane",
+            "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions), "sh": exact(sh32), "lighting_scale": scale,
+            "typical_tetrahedron": start.tolist()}
+
+
+def first_certified(make, seeds) -> dict[str, Any]:
+    for seed in seeds:
+        print(make.__name__, seed, flush=True)
+        case = make(seed)
+        if case is not None:
+            case["seed"] = seed
+            return case
+    raise SystemExit(f"no certified case among seeds {seeds}")
+
+
+def main(out_dir: str) -> None:
+    golden = {
+        "contract": "Documentation~/quality.md §5 (insertion ranking, irradiance metric)",
+        "tolerance": "exact: typical tetrahedra, batches and rankings equal index for index",
+        "exact_threshold": EXACT,
+        "cases": [first_certified(enclosed_case, range(1, 200)), first_certified(outside_round_case, range(1, 400)), plane_case()],
+    }
+    text = json.dumps(golden, indent=None, separators=(",", ":"))
+    write_text_atomic(Path(out_dir) / "insertion_golden.json", text + "\n")
+    print("wrote", Path(out_dir) / "insertion_golden.json", [(c["name"], c.get("seed")) for c in golden["cases"]])
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "Tests/Data")

@@ -1,0 +1,88 @@
+"""Tests/Data/insertion_golden.json (written by Tools~/golden/make_insertion_golden.py; contract quality.md §5):
+the Python insertion ranking still gives its typical tetrahedra, every round's batch given the mesh, and the whole
+ranking, and the golden's tetrahedra are still the (unique, certified) Delaunay ones ours produce. The C# port
+(InsertionRankingTests) reads the same file."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import pytest
+
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.insertion import EXACT, insertion_batch, insertion_ranking, typical_tetrahedron
+from lpnn.quality.metric import ReferenceField
+from lpnn.quality.triangulation import tetrahedralize
+
+GOLDEN_NAME = "insertion_golden.json"
+
+
+@pytest.fixture(scope="module")
+def golden(golden_path: Callable[[str], Path]) -> dict[str, Any]:
+    return json.loads(golden_path(GOLDEN_NAME).read_text(encoding="utf-8"))
+
+
+def _case(case: dict[str, Any]) -> tuple[EvaluationGrid, ReferenceField]:
+    grid = EvaluationGrid(cell_size=case["cell_size"], ids=np.asarray(case["ids"], dtype=np.int32))
+    np.testing.assert_array_equal(grid.positions, np.asarray(case["positions"], dtype=np.float32))
+    field = ReferenceField.from_sh(grid.positions, np.asarray(case["sh"], dtype=np.float32), case["lighting_scale"])
+    return grid, field
+
+
+def _tet_keys(tets) -> list[tuple[int, ...]]:
+    return sorted(tuple(sorted(int(v) for v in t)) for t in tets)
+
+
+def test_the_golden_lists_the_certified_cases(golden: dict[str, Any]) -> None:
+    assert golden["tolerance"].startswith("exact")
+    assert golden["exact_threshold"] == EXACT
+    assert [c["name"] for c in golden["cases"]] == ["enclosed", "outside", "plane"]
+
+
+def test_typical_tetrahedra_are_reproduced(golden: dict[str, Any]) -> None:
+    for case in golden["cases"]:
+        if "typical_tetrahedron" in case:
+            grid, field = _case(case)
+            np.testing.assert_array_equal(typical_tetrahedron(field, grid), case["typical_tetrahedron"], err_msg=case["name"])
+
+
+def test_every_round_given_its_mesh_is_reproduced(golden: dict[str, Any]) -> None:
+    rounds = 0
+    for case in golden["cases"]:
+        grid, field = _case(case)
+        for round_ in case.get("rounds", []):
+            probes = np.asarray(round_["probes"], dtype=np.int64)
+            tri = tetrahedralize(field.world[probes], field.frame)
+            assert _tet_keys(tri.tets) == _tet_keys(round_["tetrahedra"]), case["name"]
+            np.testing.assert_array_equal(insertion_batch(field, probes, growth=case["growth"]), round_["batch"], err_msg=case["name"])
+            rounds += 1
+    assert rounds > 10
+
+
+def test_the_whole_ranking_is_reproduced_and_is_its_rounds_in_order(golden: dict[str, Any]) -> None:
+    case = next(c for c in golden["cases"] if c["name"] == "enclosed")
+    grid, field = _case(case)
+    ranking = insertion_ranking(field, grid, growth=case["growth"])
+    np.testing.assert_array_equal(ranking, case["ranking"])
+    order = list(case["typical_tetrahedron"])
+    for round_ in case["rounds"]:
+        assert round_["probes"] == order
+        order += round_["batch"]
+    assert ranking[:len(order)].tolist() == order
+    # The start is the enclosing tetrahedron's corners (the case's design): no point is ever outside the hull.
+    corners = np.asarray(case["ids"])[case["typical_tetrahedron"]]
+    assert sorted(map(tuple, corners.tolist())) == sorted(map(tuple, np.asarray([[0, 0, 0], [1024, 37, 91], [53, 1024, 11], [29, 71, 1024]]).tolist()))
+
+
+def test_the_plane_case_needs_the_tetrahedron_guarantee(golden: dict[str, Any]) -> None:
+    """By hand: the middle layer is the median, its 13 lowest indices are the candidates, all at k = 2, so the
+    fifth point is the first point off that plane in the preference order: point 0."""
+    case = next(c for c in golden["cases"] if c["name"] == "plane")
+    start = case["typical_tetrahedron"]
+    ids = np.asarray(case["ids"])
+    assert len(start) == 5 and start[-1] == 0
+    assert all(ids[p][2] == 2 for p in start[:4])
+    assert all(p < 50 + 13 for p in start[:4])
