@@ -150,6 +150,35 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void RankValidRanksTheValidPointsAloneAndPutsTheInvalidOnesLast()
+        {
+            var grid = Grid();
+            var positions = QualityFixtures.Positions(grid);
+            var sh = QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1));
+            var valid = new bool[grid.Count];
+            for (int n = 0; n < grid.Count; n++) valid[n] = grid.GetId(n).I > 0; // the layer x = 0 is inside geometry
+            double scale = ReferenceLighting.FromGrid(grid, sh).SceneScale;
+            int[] ranking = InsertionRanking.RankValid(grid, sh, scale, valid, new BowyerWatsonDelaunay());
+            Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+            int validCount = valid.Count(v => v);
+            Assert.That(ranking.Take(validCount).All(p => valid[p]), Is.True, "a point inside geometry was ranked among the valid ones");
+            Assert.That(ranking.Skip(validCount), Is.EqualTo(Enumerable.Range(0, grid.Count).Where(p => !valid[p])));
+            // The valid part is the insertion ranking of the valid sub-grid, mapped back (independent construction here).
+            var rows = Enumerable.Range(0, grid.Count).Where(p => valid[p]).ToArray();
+            var subGrid = grid.Subset(valid);
+            var subSh = rows.SelectMany(p => sh.Skip(ShMath.FloatsPerProbe * p).Take(ShMath.FloatsPerProbe)).ToArray();
+            int[] sub = InsertionRanking.Rank(subGrid, ReferenceLighting.FromGrid(subGrid, subSh, scale), new BowyerWatsonDelaunay());
+            Assert.That(ranking.Take(validCount), Is.EqualTo(sub.Select(p => rows[p])));
+            // No flags: the whole grid's ranking.
+            Assert.That(InsertionRanking.RankValid(grid, sh, scale, null, new BowyerWatsonDelaunay()),
+                        Is.EqualTo(InsertionRanking.Rank(grid, ReferenceLighting.FromGrid(grid, sh, scale), new BowyerWatsonDelaunay())));
+            // Too few valid points: refused, not ranked.
+            var three = new bool[grid.Count];
+            three[0] = three[1] = three[2] = true;
+            Assert.Throws<SelectionException>(() => InsertionRanking.RankValid(grid, sh, scale, three, new BowyerWatsonDelaunay()));
+        }
+
+        [Test]
         public void WithUniformLightingFourProbesAreExactAndTheRestFollowsByIndex()
         {
             var grid = Grid();

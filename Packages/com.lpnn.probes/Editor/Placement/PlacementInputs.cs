@@ -18,10 +18,11 @@ namespace Lpnn.Probes.Editor
         private static readonly ConditionalWeakTable<float[], ReferenceLighting> References = new ConditionalWeakTable<float[], ReferenceLighting>();
         private static readonly ConditionalWeakTable<float[], InsertionOrder> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrder>();
 
-        /// <summary>An insertion ranking with the grid it ranks.</summary>
+        /// <summary>An insertion ranking with the grid it ranks and the features whose validity flags it used (null: none).</summary>
         private sealed class InsertionOrder
         {
             public EvaluationGrid Grid;
+            public FeatureSet Features;
             public int[] Ranking;
         }
 
@@ -53,10 +54,12 @@ namespace Lpnn.Probes.Editor
             int[] known = KnownInsertionRanking(session, grid);
             if (known != null) return known;
             var reference = Reference(session, grid);
-            int[] ranking = Core.Quality.InsertionRanking.Rank(grid, reference, new UnityTetrahedralizer(), Core.Quality.InsertionRanking.DefaultGrowth,
-                progress, cancel);
+            var features = ValidPoints(session, grid) == null ? null : session.Features;
+            // Only the valid points are ranked (points inside geometry would steer the rounds with lighting read in walls).
+            int[] ranking = Core.Quality.InsertionRanking.RankValid(grid, session.Sh, reference.SceneScale, ValidPoints(session, grid),
+                new UnityTetrahedralizer(), Core.Quality.InsertionRanking.DefaultGrowth, progress, cancel);
             InsertionOrders.Remove(session.Sh);
-            InsertionOrders.Add(session.Sh, new InsertionOrder { Grid = grid, Ranking = ranking });
+            InsertionOrders.Add(session.Sh, new InsertionOrder { Grid = grid, Features = features, Ranking = ranking });
             return ranking;
         }
 
@@ -65,7 +68,8 @@ namespace Lpnn.Probes.Editor
         public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid)
         {
             if (session.Sh == null || session.Grid != grid) return null;
-            return InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid ? known.Ranking : null;
+            var features = ValidPoints(session, grid) == null ? null : session.Features;
+            return InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid && known.Features == features ? known.Ranking : null;
         }
 
         /// <summary>The Features step's validity flags for this grid (features.md "Probe validity"), or null when the Features

@@ -6,6 +6,7 @@ using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Sh;
 
 namespace Lpnn.Probes.Core.Quality
 {
@@ -68,6 +69,41 @@ namespace Lpnn.Probes.Core.Quality
                 if (!chosen[n]) order.Add(n);
             progress?.Invoke(Stage, count, count);
             return order.ToArray();
+        }
+
+        /// <summary>The insertion ranking of the valid points alone, as `lpnn place` ranks a capture whose points inside
+        /// geometry were dropped: invalid points neither become probes nor steer the rounds (their lighting, read inside
+        /// geometry, would draw insertions that are then thrown away). Returns every grid point once: the valid points in
+        /// insertion order, then the invalid ones by index (never selected: <see cref="ProbeSelector.SelectFromRanking"/>
+        /// with the same flags drops them).</summary>
+        /// <param name="sh">27 floats per grid point (Documentation~/sh.md).</param>
+        /// <param name="sceneScale">The whole grid's scene scale, so the errors are those of the full reference.</param>
+        /// <param name="valid">One flag per grid point, or null (all valid: <see cref="Rank"/> on the whole grid).</param>
+        public static int[] RankValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
+            double growth = DefaultGrowth, ProgressCallback progress = null, CancellationToken cancel = default)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (sh == null) throw new ArgumentNullException(nameof(sh));
+            if (valid == null) return Rank(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth, progress, cancel);
+            int validCount = ValidCandidates.Check(grid, valid);
+            if (sh.Length != ShMath.FloatsPerProbe * grid.Count)
+                throw new PlacementErrorException("need 27 SH coefficients per evaluation point: got " + InvariantFormat.Count(sh.Length) +
+                                                  " values for " + InvariantFormat.Count(grid.Count) + " points");
+            var rows = new int[validCount];
+            var validSh = new float[ShMath.FloatsPerProbe * validCount];
+            for (int n = 0, m = 0; n < grid.Count; n++)
+            {
+                if (!valid[n]) continue;
+                Array.Copy(sh, ShMath.FloatsPerProbe * n, validSh, ShMath.FloatsPerProbe * m, ShMath.FloatsPerProbe);
+                rows[m++] = n;
+            }
+            var validGrid = grid.Subset(valid);
+            int[] ranked = Rank(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth, progress, cancel);
+            var ranking = new int[grid.Count];
+            for (int r = 0; r < ranked.Length; r++) ranking[r] = rows[ranked[r]];
+            for (int n = 0, r = ranked.Length; n < grid.Count; n++)
+                if (!valid[n]) ranking[r++] = n;
+            return ranking;
         }
 
         /// <summary>One round given the mesh: the points to insert next, in insertion order — per cell its worst
