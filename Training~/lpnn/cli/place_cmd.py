@@ -124,11 +124,11 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
     from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.insertion import InsertionOrder
-    from ..quality.reference import run_reference
-    from .progress import progress_bar
     from ..quality.metric import ReferenceField, evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
+    from ..quality.reference import run_reference
+    from .progress import progress_bar
 
     field = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
@@ -143,11 +143,14 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
                      else reference_tolerance(decimation, args.tolerance))
         what = "fast reference"
     else:
+        close_bar = None
         if args.method == "uniform":
             select = uniform_selector(grid)
             what = "uniform lattice"
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
-            select, what = InsertionOrder(field, grid).selection(), "insertion (coarse-to-fine, error-driven)"
+            update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
+            select = InsertionOrder(field, grid, progress=update).selection()
+            what = "insertion (coarse-to-fine, error-driven)"
         else:
             if args.method == "heuristic":
                 ranking, what = heuristic_ranking(grid, capture.sh, capture.lighting_scale), "farthest-point heuristic"
@@ -156,8 +159,12 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
             else:
                 ranking, what = random_ranking(n, args.seed), f"random (seed {args.seed})"
             select = prefix_selection(grid, ranking)
-        placement = (place_count(field, select, budget_count(args.budget, n)) if args.budget is not None
-                     else place_tolerance(field, select, args.tolerance))
+        try:
+            placement = (place_count(field, select, budget_count(args.budget, n)) if args.budget is not None
+                         else place_tolerance(field, select, args.tolerance))
+        finally:
+            if close_bar is not None:
+                close_bar()
     _write(args, capture, placement.indices, evaluate_placement(field, placement.indices),
            placement.added_for_tetrahedron, what, {}, "")
     return 0

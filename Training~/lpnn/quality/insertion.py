@@ -90,12 +90,12 @@ class InsertionOrder:
     growth) rounds of the whole ranking; prefixes are those of `insertion_ranking` exactly."""
 
     def __init__(self, field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
-                 growth: float = INSERTION_GROWTH) -> None:
+                 growth: float = INSERTION_GROWTH, progress: Callable[[int, int], None] | None = None) -> None:
         checked_metric(metric)
         if not (math.isfinite(growth) and growth > 0.0):
             raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
                               f"(e.g. {INSERTION_GROWTH})")
-        self._field, self._metric, self._growth = field, metric, growth
+        self._field, self._metric, self._growth, self._progress = field, metric, growth, progress
         self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
         self.rounds = 0
@@ -111,6 +111,8 @@ class InsertionOrder:
                 self._exhausted = True
             else:
                 self._order = np.concatenate([self._order, batch])
+            if self._progress is not None:  # points ranked so far, of the count asked for
+                self._progress(min(self._order.shape[0], count), count)
         if self._order.shape[0] < count:  # exhausted: the rest by index
             chosen = np.zeros(n, dtype=bool)
             chosen[self._order] = True
