@@ -37,6 +37,7 @@ LIGHT_VALUES = D14.shape[0] * 3
 METRIC_NAMES = ("irradiance", "smape")
 PRIMARY_METRIC = "irradiance"
 PERCENTILE = 95.0
+CHUNK_POINTS = 65_536  # rows per pass: per-row arithmetic is unchanged, temporaries stay small at 10^6 points
 
 
 class MetricError(ValueError):
@@ -64,7 +65,7 @@ class ReferenceField:
     @staticmethod
     def from_sh(positions: np.ndarray, sh: np.ndarray, scale: float | None = None) -> "ReferenceField":
         world = checked_positions(positions, "evaluation point positions")
-        values = np.asarray(sh, dtype=np.float64)
+        values = np.asarray(sh)
         if values.shape != (world.shape[0], shmath.SH_FLOATS):
             raise MetricError(f"reference SH must have shape ({world.shape[0]}, 27), got {list(values.shape)}")
         bad = np.flatnonzero(~np.all(np.isfinite(values), axis=1))
@@ -76,10 +77,16 @@ class ReferenceField:
         s = scene_scale(values) if scale is None else float(scale)
         if not (np.isfinite(s) and s > 0.0):
             raise MetricError(f"scene scale {scale!r} must be a finite number > 0")
-        light = shmath.evaluate(values, D14)  # (N, 14, 3)
+        n = world.shape[0]
+        light = np.empty((n, LIGHT_VALUES))
+        ycocg = np.empty((n, LIGHT_VALUES))
+        for start in range(0, n, CHUNK_POINTS):  # row by row the same values; no (N, 42) temporaries
+            stop = min(start + CHUNK_POINTS, n)
+            rgb = shmath.evaluate(values[start:stop], D14)  # (M, 14, 3), float64
+            light[start:stop] = rgb.reshape(-1, LIGHT_VALUES)
+            ycocg[start:stop] = shmath.rgb_to_ycocg(rgb).reshape(-1, LIGHT_VALUES)
         frame = Frame.for_points(world)
-        return ReferenceField(world=world, local=frame.to_local(world), light=light.reshape(-1, LIGHT_VALUES),
-                              ycocg=shmath.rgb_to_ycocg(light).reshape(-1, LIGHT_VALUES), scale=s, frame=frame)
+        return ReferenceField(world=world, local=frame.to_local(world), light=light, ycocg=ycocg, scale=s, frame=frame)
 
     @staticmethod
     def from_capture(capture: Capture) -> "ReferenceField":
@@ -160,9 +167,12 @@ def probe_stencil(field: ReferenceField, probes: np.ndarray) -> tuple[np.ndarray
 def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
             metric: str) -> np.ndarray:
     values = field.values(metric)
-    interpolated = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    probe_values = values[indices]
     errors = np.zeros(field.point_count)
-    errors[others] = POINT_ERRORS[metric](interpolated, values[others], field.scale)
+    for start in range(0, others.shape[0], CHUNK_POINTS):
+        rows = slice(start, min(start + CHUNK_POINTS, others.shape[0]))
+        interpolated = shmath.blend(probe_values, stencil.vertices[rows], stencil.weights[rows])
+        errors[others[rows]] = POINT_ERRORS[metric](interpolated, values[others[rows]], field.scale)
     return errors
 
 
