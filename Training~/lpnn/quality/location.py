@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
+from .metric_kernel import walk
 from .triangulation import Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
@@ -62,24 +63,13 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
 def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Visibility walk for all points at once. Returns cell (-1 = outside) and a 'resolved' mask."""
     centroids = tri.points[tri.tets].mean(axis=1)
-    cell = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
-    result = np.full(query.shape[0], -1, dtype=np.int64)
-    resolved = np.zeros(query.shape[0], dtype=bool)
-    active = np.arange(query.shape[0])
-    for _ in range(WALK_STEP_LIMIT):
-        if active.shape[0] == 0:
-            break
-        lam = barycentric(tri, cell[active], query[active])
-        worst = np.argmin(lam, axis=1)
-        inside = lam[np.arange(active.shape[0]), worst] >= -INSIDE_TOLERANCE
-        result[active[inside]] = cell[active[inside]]
-        resolved[active[inside]] = True
-        moving = active[~inside]
-        step = tri.neighbours[cell[moving], worst[~inside]]
-        # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
-        resolved[moving[step < 0]] = True
-        cell[moving] = step
-        active = moving[step >= 0]
+    start = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
+    result = np.empty(query.shape[0], dtype=np.int64)
+    resolved = np.empty(query.shape[0], dtype=bool)
+    # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin).
+    # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
+         INSIDE_TOLERANCE, result, resolved)
     return result, resolved
 
 

@@ -30,6 +30,7 @@ from ..core import sh as shmath
 from ..core.capture import Capture
 from ..core.features import D14, scene_scale
 from .location import Stencil, locate_local
+from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
 from .triangulation import Frame, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
@@ -166,13 +167,12 @@ def probe_stencil(field: ReferenceField, probes: np.ndarray) -> tuple[np.ndarray
 
 def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
             metric: str) -> np.ndarray:
-    values = field.values(metric)
-    probe_values = values[indices]
+    """Per-point errors (N,), 0 at the probes: metric_kernel.stencil_errors, the numbers of
+    POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
+    floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
     errors = np.zeros(field.point_count)
-    for start in range(0, others.shape[0], CHUNK_POINTS):
-        rows = slice(start, min(start + CHUNK_POINTS, others.shape[0]))
-        interpolated = shmath.blend(probe_values, stencil.vertices[rows], stencil.weights[rows])
-        errors[others[rows]] = POINT_ERRORS[metric](interpolated, values[others[rows]], field.scale)
+    stencil_errors(field.values(metric), indices, stencil.vertices, stencil.weights, others, floor,
+                   IRRADIANCE if metric == "irradiance" else SMAPE, errors)
     return errors
 
 
