@@ -60,17 +60,20 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
     return best_cell, best_min
 
 
-def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Visibility walk for all points at once. Returns cell (-1 = outside) and a 'resolved' mask."""
+def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Visibility walk for all points at once. Returns cell (-1 = outside), a 'resolved' mask and the
+    barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for bit; rows of points
+    not inside a cell are undefined)."""
     centroids = tri.points[tri.tets].mean(axis=1)
     start = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
     result = np.empty(query.shape[0], dtype=np.int64)
     resolved = np.empty(query.shape[0], dtype=bool)
+    coordinates = np.empty((query.shape[0], 4))
     # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin).
     # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
     walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
-         INSIDE_TOLERANCE, result, resolved)
-    return result, resolved
+         INSIDE_TOLERANCE, result, resolved, coordinates)
+    return result, resolved, coordinates
 
 
 def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
@@ -80,9 +83,11 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
         cell, smallest = _brute_force(tri, q)
         cell = np.where(smallest >= -INSIDE_TOLERANCE, cell, -1)
+        walked = np.zeros(m, dtype=bool)
+        coordinates = np.empty((m, 4))
     else:
-        cell, resolved = _walk(tri, q)
-        stuck = np.flatnonzero(~resolved)  # numerically cycling walks: rare, settle them exactly
+        cell, walked, coordinates = _walk(tri, q)
+        stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
         if stuck.shape[0]:
             fallback, smallest = _brute_force(tri, q[stuck])
             cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
@@ -90,7 +95,9 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
     weights = np.zeros((m, 4))
     anchor = q.copy()
     inside = np.flatnonzero(cell >= 0)
-    lam = np.clip(barycentric(tri, cell[inside], q[inside]), 0.0, None)
+    settled = inside[~walked[inside]]  # cells from the brute force: their coordinates are computed here
+    coordinates[settled] = barycentric(tri, cell[settled], q[settled])
+    lam = np.clip(coordinates[inside], 0.0, None)
     weights[inside] = lam / lam.sum(axis=1, keepdims=True)
     vertices[inside] = tri.tets[cell[inside]]
     outside = cell < 0

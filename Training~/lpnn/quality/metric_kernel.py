@@ -88,10 +88,11 @@ def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
 
 
 @njit(cache=True)
-def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved):
+def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates):
     """The visibility walk of location.py for each query point from its start tetrahedron: cell[m] is
-    the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance (-1 when
-    the walk leaves through a hull face: resolved, outside), resolved[m] False after step_limit steps."""
+    the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, and
+    coordinates[m] those coordinates (-1 when the walk leaves through a hull face: resolved, outside),
+    resolved[m] False after step_limit steps."""
     lam = np.empty(4)
     for m in range(query.shape[0]):
         current = start[m]
@@ -114,6 +115,8 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
             if lam[worst] >= -inside_tolerance:
                 cell[m] = current
                 resolved[m] = True
+                for i in range(4):
+                    coordinates[m, i] = lam[i]
                 break
             step = neighbours[current, worst]
             if step < 0:  # beyond that hull face's plane: outside the hull

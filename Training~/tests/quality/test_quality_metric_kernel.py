@@ -69,6 +69,8 @@ def test_the_compiled_walk_reaches_the_numpy_walks_cells(scene, count: int) -> N
     actual = location._walk(tri, field.local)
     np.testing.assert_array_equal(actual[0], expected[0])
     np.testing.assert_array_equal(actual[1], expected[1])
+    inside = np.flatnonzero(expected[0] >= 0)  # the walk's last coordinates are `barycentric`'s
+    np.testing.assert_array_equal(actual[2][inside], location.barycentric(tri, expected[0][inside], field.local[inside]))
     if count == 6:  # a hull of few probes: some points are walked out of it
         assert np.count_nonzero(expected[0] < 0) > 0
 
