@@ -78,7 +78,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture) -> int:
 
         scorer, scores, what = None, read_scores_csv(args.scores, capture.ids), f"scores {Path(args.scores).name}"
     placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture)
+                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture,
+                               full_ranking=False)
     tier = "top-K" if args.topk else "spread"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
