@@ -60,24 +60,31 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
     return best_cell, best_min
 
 
-def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Visibility walk for all points at once. Returns cell (-1 = outside), a 'resolved' mask and the
     barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for bit; rows of points
-    not inside a cell are undefined)."""
+    not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
+    or with `coherent` (points in grid order) where the previous point's walk ended."""
     centroids = tri.points[tri.tets].mean(axis=1)
-    start = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
+    first = query[:1] if coherent else query
+    start = np.asarray(cKDTree(centroids).query(first, k=1)[1], dtype=np.int64).reshape(-1)
     result = np.empty(query.shape[0], dtype=np.int64)
     resolved = np.empty(query.shape[0], dtype=bool)
     coordinates = np.empty((query.shape[0], 4))
     # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin).
     # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
     walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
-         INSIDE_TOLERANCE, result, resolved, coordinates)
+         INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
     return result, resolved, coordinates
 
 
-def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
-    """Stencils for points given in the triangulation's local coordinates (M, 3)."""
+def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False) -> Stencil:
+    """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
+    (points in grid order, each near the previous one) starts each walk where the previous one ended
+    instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
+    10^6 points): the same tetrahedron for every point inside one; a point on a face or edge shared
+    by several may get another of them, with the same weights up to rounding (quality.md §1)."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     m = q.shape[0]
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
@@ -86,7 +93,7 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
         walked = np.zeros(m, dtype=bool)
         coordinates = np.empty((m, 4))
     else:
-        cell, walked, coordinates = _walk(tri, q)
+        cell, walked, coordinates = _walk(tri, q, coherent)
         stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
         if stuck.shape[0]:
             fallback, smallest = _brute_force(tri, q[stuck])

@@ -155,14 +155,16 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     return indices
 
 
-def probe_stencil(field: ReferenceField, probes: np.ndarray) -> tuple[np.ndarray, np.ndarray, Stencil]:
-    """Checked probe indices, the other points (M,) and their stencils (indices into the probes)."""
+def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray, Stencil]:
+    """Checked probe indices, the other points (M,) and their stencils (indices into the probes);
+    coherent: location.locate_local's walk from the previous point (the errors' own path)."""
     indices = checked_probes(field, probes)
     tri = tetrahedralize(field.world[indices], field.frame)
     is_probe = np.zeros(field.point_count, dtype=bool)
     is_probe[indices] = True
     others = np.flatnonzero(~is_probe)
-    return indices, others, locate_local(tri, field.local[others])
+    return indices, others, locate_local(tri, field.local[others], coherent)
 
 
 def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
@@ -179,7 +181,7 @@ def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, sten
 def point_errors(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> np.ndarray:
     """Per-point error (N,) of the placement `probes` (indices into the field's points)."""
     checked_metric(metric)
-    return _errors(field, *probe_stencil(field, probes), metric)
+    return _errors(field, *probe_stencil(field, probes, coherent=True), metric)
 
 
 def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> ErrorSummary:
@@ -195,7 +197,7 @@ class PlacementQuality:
 
 def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQuality:
     """Both metrics for one placement (one tetrahedralisation)."""
-    indices, others, stencil = probe_stencil(field, probes)
+    indices, others, stencil = probe_stencil(field, probes, coherent=True)
     return PlacementQuality(probes=int(indices.shape[0]),
                             irradiance=summarize(_errors(field, indices, others, stencil, "irradiance")),
                             smape=summarize(_errors(field, indices, others, stencil, "smape")))

@@ -88,14 +88,18 @@ def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
 
 
 @njit(cache=True)
-def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates):
-    """The visibility walk of location.py for each query point from its start tetrahedron: cell[m] is
+def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
+         coherent):
+    """The visibility walk of location.py for each query point from its start tetrahedron (coherent:
+    start[0] for the first point, then the tetrahedron where the previous point's walk ended): cell[m] is
     the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, and
     coordinates[m] those coordinates (-1 when the walk leaves through a hull face: resolved, outside),
     resolved[m] False after step_limit steps."""
     lam = np.empty(4)
+    current = start[0] if query.shape[0] else 0
     for m in range(query.shape[0]):
-        current = start[m]
+        if not coherent:
+            current = start[m]
         cell[m] = -1
         resolved[m] = False
         qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]

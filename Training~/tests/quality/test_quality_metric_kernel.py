@@ -13,7 +13,7 @@ from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
 from lpnn.quality import location
-from lpnn.quality.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil
+from lpnn.quality.metric import POINT_ERRORS, ReferenceField, _errors, point_errors, probe_stencil
 from lpnn.quality.policies import prefix_selection
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -81,7 +81,28 @@ def test_the_compiled_errors_equal_the_numpy_formulas(scene, count: int) -> None
     indices, others, stencil = probe_stencil(field, select(count))
     for metric in ("irradiance", "smape"):
         expected = _numpy_errors(field, indices, others, stencil, metric)
-        np.testing.assert_array_equal(point_errors(field, indices, metric), expected)
+        np.testing.assert_array_equal(_errors(field, indices, others, stencil, metric), expected)
+
+
+@pytest.mark.parametrize("count", [6, 90, 2000])
+def test_the_coherent_walk_finds_the_same_cells_up_to_shared_faces(scene, count: int) -> None:
+    # point_errors walks each point from where the previous one ended (location.locate_local's
+    # coherent walk): the same tetrahedron wherever only one holds the point, the same errors up to
+    # the inside tolerance's clipping elsewhere.
+    field, select = scene
+    indices, others, nearest = probe_stencil(field, select(count))
+    _, _, coherent = probe_stencil(field, indices, coherent=True)
+    tri = tetrahedralize(field.world[indices], field.frame)
+    inside = np.flatnonzero(~nearest.outside)
+    clear = inside[location.barycentric(tri, nearest.cell[inside], field.local[others[inside]]).min(axis=1) > 1e-6]
+    assert clear.shape[0] > 0 or count == 2000  # (a dense lattice prefix leaves only points on faces)
+    np.testing.assert_array_equal(coherent.cell[clear], nearest.cell[clear])
+    np.testing.assert_array_equal(coherent.outside, nearest.outside)
+    for metric in ("irradiance", "smape"):
+        exact = _numpy_errors(field, indices, others, nearest, metric)
+        errors = point_errors(field, indices, metric)
+        np.testing.assert_allclose(errors, exact, rtol=0.0, atol=1e-8)
+        assert abs(errors.mean() - exact.mean()) < 1e-12
 
 
 def test_einsum_sums_three_products_as_the_walk_does() -> None:
