@@ -6,9 +6,7 @@ step. These loops compute the same numbers point by point, in numpy's order of o
 results are bit-identical (tests/quality/test_quality_metric_kernel.py compares both on every
 metric and on walks through real tetrahedralisations):
 - a blend is einsum's sum over the 4 stencil probes in stencil order, starting from 0;
-- a row sum is numpy's pairwise sum (numpy/_core/src/umath/loops_utils.h.src: 8 partial sums over
-  the multiple of 8, combined ((r0+r1)+(r2+r3))+((r4+r5)+(r6+r7)), then the rest in order; below 8
-  values a plain running sum from 0);
+- a row sum is numpy's pairwise sum (core/features_kernel.pairwise_sum);
 - a barycentric step is einsum's rest_i = (a_0 + a_2) + a_1 with a_j = inverse[i, j] (q - v0)_j
   (its two-way unrolled sum of three products, measured: tests/quality/test_quality_metric_kernel.py),
   and lambda_0 = 1 - ((rest_0 + rest_1) + rest_2); the walk leaves through the first most negative
@@ -21,39 +19,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.cache import use_project_cache_for_numba
+from ..core.features_kernel import pairwise_sum
 
 use_project_cache_for_numba()
 from numba import njit  # noqa: E402  (after the cache folder is chosen)
 
 IRRADIANCE = 0
 SMAPE = 1
-
-
-@njit(cache=True, inline="always")
-def _pairwise_sum(a, n):
-    """numpy's pairwise_sum for n <= 128 values of a (1-D)."""
-    if n < 8:
-        total = 0.0
-        for i in range(n):
-            total += a[i]
-        return total
-    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
-    i = 8
-    while i < n - (n % 8):
-        r0 += a[i]
-        r1 += a[i + 1]
-        r2 += a[i + 2]
-        r3 += a[i + 3]
-        r4 += a[i + 4]
-        r5 += a[i + 5]
-        r6 += a[i + 6]
-        r7 += a[i + 7]
-        i += 8
-    total = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
-    while i < n:
-        total += a[i]
-        i += 1
-    return total
 
 
 @njit(cache=True)
@@ -82,9 +54,9 @@ def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
             else:
                 difference[c] = abs(i - r) / (abs(i) + abs(r) + floor)
         if metric == IRRADIANCE:
-            out[point] = _pairwise_sum(difference, width) / (_pairwise_sum(magnitude, width) + floor)
+            out[point] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
         else:
-            out[point] = _pairwise_sum(difference, width) / width
+            out[point] = pairwise_sum(difference, width) / width
 
 
 @njit(cache=True)
