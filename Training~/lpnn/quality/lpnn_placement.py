@@ -78,7 +78,7 @@ class PlacementTiming:
 @dataclass(frozen=True)
 class LpnnPlacement:
     indices: np.ndarray  # (K,) int64 point indices, sorted
-    quality: PlacementQuality  # irradiance (primary) and SMAPE errors of `indices`
+    quality: PlacementQuality | None  # irradiance (primary) and SMAPE errors of `indices` (None: report=False)
     ranking: np.ndarray  # (N,) the spread (or top-K) ranking the probes came from (full_ranking=False: its computed prefix)
     requested: int  # the count asked for (budget K, or the tolerance search's answer)
     added_for_tetrahedron: int
@@ -89,7 +89,10 @@ class LpnnPlacement:
 
     @property
     def mean_error(self) -> float:
-        return self.quality.irradiance.mean
+        """The irradiance mean error (report=False: the tolerance search's for the kept prefix, else NaN)."""
+        if self.quality is not None:
+            return self.quality.irradiance.mean
+        return self.checked.get(self.requested, math.nan)
 
 
 def checked_refine(refine: float | None) -> float | None:
@@ -120,14 +123,15 @@ def feature_seconds(capture: Capture) -> float | None:
 def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np.ndarray | None = None,
                    budget: float | None = None, tolerance: float | None = None, refine: float | None = None,
                    topk: bool = False, reference: ReferenceField | None = None, workers: int | None = None,
-                   name: str = "the capture", full_ranking: bool = True) -> LpnnPlacement:
+                   name: str = "the capture", full_ranking: bool = True, report: bool = True) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
     `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
     exact refinement; `topk` ranks by raw score instead of the spread ranking; `reference` reuses
     ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
     `name` appears in error messages; full_ranking=False (spread ranking, no refinement) ranks only the
     points the policy reads (core.spread.SpreadPrefix: the same probes; `ranking` is then the computed
-    prefix). Raises PolicyError for bad parameters."""
+    prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
+    for a budget, no tetrahedralisation of the result). Raises PolicyError for bad parameters."""
     if (budget is None) == (tolerance is None):
         raise PolicyError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.02)")
     if (scorer is None) == (scores is None):
@@ -181,8 +185,11 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         refinement = time.perf_counter() - start
     if lazy is not None:
         ranking = lazy.prefix(lazy.computed)
-    reference = ReferenceField.from_capture(capture) if reference is None else reference
-    return LpnnPlacement(indices=indices, quality=evaluate_placement(reference, indices), ranking=ranking,
+    quality = None
+    if report:
+        reference = ReferenceField.from_capture(capture) if reference is None else reference
+        quality = evaluate_placement(reference, indices)
+    return LpnnPlacement(indices=indices, quality=quality, ranking=ranking,
                          requested=int(requested), added_for_tetrahedron=max(0, int(indices.shape[0]) - int(requested)),
                          refine=factor, timing=PlacementTiming(feature_seconds(capture), inference, selection, refinement),
                          checked=checked, seed_count=seeded)
