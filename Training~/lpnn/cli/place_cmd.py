@@ -1,7 +1,7 @@
 """`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
 
   lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv | --method fast|insertion|uniform|heuristic|apv|random]
-             [--refine F] [--topk] (--budget FRACTION | --tolerance TAU) --out PROBES.json
+             [--refine F] [--topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Without --model, --scores or --method it places by insertion (DEFAULT_METHOD): the best method measured
 where the capture's dense lighting is available, which `lpnn place` always has (benchmarks.md §7.1:
@@ -15,7 +15,8 @@ Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (
 points and decimates down to K. SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
 reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
 lattice, the curvature heuristic, an APV-style geometry density, random.
-Prints the probes kept, the error and (LPNN) the time split.
+Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
+evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
 """
 
 from __future__ import annotations
@@ -56,6 +57,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
                              "(the old behaviour, for comparison)")
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
+    parser.add_argument("--no-report", action="store_true",
+                        help="with --model/--scores: skip the final error evaluation (the dense lighting of every "
+                             "point, one tetrahedralisation of the probes, every point located; ~half of a budget "
+                             "placement at 10^6 points): the probe file then holds no p95 error, and a mean error "
+                             "only with --tolerance (the search's, for the kept prefix)")
     parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for --method fast and --refine (default 1; 2 helps only on an idle second core)")
     parser.set_defaults(handler=run)
 
@@ -68,11 +74,10 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import UserError
     from .errors import user_errors
 
-    if args.method is not None and (args.refine is not None or args.topk):
-        raise UserError("--refine and --topk apply to LPNN scores: use them with --model or --scores")
+    lpnn_only = args.refine is not None or args.topk or args.no_report
+    if lpnn_only and (args.method is not None or (args.model is None and args.scores is None)):
+        raise UserError("--refine, --topk and --no-report apply to LPNN scores: use them with --model or --scores")
     if args.method is None and args.model is None and args.scores is None:
-        if args.refine is not None or args.topk:
-            raise UserError("--refine and --topk apply to LPNN scores: use them with --model or --scores")
         args.method = DEFAULT_METHOD
     capture = read_capture(args.capture)
     # The one place where points inside geometry leave (a capture exported from Unity carries their back-face
@@ -106,7 +111,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
         scores = read_scores_csv(args.scores, all_ids)
         scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
     placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture)
+                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture,
+                               full_ranking=False, report=not args.no_report)
     tier = "top-K" if args.topk else "spread"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
@@ -114,8 +120,9 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     split = (f"features {t.features * 1000:.0f} ms, " if t.features is not None else "") + (
         f"inference {t.inference * 1000:.0f} ms, selection {t.selection * 1000:.0f} ms"
         + (f", refinement {t.refinement:.2f} s" if args.refine is not None else ""))
+    searched = placement.checked.get(placement.requested) if args.tolerance is not None else None
     _write(args, capture, placement.indices, placement.quality, placement.added_for_tetrahedron, f"{what} ({tier})",
-           {"seconds": round(t.total, 4)}, f"; {split}")
+           {"seconds": round(t.total, 4)}, f"; {split}", searched)
     return 0
 
 
@@ -170,19 +177,27 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
     return 0
 
 
-def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, quality: PlacementQuality, added: int,
-           what: str, extra_source: dict, extra_text: str) -> None:
-    """Write the probe file (source: capture, method, policy, errors) and print one summary line."""
+def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, quality: PlacementQuality | None,
+           added: int, what: str, extra_source: dict, extra_text: str, searched_error: float | None = None) -> None:
+    """Write the probe file (source: capture, method, policy, errors) and print one summary line.
+    quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any."""
     from ..quality.probes_file import write_probes_json
 
     n = capture.point_count
     policy = f"budget={args.budget:g}" if args.budget is not None else f"tolerance={args.tolerance:g}"
-    source = {"capture": Path(args.capture).name, "method": what, "policy": policy,
-              "mean_error": round(quality.irradiance.mean, 6), "p95_error": round(quality.irradiance.p95, 6),
-              **extra_source}
+    source = {"capture": Path(args.capture).name, "method": what, "policy": policy}
+    if quality is not None:
+        source.update(mean_error=round(quality.irradiance.mean, 6), p95_error=round(quality.irradiance.p95, 6))
+        errors = (f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
+                  f"(SMAPE mean {quality.smape.mean:.4g})")
+    elif searched_error is not None:
+        source.update(mean_error=round(searched_error, 6))
+        errors = f"mean error {searched_error:.4g} (no report)"
+    else:
+        errors = "error not evaluated (no report)"
+    source.update(extra_source)
     write_probes_json(args.out, capture.positions[indices], capture.units, source)
     kept = indices.shape[0]
     added_text = f" ({added} added for a tetrahedron)" if added else ""
     print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %){added_text}; "
-          f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
-          f"(SMAPE mean {quality.smape.mean:.4g}){extra_text} -> {args.out}")
+          f"{errors}{extra_text} -> {args.out}")

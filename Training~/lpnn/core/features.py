@@ -15,6 +15,7 @@ from typing import Callable, Protocol, runtime_checkable
 import numpy as np
 
 from ..errors import InvalidInputError
+from . import features_kernel
 from . import sh as shmath
 from .grid import EvaluationGrid
 from .schema import LPNN_V1
@@ -203,8 +204,8 @@ def _inverse_neighbours(plus: np.ndarray) -> np.ndarray:
 class _RelativeDifference:
     """rel(A, B) = sum|A - B| / (sum(|A| + |B|) + 42 eps S) over rows of the (N, 42) light values.
 
-    Works in chunks on preallocated buffers (fresh 42-wide temporaries cost more in page faults than
-    in arithmetic). sum(|A| + |B|) is taken as sum|A| + sum|B|, with sum|E| precomputed per point.
+    sum(|A| + |B|) is taken as sum|A| + sum|B|, with sum|E| precomputed per point (in chunks on one
+    buffer); the comparisons run pair by pair in features_kernel.py (no 42-wide temporaries).
     """
 
     def __init__(self, light: np.ndarray, floor: float, chunk: int):
@@ -212,53 +213,25 @@ class _RelativeDifference:
         self.floor = floor
         self.chunk = chunk
         self.abs_sum = np.empty(light.shape[0], dtype=np.float64)
-        self._a = np.empty((min(chunk, light.shape[0]), LIGHT_VALUES), dtype=np.float64)
-        self._b = np.empty_like(self._a)
+        buffer = np.empty((min(chunk, light.shape[0]), LIGHT_VALUES), dtype=np.float64)
         for start in range(0, light.shape[0], chunk):
-            block = self._a[: min(chunk, light.shape[0] - start)]
+            block = buffer[: min(chunk, light.shape[0] - start)]
             np.abs(light[start:start + block.shape[0]], out=block)
             self.abs_sum[start:start + block.shape[0]] = block.sum(axis=1)
-
-    def _gather(self, buffer: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """Light values of `rows` into `buffer`; -1 (absent) rows read row 0 and are masked by the caller."""
-        out = buffer[: rows.shape[0]]
-        np.take(self.light, rows, axis=0, out=out, mode="clip")
-        return out
 
     def raise_change(self, plus: np.ndarray, change: np.ndarray) -> None:
         """change[p] and change[q] = max(., rel(E(q), E(p))) for every pair q = plus[p].
 
-        rel is symmetric (and bit-identical when swapped), so each pair is computed once for both ends.
+        rel is symmetric (and bit-identical when swapped), so each pair is computed once for both ends
+        (compiled: features_kernel.py, numpy's arithmetic).
         """
-        for start in range(0, plus.shape[0], self.chunk):
-            stop = min(start + self.chunk, plus.shape[0])
-            q = plus[start:stop]
-            present = q >= 0
-            diff = self._gather(self._a, q)
-            np.subtract(diff, self.light[start:stop], out=diff)
-            np.abs(diff, out=diff)
-            rel = diff.sum(axis=1)[present] / (self.abs_sum[q[present]] + self.abs_sum[start:stop][present] + self.floor)
-            here = change[start:stop]
-            here[present] = np.maximum(here[present], rel)
-            q = q[present]
-            change[q] = np.maximum(change[q], rel)  # q are distinct: plain assignment is exact
+        features_kernel.raise_change(self.light, self.abs_sum, self.floor, np.ascontiguousarray(plus, dtype=np.int64),
+                                     change)
 
     def raise_curvature(self, plus: np.ndarray, minus: np.ndarray, curvature: np.ndarray) -> None:
         """curvature[p] = max(., rel(E(p), (E(p+) + E(p-))/2)) where both neighbours exist."""
-        for start in range(0, plus.shape[0], self.chunk):
-            stop = min(start + self.chunk, plus.shape[0])
-            both = (plus[start:stop] >= 0) & (minus[start:stop] >= 0)
-            if not np.any(both):
-                continue
-            midpoint = self._gather(self._a, plus[start:stop])
-            np.add(midpoint, self._gather(self._b, minus[start:stop]), out=midpoint)
-            midpoint *= 0.5
-            magnitude = np.abs(midpoint, out=self._b[: stop - start]).sum(axis=1)
-            np.subtract(midpoint, self.light[start:stop], out=midpoint)
-            np.abs(midpoint, out=midpoint)
-            rel = midpoint.sum(axis=1)[both] / (self.abs_sum[start:stop][both] + magnitude[both] + self.floor)
-            here = curvature[start:stop]
-            here[both] = np.maximum(here[both], rel)
+        features_kernel.raise_curvature(self.light, self.abs_sum, self.floor, np.ascontiguousarray(plus, dtype=np.int64),
+                                        np.ascontiguousarray(minus, dtype=np.int64), curvature)
 
 
 # --------------------------------------------------------------------------------------- geometry

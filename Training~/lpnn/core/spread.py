@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import InvalidInputError
 from .features import D14
-from .spread_kernel import weighted_farthest_points
+from .spread_kernel import extend_ranking, start_ranking, weighted_farthest_points
 
 SCORE_FLOOR = 1e-6  # scores are clipped to [SCORE_FLOOR, 1] (NaN -> SCORE_FLOOR)
 DEFAULT_EXPONENT = 0.5
@@ -94,6 +94,42 @@ def spread_ranking(positions: np.ndarray, scores: np.ndarray, exponent: float = 
     if weights.shape[0] != points.shape[0]:
         raise SpreadError(f"{weights.shape[0]:,} scores for {points.shape[0]:,} positions: give one score per point")
     return farthest_point_ranking(points, weights, extreme_seeds(points))
+
+
+class SpreadPrefix:
+    """The spread ranking computed only as far as it is read: prefix(K) is spread_ranking(...)[:K],
+    exactly (the same loop, paused and resumed). A budget or a tolerance at 10^6 points reads a few
+    per cent of the ranking, and the first K of a farthest-point ranking cost far less than all N
+    (each chosen point updates the distances only around it, in an ever smaller neighbourhood)."""
+
+    def __init__(self, positions: np.ndarray, scores: np.ndarray, exponent: float = DEFAULT_EXPONENT):
+        self._points = _checked_points(positions)
+        self._weights = spread_weights(scores, exponent)
+        if self._weights.shape[0] != self._points.shape[0]:
+            raise SpreadError(f"{self._weights.shape[0]:,} scores for {self._points.shape[0]:,} positions: "
+                              "give one score per point")
+        self.point_count = int(self._points.shape[0])
+        self._state = list(start_ranking(self._points, self._weights, extreme_seeds(self._points)))
+
+    @property
+    def computed(self) -> int:
+        """How many leading points are ranked so far."""
+        return int(self._state[1])
+
+    def prefix(self, count: int) -> np.ndarray:
+        """The first min(count, N) points of the ranking (a view: do not modify)."""
+        wanted = min(max(int(count), 0), self.point_count)
+        if wanted > self.computed:
+            # Grow at least geometrically: a search that asks for K, 2K, 4K, ... resumes few times.
+            limit = min(self.point_count, max(wanted, 2 * self.computed))
+            ranked, size = extend_ranking(self._points, self._weights, *self._state, limit)
+            self._state[1], self._state[2] = ranked, size
+        return self._state[0][:wanted]
+
+    def provisional_order(self) -> np.ndarray:
+        """(N,): the points ranked so far, then the others by index (their true order is not known yet)."""
+        ranked = self.computed
+        return np.concatenate([self._state[0][:ranked], np.flatnonzero(~self._state[8])])
 
 
 def farthest_point_ranking(positions: np.ndarray, weights: np.ndarray, seeds: np.ndarray) -> np.ndarray:

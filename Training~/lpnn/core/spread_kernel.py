@@ -150,8 +150,9 @@ def _pop(values, points_of, size) -> int:
 
 
 @njit(cache=True)
-def weighted_farthest_points(points: np.ndarray, weights: np.ndarray, seeds: np.ndarray) -> np.ndarray:
-    """`seeds` (distinct, in order), then repeatedly argmax weight x D, ties to the lower index: (N,) int64."""
+def start_ranking(points: np.ndarray, weights: np.ndarray, seeds: np.ndarray):
+    """The state of a ranking after its seeds: (order, ranked, size, tree_order, span, box, largest,
+    distance, chosen, stack, finish, heap values, heap points); extend_ranking continues it."""
     n = points.shape[0]
     order = np.empty(n, dtype=np.int64)
     tree_order = np.arange(n)
@@ -174,7 +175,15 @@ def weighted_farthest_points(points: np.ndarray, weights: np.ndarray, seeds: np.
     for p in range(n):
         if not chosen[p]:
             size = _push(values, heap_points, size, weights[p] * distance[p], p)
-    while ranked < n:
+    return order, ranked, size, tree_order, span, box, largest, distance, chosen, stack, finish, values, heap_points
+
+
+@njit(cache=True)
+def extend_ranking(points, weights, order, ranked, size, tree_order, span, box, largest, distance, chosen, stack,
+                   finish, values, heap_points, limit):
+    """Rank points until `limit` are ranked (or all); returns the new (ranked, size)."""
+    n = points.shape[0]
+    while ranked < min(limit, n):
         point, stored = heap_points[0], values[0]
         size = _pop(values, heap_points, size)
         current = weights[point] * distance[point]
@@ -185,4 +194,11 @@ def weighted_farthest_points(points: np.ndarray, weights: np.ndarray, seeds: np.
         ranked += 1
         chosen[point] = True
         _update(points, tree_order, span, box, largest, distance, point, stack, finish)
-    return order
+    return ranked, size
+
+
+def weighted_farthest_points(points: np.ndarray, weights: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+    """`seeds` (distinct, in order), then repeatedly argmax weight x D, ties to the lower index: (N,) int64."""
+    state = start_ranking(points, weights, seeds)
+    extend_ranking(points, weights, *state, points.shape[0])
+    return state[0]

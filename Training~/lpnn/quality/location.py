@@ -14,6 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
+from .metric_kernel import walk
 from .triangulation import Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
@@ -59,40 +60,41 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
     return best_cell, best_min
 
 
-def _walk(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Visibility walk for all points at once. Returns cell (-1 = outside) and a 'resolved' mask."""
+def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Visibility walk for all points at once. Returns cell (-1 = outside), a 'resolved' mask and the
+    barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for bit; rows of points
+    not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
+    or with `coherent` (points in grid order) where the previous point's walk ended."""
     centroids = tri.points[tri.tets].mean(axis=1)
-    cell = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
-    result = np.full(query.shape[0], -1, dtype=np.int64)
-    resolved = np.zeros(query.shape[0], dtype=bool)
-    active = np.arange(query.shape[0])
-    for _ in range(WALK_STEP_LIMIT):
-        if active.shape[0] == 0:
-            break
-        lam = barycentric(tri, cell[active], query[active])
-        worst = np.argmin(lam, axis=1)
-        inside = lam[np.arange(active.shape[0]), worst] >= -INSIDE_TOLERANCE
-        result[active[inside]] = cell[active[inside]]
-        resolved[active[inside]] = True
-        moving = active[~inside]
-        step = tri.neighbours[cell[moving], worst[~inside]]
-        # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
-        resolved[moving[step < 0]] = True
-        cell[moving] = step
-        active = moving[step >= 0]
-    return result, resolved
+    first = query[:1] if coherent else query
+    start = np.asarray(cKDTree(centroids).query(first, k=1)[1], dtype=np.int64).reshape(-1)
+    result = np.empty(query.shape[0], dtype=np.int64)
+    resolved = np.empty(query.shape[0], dtype=bool)
+    coordinates = np.empty((query.shape[0], 4))
+    # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin).
+    # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
+         INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
+    return result, resolved, coordinates
 
 
-def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
-    """Stencils for points given in the triangulation's local coordinates (M, 3)."""
+def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False) -> Stencil:
+    """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
+    (points in grid order, each near the previous one) starts each walk where the previous one ended
+    instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
+    10^6 points): the same tetrahedron for every point inside one; a point on a face or edge shared
+    by several may get another of them, with the same weights up to rounding (quality.md §1)."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     m = q.shape[0]
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
         cell, smallest = _brute_force(tri, q)
         cell = np.where(smallest >= -INSIDE_TOLERANCE, cell, -1)
+        walked = np.zeros(m, dtype=bool)
+        coordinates = np.empty((m, 4))
     else:
-        cell, resolved = _walk(tri, q)
-        stuck = np.flatnonzero(~resolved)  # numerically cycling walks: rare, settle them exactly
+        cell, walked, coordinates = _walk(tri, q, coherent)
+        stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
         if stuck.shape[0]:
             fallback, smallest = _brute_force(tri, q[stuck])
             cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
@@ -100,7 +102,9 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray) -> Stencil:
     weights = np.zeros((m, 4))
     anchor = q.copy()
     inside = np.flatnonzero(cell >= 0)
-    lam = np.clip(barycentric(tri, cell[inside], q[inside]), 0.0, None)
+    settled = inside[~walked[inside]]  # cells from the brute force: their coordinates are computed here
+    coordinates[settled] = barycentric(tri, cell[settled], q[settled])
+    lam = np.clip(coordinates[inside], 0.0, None)
     weights[inside] = lam / lam.sum(axis=1, keepdims=True)
     vertices[inside] = tri.tets[cell[inside]]
     outside = cell < 0

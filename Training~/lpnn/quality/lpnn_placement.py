@@ -43,10 +43,11 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, rank
-from ..core.spread import spread_ranking
+from ..core.spread import SpreadPrefix, spread_ranking
 from .decimation import MINIMUM_PROBES
 from .metric import PlacementQuality, ReferenceField, evaluate_placement
-from .policies import PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection
+from .policies import (PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection,
+                       spread_prefix_selection)
 from .reference_fast import fast_decimation
 
 RECOMMENDED_REFINE = 2.0
@@ -77,8 +78,8 @@ class PlacementTiming:
 @dataclass(frozen=True)
 class LpnnPlacement:
     indices: np.ndarray  # (K,) int64 point indices, sorted
-    quality: PlacementQuality  # irradiance (primary) and SMAPE errors of `indices`
-    ranking: np.ndarray  # (N,) the spread (or top-K) ranking the probes came from
+    quality: PlacementQuality | None  # irradiance (primary) and SMAPE errors of `indices` (None: report=False)
+    ranking: np.ndarray  # (N,) the spread (or top-K) ranking the probes came from (full_ranking=False: its computed prefix)
     requested: int  # the count asked for (budget K, or the tolerance search's answer)
     added_for_tetrahedron: int
     refine: float | None
@@ -88,7 +89,10 @@ class LpnnPlacement:
 
     @property
     def mean_error(self) -> float:
-        return self.quality.irradiance.mean
+        """The irradiance mean error (report=False: the tolerance search's for the kept prefix, else NaN)."""
+        if self.quality is not None:
+            return self.quality.irradiance.mean
+        return self.checked.get(self.requested, math.nan)
 
 
 def checked_refine(refine: float | None) -> float | None:
@@ -119,12 +123,15 @@ def feature_seconds(capture: Capture) -> float | None:
 def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np.ndarray | None = None,
                    budget: float | None = None, tolerance: float | None = None, refine: float | None = None,
                    topk: bool = False, reference: ReferenceField | None = None, workers: int | None = None,
-                   name: str = "the capture") -> LpnnPlacement:
+                   name: str = "the capture", full_ranking: bool = True, report: bool = True) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
     `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
     exact refinement; `topk` ranks by raw score instead of the spread ranking; `reference` reuses
     ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
-    `name` appears in error messages. Raises PolicyError for bad parameters."""
+    `name` appears in error messages; full_ranking=False (spread ranking, no refinement) ranks only the
+    points the policy reads (core.spread.SpreadPrefix: the same probes; `ranking` is then the computed
+    prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
+    for a budget, no tetrahedralisation of the result). Raises PolicyError for bad parameters."""
     if (budget is None) == (tolerance is None):
         raise PolicyError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.02)")
     if (scorer is None) == (scores is None):
@@ -143,8 +150,12 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
 
     start = time.perf_counter()
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    ranking = rank(values) if topk else spread_ranking(capture.positions, values)
-    select = prefix_selection(grid, ranking)
+    lazy = None if (full_ranking or topk or factor is not None) else SpreadPrefix(capture.positions, values)
+    if lazy is None:
+        ranking = rank(values) if topk else spread_ranking(capture.positions, values)
+        select = prefix_selection(grid, ranking)
+    else:
+        select = spread_prefix_selection(grid, lazy)
     checked: dict[int, float] = {}
     largest = None if factor is None else largest_seeded_count(factor, n)
     if tau is None:
@@ -172,8 +183,13 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         if refined is not None:
             requested, indices = refined
         refinement = time.perf_counter() - start
-    reference = ReferenceField.from_capture(capture) if reference is None else reference
-    return LpnnPlacement(indices=indices, quality=evaluate_placement(reference, indices), ranking=ranking,
+    if lazy is not None:
+        ranking = lazy.prefix(lazy.computed)
+    quality = None
+    if report:
+        reference = ReferenceField.from_capture(capture) if reference is None else reference
+        quality = evaluate_placement(reference, indices)
+    return LpnnPlacement(indices=indices, quality=quality, ranking=ranking,
                          requested=int(requested), added_for_tetrahedron=max(0, int(indices.shape[0]) - int(requested)),
                          refine=factor, timing=PlacementTiming(feature_seconds(capture), inference, selection, refinement),
                          checked=checked, seed_count=seeded)

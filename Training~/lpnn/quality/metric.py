@@ -31,6 +31,7 @@ from ..core import sh as shmath
 from ..core.capture import Capture
 from ..core.features import D14, scene_scale
 from .location import Stencil, locate_local
+from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
 from .triangulation import Frame, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
@@ -38,6 +39,7 @@ LIGHT_VALUES = D14.shape[0] * 3
 METRIC_NAMES = ("irradiance", "smape")
 PRIMARY_METRIC = "irradiance"
 PERCENTILE = 95.0
+CHUNK_POINTS = 65_536  # rows per pass: per-row arithmetic is unchanged, temporaries stay small at 10^6 points
 
 
 class MetricError(InvalidInputError):
@@ -65,7 +67,7 @@ class ReferenceField:
     @staticmethod
     def from_sh(positions: np.ndarray, sh: np.ndarray, scale: float | None = None) -> "ReferenceField":
         world = checked_positions(positions, "evaluation point positions")
-        values = np.asarray(sh, dtype=np.float64)
+        values = np.asarray(sh)
         if values.shape != (world.shape[0], shmath.SH_FLOATS):
             raise MetricError(f"reference SH must have shape ({world.shape[0]}, 27), got {list(values.shape)}")
         bad = np.flatnonzero(~np.all(np.isfinite(values), axis=1))
@@ -77,10 +79,16 @@ class ReferenceField:
         s = scene_scale(values) if scale is None else float(scale)
         if not (np.isfinite(s) and s > 0.0):
             raise MetricError(f"scene scale {scale!r} must be a finite number > 0")
-        light = shmath.evaluate(values, D14)  # (N, 14, 3)
+        n = world.shape[0]
+        light = np.empty((n, LIGHT_VALUES))
+        ycocg = np.empty((n, LIGHT_VALUES))
+        for start in range(0, n, CHUNK_POINTS):  # row by row the same values; no (N, 42) temporaries
+            stop = min(start + CHUNK_POINTS, n)
+            rgb = shmath.evaluate(values[start:stop], D14)  # (M, 14, 3), float64
+            light[start:stop] = rgb.reshape(-1, LIGHT_VALUES)
+            ycocg[start:stop] = shmath.rgb_to_ycocg(rgb).reshape(-1, LIGHT_VALUES)
         frame = Frame.for_points(world)
-        return ReferenceField(world=world, local=frame.to_local(world), light=light.reshape(-1, LIGHT_VALUES),
-                              ycocg=shmath.rgb_to_ycocg(light).reshape(-1, LIGHT_VALUES), scale=s, frame=frame)
+        return ReferenceField(world=world, local=frame.to_local(world), light=light, ycocg=ycocg, scale=s, frame=frame)
 
     @staticmethod
     def from_capture(capture: Capture) -> "ReferenceField":
@@ -148,29 +156,33 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     return indices
 
 
-def probe_stencil(field: ReferenceField, probes: np.ndarray) -> tuple[np.ndarray, np.ndarray, Stencil]:
-    """Checked probe indices, the other points (M,) and their stencils (indices into the probes)."""
+def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray, Stencil]:
+    """Checked probe indices, the other points (M,) and their stencils (indices into the probes);
+    coherent: location.locate_local's walk from the previous point (the errors' own path)."""
     indices = checked_probes(field, probes)
     tri = tetrahedralize(field.world[indices], field.frame)
     is_probe = np.zeros(field.point_count, dtype=bool)
     is_probe[indices] = True
     others = np.flatnonzero(~is_probe)
-    return indices, others, locate_local(tri, field.local[others])
+    return indices, others, locate_local(tri, field.local[others], coherent)
 
 
 def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
             metric: str) -> np.ndarray:
-    values = field.values(metric)
-    interpolated = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    """Per-point errors (N,), 0 at the probes: metric_kernel.stencil_errors, the numbers of
+    POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
+    floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
     errors = np.zeros(field.point_count)
-    errors[others] = POINT_ERRORS[metric](interpolated, values[others], field.scale)
+    stencil_errors(field.values(metric), indices, stencil.vertices, stencil.weights, others, floor,
+                   IRRADIANCE if metric == "irradiance" else SMAPE, errors)
     return errors
 
 
 def point_errors(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> np.ndarray:
     """Per-point error (N,) of the placement `probes` (indices into the field's points)."""
     checked_metric(metric)
-    return _errors(field, *probe_stencil(field, probes), metric)
+    return _errors(field, *probe_stencil(field, probes, coherent=True), metric)
 
 
 def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> ErrorSummary:
@@ -186,7 +198,7 @@ class PlacementQuality:
 
 def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQuality:
     """Both metrics for one placement (one tetrahedralisation)."""
-    indices, others, stencil = probe_stencil(field, probes)
+    indices, others, stencil = probe_stencil(field, probes, coherent=True)
     return PlacementQuality(probes=int(indices.shape[0]),
                             irradiance=summarize(_errors(field, indices, others, stencil, "irradiance")),
                             smape=summarize(_errors(field, indices, others, stencil, "smape")))

@@ -22,6 +22,7 @@ import numpy as np
 from ..errors import InvalidInputError
 from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, percentile_count
+from ..core.spread import SpreadPrefix
 from .policy_rules import budget_problem, tolerance_problem
 from .decimation import MINIMUM_PROBES, Decimation
 from .metric import PRIMARY_METRIC, ReferenceField, placement_error
@@ -70,6 +71,26 @@ def prefix_selection(grid: EvaluationGrid, ranking: np.ndarray) -> SelectionForC
 
     def select(count: int) -> np.ndarray:
         return ensure_tetrahedron(grid, order, order[:count])[0]
+
+    return select
+
+
+def spread_prefix_selection(grid: EvaluationGrid, spread: SpreadPrefix) -> SelectionForCount:
+    """prefix_selection of the spread ranking, ranking only as many points as a count needs: the same
+    sets. A prefix the tetrahedron guarantee completes with points beyond the ranked ones (a flat
+    prefix) is completed again with the whole ranking."""
+
+    def select(count: int) -> np.ndarray:
+        head = spread.prefix(count)
+        order = spread.provisional_order()
+        indices, added = ensure_tetrahedron(grid, order, head)
+        if added:
+            position = np.empty(order.shape[0], dtype=np.int64)
+            position[order] = np.arange(order.shape[0])
+            if int(position[indices].max()) >= spread.computed:  # completed from the unranked tail
+                order = spread.prefix(spread.point_count)
+                indices = ensure_tetrahedron(grid, order, order[:count])[0]
+        return indices
 
     return select
 

@@ -2,6 +2,8 @@
 
 The session is created once per scorer (2 intra-op threads) and reused; the model card beside the
 model is checked against the features' schema before anything is scored. No TensorFlow here.
+Clouds of more than `chunk_points` points are scored in pieces (onnx_pieces.py: the same scores,
+a fraction of the memory) when the graph allows it.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import onnxruntime as ort
 from .. import __version__
 from ..errors import UserError
 from .modelcard import INPUT_NAME, OUTPUT_NAME, ModelCard, card_path, check_features
+from .onnx_pieces import DEFAULT_CHUNK_POINTS, GraphPieces, score_in_pieces, split_graph
 
 DEFAULT_THREADS = 2
 
@@ -49,8 +52,14 @@ def library_versions(include_training: bool) -> dict[str, str]:
 class OnnxScorer:
     """Scores the points of one cloud (one capture) with an exported LPNN model and its card."""
 
-    def __init__(self, model_path: str | os.PathLike, threads: int = DEFAULT_THREADS):
+    def __init__(self, model_path: str | os.PathLike, threads: int = DEFAULT_THREADS,
+                 chunk_points: int | None = DEFAULT_CHUNK_POINTS):
+        """chunk_points: clouds larger than this are scored in pieces when the graph allows it
+        (onnx_pieces.py); None scores every cloud in one piece."""
         self.model_path = Path(model_path)
+        self.threads = threads
+        self.chunk_points = chunk_points
+        self._pieces: tuple[GraphPieces, list[ort.InferenceSession]] | None = None
         if not self.model_path.is_file():
             raise UserError(f"{self.model_path}: model not found")
         self.card: ModelCard = ModelCard.read(card_path(self.model_path))
@@ -89,8 +98,27 @@ class OnnxScorer:
         if not np.all(np.isfinite(values)):
             row = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0])
             raise UserError(f"features of point {row} are not finite: {values[row].tolist()}")
+        if self.chunk_points is not None and values.shape[0] > self.chunk_points:
+            pieces = self._graph_pieces()
+            if pieces is not None:
+                split, (trunk, pooling, head) = pieces
+                return score_in_pieces(lambda feeds: trunk.run(None, feeds), lambda feeds: pooling.run(None, feeds),
+                                       lambda feeds: head.run(None, feeds), split, values, self.chunk_points)
         output = self.session.run([OUTPUT_NAME], {INPUT_NAME: values[None]})[0]
         return np.ascontiguousarray(output[0], dtype=np.float32)
+
+    def _graph_pieces(self) -> tuple[GraphPieces, list[ort.InferenceSession]] | None:
+        """The graph split for scoring in pieces and a session per piece (built on first use), or None."""
+        if self._pieces is None:
+            import onnx
+
+            split = split_graph(onnx.load(str(self.model_path)))
+            if split is None:
+                self.chunk_points = None  # not splittable: one piece from now on
+                return None
+            self._pieces = (split, [create_session(part, self.threads)
+                                    for part in (split.trunk, split.pooling, split.head)])
+        return self._pieces
 
     def score_capture(self, capture: Any, name: str = "the capture") -> np.ndarray:
         self.check_capture(capture, name)

@@ -92,6 +92,16 @@ def test_place_from_a_scores_file_with_a_tolerance(capture_files: list[Path], tm
                  "--out", str(out)]) == 0
     document = json.loads(out.read_text(encoding="utf-8"))
     assert document["source"]["mean_error"] <= 0.1
+    # --no-report: the same probes, the search's mean error, no final evaluation (no p95).
+    quick = tmp_path / "quick.probes.json"
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--tolerance", "0.1", "--no-report",
+                 "--out", str(quick)]) == 0
+    fast = json.loads(quick.read_text(encoding="utf-8"))
+    assert fast["positions"] == document["positions"] and "p95_error" not in fast["source"]
+    assert fast["source"]["mean_error"] == document["source"]["mean_error"]
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.2", "--no-report",
+                 "--out", str(quick)]) == 0
+    assert "mean_error" not in json.loads(quick.read_text(encoding="utf-8"))["source"]
 
 
 def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_path: Path,
@@ -227,7 +237,7 @@ def test_place_from_scores_uses_the_spread_ranking_topk_and_refinement(capture_f
         assert ("top-K" in printed) == ("--topk" in extra) and ("refinement" in printed) == ("--refine" in extra)
     assert main(["place", str(capture_files[2]), "--method", "uniform", "--refine", "2", "--budget", "0.2",
                  "--out", str(tmp_path / "x.json")]) == 1
-    assert "--refine and --topk apply to LPNN scores" in capsys.readouterr().err
+    assert "--refine, --topk and --no-report apply to LPNN scores" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "1", "--budget", "0.2",
               "--out", str(tmp_path / "x.json")])

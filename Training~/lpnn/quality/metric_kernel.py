@@ -1,0 +1,101 @@
+"""Compiled loops of the placement error (metric.py) and of point location's walk (location.py).
+
+At 10^6 evaluation points the numpy versions spend most of a tolerance search in temporaries: the
+blend gathers (M, 4, 42) values, each error a few (M, 42) arrays, the walk (M, 3, 3) inverses per
+step. These loops compute the same numbers point by point, in numpy's order of operations, so the
+results are bit-identical (tests/quality/test_quality_metric_kernel.py compares both on every
+metric and on walks through real tetrahedralisations):
+- a blend is einsum's sum over the 4 stencil probes in stencil order, starting from 0;
+- a row sum is numpy's pairwise sum (core/features_kernel.pairwise_sum);
+- a barycentric step is einsum's rest_i = (a_0 + a_2) + a_1 with a_j = inverse[i, j] (q - v0)_j
+  (its two-way unrolled sum of three products, measured: tests/quality/test_quality_metric_kernel.py),
+  and lambda_0 = 1 - ((rest_0 + rest_1) + rest_2); the walk leaves through the first most negative
+  coordinate, as numpy's argmin.
+Compiled with numba and cached on disk (core/cache.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.cache import use_project_cache_for_numba
+from ..core.features_kernel import pairwise_sum
+
+use_project_cache_for_numba()
+from numba import njit  # noqa: E402  (after the cache folder is chosen)
+
+IRRADIANCE = 0
+SMAPE = 1
+
+
+@njit(cache=True)
+def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
+    """out[rows[m]] = the error of point rows[m] against the blend of values[probes[vertices[m]]]
+    with weights[m] (metric IRRADIANCE: sum|I - R| / (sum(|I| + |R|) + floor); SMAPE: the mean of
+    |I - R| / (|I| + |R| + floor)), for every m."""
+    width = values.shape[1]
+    interpolated = np.empty(width)
+    difference = np.empty(width)
+    magnitude = np.empty(width)
+    for m in range(rows.shape[0]):
+        point = rows[m]
+        for c in range(width):
+            interpolated[c] = 0.0
+        for k in range(vertices.shape[1]):
+            w = weights[m, k]
+            source = probes[vertices[m, k]]
+            for c in range(width):
+                interpolated[c] += w * values[source, c]
+        for c in range(width):
+            i, r = interpolated[c], values[point, c]
+            if metric == IRRADIANCE:
+                difference[c] = abs(i - r)
+                magnitude[c] = abs(i) + abs(r)
+            else:
+                difference[c] = abs(i - r) / (abs(i) + abs(r) + floor)
+        if metric == IRRADIANCE:
+            out[point] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
+        else:
+            out[point] = pairwise_sum(difference, width) / width
+
+
+@njit(cache=True)
+def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
+         coherent):
+    """The visibility walk of location.py for each query point from its start tetrahedron (coherent:
+    start[0] for the first point, then the tetrahedron where the previous point's walk ended): cell[m] is
+    the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, and
+    coordinates[m] those coordinates (-1 when the walk leaves through a hull face: resolved, outside),
+    resolved[m] False after step_limit steps."""
+    lam = np.empty(4)
+    current = start[0] if query.shape[0] else 0
+    for m in range(query.shape[0]):
+        if not coherent:
+            current = start[m]
+        cell[m] = -1
+        resolved[m] = False
+        qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+        for _ in range(step_limit):
+            base = tets[current, 0]
+            dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
+            total = 0.0
+            for i in range(3):
+                rest = (inverse[current, i, 0] * dx + inverse[current, i, 2] * dz) + inverse[current, i, 1] * dy
+                lam[i + 1] = rest
+                total += rest
+            lam[0] = 1.0 - total
+            worst = 0
+            for i in range(1, 4):
+                if lam[i] < lam[worst]:
+                    worst = i
+            if lam[worst] >= -inside_tolerance:
+                cell[m] = current
+                resolved[m] = True
+                for i in range(4):
+                    coordinates[m, i] = lam[i]
+                break
+            step = neighbours[current, worst]
+            if step < 0:  # beyond that hull face's plane: outside the hull
+                resolved[m] = True
+                break
+            current = step

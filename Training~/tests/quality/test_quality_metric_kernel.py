@@ -1,0 +1,113 @@
+"""The compiled metric and walk (metric_kernel.py) give the numpy formulas' numbers bit for bit:
+the placement errors and the cells a walk reaches, on a lattice (points on shared faces and edges,
+where the walk's choices matter) and on jittered points (no ties)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from lpnn.core import sh as shmath
+from lpnn.core.analytic_scene import AnalyticScene
+from lpnn.core.grid import EvaluationGrid
+from lpnn.core.spread import spread_ranking
+from lpnn.quality import location
+from lpnn.quality.metric import POINT_ERRORS, ReferenceField, _errors, point_errors, probe_stencil
+from lpnn.quality.policies import prefix_selection
+from lpnn.quality.triangulation import tetrahedralize
+
+
+def _numpy_walk(tri, query):
+    """location._walk as numpy passes over every active point (the code the compiled walk replaced)."""
+    centroids = tri.points[tri.tets].mean(axis=1)
+    cell = np.asarray(cKDTree(centroids).query(query, k=1)[1], dtype=np.int64).reshape(-1)
+    result = np.full(query.shape[0], -1, dtype=np.int64)
+    resolved = np.zeros(query.shape[0], dtype=bool)
+    active = np.arange(query.shape[0])
+    for _ in range(location.WALK_STEP_LIMIT):
+        if active.shape[0] == 0:
+            break
+        lam = location.barycentric(tri, cell[active], query[active])
+        worst = np.argmin(lam, axis=1)
+        inside = lam[np.arange(active.shape[0]), worst] >= -location.INSIDE_TOLERANCE
+        result[active[inside]] = cell[active[inside]]
+        resolved[active[inside]] = True
+        moving = active[~inside]
+        step = tri.neighbours[cell[moving], worst[~inside]]
+        resolved[moving[step < 0]] = True
+        cell[moving] = step
+        active = moving[step >= 0]
+    return result, resolved
+
+
+def _numpy_errors(field, indices, others, stencil, metric):
+    values = field.values(metric)
+    errors = np.zeros(field.point_count)
+    interpolated = shmath.blend(values[indices], stencil.vertices, stencil.weights)
+    errors[others] = POINT_ERRORS[metric](interpolated, values[others], field.scale)
+    return errors
+
+
+@pytest.fixture(scope="module", params=["lattice", "jittered"])
+def scene(request):
+    capture = AnalyticScene.random(7, cell_size=0.25, room_size=(4.0, 2.5, 3.0)).capture(name="room")  # ~8,000 points
+    positions = capture.positions.astype(np.float64)
+    if request.param == "jittered":
+        positions = positions + np.random.default_rng(3).uniform(-0.05, 0.05, positions.shape)
+    field = ReferenceField.from_sh(positions, capture.sh, capture.lighting_scale)
+    scores = np.random.default_rng(5).uniform(size=capture.point_count)
+    ranking = spread_ranking(positions.astype(np.float32), scores)
+    return field, prefix_selection(EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), ranking)
+
+
+@pytest.mark.parametrize("count", [6, 60, 600, 3000])
+def test_the_compiled_walk_reaches_the_numpy_walks_cells(scene, count: int) -> None:
+    field, select = scene
+    tri = tetrahedralize(field.world[select(count)], field.frame)
+    expected = _numpy_walk(tri, field.local)
+    actual = location._walk(tri, field.local)
+    np.testing.assert_array_equal(actual[0], expected[0])
+    np.testing.assert_array_equal(actual[1], expected[1])
+    inside = np.flatnonzero(expected[0] >= 0)  # the walk's last coordinates are `barycentric`'s
+    np.testing.assert_array_equal(actual[2][inside], location.barycentric(tri, expected[0][inside], field.local[inside]))
+    if count == 6:  # a hull of few probes: some points are walked out of it
+        assert np.count_nonzero(expected[0] < 0) > 0
+
+
+@pytest.mark.parametrize("count", [5, 90, 2000])
+def test_the_compiled_errors_equal_the_numpy_formulas(scene, count: int) -> None:
+    field, select = scene
+    indices, others, stencil = probe_stencil(field, select(count))
+    for metric in ("irradiance", "smape"):
+        expected = _numpy_errors(field, indices, others, stencil, metric)
+        np.testing.assert_array_equal(_errors(field, indices, others, stencil, metric), expected)
+
+
+@pytest.mark.parametrize("count", [6, 90, 2000])
+def test_the_coherent_walk_finds_the_same_cells_up_to_shared_faces(scene, count: int) -> None:
+    # point_errors walks each point from where the previous one ended (location.locate_local's
+    # coherent walk): the same tetrahedron wherever only one holds the point, the same errors up to
+    # the inside tolerance's clipping elsewhere.
+    field, select = scene
+    indices, others, nearest = probe_stencil(field, select(count))
+    _, _, coherent = probe_stencil(field, indices, coherent=True)
+    tri = tetrahedralize(field.world[indices], field.frame)
+    inside = np.flatnonzero(~nearest.outside)
+    clear = inside[location.barycentric(tri, nearest.cell[inside], field.local[others[inside]]).min(axis=1) > 1e-6]
+    assert clear.shape[0] > 0 or count == 2000  # (a dense lattice prefix leaves only points on faces)
+    np.testing.assert_array_equal(coherent.cell[clear], nearest.cell[clear])
+    np.testing.assert_array_equal(coherent.outside, nearest.outside)
+    for metric in ("irradiance", "smape"):
+        exact = _numpy_errors(field, indices, others, nearest, metric)
+        errors = point_errors(field, indices, metric)
+        np.testing.assert_allclose(errors, exact, rtol=0.0, atol=1e-8)
+        assert abs(errors.mean() - exact.mean()) < 1e-12
+
+
+def test_einsum_sums_three_products_as_the_walk_does() -> None:
+    # The walk's barycentric step relies on einsum's order for a 3-term contraction, (a0 + a2) + a1.
+    rng = np.random.default_rng(0)
+    inverse, d = rng.normal(size=(20_000, 3, 3)), rng.normal(size=(20_000, 3))
+    a = inverse * d[:, None, :]
+    np.testing.assert_array_equal(np.einsum("...ij,...j->...i", inverse, d), (a[..., 0] + a[..., 2]) + a[..., 1])
