@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -31,6 +31,9 @@ BACKEND = "openarena"
 # The lattice before solid removal may hold this many times the point limit: only ids and
 # positions exist at that stage (~24 bytes a point), and big open levels lose most of it.
 LATTICE_FACTOR = 4
+
+if TYPE_CHECKING:  # lights/ builds on scenes/: imported only where a rig lights the capture
+    from ..lights.relight import RigLighting
 
 Progress = Callable[[str, int, int], None]  # (step, done, total)
 
@@ -59,7 +62,7 @@ def auto_box(level: Level) -> Box:
 def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: list[Box] | None = None,
                  point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
                  drop_unlit: bool = False, timings_in_source: bool = True,
-                 progress: Progress | None = None) -> ImportResult:
+                 progress: Progress | None = None, lighting: "RigLighting | None" = None) -> ImportResult:
     """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
     are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
 
@@ -68,20 +71,21 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     not in solid (hydronex, oa_koth1, czest3ctf: about two thirds of their open points).
 
     timings_in_source=False leaves `feature_seconds` out of the capture, so the same level and cell
-    give byte-identical files.
+    give byte-identical files. `lighting`: None = the light grid; a rig = the probe baker's SH
+    (lights/relight.py; "unlit" then means no light, ambient or bounce reaches the point).
     """
     if point_limit < 1:
         raise ValueError(f"point_limit {point_limit} must be at least 1")
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     level = load_level(source) if isinstance(source, str) else source
-    light_grid = LightGrid.from_bsp(level.bsp)
+    light_grid = LightGrid.from_bsp(level.bsp) if lighting is None else None
     seconds["read"] = time.perf_counter() - clock
 
     grid, lattice_points, removed = _open_grid(level, boxes, cell_size, point_limit, seconds, progress)
 
     clock = time.perf_counter()
-    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, grid, drop_unlit, progress)
+    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, lighting, grid, drop_unlit, progress)
     positions = grid.positions
     seconds["sh"] = time.perf_counter() - clock
 
@@ -98,6 +102,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     rays = raycaster.rays_cast
 
     source_info = _source_info(level, bounds_label, rays, removed, unlit, removed_unlit)
+    source_info.update({"lighting": "grid"} if lighting is None else lighting.source_fields())
     if timings_in_source:
         source_info["feature_seconds"] = round(seconds["features"], 3)
     capture = Capture(
@@ -140,12 +145,16 @@ def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_li
     return grid, lattice.point_count, removed
 
 
-def _sampled_sh(level: Level, light_grid: LightGrid, grid: EvaluationGrid, drop_unlit: bool,
-                progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
-    """SH of the light grid at every point, as the capture stores it (float32):
+def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: "RigLighting | None", grid: EvaluationGrid,
+                drop_unlit: bool, progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
+    """SH of the light grid (or baked from the rig) at every point, as the capture stores it (float32):
     (grid, sh, unlit points kept, unlit points removed); drop_unlit removes the unlit ones."""
-    sh, lit = light_grid.sh_at(grid.positions, None if progress is None else
-                               (lambda done, total: progress("light grid", done, total)))
+    step = "light grid" if lighting is None else "rig bake"
+    step_progress = None if progress is None else (lambda done, total: progress(step, done, total))
+    if lighting is None:
+        sh, lit = light_grid.sh_at(grid.positions, step_progress)
+    else:
+        sh, lit = lighting.sh_at(level, grid.positions, step_progress)
     unlit = int(np.count_nonzero(~lit))
     removed_unlit = 0
     if drop_unlit and unlit:
