@@ -29,7 +29,7 @@ from ..core.atomic import write_text_atomic
 from ..core.features import D14, scene_scale
 from ..core.sh import ambient_plus_directed, evaluate, luminance
 from ..quality.metric import irradiance_error
-from ..scenes.coords import quake_to_unity
+from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.levels import load_level
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from .bake import GATHER_DIRECTIONS, BakeScene, BakeSettings, bake_sh
@@ -86,6 +86,40 @@ def check_level(name: str, rig_path: Path | None, directions: int) -> dict[str, 
     return row
 
 
+CONTINUITY_HALF_SIDE = 4.0  # metres: the region baked at both cells, around a valid light-grid node
+COARSE_CELL, FINE_CELL = 1.6256, 0.4064  # 64 and 16 Quake units: every coarse point is a fine point
+
+
+def check_continuity(name: str, rig_path: Path) -> dict[str, Any]:
+    """The same region imported at COARSE_CELL and FINE_CELL with the rig: SH at the points both share
+    (max and mean relative difference, |a - b| summed over 27 values / (|a| + |b|) summed), and how far
+    the fine points lie from the coarse lattice's trilinear interpolation (what the fine cell adds)."""
+    from ..core.grid import Box
+    from ..scenes.importer import import_level
+    from .relight import RigLighting
+
+    level = load_level(name)
+    lighting = RigLighting.read(rig_path)
+    stored = stored_grid(level.bsp)
+    centre = quake_to_unity(stored.positions[len(stored.positions) // 2][None])[0]
+    box = Box.axis_aligned(centre - CONTINUITY_HALF_SIDE, centre + CONTINUITY_HALF_SIDE)
+    coarse, fine = (import_level(level, cell, boxes=[box], lighting=lighting, timings_in_source=False).capture
+                    for cell in (COARSE_CELL, FINE_CELL))
+    key = np.rint(unity_to_quake(fine.positions.astype(np.float64))).astype(np.int64)
+    index = {tuple(k): i for i, k in enumerate(key)}
+    pairs = [(i, index.get(tuple(k))) for i, k in
+             enumerate(np.rint(unity_to_quake(coarse.positions.astype(np.float64))).astype(np.int64))]
+    pairs = [(a, b) for a, b in pairs if b is not None]
+    a = coarse.sh[[p[0] for p in pairs]].astype(np.float64)
+    b = fine.sh[[p[1] for p in pairs]].astype(np.float64)
+    magnitude = (np.abs(a) + np.abs(b)).sum(axis=1)
+    relative = np.abs(a - b).sum(axis=1) / np.where(magnitude > 0, magnitude, 1.0)
+    return {"level": level.name, "centre": [round(float(v), 3) for v in centre], "coarse_points": coarse.point_count,
+            "fine_points": fine.point_count, "shared": len(pairs),
+            "shared_max_relative": float(relative.max(initial=0.0)),
+            "shared_mean_relative": float(relative.mean()) if len(pairs) else float("nan")}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     rigs = parser.add_mutually_exclusive_group(required=True)
@@ -94,7 +128,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--levels", nargs="+", required=True)
     parser.add_argument("--directions", type=int, default=GATHER_DIRECTIONS)
     parser.add_argument("--out", type=Path, help="write the rows as JSON here")
+    parser.add_argument("--continuity", action="store_true",
+                        help=f"instead: import a {2 * CONTINUITY_HALF_SIDE:g} m cube at {COARSE_CELL} and {FINE_CELL} m "
+                             f"cells with the rig and compare the shared points")
     args = parser.parse_args(argv)
+    if args.continuity:
+        if args.rigs is None:
+            parser.error("--continuity needs --rigs")
+        rows = [check_continuity(name, args.rigs / f"{name}.json") for name in args.levels]
+        for row in rows:
+            print(json.dumps(row))
+        if args.out:
+            write_text_atomic(args.out, json.dumps(rows, indent=1) + "\n")
+        return 0
     rows = []
     print("| level | lights | nodes | direct+ambient: mean (p95), plain, DC ratio | + bounce: mean (p95), plain, "
           "DC ratio | q3map2 grid rule: mean (p95), plain | bake s (bounce) |\n|---|---|---|---|---|---|---|")
