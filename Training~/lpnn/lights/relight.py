@@ -5,6 +5,7 @@ the probe baker's SH at the capture's points instead of the light grid's, and wh
 from __future__ import annotations
 
 import hashlib
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -32,6 +33,13 @@ class RigLighting:
         rig = read_rig(path)
         return cls(rig=rig, name=Path(path).name, sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
                    settings=settings)
+
+    @classmethod
+    def of_rig(cls, rig: Rig, name: str, settings: BakeSettings = BakeSettings()) -> "RigLighting":
+        """A rig made in memory (a relit variant): its hash is that of its canonical JSON."""
+        canonical = json.dumps({"ambient": rig.ambient.tolist(), "positions": rig.positions.tolist(),
+                                "colours": rig.colours.tolist(), "intensities": rig.intensities.tolist()})
+        return cls(rig=rig, name=name, sha256=hashlib.sha256(canonical.encode()).hexdigest(), settings=settings)
 
     def check_level(self, level: Level) -> None:
         if self.rig.bsp_sha256 and self.rig.bsp_sha256 != level.sha256:
