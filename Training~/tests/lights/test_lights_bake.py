@@ -112,3 +112,19 @@ def test_gather_directions_are_unit_and_balanced():
     assert np.linalg.norm(directions.mean(axis=0)) < 1e-2
     with pytest.raises(ValueError, match="at least 1"):
         gather_directions(0)
+
+
+def test_against_the_grid_rule_one_light_gives_two_thirds_of_the_grids_dc():
+    """lights.md §8 "Units and scale": the grid stores D = c, A = 0.125 c, i.e. DC 0.375 c; the bake 0.25 c."""
+    from lpnn.core.sh import ambient_plus_directed
+    from lpnn.lights.compare import relight_grid
+
+    scene = room_scene(pillar=False)
+    rig = one_light([100.0, 150.0, 200.0], colour=(1.0, 0.9, 0.7), intensity=200.0)
+    point_q = np.array([[120.0, 90.0, 60.0]])
+    grid = relight_grid(point_q, rig, scene.occluders)
+    grid_sh = PER_BYTE * ambient_plus_directed(grid.ambient, grid.directed, quake_to_unity(grid.direction, scale=1.0))
+    baked = bake_sh(scene, rig, quake_to_unity(point_q), DIRECT_ONLY).sh
+    np.testing.assert_allclose(baked.reshape(3, 9)[:, 0] / grid_sh.reshape(3, 9)[:, 0], 2.0 / 3.0, rtol=1e-9)
+    # the same direction: the linear terms agree exactly (both are d l / 2 with d = c)
+    np.testing.assert_allclose(baked.reshape(3, 9)[:, 1:4], grid_sh.reshape(3, 9)[:, 1:4], rtol=1e-9)
