@@ -53,6 +53,9 @@ class BakeSettings:
             raise ValueError(f"gather directions {self.directions} must be at least 1")
 
 
+DEFAULT_BAKE = BakeSettings()
+
+
 @dataclass(frozen=True)
 class BakeScene:
     """The geometry a rig lights, in Quake units: lit surfaces (positions, normals, albedo of the
@@ -111,7 +114,7 @@ def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
     return model.radiance_of(lights, model.visibility(lights))
 
 
-def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: BakeSettings = BakeSettings(),
+def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: BakeSettings = DEFAULT_BAKE,
             progress: Callable[[int, int], None] | None = None) -> BakeResult:
     """SH (N, 27) at points (N, 3) in Unity metres lit by `rig` (module docstring)."""
     points = np.asarray(unity_points, dtype=np.float64)

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..scenes.errors import BspError
 from ..scenes.levels import Level
-from .bake import BakeScene, BakeSettings, bake_sh
+from .bake import DEFAULT_BAKE, BakeScene, BakeSettings, bake_sh
 from .rig import Rig, RigError, read_rig
 
 GRID_SOURCE = {"lighting": "grid"}
@@ -26,16 +26,16 @@ class RigLighting:
     rig: Rig
     name: str  # what the capture records: the rig file's name, or the variant's label
     sha256: str  # of the rig's file bytes, or of its canonical JSON for a variant made in memory
-    settings: BakeSettings = BakeSettings()
+    settings: BakeSettings = DEFAULT_BAKE
 
     @classmethod
-    def read(cls, path: Path, settings: BakeSettings = BakeSettings()) -> "RigLighting":
+    def read(cls, path: Path, settings: BakeSettings = DEFAULT_BAKE) -> "RigLighting":
         rig = read_rig(path)
         return cls(rig=rig, name=Path(path).name, sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
                    settings=settings)
 
     @classmethod
-    def of_rig(cls, rig: Rig, name: str, settings: BakeSettings = BakeSettings()) -> "RigLighting":
+    def of_rig(cls, rig: Rig, name: str, settings: BakeSettings = DEFAULT_BAKE) -> "RigLighting":
         """A rig made in memory (a relit variant): its hash is that of its canonical JSON."""
         canonical = json.dumps({"ambient": rig.ambient.tolist(), "positions": rig.positions.tolist(),
                                 "colours": rig.colours.tolist(), "intensities": rig.intensities.tolist()})

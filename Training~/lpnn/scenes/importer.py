@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -32,10 +32,16 @@ BACKEND = "openarena"
 # positions exist at that stage (~24 bytes a point), and big open levels lose most of it.
 LATTICE_FACTOR = 4
 
-if TYPE_CHECKING:  # lights/ builds on scenes/: imported only where a rig lights the capture
-    from ..lights.relight import RigLighting
-
 Progress = Callable[[str, int, int], None]  # (step, done, total)
+
+
+class ProbeLighting(Protocol):
+    """Lighting other than the light grid (lights/relight.py: a rig); scenes/ does not import lights/."""
+
+    def sh_at(self, level: Level, unity_positions: np.ndarray,
+              progress: Callable[[int, int], None] | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+
+    def source_fields(self) -> dict[str, str | int | bool]: ...
 
 
 @dataclass
@@ -62,7 +68,7 @@ def auto_box(level: Level) -> Box:
 def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: list[Box] | None = None,
                  point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
                  drop_unlit: bool = False, timings_in_source: bool = True,
-                 progress: Progress | None = None, lighting: "RigLighting | None" = None) -> ImportResult:
+                 progress: Progress | None = None, lighting: ProbeLighting | None = None) -> ImportResult:
     """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
     are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
 
@@ -145,7 +151,7 @@ def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_li
     return grid, lattice.point_count, removed
 
 
-def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: "RigLighting | None", grid: EvaluationGrid,
+def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: ProbeLighting | None, grid: EvaluationGrid,
                 drop_unlit: bool, progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
     """SH of the light grid (or baked from the rig) at every point, as the capture stores it (float32):
     (grid, sh, unlit points kept, unlit points removed); drop_unlit removes the unlit ones."""
