@@ -1,6 +1,6 @@
 """`lpnn recipe`: the default model's training recipe (Documentation~/training.md "Default model").
 
-  lpnn recipe run --work DIR [--pak PAK] [--quick] [--install MODELS_DIR]
+  lpnn recipe run --work DIR [--pak PAK] [--quick] [--variants N] [--install MODELS_DIR]
   lpnn recipe report MODEL.onnx [--check DOCUMENT.md]
 
 `run` imports crops of every level of openarena-081-maps, splits by level (held-out levels chosen by
@@ -27,6 +27,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     run_parser.add_argument("--pak", metavar="PAK",
                             help="openarena maps pak (default: $LPNN_OPENARENA_PAK, else the Debian path)")
     run_parser.add_argument("--quick", action="store_true", help="reduced recipe: 6 levels, short training (CI)")
+    run_parser.add_argument("--variants", type=int, default=0, metavar="N",
+                            help="relit variants per training crop (seeded perturbations of each training level's "
+                                 "recovered rig, lights.md §9; never for validation or held-out levels; default 0)")
     run_parser.add_argument("--install", metavar="MODELS_DIR", help="copy the model and its card here when done")
     run_parser.set_defaults(handler=_run)
     report_parser = commands.add_parser("report", help="print the held-out table of a recipe model's card")
@@ -37,12 +40,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
     from ..recipe.config import QUICK, RecipeConfig
     from ..recipe.run import run_recipe
+    from .errors import UserError
     from .scene_cmd import existing_pak
 
     pak = existing_pak(args.pak)
     config = QUICK if args.quick else RecipeConfig()
+    if args.variants < 0:
+        raise UserError(f"--variants {args.variants} must be 0 or more")
+    if args.variants:
+        config = replace(config, variants_per_crop=args.variants,
+                         variant_rig_scheme="quick" if args.quick else config.variant_rig_scheme)
     result = run_recipe(pak, Path(args.work), config, install_to=Path(args.install) if args.install else None)
     total = sum(result.times.seconds.values())
     print(f"model: {result.model} ({total / 60:.1f} min over " +

@@ -1,7 +1,8 @@
 """`lpnn scene ...`: OpenArena (Quake III BSP) levels as light-probe captures (Documentation~/openarena.md).
 
   lpnn scene info LEVEL
-  lpnn scene import LEVEL [--cell M] [--bounds auto | x0,y0,z0,x1,y1,z1 ...] (--out FILE | --append-to DIR)
+  lpnn scene import LEVEL [--cell M] [--lighting grid|rig:RIG.json] [--bounds auto | x0,y0,z0,x1,y1,z1 ...]
+                    (--out FILE | --append-to DIR)
   lpnn scene check-pack [PAK]
   lpnn scene lights LEVEL [--grid NxNxM] [--scheme NAME] (--out RIG.json | --compare RIG.json)
 
@@ -47,6 +48,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="which points cannot hold a probe: 'bsp' (default) in solid or outside the map by the exact "
                           "BSP test; 'rays' by Unity's probe-validity rule (more than a quarter of 26 rays hit back "
                           "faces); 'both' either (Documentation~/openarena.md)")
+    imp.add_argument("--lighting", default="grid", metavar="grid|rig:RIG.json",
+                     help="the SH of the capture: 'grid' samples the level's light grid (default); 'rig:RIG.json' bakes "
+                          "them from a rig of lpnn scene lights (direct light, shadows and one bounce, lights.md §8)")
     imp.add_argument("--reproducible", action="store_true",
                      help="leave the wall-clock feature_seconds out of the capture: same level + cell = same bytes")
     imp.add_argument("--quiet", action="store_true", help="no progress bars")
@@ -89,6 +93,7 @@ def _info(args: argparse.Namespace) -> None:
 
 def _import(args: argparse.Namespace) -> None:
     from ..core.capture import append_capture, write_capture
+    from ..lights.relight import parse_lighting
     from ..scenes.importer import import_level
 
     _check_settings(args.cell, args.point_limit)
@@ -96,7 +101,7 @@ def _import(args: argparse.Namespace) -> None:
     with level_user_errors(), _progress_bars(enabled=not args.quiet) as progress:
         result = import_level(args.level, args.cell, boxes=boxes, point_limit=args.point_limit, bounds_label=label,
                               drop_unlit=args.drop_unlit, timings_in_source=not args.reproducible,
-                              progress=progress, validity=args.validity)
+                              progress=progress, validity=args.validity, lighting=parse_lighting(args.lighting))
     clock = time.perf_counter()
     if args.out is not None:
         path = write_capture(args.out, result.capture)

@@ -93,16 +93,12 @@ def directional(direction: np.ndarray, rgb: np.ndarray, intensity: float | np.nd
     return out.reshape(out.shape[:-2] + (SH_FLOATS,))
 
 
-def ambient_plus_directed(ambient_rgb: np.ndarray, directed_rgb: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """L2 least-squares fit of a + d*max(0, n.l) per channel, in Unity's stored convention.
-
-    ambient_rgb, directed_rgb: (..., 3); direction: unit (..., 3) toward the light. Returns (..., 27).
-    """
-    a = np.asarray(ambient_rgb, dtype=np.float64)
-    d = np.asarray(directed_rgb, dtype=np.float64)
+def clamped_cosine_factors(direction: np.ndarray) -> np.ndarray:
+    """(..., 9): the stored SH of max(0, n.l) for unit `direction` l (toward the light), one channel:
+    the L2 least-squares fit in Unity's convention (sh.md "Ambient + directed" with a = 0, d = 1)."""
     l = np.asarray(direction, dtype=np.float64)
     lx, ly, lz = l[..., 0], l[..., 1], l[..., 2]
-    factors = np.stack(
+    return np.stack(
         [
             np.full_like(lx, 0.25),
             0.5 * ly,
@@ -116,6 +112,16 @@ def ambient_plus_directed(ambient_rgb: np.ndarray, directed_rgb: np.ndarray, dir
         ],
         axis=-1,
     )
+
+
+def ambient_plus_directed(ambient_rgb: np.ndarray, directed_rgb: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """L2 least-squares fit of a + d*max(0, n.l) per channel, in Unity's stored convention.
+
+    ambient_rgb, directed_rgb: (..., 3); direction: unit (..., 3) toward the light. Returns (..., 27).
+    """
+    a = np.asarray(ambient_rgb, dtype=np.float64)
+    d = np.asarray(directed_rgb, dtype=np.float64)
+    factors = clamped_cosine_factors(direction)
     out = d[..., :, None] * factors[..., None, :]
     out[..., 0] += a
     return out.reshape(out.shape[:-2] + (SH_FLOATS,))

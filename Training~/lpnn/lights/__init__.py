@@ -10,4 +10,8 @@ Modules, one responsibility each:
   model       radiance of point lights at the target points, its gradient, shadow-ray visibility
   rig         the rig file (JSON): write, read, validate; the level's own light entities
   optimise    initial grid in open space, penalties, Adam / L-BFGS phases, schemes
+  pointlight  what a point light gives a free point (grid rule): shared by compare and bake
+  bake        probe SH at any points from a rig: direct light with shadow rays, one gathered bounce
+  relight     a rig as the importer's lighting (--lighting rig:RIG.json) and the capture's record
+  bake_check  the baker's validation against the stored light grid (benchmarks.md §9)
 """

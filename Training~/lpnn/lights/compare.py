@@ -31,16 +31,15 @@ from ..scenes.bsp import Bsp
 from ..scenes.errors import BspError
 from ..scenes.lightgrid import decode_directions
 from ..scenes.raycast import EmbreeRaycaster
-from .model import MIN_DISTANCE, POINT_SCALE
+from .model import POINT_SCALE
+from .pointlight import visible_light
 from .rig import Rig
 
 MATCH_RADIUS = 1.0  # metres
 SIGNIFICANT_SHARE = 0.01
 BYTE_MAX = 255.0
 GRID_AMBIENT_FUDGE = 0.125  # q3map2's "keep ambient up" share of the directed light (id q3map: 0.25)
-DROPPED_CONTRIBUTION = 1.0  # bytes: q3map2 ignores a light adding this much or less
 NODES_PER_CHUNK = 2048
-RAY_MIN_LENGTH = 1e-3  # Quake units
 
 
 @dataclass(frozen=True)
@@ -107,17 +106,7 @@ def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None)
     direction = np.zeros((len(nodes), 3))
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
-        offset = lights[None, :, :] - nodes[chunk, None, :]  # (C, J, 3)
-        distance = np.linalg.norm(offset, axis=2)
-        unit = offset / np.maximum(distance, 1e-9)[..., None]
-        colour = emitted[None, :, :] / np.maximum(distance, MIN_DISTANCE)[..., None] ** 2  # (C, J, 3)
-        counts = colour.max(axis=2) > DROPPED_CONTRIBUTION
-        if raycaster is not None:
-            node, light = np.nonzero(counts & (distance > RAY_MIN_LENGTH))  # a light on the node is seen
-            length = distance[node, light]
-            hits, _ = raycaster.cast(nodes[chunk][node], unit[node, light], float(length.max(initial=0.0)))
-            counts[node[hits < length], light[hits < length]] = False
-        colour = np.where(counts[..., None], colour, 0.0)
+        colour, unit = visible_light(nodes[chunk], lights, emitted, raycaster)  # (C, J, 3) each
         main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
         length = np.linalg.norm(main, axis=1, keepdims=True)
         main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)

@@ -31,6 +31,7 @@ BOX_MARGIN = 1.0  # Quake units inside the world box: positions on its faces are
 class LevelScene:
     level: Level
     target: RadianceTarget
+    triangles: np.ndarray  # (T, 3) the target mesh's triangles (indices into target.positions)
     albedo: Albedo
     model: ForwardModel
     is_open: Callable[[np.ndarray], np.ndarray]
@@ -78,7 +79,7 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
         return ~solid.solid_or_outside(points)
 
     bounds = (bsp.world_mins + BOX_MARGIN, bsp.world_maxs - BOX_MARGIN)
-    return LevelScene(level=level, target=target, albedo=albedo, model=ForwardModel(target, raycaster),
+    return LevelScene(level=level, target=target, triangles=mesh.triangles, albedo=albedo, model=ForwardModel(target, raycaster),
                       is_open=is_open, bounds=bounds, max_edge=used_edge, seconds=seconds)
 
 

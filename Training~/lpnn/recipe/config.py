@@ -27,6 +27,10 @@ class RecipeConfig:
     crop_attempts: int = 40
     label_budget: float = 0.2  # positive = kept by the fast reference at this fraction of the points
     workers: int = 2  # processes for importing and labelling
+    # Relit variants (lights.md §9): this many re-lit captures of every *training* crop, from seeded
+    # perturbations of the level's recovered rig (never for validation or held-out levels); 0 = none.
+    variants_per_crop: int = 0
+    variant_rig_scheme: str = "mixed"  # the `lpnn scene lights` scheme that recovers each training level's rig
     levels: tuple[str, ...] | None = None  # None: every level of the pak
     train: TrainConfig = field(default_factory=lambda: TrainConfig(epochs=100, patience=20, steps_per_epoch=60))
 

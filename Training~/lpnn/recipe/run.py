@@ -75,6 +75,10 @@ class RecipePaths:
         return self.work / "model" / f"{MODEL_NAME}.ckpt.npz"
 
     @property
+    def rigs(self) -> Path:
+        return self.work / "rigs"
+
+    @property
     def times(self) -> Path:
         return self.work / "times.json"
 
@@ -164,6 +168,44 @@ def make_crops(paths: RecipePaths, pak: Path, members: list[str], config: Recipe
     return records
 
 
+def make_variants(paths: RecipePaths, pak: Path, names: list[str], split: LevelSplit, config: RecipeConfig,
+                  log: Log) -> list[str]:
+    """The relit variants of the given crops (relit.py), written beside the crops; returns their names.
+    Every crop's level must be a training level (relit.variants_of_crop refuses the others)."""
+    from ..scenes.levels import pak_members
+    from .relit import level_rig, require_training, variant_name, variants_of_crop
+
+    paths.rigs.mkdir(parents=True, exist_ok=True)
+    members = {Path(m).stem: m for m in pak_members(pak)}
+    by_level: dict[str, list[str]] = {}
+    for name in names:
+        by_level.setdefault(name.split("@")[0], []).append(name)
+    for level_name in by_level:  # before any rig is fitted
+        require_training(f"level {level_name}", split.role(level_name))
+    made: list[str] = []
+    for level_name, crop_names in _progress(sorted(by_level.items()), len(by_level), "relighting crops"):
+        role = split.role(level_name)
+        todo = [c for c in crop_names if any(not (paths.crops / f"{variant_name(c, v)}.lpnncap").exists()
+                                             and not (paths.crops / f"{variant_name(c, v)}.skipped").exists()
+                                             for v in range(1, config.variants_per_crop + 1))]
+        if todo:
+            level = load_pak_member(pak, members[level_name])
+            rig = level_rig(level, paths.rigs / f"{level_name}.json", config.variant_rig_scheme)
+            for crop in todo:
+                variants = dict(variants_of_crop(level, crop, read_capture(paths.crops / f"{crop}.lpnncap"), rig,
+                                                 role, config))
+                for number in range(1, config.variants_per_crop + 1):
+                    name = variant_name(crop, number)
+                    if name in variants:
+                        write_capture(paths.crops / f"{name}.lpnncap", variants[name])
+                    else:  # remembered, so a resumed run does not retry it
+                        write_text_atomic(paths.crops / f"{name}.skipped", "outside the crop's point range\n")
+        made += [variant_name(c, v) for c in crop_names for v in range(1, config.variants_per_crop + 1)
+                 if (paths.crops / f"{variant_name(c, v)}.lpnncap").exists()]
+    log(f"  {len(made)} relit variants of {len(names)} training crops")
+    return made
+
+
 # ------------------------------------------------------------------------------------------ labels
 
 def _label_task(task: tuple[str, str, float]) -> tuple[str, float, int]:
@@ -249,6 +291,12 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
     log(f"2/6 split by level: {len(split.train)} train, {len(split.validation)} validation, "
         f"{len(split.held_out)} held out ({', '.join(split.held_out)}); "
         f"crops {len(crops['train'])} / {len(crops['validation'])} / {len(crops['held_out'])}")
+
+    if config.variants_per_crop:
+        start = time.perf_counter()
+        log(f"2b/6 relit variants: {config.variants_per_crop} per training crop ({len(crops['train'])} crops)")
+        crops["train"] = sorted(crops["train"] + make_variants(paths, pak, crops["train"], split, config, log))
+        times.record("variants", start)
 
     start = time.perf_counter()
     log("3/6 labels: the fast reference placement of every crop")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -44,6 +44,15 @@ DEFAULT_VALIDITY = "bsp"  # exact where a BSP exists; the measured reasons not t
 Progress = Callable[[str, int, int], None]  # (step, done, total)
 
 
+class ProbeLighting(Protocol):
+    """Lighting other than the light grid (lights/relight.py: a rig); scenes/ does not import lights/."""
+
+    def sh_at(self, level: Level, unity_positions: np.ndarray,
+              progress: Callable[[int, int], None] | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+
+    def source_fields(self) -> dict[str, str | int | bool]: ...
+
+
 @dataclass
 class ImportResult:
     capture: Capture
@@ -70,7 +79,8 @@ def auto_box(level: Level) -> Box:
 def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: list[Box] | None = None,
                  point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
                  drop_unlit: bool = False, timings_in_source: bool = True,
-                 progress: Progress | None = None, validity: str = DEFAULT_VALIDITY) -> ImportResult:
+                 progress: Progress | None = None, validity: str = DEFAULT_VALIDITY,
+                 lighting: ProbeLighting | None = None) -> ImportResult:
     """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
     are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
 
@@ -79,7 +89,8 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     not in solid (hydronex, oa_koth1, czest3ctf: about two thirds of their open points).
 
     timings_in_source=False leaves `feature_seconds` out of the capture, so the same level and cell
-    give byte-identical files.
+    give byte-identical files. `lighting`: None = the light grid; a rig = the probe baker's SH
+    (lights/relight.py; "unlit" then means no light, ambient or bounce reaches the point).
     """
     if point_limit < 1:
         raise ValueError(f"point_limit {point_limit} must be at least 1")
@@ -88,7 +99,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     level = load_level(source) if isinstance(source, str) else source
-    light_grid = LightGrid.from_bsp(level.bsp)
+    light_grid = LightGrid.from_bsp(level.bsp) if lighting is None else None
     seconds["read"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -100,7 +111,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
                                                                 seconds, progress)
 
     clock = time.perf_counter()
-    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, grid, drop_unlit, progress)
+    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, lighting, grid, drop_unlit, progress)
     positions = grid.positions
     seconds["sh"] = time.perf_counter() - clock
 
@@ -112,6 +123,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     rays = raycaster.rays_cast
 
     source_info = _source_info(level, bounds_label, rays, validity, removed, removed_invalid, unlit, removed_unlit)
+    source_info.update({"lighting": "grid"} if lighting is None else lighting.source_fields())
     if timings_in_source:
         source_info["feature_seconds"] = round(seconds["features"], 3)
     capture = Capture(
@@ -166,12 +178,16 @@ def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_li
     return grid, lattice.point_count, removed, removed_invalid
 
 
-def _sampled_sh(level: Level, light_grid: LightGrid, grid: EvaluationGrid, drop_unlit: bool,
-                progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
-    """SH of the light grid at every point, as the capture stores it (float32):
+def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: ProbeLighting | None, grid: EvaluationGrid,
+                drop_unlit: bool, progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
+    """SH of the light grid (or baked from the rig) at every point, as the capture stores it (float32):
     (grid, sh, unlit points kept, unlit points removed); drop_unlit removes the unlit ones."""
-    sh, lit = light_grid.sh_at(grid.positions, None if progress is None else
-                               (lambda done, total: progress("light grid", done, total)))
+    step = "light grid" if lighting is None else "rig bake"
+    step_progress = None if progress is None else (lambda done, total: progress(step, done, total))
+    if lighting is None:
+        sh, lit = light_grid.sh_at(grid.positions, step_progress)
+    else:
+        sh, lit = lighting.sh_at(level, grid.positions, step_progress)
     unlit = int(np.count_nonzero(~lit))
     removed_unlit = 0
     if drop_unlit and unlit:

@@ -53,6 +53,15 @@ class EmbreeRaycaster:
                          indices=triangles.astype(np.int32))
 
     def cast(self, origins: np.ndarray, directions: np.ndarray, max_distance: float) -> tuple[np.ndarray, np.ndarray]:
+        distances, triangles = self.first_hits(origins, directions, max_distance)
+        normals = np.zeros((len(distances), 3))
+        hit = triangles >= 0
+        normals[hit] = self.face_normals[triangles[hit]]
+        return distances, normals
+
+    def first_hits(self, origins: np.ndarray, directions: np.ndarray,
+                   max_distance: float) -> tuple[np.ndarray, np.ndarray]:
+        """distances (R,) float64 (np.inf on a miss) and the hit triangle's index (R,) int64 (-1 on a miss)."""
         origins = np.asarray(origins, dtype=np.float64)
         directions = np.asarray(directions, dtype=np.float64)
         if origins.ndim != 2 or origins.shape[1] != 3 or directions.shape != origins.shape:
@@ -63,9 +72,9 @@ class EmbreeRaycaster:
         count = len(origins)
         started = time.perf_counter()
         distances = np.full(count, np.inf)
-        normals = np.zeros((count, 3))
+        triangles = np.full(count, -1, dtype=np.int64)
         if count == 0 or self._scene is None:
-            return distances, normals
+            return distances, triangles
         chunks = [slice(start, min(start + RAYS_PER_CHUNK, count)) for start in range(0, count, RAYS_PER_CHUNK)]
         local_origins = (origins - self._centre).astype(np.float32)
         directions32 = directions.astype(np.float32)
@@ -83,7 +92,7 @@ class EmbreeRaycaster:
             t = result["tfar"].astype(np.float64)
             hit = (triangle >= 0) & (t <= max_distance)
             distances[chunk] = np.where(hit, t, np.inf)
-            normals[chunk] = np.where(hit[:, None], self.face_normals[np.where(hit, triangle, 0)], 0.0)
+            triangles[chunk] = np.where(hit, triangle, -1)
 
         if self.threads == 1 or len(chunks) == 1:
             for chunk in chunks:
@@ -94,7 +103,7 @@ class EmbreeRaycaster:
                 list(pool.map(run, chunks))
         self.rays_cast += count
         self.cast_seconds += time.perf_counter() - started
-        return distances, normals
+        return distances, triangles
 
 
 def _require_rays(origins: np.ndarray, directions: np.ndarray) -> None:

@@ -45,7 +45,7 @@ def test_import_removes_solid_and_samples_the_grid(bsp_path: Path) -> None:
     assert capture.source == {
         "backend": "openarena", "level": "synthetic", "bsp_sha256": level.sha256, "importer": "lpnn 0.1.0",
         "bounds": "auto", "patch_level": 8, "rays": 67 * 26, "validity": "bsp", "removed_solid": REMOVED,
-        "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0,
+        "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0, "lighting": "grid",
     }
     assert result.rays == 67 * 26
 

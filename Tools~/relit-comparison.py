@@ -1,0 +1,60 @@
+"""A reduced with/without comparison of relit variants (benchmarks.md §9, issue [relight] item 5).
+
+    PYTHONPATH=Training~ python Tools~/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
+
+Runs the recipe twice in DIR/without and DIR/with-N on the *quick* recipe's levels (QUICK.levels, its
+split: held-out oa_dm1 and oa_dm5, validation aggressor, training oa_dm2, oa_dm4, oa_dm6) with more crops
+per level and a longer training than --quick (CROPS_PER_LEVEL, EPOCHS below), identical except
+`variants_per_crop`; both are evaluated on the same held-out crops under their original light-grid
+lighting. Prints one Markdown row per run: ROC-AUC, PR-AUC, the LPNN error ratios to the reference at
+10/20/30 % and the tolerance policy's probe ratio. It is a reduced comparison (3 training levels, one
+seed), not the full recipe: read its figures as such.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from lpnn.recipe.config import QUICK
+from lpnn.recipe.evaluation import find
+from lpnn.recipe.run import run_recipe
+from lpnn.train.config import TrainConfig
+
+CROPS_PER_LEVEL = 4
+EPOCHS, PATIENCE, STEPS = 20, 8, 20
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--pak", type=Path, required=True)
+    parser.add_argument("--work", type=Path, required=True)
+    parser.add_argument("--variants", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--scheme", default="quick", help="rig recovery scheme for the training levels")
+    args = parser.parse_args()
+    base = replace(QUICK, seed=args.seed, crops_per_level=CROPS_PER_LEVEL, workers=1,
+                   train=TrainConfig(epochs=EPOCHS, patience=PATIENCE, steps_per_epoch=STEPS, batch_clouds=4,
+                                     seed=args.seed))
+    runs = {"without": base,
+            f"with-{args.variants}": replace(base, variants_per_crop=args.variants, variant_rig_scheme=args.scheme)}
+    print("| run | training crops | held-out crops | ROC-AUC | PR-AUC | LPNN error / reference at 10 / 20 / 30 % | "
+          "LPNN-refine at 20 % | tolerance 0.05: probes / reference |\n|---|---|---|---|---|---|---|---|")
+    for label, config in runs.items():
+        result = run_recipe(args.pak, args.work / label, config, log=lambda line: print(line, file=sys.stderr))
+        summary = result.held_out
+        ratios = " / ".join(f"{find(summary, 'lpnn', 'budget', b)['error_vs_reference']:.2f}" for b in (0.1, 0.2, 0.3))
+        refine = find(summary, "lpnn-refine", "budget", 0.2)["error_vs_reference"]
+        tolerance = find(summary, "lpnn", "tolerance", summary["tolerance"])
+        print(f"| {label} | {len(result.crops['train'])} | {summary['crops']} | {summary['roc_auc']:.3f} | "
+              f"{summary['pr_auc']:.3f} | {ratios} | {refine:.2f} | {tolerance['probes_vs_reference']:.2f} "
+              f"({tolerance['within_tolerance']} of {tolerance['crops']} within) |", flush=True)
+        (args.work / f"{label}.summary.json").write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
