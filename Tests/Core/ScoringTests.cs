@@ -74,6 +74,49 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
+        public void EveryFaultyFieldIsReportedAtOnce()
+        {
+            string text = Card("format", JsonValue.From("something.else"));
+            text = text.Replace("\"schema\": \"lpnn.features.v1\"", "\"schema\": 3").Replace("\"name\": \"importance\"", "\"name\": \"scores\"");
+            var card = ModelCard.Read(text, "bad.card.json", out var problems);
+            Assert.That(card, Is.Null);
+            var errors = problems.Where(p => p.Severity == CheckSeverity.Error).Select(p => p.Message).ToList();
+            Assert.That(errors.Count, Is.EqualTo(3), string.Join("\n", errors));
+            StringAssert.Contains("format 'something.else'", errors[0]);
+            StringAssert.Contains("field 'schema' is missing or not a string", errors[1]);
+            StringAssert.Contains("the graph's input/output are 'features'/'scores'", errors[2]);
+            var thrown = Assert.Throws<ModelCardException>(() => ModelCard.Parse(text, "bad.card.json"));
+            foreach (string error in errors) StringAssert.Contains(error, thrown.Message);
+        }
+
+        [Test]
+        public void EveryRenamedFeatureIsReported()
+        {
+            var names = FeatureSchema.LpnnV1.Names.ToArray();
+            names[4] = "light_var";
+            names[7] = "renamed";
+            var card = ModelCard.Parse(Card("feature_names", JsonValue.ArrayOf(names.Select(n => JsonValue.From(n)))), "x.card.json");
+            var problems = card.FeatureChecks(FeatureSchema.LpnnV1);
+            Assert.That(problems.Select(p => p.Severity), Is.EqualTo(new[] { CheckSeverity.Error, CheckSeverity.Error }));
+            StringAssert.Contains("feature 4 is 'light_variance' in the extractor and 'light_var' in the model", problems[0].Message);
+            StringAssert.Contains("feature 7 is '" + FeatureSchema.LpnnV1.Names[7] + "' in the extractor and 'renamed'", problems[1].Message);
+            Assert.That(ModelCard.Parse(Card(), "ok.card.json").FeatureChecks(FeatureSchema.LpnnV1), Is.Empty);
+        }
+
+        [Test]
+        public void MissingTrainingProvenanceIsAWarningThatDoesNotStopScoring()
+        {
+            var card = ModelCard.Read(Card(), "bare.card.json", out var problems);
+            Assert.That(card, Is.Not.Null);
+            Assert.That(problems.Select(p => p.Severity), Is.EqualTo(new[] { CheckSeverity.Warning }));
+            StringAssert.Contains("no 'training' object", problems[0].Message);
+            var training = JsonValue.NewObject();
+            training.Set("seed", JsonValue.From(0));
+            Assert.That(ModelCard.Read(Card("training", training), "full.card.json", out var none), Is.Not.Null);
+            Assert.That(none, Is.Empty);
+        }
+
+        [Test]
         public void InvalidJsonNamesLineAndColumn()
         {
             var error = Assert.Throws<ModelCardException>(() => ModelCard.Parse("{\"format\": }", "broken.card.json"));

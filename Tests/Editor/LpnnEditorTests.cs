@@ -233,6 +233,23 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
+        public void TheInspectorsChecksListEveryProblemOfModelAndCard()
+        {
+            var card = JsonParser.Parse(_room.Volume.ModelCard.text);
+            card.Set("schema", JsonValue.From("lpnn.thesis30"));
+            card.Set("model_file", JsonValue.From("another.onnx"));
+            var wrongCard = new TextAsset(JsonWriter.Write(card)) { name = "wrong.card.json" };
+            _room.Volume.Configure(_room.Volume.TargetGroup, _room.Volume.Model, wrongCard);
+            var checks = LpnnScoring.Checks(_room.Volume, FeatureExtractor.Schema, out ModelCard parsed);
+            Assert.That(parsed, Is.Null, "a card error leaves no usable card");
+            Assert.That(checks.Count(c => c.Severity == CheckSeverity.Error), Is.EqualTo(1), string.Join("\n", checks));
+            StringAssert.Contains("lpnn.thesis30", checks.First(c => c.Severity == CheckSeverity.Error).Message);
+            _room.Volume.Configure(_room.Volume.TargetGroup, null, wrongCard);
+            checks = LpnnScoring.Checks(_room.Volume, FeatureExtractor.Schema, out parsed);
+            Assert.That(checks.Count(c => c.Severity == CheckSeverity.Error), Is.EqualTo(2), "the card's problem and the missing model, together");
+        }
+
+        [Test]
         public void PointCountGuardStopsScoringBeforeTheModelRuns()
         {
             RunUpToFeatures();

@@ -1,4 +1,5 @@
 using System;
+using System.Collections.Generic;
 using System.IO;
 using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
@@ -27,7 +28,8 @@ namespace Lpnn.Probes.Editor
         private long _countedPoints;
         private int _uncoveredMeshes = -1;
         private TextAsset _checkedCard;
-        private string _cardProblem;
+        private UnityEngine.Object _checkedModel;
+        private IReadOnlyList<ModelCheck> _modelChecks = new ModelCheck[0];
 
         private LpnnVolume Volume => (LpnnVolume)target;
         private LpnnSession Session => LpnnSession.For(Volume);
@@ -131,8 +133,8 @@ namespace Lpnn.Probes.Editor
             Field(LpnnVolume.Fields.ScoringPointLimit);
             serializedObject.ApplyModifiedProperties();
             InferencePackageBox();
-            string problem = CardProblem();
-            if (problem != null) EditorGUILayout.HelpBox(problem, MessageType.Error);
+            foreach (var check in ModelChecks())
+                EditorGUILayout.HelpBox(check.Message, check.Severity == CheckSeverity.Error ? MessageType.Error : MessageType.Warning);
             using (new EditorGUI.DisabledScope(Session.Features == null))
             {
                 if (GUILayout.Button("Score evaluation points"))
@@ -486,20 +488,15 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        private string CardProblem()
+        /// <summary>Every problem of the model, its card and the inference package (LpnnScoring.Checks), re-checked when the
+        /// Model or Card field changes.</summary>
+        private IReadOnlyList<ModelCheck> ModelChecks()
         {
-            if (Volume.ModelCard == _checkedCard && _checkedCard != null) return _cardProblem;
+            if (Volume.ModelCard == _checkedCard && Volume.Model == _checkedModel && _checkedCard != null) return _modelChecks;
             _checkedCard = Volume.ModelCard;
-            try
-            {
-                LpnnScoring.CheckCard(Volume, FeatureExtractor.Schema);
-                _cardProblem = null;
-            }
-            catch (LpnnException e)
-            {
-                _cardProblem = e.Message;
-            }
-            return _cardProblem;
+            _checkedModel = Volume.Model;
+            _modelChecks = LpnnScoring.Checks(Volume, FeatureExtractor.Schema, out ModelCard _);
+            return _modelChecks;
         }
 
         private bool ConfirmHeavy(string what)

@@ -40,17 +40,58 @@ namespace Lpnn.Probes.Editor
             "install com.unity.sentis 2.1.3 (Unity 2022.3) or com.unity.ai.inference 2.4.0 (Unity 6), never both, with the Package " +
             "Manager (the LPNN volume inspector offers it)";
 
-        /// <summary>Parses the volume's card and checks it against the schema; throws with what to fix.</summary>
+        /// <summary>Parses the volume's card and checks it against the schema; throws one error listing everything to fix.</summary>
         public static ModelCard CheckCard(LpnnVolume volume, FeatureSchema schema)
         {
+            var problems = CardChecks(volume, schema, out var card);
+            ModelCheck.ThrowIfAnyError(problems);
+            return card;
+        }
+
+        /// <summary>Every problem with the volume's card (errors and warnings); the card is null on any error.</summary>
+        private static List<ModelCheck> CardChecks(LpnnVolume volume, FeatureSchema schema, out ModelCard card)
+        {
+            var problems = new List<ModelCheck>();
+            card = null;
             var cardAsset = volume.ModelCard;
             if (cardAsset == null)
-                throw new ModelCardException("the volume has no model card; assign the .card.json beside the model (the shipped one is " +
-                                             LpnnPaths.ShippedModelCard + ")");
+            {
+                problems.Add(ModelCheck.Error("the volume has no model card; assign the .card.json beside the model (the shipped one is " +
+                                              LpnnPaths.ShippedModelCard + ")"));
+                return problems;
+            }
             string source = AssetDatabase.GetAssetPath(cardAsset);
-            var card = ModelCard.Parse(cardAsset.text, string.IsNullOrEmpty(source) ? cardAsset.name : source);
-            card.CheckFeatures(schema);
-            return card;
+            card = ModelCard.Read(cardAsset.text, string.IsNullOrEmpty(source) ? cardAsset.name : source, out var cardProblems);
+            problems.AddRange(cardProblems);
+            if (card != null) problems.AddRange(card.FeatureChecks(schema));
+            if (ModelCheck.AnyError(problems)) card = null;
+            return problems;
+        }
+
+        /// <summary>Every problem with the volume's model, card and inference package, errors and warnings, without
+        /// loading the model (cheap enough for the inspector, which shows them all). The card is null on any card error.</summary>
+        public static IReadOnlyList<ModelCheck> Checks(LpnnVolume volume, FeatureSchema schema, out ModelCard card)
+        {
+            var problems = CardChecks(volume, schema, out card);
+            string modelProblem = ModelProblem(volume.Model);
+            if (modelProblem != null) problems.Add(ModelCheck.Error(modelProblem));
+            else if (card != null && card.ModelFile != volume.Model.name + ".onnx")
+                problems.Add(ModelCheck.Warning("the card describes '" + card.ModelFile + "' but the model is '" + volume.Model.name +
+                                                "': assign the card written beside this model, or its inputs may be checked against another model's"));
+            return problems;
+        }
+
+        /// <summary>Why the Model field cannot run (null when it can, as far as is known without loading it).</summary>
+        private static string ModelProblem(UnityEngine.Object model)
+        {
+#if LPNN_INFERENCE_ENGINE || LPNN_SENTIS
+            if (model == null) return "the volume has no model; assign an imported .onnx model (the shipped one is " + LpnnPaths.ShippedModel + ")";
+            if (!(model is ModelAsset))
+                return "the Model field holds a " + model.GetType().Name + " ('" + model.name + "'), not an imported ONNX model";
+            return null;
+#else
+            return "no neural-network inference package is installed, so the model cannot run; " + PackageHint;
+#endif
         }
 
         public static ScoreOutcome Score(LpnnVolume volume, LpnnSession session, FeatureSet features, double cellSize)
@@ -67,11 +108,9 @@ namespace Lpnn.Probes.Editor
             IReadOnlyList<ScoringDevice> attempts)
         {
 #if LPNN_INFERENCE_ENGINE || LPNN_SENTIS
-            var asset = volume.Model as ModelAsset;
-            if (asset == null)
-                throw new ScoringException(volume.Model == null
-                    ? "the volume has no model; assign an imported .onnx model (the shipped one is " + LpnnPaths.ShippedModel + ")"
-                    : "the Model field holds a " + volume.Model.GetType().Name + " ('" + volume.Model.name + "'), not an imported ONNX model");
+            string modelProblem = ModelProblem(volume.Model);
+            if (modelProblem != null) throw new ScoringException(modelProblem);
+            var asset = (ModelAsset)volume.Model;
             var runner = session.ModelRunner as InferenceBackendRunner;
             if (runner == null || !runner.Serves(asset))
             {
@@ -98,7 +137,7 @@ namespace Lpnn.Probes.Editor
             }
             throw new InvalidOperationException("no scoring backend was tried");
 #else
-            throw new ScoringException("no neural-network inference package is installed, so the model cannot run; " + PackageHint);
+            throw new ScoringException(ModelProblem(volume.Model));
 #endif
         }
     }
