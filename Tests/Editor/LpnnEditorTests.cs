@@ -42,24 +42,64 @@ namespace Lpnn.Probes.Editor.Tests
             if (Directory.Exists(_folder)) Directory.Delete(_folder, true);
         }
 
+        /// <summary>The pipeline's own order (LpnnPipeline.Run) up to <paramref name="until"/>, with the analytic lighting;
+        /// returns the steps that ran and their results.</summary>
+        private List<StepResult> RunUpTo(PipelineStep until)
+        {
+            var results = new List<StepResult>();
+            bool completed = LpnnPipeline.Run(_room.Volume, _session, until, volume => _room.AnalyticLighting(), (step, work) =>
+            {
+                var result = work(null, CancellationToken.None);
+                Assert.That(result.Step, Is.EqualTo(step));
+                results.Add(result);
+                return true;
+            });
+            Assert.That(completed, Is.True);
+            return results;
+        }
+
         /// <summary>Grid → analytic lighting → features with real physics rays.</summary>
         private void RunUpToFeatures()
         {
-            LpnnPipeline.BuildGrid(_room.Volume, _session);
-            using (var lighting = _room.AnalyticLighting())
-                LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
-            string warning;
-            LpnnPipeline.ExtractFeatures(_room.Volume, _session, null, CancellationToken.None, out warning);
-            Assert.That(warning, Is.EqualTo(""), "every wall of the test room has a collider");
+            var features = (FeaturesResult)RunUpTo(PipelineStep.Features).Last();
+            Assert.That(features.RenderersWithoutColliders, Is.Empty, "every wall of the test room has a collider");
         }
 
         /// <summary>… then the model card check and the scores on the CPU; placement by the network's scores (a new volume
         /// places by insertion, PlacementMethods.Default).</summary>
         private void RunUpToScores()
         {
-            RunUpToFeatures();
-            LpnnPipeline.Score(_room.Volume, _session);
             _room.Volume.SetMethod(PlacementMethod.Network);
+            Assert.That(RunUpTo(PipelineStep.Scoring).Select(r => r.Step),
+                Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Scoring }));
+        }
+
+        [Test]
+        public void TheInsertionMethodsRunSkipsScoringAndPlacesProbes()
+        {
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion));
+            var results = RunUpTo(PipelineStep.Placement);
+            Assert.That(results.Select(r => r.Step),
+                Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Placement }));
+            Assert.That(_room.Volume.LastScores.IsEmpty, Is.True, "no scores for the insertion method");
+            var placed = (PlacementResult)results.Last();
+            Assert.That(_room.Volume.TargetGroup.probePositions.Length, Is.EqualTo(placed.Positions.Length));
+        }
+
+        [Test]
+        public void AStepThatFailsStopsTheRun()
+        {
+            var ran = new List<PipelineStep>();
+            bool completed = LpnnPipeline.Run(_room.Volume, _session, PipelineStep.Placement, volume => _room.AnalyticLighting(), (step, work) =>
+            {
+                ran.Add(step);
+                if (step == PipelineStep.Lighting) return false;
+                work(null, CancellationToken.None);
+                return true;
+            });
+            Assert.That(completed, Is.False);
+            Assert.That(ran, Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting }));
+            Assert.That(_session.Sh, Is.Null);
         }
 
         [Test]

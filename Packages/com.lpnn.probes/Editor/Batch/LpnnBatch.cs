@@ -120,26 +120,32 @@ namespace Lpnn.Probes.Editor
         {
             var session = LpnnSession.For(volume);
             var log = new List<string>();
-            // Place mode with the insertion method ranks by the lighting alone: no scores.
-            bool byScores = options.Mode == BatchMode.Export || PlacementMethods.NeedsScores(volume.Method);
+            // Export mode stops after the features (a capture needs no scores); place mode runs what the volume's method
+            // needs (LpnnPipeline.Run: scores for Network only), then writes the positions file itself (the volume may have
+            // no target group to apply to).
+            bool export = options.Mode == BatchMode.Export;
             System.Numerics.Vector3[] positions;
             SelectionResult selection;
             string stem = CaptureExport.DefaultStem(volume);
             using (var progress = new EditorProgressScope("LPNN batch " + volume.name))
             {
-                log.Add(LpnnPipeline.BuildGrid(volume, session));
-                log.Add(LpnnPipeline.SampleLighting(volume, session, options.Bake, progress.Callback, progress.Token));
-                // Features for every method: their rays find the points inside geometry, which never become probes.
-                log.Add(LpnnPipeline.ExtractFeatures(volume, session, progress.Callback, progress.Token, out string warning));
-                if (warning.Length > 0) Debug.LogWarning("[LPNN batch] " + volume.name + ": " + warning);
-                if (options.Mode == BatchMode.Export)
+                LpnnPipeline.Run(volume, session, export ? PipelineStep.Features : PipelineStep.Scoring, v => EvaluationLighting.Create(v, options.Bake),
+                    (step, work) =>
+                    {
+                        var result = work(progress.Callback, progress.Token);
+                        log.Add(StepSummaries.Describe(result));
+                        string warning = StepSummaries.Warning(result);
+                        if (warning.Length > 0) Debug.LogWarning("[LPNN batch] " + volume.name + ": " + warning);
+                        return true;
+                    });
+                if (export)
                 {
                     log.Add("capture " + CaptureExport.Append(volume, session, folder, stem, out string labels) + " (" + labels + ")");
                     return string.Join("; ", log);
                 }
-                if (byScores) log.Add(LpnnPipeline.Score(volume, session));
                 positions = LpnnPipeline.SelectedPositions(volume, session, progress.Callback, progress.Token, out selection);
             }
+            bool byScores = PlacementMethods.NeedsScores(volume.Method);
             // The positions file is the batch result; the group is filled too when the volume has one.
             if (volume.TargetGroup != null) ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             var source = JsonValue.NewObject();
@@ -153,7 +159,7 @@ namespace Lpnn.Probes.Editor
             }
             string path = Path.Combine(folder, stem + ProbePositionsFile.Extension);
             ProbePositionsFile.Save(path, positions, source);
-            log.Add(positions.Length + " probes" + LpnnPipeline.Extras(selection) + " → " + path);
+            log.Add(positions.Length + " probes" + StepSummaries.Extras(selection) + " → " + path);
             return string.Join("; ", log);
         }
 

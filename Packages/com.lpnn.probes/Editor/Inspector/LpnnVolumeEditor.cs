@@ -33,6 +33,10 @@ namespace Lpnn.Probes.Editor
 
         private LpnnVolume Volume => (LpnnVolume)target;
         private LpnnSession Session => LpnnSession.For(Volume);
+        private StepStates Steps => StepStates.For(Volume);
+
+        /// <summary>Points above which the inspector asks before running a heavy step.</summary>
+        private const int LargeGridWarning = 250_000;
 
         private void OnEnable()
         {
@@ -42,6 +46,7 @@ namespace Lpnn.Probes.Editor
         public override void OnInspectorGUI()
         {
             serializedObject.Update();
+            Steps.DropStale(Session, Volume);
             EditorGUILayout.HelpBox("Places light probes where baked lighting needs them: build the grid, get the lighting at every " +
                                     "point, extract features, score them with the model, then place the best points as probes.", MessageType.None);
             if (GUILayout.Button("Run all steps")) RunAll();
@@ -76,8 +81,8 @@ namespace Lpnn.Probes.Editor
             UpdatePointCount();
             EditorGUILayout.HelpBox(_countText, _countType);
             if (GUILayout.Button("Build grid") && ConfirmHeavy("build the grid"))
-                StepRunner.Run(Volume, Session.VolumeStep, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
-            Status(Session.VolumeStep);
+                RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
+            Status(Steps[PipelineStep.Grid]);
         }
 
         private void LightingSection()
@@ -92,10 +97,10 @@ namespace Lpnn.Probes.Editor
                 {
                     bool bake = !EvaluationLighting.RewritesSceneLighting(Volume) || ConfirmSceneBake();
                     if (bake)
-                        StepRunner.Run(Volume, Session.LightingStep, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
+                        RunStep(PipelineStep.Lighting, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
                 }
             }
-            Status(Session.LightingStep);
+            Status(Steps[PipelineStep.Lighting]);
         }
 
         private void FeaturesSection()
@@ -115,13 +120,11 @@ namespace Lpnn.Probes.Editor
             {
                 if (GUILayout.Button("Extract features"))
                 {
-                    string warning = "";
-                    if (StepRunner.Run(Volume, Session.FeaturesStep, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel, out warning)))
-                        ReportWarning(Session.FeaturesStep, warning);
+                    RunStep(PipelineStep.Features, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel));
                     _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
                 }
             }
-            Status(Session.FeaturesStep);
+            Status(Steps[PipelineStep.Features]);
         }
 
         private void ScoringSection()
@@ -138,9 +141,9 @@ namespace Lpnn.Probes.Editor
             using (new EditorGUI.DisabledScope(Session.Features == null))
             {
                 if (GUILayout.Button("Score evaluation points"))
-                    StepRunner.Run(Volume, Session.ScoringStep, (progress, cancel) => LpnnPipeline.Score(Volume, Session));
+                    RunStep(PipelineStep.Scoring, (progress, cancel) => LpnnPipeline.Score(Volume, Session));
             }
-            Status(Session.ScoringStep);
+            Status(Steps[PipelineStep.Scoring]);
             var record = Volume.LastScores;
             if (!record.IsEmpty)
                 EditorGUILayout.LabelField("Stored scores", InvariantFormat.Count(record.Count) + " points, " + record.Backend + ", model '" + record.Model + "'");
@@ -176,18 +179,18 @@ namespace Lpnn.Probes.Editor
                 using (new EditorGUI.DisabledScope(byScores ? Volume.LastScores.IsEmpty : Session.Sh == null))
                 {
                     if (!byScores && KnownInsertionRanking() == null && GUILayout.Button("Rank by insertion"))
-                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => RankByInsertion(progress, cancel));
+                        StepRunner.Run(Volume, Steps[PipelineStep.Placement], (progress, cancel) => RankByInsertion(progress, cancel));
                     if (policy == SelectionPolicy.Tolerance && GUILayout.Button("Find probes"))
-                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => SearchTolerance(progress, cancel));
+                        StepRunner.Run(Volume, Steps[PipelineStep.Placement], (progress, cancel) => SearchTolerance(progress, cancel));
                     if (GUILayout.Button("Apply"))
-                        StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
+                        RunStep(PipelineStep.Placement, (progress, cancel) =>
                             preview != null ? LpnnPipeline.Apply(Volume, Session, preview) : LpnnPipeline.Apply(Volume, Session, progress, cancel));
                 }
                 if (GUILayout.Button("Clear"))
-                    StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) => { ProbeGroupWriter.Clear(Volume.TargetGroup); return "probes cleared"; });
+                    StepRunner.Run(Volume, Steps[PipelineStep.Placement], (progress, cancel) => { ProbeGroupWriter.Clear(Volume.TargetGroup); return "probes cleared"; });
                 if (GUILayout.Button("Import .probes.json…")) ImportProbes();
             }
-            Status(Session.PlacementStep);
+            Status(Steps[PipelineStep.Placement]);
         }
 
         /// <summary>The policy in the order an artist should consider them (Spread first, the thesis' Percentile next), not
@@ -239,7 +242,7 @@ namespace Lpnn.Probes.Editor
                     Directory.CreateDirectory(datasetFolder);
                     string path = EditorUtility.SaveFilePanel("Save capture", datasetFolder, CaptureExport.DefaultStem(Volume), "lpnncap");
                     if (!string.IsNullOrEmpty(path))
-                        StepRunner.Run(Volume, Session.ExportStep, (progress, cancel) =>
+                        StepRunner.Run(Volume, Steps.Export, (progress, cancel) =>
                         {
                             string written = CaptureExport.Save(Volume, Session, path, out string labels);
                             return "saved " + written + "; " + labels;
@@ -248,7 +251,7 @@ namespace Lpnn.Probes.Editor
                 }
                 if (GUILayout.Button("Append to dataset"))
                 {
-                    StepRunner.Run(Volume, Session.ExportStep, (progress, cancel) =>
+                    StepRunner.Run(Volume, Steps.Export, (progress, cancel) =>
                     {
                         string written = CaptureExport.Append(Volume, Session, datasetFolder, CaptureExport.DefaultStem(Volume), out string labels);
                         return "appended " + written + "; " + labels;
@@ -256,7 +259,7 @@ namespace Lpnn.Probes.Editor
                     EndGuiAfterModal();
                 }
             }
-            Status(Session.ExportStep);
+            Status(Steps.Export);
         }
 
         // ------------------------------------------------------------------------------------------ helpers
@@ -275,30 +278,28 @@ namespace Lpnn.Probes.Editor
         {
             if (!ConfirmHeavy("run every step")) return;
             if (EvaluationLighting.RewritesSceneLighting(Volume) && !ConfirmSceneBake()) return;
-            var session = Session;
-            bool ok = StepRunner.Run(Volume, session.VolumeStep, (p, c) => LpnnPipeline.BuildGrid(Volume, session))
-                      && StepRunner.Run(Volume, session.LightingStep, (p, c) => LpnnPipeline.SampleLighting(Volume, session, true, p, c));
-            string warning = "";
-            // Features run for every method: their rays tell which points lie inside geometry (never probes). The insertion
-            // method ranks by the lighting alone, so it needs no scores.
-            ok = ok && StepRunner.Run(Volume, session.FeaturesStep, (p, c) => LpnnPipeline.ExtractFeatures(Volume, session, p, c, out warning));
-            if (PlacementMethods.NeedsScores(Volume.Method))
-                ok = ok && StepRunner.Run(Volume, session.ScoringStep, (p, c) => LpnnPipeline.Score(Volume, session));
-            ok = ok && StepRunner.Run(Volume, session.PlacementStep, (p, c) => LpnnPipeline.Apply(Volume, session, p, c));
-            ReportWarning(session.FeaturesStep, warning);
+            LpnnPipeline.Run(Volume, Session, PipelineStep.Placement, volume => EvaluationLighting.Create(volume, true), RunStep);
         }
 
-        private void ReportWarning(StepState step, string warning)
+        /// <summary>Runs one pipeline step under a progress bar, shows its summary (and any caveat) as the step's ✓ line, and
+        /// records which data that line describes.</summary>
+        private bool RunStep(PipelineStep step, LpnnPipeline.StepWork work)
         {
-            step.Warn(warning);
-            if (warning.Length > 0) Debug.LogWarning("[LPNN] " + Volume.name + " — " + step.Name + ": " + warning, Volume);
+            var state = Steps[step];
+            StepResult result = null;
+            if (!StepRunner.Run(Volume, state, (progress, cancel) => StepSummaries.Describe(result = work(progress, cancel)))) return false;
+            Steps.Reported(step, Session, Volume);
+            string warning = StepSummaries.Warning(result);
+            state.Warn(warning);
+            if (warning.Length > 0) Debug.LogWarning("[LPNN] " + Volume.name + " — " + state.Name + ": " + warning, Volume);
+            return true;
         }
 
         private void ImportProbes()
         {
             string path = EditorUtility.OpenFilePanel("Import probe positions (*.probes.json)", LpnnPaths.DatasetFolderFor(Volume), "json");
             if (!string.IsNullOrEmpty(path))
-                StepRunner.Run(Volume, Session.PlacementStep, (progress, cancel) =>
+                StepRunner.Run(Volume, Steps[PipelineStep.Placement], (progress, cancel) =>
                     ProbeGroupWriter.Import(Volume.TargetGroup, path) + " probes imported from " + Path.GetFileName(path));
             EndGuiAfterModal();
         }
@@ -324,14 +325,14 @@ namespace Lpnn.Probes.Editor
             {
                 _countedPoints = GridBuilder.CountPoints(boxes, Volume.CellSize, Volume.PointLimit);
                 _countText = InvariantFormat.Count(_countedPoints) + " evaluation points; about " +
-                             LpnnPipeline.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) + " through the pipeline.";
+                             StepSummaries.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) + " through the pipeline.";
                 _countType = MessageType.Info;
                 if (_countedPoints > Volume.PointLimit)
                 {
                     _countText += " Over the point limit of " + InvariantFormat.Count(Volume.PointLimit) + ": use a larger cell size or smaller boxes.";
                     _countType = MessageType.Error;
                 }
-                else if (_countedPoints > LpnnPipeline.LargeGridWarning)
+                else if (_countedPoints > LargeGridWarning)
                 {
                     _countText += " That is a large grid: lighting and features will take a while (you will be asked before they run).";
                     _countType = MessageType.Warning;
@@ -400,7 +401,7 @@ namespace Lpnn.Probes.Editor
                 return null;
             }
             string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
-                           InvariantFormat.Count(grid.Count) + " points" + LpnnPipeline.Extras(result) + "." +
+                           InvariantFormat.Count(grid.Count) + " points" + StepSummaries.Extras(result) + "." +
                            (byScores ? ValidityLine(record) : InsertionValidityLine(PlacementInputs.ValidPoints(Session, grid)));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, grid, out MessageType type), type);
             if (!_estimate.Has(result, Session) && Session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button("Estimate error"))
@@ -447,7 +448,7 @@ namespace Lpnn.Probes.Editor
             var result = PlacementMethods.NeedsScores(Volume.Method)
                 ? _preview.Search(grid, Volume.LastScores, settings, PlacementInputs.Evaluator(Session, grid))
                 : _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(Session, grid, progress, cancel), PlacementInputs.ValidPoints(Session, grid), settings, PlacementInputs.Evaluator(Session, grid));
-            return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + LpnnPipeline.Extras(result);
+            return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
         }
 
         /// <summary>The insertion ranking of the current lighting if already computed (never computes during a repaint).</summary>
@@ -501,11 +502,11 @@ namespace Lpnn.Probes.Editor
 
         private bool ConfirmHeavy(string what)
         {
-            if (_countedPoints <= LpnnPipeline.LargeGridWarning) return true;
+            if (_countedPoints <= LargeGridWarning) return true;
             // EditorUtility.DisplayDialog: Editor/Mono/EditorUtility.bindings.cs
             return EditorUtility.DisplayDialog("LPNN Probes: large grid",
                 "The grid has " + InvariantFormat.Count(_countedPoints) + " points (about " +
-                LpnnPipeline.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) +
+                StepSummaries.Megabytes(EvaluationGrid.EstimateBytes(_countedPoints, FeatureExtractor.Schema.Count)) +
                 "). Do you want to " + what + " now? You can cancel from the progress bar.", "Continue", "Cancel");
         }
 

@@ -1,3 +1,5 @@
+using System;
+using System.Collections.Generic;
 using System.Threading;
 using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
@@ -10,24 +12,69 @@ using NumericsVector3 = System.Numerics.Vector3;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>The pipeline steps of one volume, shared by the inspector, batch mode, the demo and the tests:
-    /// grid → lighting → features → scores → selection → LightProbeGroup. Every algorithm is the core's; this class
-    /// only connects it to Unity. Each step publishes its result at the end, so a cancel or an error keeps the
-    /// previous state. Each returns the one-line summary the inspector shows.</summary>
+    /// grid → lighting → features → scores → selection → LightProbeGroup. <see cref="Run"/> is the one place that says
+    /// which steps run in which order. Every algorithm is the core's; this class only connects it to Unity. Each step
+    /// publishes its result at the end, so a cancel or an error keeps the previous state, and returns what it produced
+    /// as data (<see cref="StepResult"/>); how that is said to the user is the inspector's and the batch log's business.</summary>
     public static class LpnnPipeline
     {
-        /// <summary>Points above which the inspector asks before running a heavy step.</summary>
-        public const int LargeGridWarning = 250_000;
+        /// <summary>One step's work, given progress reporting and cancellation.</summary>
+        public delegate StepResult StepWork(ProgressCallback progress, CancellationToken cancel);
 
-        public static string BuildGrid(LpnnVolume volume, LpnnSession session)
+        /// <summary>Runs one step's work the caller's way (progress bar, timing, error display) and says whether to go on.</summary>
+        public delegate bool StepExecutor(PipelineStep step, StepWork work);
+
+        /// <summary>Runs the steps the volume's method needs, in order, from the grid up to and including
+        /// <paramref name="until"/>, each through <paramref name="execute"/>; stops at the first step it reports as failed.
+        /// <paramref name="createLighting"/> gives the lighting the Lighting step samples (disposed after it).</summary>
+        /// <returns>True when every step ran.</returns>
+        public static bool Run(LpnnVolume volume, LpnnSession session, PipelineStep until, Func<LpnnVolume, IEvaluationLighting> createLighting,
+            StepExecutor execute)
+        {
+            for (var next = PipelineStep.Grid; next <= until; next++)
+            {
+                var step = next;
+                if (!IsNeeded(volume, step)) continue;
+                if (!execute(step, (progress, cancel) => RunStep(step, volume, session, createLighting, progress, cancel))) return false;
+            }
+            return true;
+        }
+
+        /// <summary>Whether the volume's method needs the step. Features run for every method: their rays tell which points
+        /// lie inside geometry (never probes); only the Network method needs scores (insertion ranks by the lighting).</summary>
+        public static bool IsNeeded(LpnnVolume volume, PipelineStep step) =>
+            step != PipelineStep.Scoring || PlacementMethods.NeedsScores(volume.Method);
+
+        private static StepResult RunStep(PipelineStep step, LpnnVolume volume, LpnnSession session, Func<LpnnVolume, IEvaluationLighting> createLighting,
+            ProgressCallback progress, CancellationToken cancel)
+        {
+            switch (step)
+            {
+                case PipelineStep.Grid:
+                    return BuildGrid(volume, session);
+                case PipelineStep.Lighting:
+                    using (var lighting = createLighting(volume))
+                        return SampleLighting(volume, session, lighting, progress, cancel);
+                case PipelineStep.Features:
+                    return ExtractFeatures(volume, session, progress, cancel);
+                case PipelineStep.Scoring:
+                    return Score(volume, session);
+                case PipelineStep.Placement:
+                    return Apply(volume, session, progress, cancel);
+                default:
+                    throw new ArgumentOutOfRangeException(nameof(step), step, "not a pipeline step");
+            }
+        }
+
+        public static GridResult BuildGrid(LpnnVolume volume, LpnnSession session)
         {
             var boxes = volume.GetWorldBoxes();
             var grid = GridBuilder.Build(boxes, volume.CellSize, volume.PointLimit);
             session.SetGrid(grid, GridSignature.Of(boxes, volume.CellSize));
-            return InvariantFormat.Count(grid.Count) + " evaluation points, about " +
-                   Megabytes(EvaluationGrid.EstimateBytes(grid.Count, FeatureExtractor.Schema.Count)) + " through the pipeline";
+            return new GridResult(grid);
         }
 
-        public static string SampleLighting(LpnnVolume volume, LpnnSession session, bool sceneBakeAllowed, ProgressCallback progress,
+        public static LightingResult SampleLighting(LpnnVolume volume, LpnnSession session, bool sceneBakeAllowed, ProgressCallback progress,
             CancellationToken cancel)
         {
             using (var lighting = EvaluationLighting.Create(volume, sceneBakeAllowed))
@@ -35,35 +82,32 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>Samples with a given lighting implementation (the tests pass an analytic one).</summary>
-        public static string SampleLighting(LpnnVolume volume, LpnnSession session, IEvaluationLighting lighting, ProgressCallback progress,
+        public static LightingResult SampleLighting(LpnnVolume volume, LpnnSession session, IEvaluationLighting lighting, ProgressCallback progress,
             CancellationToken cancel)
         {
             var grid = FreshGrid(volume, session);
             float[] sh = lighting.Sample(grid, progress, cancel);
             session.SetLighting(sh, lighting.Description);
-            return "SH at " + InvariantFormat.Count(grid.Count) + " points, " + lighting.Description;
+            return new LightingResult(grid.Count, lighting.Description);
         }
 
-        /// <param name="warning">Set when static geometry without colliders was invisible to the rays.</param>
-        public static string ExtractFeatures(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel,
-            out string warning)
+        public static FeaturesResult ExtractFeatures(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
             var grid = FreshGrid(volume, session);
             if (session.Sh == null) throw new LpnnException("there is no lighting data for this grid; run the Lighting data step first");
             FeatureSet features;
+            var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
             {
                 features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(), progress, cancel);
-                warning = physics.Uncovered.Count == 0 ? "" :
-                    physics.Uncovered.Count + " static renderers have no collider (e.g. '" + physics.Uncovered[0].name +
-                    "'), so the rays passed through them; add colliders or enable 'Add Temporary Colliders'";
+                foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);
             int invalid = ValidCandidates.CountInvalid(ValidCandidates.FromBackFaceFractions(features.BackFaceFractions));
-            return InvariantFormat.Count(features.PointCount) + " × " + features.Schema.Count + " features (" + features.Schema.Id + ")" + InvalidNote(invalid);
+            return new FeaturesResult(features, invalid, uncovered);
         }
 
-        public static string Score(LpnnVolume volume, LpnnSession session)
+        public static ScoringResult Score(LpnnVolume volume, LpnnSession session)
         {
             var grid = FreshGrid(volume, session);
             if (session.Features == null || session.Features.PointCount != grid.Count)
@@ -82,15 +126,12 @@ namespace Lpnn.Probes.Editor
             // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
             EditorUtility.SetDirty(volume);
-            // The spread ranking (behind the default Tolerance policy and Spread) costs O(N log N): computed here, under the step's progress bar, rather
-            // than on the inspector's first repaint.
+            // The spread ranking (behind the default Tolerance policy and Spread) costs O(N log N): computed here, under the
+            // step's progress bar, rather than on the inspector's first repaint.
             var policy = volume.GetSelectionSettings().Policy;
             if (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance)
-            {
-                int[] computedNow = PlacementInputs.Scored(grid, volume.LastScores).SpreadOrder;
-            }
-            return InvariantFormat.Count(outcome.Scores.Length) + " scores on " + outcome.DeviceName + InvalidNote(volume.LastScores.InvalidCount) +
-                   (outcome.Fallback.Length > 0 ? " (after: " + outcome.Fallback + ")" : "");
+                PlacementInputs.ComputeSpreadOrder(grid, volume.LastScores);
+            return new ScoringResult(outcome, volume.LastScores.InvalidCount);
         }
 
         /// <summary>The selection the current settings give (the volume's method: the last scores, or the insertion ranking).</summary>
@@ -120,9 +161,9 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
-        public static string Apply(LpnnVolume volume, LpnnSession session) => Apply(volume, session, null, CancellationToken.None);
+        public static PlacementResult Apply(LpnnVolume volume, LpnnSession session) => Apply(volume, session, null, CancellationToken.None);
 
-        public static string Apply(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
+        public static PlacementResult Apply(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
             SelectedPositions(volume, session, progress, cancel, out var selection);
             return Apply(volume, session, selection);
@@ -130,12 +171,12 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>Writes a selection already made on the scored grid (e.g. the inspector's tolerance search) into the
         /// target LightProbeGroup (one Undo step).</summary>
-        public static string Apply(LpnnVolume volume, LpnnSession session, SelectionResult selection)
+        public static PlacementResult Apply(LpnnVolume volume, LpnnSession session, SelectionResult selection)
         {
             var grid = PlacementGrid(volume, session);
             var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
-            return positions.Length + " probes placed" + Extras(selection);
+            return new PlacementResult(positions, selection);
         }
 
         private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)
@@ -143,22 +184,6 @@ namespace Lpnn.Probes.Editor
             var positions = new NumericsVector3[selection.Indices.Length];
             for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
             return positions;
-        }
-
-        /// <summary>", N inside geometry (never probes)" when some points are invalid.</summary>
-        public static string InvalidNote(int invalid) =>
-            invalid == 0 ? "" : ", " + InvariantFormat.Count(invalid) + " inside geometry (never probes)";
-
-        public static string Extras(SelectionResult selection)
-        {
-            string text = "";
-            if (selection.CornersAdded > 0) text += ", " + selection.CornersAdded + " box corners";
-            if (selection.AddedForTetrahedron > 0) text += ", " + selection.AddedForTetrahedron + " added to form a tetrahedron";
-            string extras = text.Length == 0 ? "" : " (incl." + text.Substring(1) + ")";
-            if (selection.Tolerance != null)
-                extras += "; mean error " + InvariantFormat.Number(System.Math.Round(selection.Tolerance.MeanError, 4)) + " after " +
-                          selection.Tolerance.Evaluated.Count + " evaluations";
-            return extras;
         }
 
         /// <summary>The session's grid when it still matches the volume; otherwise an error saying to rebuild it.</summary>
@@ -215,7 +240,5 @@ namespace Lpnn.Probes.Editor
             }
             return true;
         }
-
-        public static string Megabytes(long bytes) => InvariantFormat.Number(System.Math.Round(bytes / 1048576.0, 1)) + " MB";
     }
 }

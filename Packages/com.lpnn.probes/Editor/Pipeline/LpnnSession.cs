@@ -7,7 +7,7 @@ using UnityEditor;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>The transient results of one volume in this editor session: the grid, the lighting at its points, the
-    /// features and the model runner. Large, so never serialized: a domain reload drops them (the scores, which
+    /// features and the model runner — data only (what the inspector shows about each step is in StepStates). Large, so never serialized: a domain reload drops them (the scores, which
     /// are small and needed for gizmos and placement, live on the volume). Results are replaced only when a step
     /// succeeds, so a cancelled or failed step leaves the previous state intact.</summary>
     public sealed class LpnnSession : IDisposable
@@ -20,13 +20,6 @@ namespace Lpnn.Probes.Editor
             // (AssemblyReloadEvents: UnityCsReference Editor/Mono/AssemblyReloadEvents.cs).
             AssemblyReloadEvents.beforeAssemblyReload += DisposeAll;
         }
-
-        public readonly StepState VolumeStep = new StepState("Volume");
-        public readonly StepState LightingStep = new StepState("Lighting data");
-        public readonly StepState FeaturesStep = new StepState("Features");
-        public readonly StepState ScoringStep = new StepState("Scoring");
-        public readonly StepState PlacementStep = new StepState("Placement");
-        public readonly StepState ExportStep = new StepState("Capture export");
 
         public EvaluationGrid Grid { get; private set; }
         /// <summary>The volume signature the grid was built for (GridSignature.Of).</summary>
@@ -70,8 +63,6 @@ namespace Lpnn.Probes.Editor
             Sh = null;
             LightingDescription = "";
             Features = null;
-            LightingStep.Reset();
-            FeaturesStep.Reset();
         }
 
         public void SetLighting(float[] sh, string description)
@@ -79,7 +70,6 @@ namespace Lpnn.Probes.Editor
             Sh = sh;
             LightingDescription = description ?? "";
             Features = null;
-            FeaturesStep.Reset();
         }
 
         public void SetFeatures(FeatureSet features) => Features = features;

@@ -38,6 +38,10 @@ namespace Lpnn.Probes.Editor
             return points;
         }
 
+        /// <summary>Computes (and keeps) the spread ranking of the stored scores now, e.g. under a step's progress bar, so that
+        /// the inspector's first repaint does not pay for it.</summary>
+        public static void ComputeSpreadOrder(EvaluationGrid grid, LpnnScoreRecord record) => _ = Scored(grid, record).SpreadOrder;
+
         /// <summary>The lighting the placement error compares against: the Lighting step's SH at the session's grid.</summary>
         public static ReferenceLighting Reference(LpnnSession session, EvaluationGrid grid)
         {
