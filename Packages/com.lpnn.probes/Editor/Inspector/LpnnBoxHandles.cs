@@ -11,9 +11,9 @@ namespace Lpnn.Probes.Editor
     {
         private readonly BoxBoundsHandle _handle = new BoxBoundsHandle();
 
-        public void Draw(LpnnVolume volume, SerializedObject serializedVolume)
+        /// <param name="boxes">The volume's serialized box list (LpnnVolumeProperties.Boxes), a property of <paramref name="edited"/>.</param>
+        public void Draw(LpnnVolume volume, SerializedObject edited, SerializedProperty boxes)
         {
-            var boxes = serializedVolume.FindProperty(LpnnVolume.Fields.Boxes);
             if (boxes == null) return;
             for (int b = 0; b < boxes.arraySize; b++)
             {
@@ -34,7 +34,7 @@ namespace Lpnn.Probes.Editor
                     size.vector3Value = _handle.size;
                 }
             }
-            serializedVolume.ApplyModifiedProperties();
+            edited.ApplyModifiedProperties();
         }
     }
 }

@@ -1,0 +1,208 @@
+using System;
+using System.IO;
+using Lpnn.Probes.Core;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
+using UnityEditor;
+using UnityEngine;
+
+namespace Lpnn.Probes.Editor
+{
+    /// <summary>The inspector's Placement section: method and policy, the live count of what Apply would place with its
+    /// estimated error, the tolerance search, the insertion ranking, and Apply / Clear / Import.</summary>
+    public sealed class PlacementPanel
+    {
+        private readonly PlacementPreview _preview = new PlacementPreview();
+        private readonly PlacementErrorEstimate _estimate = new PlacementErrorEstimate();
+
+        private static readonly SelectionPolicy[] PolicyOrder =
+        {
+            SelectionPolicy.Spread, SelectionPolicy.Percentile, SelectionPolicy.Budget, SelectionPolicy.Threshold, SelectionPolicy.Tolerance,
+        };
+
+        public void Draw(LpnnVolume volume, LpnnSession session, StepStates steps, SerializedObject edited, LpnnVolumeProperties properties,
+            LpnnPipeline.StepExecutor runStep)
+        {
+            InspectorLayout.Header(LpnnVolumeStyles.PlacementHeader);
+            InspectorLayout.Field(properties.TargetGroup);
+            InspectorLayout.Field(properties.Method);
+            edited.ApplyModifiedProperties();
+            bool byScores = PlacementMethods.NeedsScores(volume.Method);
+            if (byScores) EditorGUILayout.HelpBox(LpnnVolumeStyles.NetworkMeasuredWorse, MessageType.None);
+            var policy = PolicyPopup(properties.Policy);
+            switch (policy)
+            {
+                case SelectionPolicy.Spread:
+                case SelectionPolicy.Budget: InspectorLayout.Field(properties.Budget); break;
+                case SelectionPolicy.Threshold: InspectorLayout.Field(properties.Threshold); break;
+                case SelectionPolicy.Tolerance: InspectorLayout.Field(properties.Tolerance); break;
+                default: InspectorLayout.Field(properties.Percentile); break;
+            }
+            InspectorLayout.Field(properties.KeepBoundsCorners);
+            edited.ApplyModifiedProperties();
+            var preview = PreviewCount(volume, session);
+            var placement = steps[PipelineStep.Placement];
+            using (new EditorGUILayout.HorizontalScope())
+            {
+                using (new EditorGUI.DisabledScope(byScores ? volume.LastScores.IsEmpty : session.Sh == null))
+                {
+                    if (!byScores && KnownInsertionRanking(volume, session) == null && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
+                        StepRunner.Run(volume, placement, (progress, cancel) => RankByInsertion(volume, session, progress, cancel));
+                    if (policy == SelectionPolicy.Tolerance && GUILayout.Button(LpnnVolumeStyles.FindProbes))
+                        StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
+                    if (GUILayout.Button(LpnnVolumeStyles.Apply))
+                        runStep(PipelineStep.Placement, (progress, cancel) =>
+                            preview != null ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
+                }
+                if (GUILayout.Button(LpnnVolumeStyles.Clear))
+                    StepRunner.Run(volume, placement, (progress, cancel) => { ProbeGroupWriter.Clear(volume.TargetGroup); return "probes cleared"; });
+                if (GUILayout.Button(LpnnVolumeStyles.ImportProbes)) ImportProbes(volume, placement, edited);
+            }
+            InspectorLayout.Status(placement);
+        }
+
+        /// <summary>The policy popup in <see cref="PolicyOrder"/>, not the order of the enum, whose values are stored in scenes
+        /// and only ever appended to.</summary>
+        private static SelectionPolicy PolicyPopup(SerializedProperty property)
+        {
+            // The enum is declared in value order, so its index is its value.
+            var current = (SelectionPolicy)property.enumValueIndex;
+            int shown = Math.Max(0, Array.IndexOf(PolicyOrder, current));
+            // EditorGUILayout.Popup: UnityCsReference Editor/Mono/EditorGUILayout.cs
+            int chosen = EditorGUILayout.Popup(LpnnVolumeStyles.Policy, shown, LpnnVolumeStyles.PolicyLabels);
+            if (chosen != shown) property.enumValueIndex = (int)PolicyOrder[chosen];
+            return PolicyOrder[chosen];
+        }
+
+        private static void ImportProbes(LpnnVolume volume, StepState placement, SerializedObject edited)
+        {
+            string path = EditorUtility.OpenFilePanel(LpnnVolumeStyles.ImportProbesPanel, LpnnPaths.DatasetFolderFor(volume), "json");
+            if (!string.IsNullOrEmpty(path))
+                StepRunner.Run(volume, placement, (progress, cancel) =>
+                    ProbeGroupWriter.Import(volume.TargetGroup, path) + " probes imported from " + Path.GetFileName(path));
+            InspectorLayout.EndGuiAfterModal(edited);
+        }
+
+        /// <summary>Shows how many probes Apply would place and their estimated error; returns the selection (null when
+        /// there is none yet).</summary>
+        private SelectionResult PreviewCount(LpnnVolume volume, LpnnSession session)
+        {
+            bool byScores = PlacementMethods.NeedsScores(volume.Method);
+            var record = volume.LastScores;
+            if (byScores && record.IsEmpty)
+            {
+                EditorGUILayout.HelpBox(LpnnVolumeStyles.NoScoresYet, MessageType.None);
+                return null;
+            }
+            if (!byScores && session.Sh == null)
+            {
+                EditorGUILayout.HelpBox(LpnnVolumeStyles.NoLightingYet, MessageType.None);
+                return null;
+            }
+            string error;
+            SelectionResult result;
+            EvaluationGrid grid = null;
+            try
+            {
+                grid = LpnnPipeline.PlacementGrid(volume, session);
+                if (byScores)
+                {
+                    result = _preview.Get(grid, record, volume.GetSelectionSettings(), out error);
+                }
+                else
+                {
+                    int[] ranking = KnownInsertionRanking(volume, session);
+                    if (ranking != null)
+                    {
+                        result = _preview.GetRanked(grid, ranking, PlacementInputs.ValidPoints(session, grid), volume.GetSelectionSettings(), out error);
+                    }
+                    else
+                    {
+                        result = null;
+                        error = LpnnVolumeStyles.InsertionNotRankedYet;
+                    }
+                }
+            }
+            catch (LpnnException e)
+            {
+                result = null;
+                error = e.Message;
+            }
+            if (result == null)
+            {
+                EditorGUILayout.HelpBox(error, MessageType.Warning);
+                return null;
+            }
+            string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
+                           InvariantFormat.Count(grid.Count) + " points" + StepSummaries.Extras(result) + "." +
+                           (byScores ? ValidityLine(record) : InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)));
+            EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
+            if (!_estimate.Has(result, session) && session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button(LpnnVolumeStyles.EstimateError))
+                _estimate.Get(result, session, grid, out bool _);
+            return result;
+        }
+
+        /// <summary>The insertion preview's line on invalid points: known only once the Features step ran on this grid.</summary>
+        private static string InsertionValidityLine(bool[] valid)
+        {
+            if (valid == null) return "\n" + LpnnVolumeStyles.InsertionValidityUnknown;
+            int invalid = ValidCandidates.CountInvalid(valid);
+            return invalid == 0 ? "" : "\n" + InvariantFormat.Count(invalid) + " points inside geometry are never probes.";
+        }
+
+        /// <summary>The preview's line on invalid points (Documentation~/features.md "Probe validity").</summary>
+        private static string ValidityLine(LpnnScoreRecord record)
+        {
+            if (record.Valid == null) return "\n" + LpnnVolumeStyles.ScoresValidityUnknown;
+            int invalid = record.InvalidCount;
+            return invalid == 0 ? "" : "\n" + InvariantFormat.Count(invalid) + " of " + InvariantFormat.Count(record.Count) +
+                                       " points are inside geometry (more than a quarter of their rays hit back faces) and are never probes.";
+        }
+
+        /// <summary>The estimated error line under the probe count: live on small grids, on request on large ones.</summary>
+        private string ErrorReadout(SelectionResult result, LpnnSession session, EvaluationGrid grid, out MessageType type)
+        {
+            type = MessageType.Info;
+            if (session.Sh == null || session.Grid != grid) return LpnnVolumeStyles.ErrorNeedsLighting;
+            if (!_estimate.Has(result, session) && !PlacementErrorEstimate.IsLive(grid))
+                return "Estimated error: press '" + LpnnVolumeStyles.EstimateError + "' (" + InvariantFormat.Count(grid.Count) +
+                       " points is too many to follow every change).";
+            string text = _estimate.Get(result, session, grid, out bool failed);
+            if (failed) type = MessageType.Warning;
+            return text;
+        }
+
+        private string SearchTolerance(LpnnVolume volume, LpnnSession session, ProgressCallback progress, System.Threading.CancellationToken cancel)
+        {
+            var grid = LpnnPipeline.PlacementGrid(volume, session);
+            var settings = volume.GetSelectionSettings();
+            var result = PlacementMethods.NeedsScores(volume.Method)
+                ? _preview.Search(grid, volume.LastScores, settings, PlacementInputs.Evaluator(session, grid))
+                : _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(session, grid, progress, cancel), PlacementInputs.ValidPoints(session, grid),
+                    settings, PlacementInputs.Evaluator(session, grid));
+            return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
+        }
+
+        /// <summary>The insertion ranking of the current lighting if already computed (never computes during a repaint).</summary>
+        private static int[] KnownInsertionRanking(LpnnVolume volume, LpnnSession session)
+        {
+            try
+            {
+                return PlacementInputs.KnownInsertionRanking(session, LpnnPipeline.FreshLitGrid(volume, session));
+            }
+            catch (LpnnException)
+            {
+                return null;
+            }
+        }
+
+        private static string RankByInsertion(LpnnVolume volume, LpnnSession session, ProgressCallback progress, System.Threading.CancellationToken cancel)
+        {
+            var grid = LpnnPipeline.FreshLitGrid(volume, session);
+            PlacementInputs.RankByInsertion(session, grid, progress, cancel);
+            return InvariantFormat.Count(grid.Count) + " points ranked by insertion";
+        }
+    }
+}
