@@ -335,5 +335,60 @@ namespace Lpnn.Probes.Core.Tests
             StringAssert.Contains("needs the network's scores", threshold.Message);
             Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromRanking(grid, ranking.Take(5).ToArray(), SelectionSettings.Budget(3), null));
         }
+
+        [Test]
+        public void TheLazyOrderSelectsWhatTheWholeRankingSelectsWithFewerRounds()
+        {
+            var grid = QualityFixtures.Box(9, 8, 6);
+            var positions = QualityFixtures.Positions(grid);
+            var sh = QualityFixtures.BlobField(positions, new Vector3(2, 2, 1), new Vector3(6, 5, 4), 1.5f);
+            var valid = new bool[grid.Count];
+            for (int n = 0; n < grid.Count; n++) valid[n] = grid.GetId(n).I > 0; // the layer x = 0 is inside geometry
+            double scale = ReferenceLighting.FromGrid(grid, sh).SceneScale;
+            var measure = new PlacementEvaluator(ReferenceLighting.FromGrid(grid, sh, scale), new BowyerWatsonDelaunay());
+            int[] full = InsertionRanking.RankValid(grid, sh, scale, valid, new BowyerWatsonDelaunay());
+            var everything = InsertionOrder.OfValid(grid, sh, scale, valid, new BowyerWatsonDelaunay());
+            everything.All();
+            Assert.That(everything.IsComplete, Is.True);
+
+            var cases = new[]
+            {
+                SelectionSettings.Budget(20), SelectionSettings.Budget(2), SelectionSettings.Spread(30, true), SelectionSettings.Percentile(0.95),
+                SelectionSettings.Tolerance(0.05), SelectionSettings.Tolerance(0.02, true),
+            };
+            foreach (var settings in cases)
+            {
+                var order = InsertionOrder.OfValid(grid, sh, scale, valid, new BowyerWatsonDelaunay());
+                var lazy = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, measure, valid);
+                var eager = ProbeSelector.SelectFromRanking(grid, full, settings, measure, valid);
+                string label = settings.Policy + " " + settings.Value;
+                Assert.That(lazy.Indices, Is.EqualTo(eager.Indices), label);
+                Assert.That(lazy.CornersAdded, Is.EqualTo(eager.CornersAdded), label);
+                Assert.That(lazy.AddedForTetrahedron, Is.EqualTo(eager.AddedForTetrahedron), label);
+                Assert.That(lazy.Indices.All(p => valid[p]), Is.True, label);
+                if (settings.Policy == SelectionPolicy.Tolerance) Assert.That(lazy.Tolerance.Count, Is.EqualTo(eager.Tolerance.Count), label);
+                Assert.That(order.Rounds, Is.LessThan(everything.Rounds), label + ": the lazy order ran every round");
+            }
+            // The prefixes are the whole ranking's.
+            var stepwise = InsertionOrder.OfValid(grid, sh, scale, valid, new BowyerWatsonDelaunay());
+            foreach (int k in new[] { 1, 4, 17, 60, 200, stepwise.Count })
+                Assert.That(stepwise.Prefix(k).Take(k), Is.EqualTo(full.Take(k)), "prefix " + k);
+        }
+
+        [Test]
+        public void APrefixThatBreaksItsContractIsRefused()
+        {
+            var grid = Grid();
+            var positions = QualityFixtures.Positions(grid);
+            var sh = QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1));
+            int[] ranking = InsertionRanking.RankValid(grid, sh, ReferenceLighting.FromGrid(grid, sh).SceneScale, null, new BowyerWatsonDelaunay());
+            var tooShort = Assert.Throws<SelectionException>(() =>
+                ProbeSelector.SelectFromPrefixes(grid, grid.Count, k => ranking.Take(k - 1).ToArray(), SelectionSettings.Budget(10), null));
+            StringAssert.Contains("prefix for 10 points has 9", tooShort.Message);
+            var twice = ranking.ToArray();
+            twice[3] = twice[0];
+            Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromPrefixes(grid, grid.Count, k => twice, SelectionSettings.Budget(10), null));
+            Assert.Throws<SelectionException>(() => ProbeSelector.SelectFromPrefixes(grid, grid.Count - 1, k => ranking, SelectionSettings.Budget(10), null));
+        }
     }
 }

@@ -117,8 +117,12 @@ namespace Lpnn.Probes.Editor.Tests
             Assert.That(_room.Volume.TargetGroup.probePositions.Length, Is.EqualTo(selection.Indices.Length));
             Assert.That(selection.Tolerance.MeanError, Is.LessThanOrEqualTo(SelectionSettings.DefaultTolerance));
             Assert.That(reported.Count, Is.GreaterThan(1), "the ranking reports its rounds");
-            int[] ranking = PlacementInputs.KnownInsertionRanking(_session, _session.Grid);
+            // Apply read the insertion order only as far as the tolerance search needed; the whole ranking selects the same.
+            int[] ranking = PlacementInputs.RankByInsertion(_session, _session.Grid, null, CancellationToken.None);
             Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, _session.Grid.Count)));
+            var measure = PlacementInputs.Evaluator(_session, _session.Grid);
+            Assert.That(ProbeSelector.SelectFromRanking(_session.Grid, ranking, _room.Volume.GetSelectionSettings(), measure,
+                PlacementInputs.ValidPoints(_session, _session.Grid)).Indices, Is.EqualTo(selection.Indices));
         }
 
         [Test]

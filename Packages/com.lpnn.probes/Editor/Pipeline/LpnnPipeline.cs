@@ -155,9 +155,20 @@ namespace Lpnn.Probes.Editor
             var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
             selection = PlacementMethods.NeedsScores(volume.Method)
                 ? ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure)
-                : ProbeSelector.SelectFromRanking(grid, PlacementInputs.RankByInsertion(session, FreshLitGrid(volume, session), progress, cancel), settings, measure,
-                    PlacementInputs.ValidPoints(session, grid));
+                : SelectByInsertion(session, FreshLitGrid(volume, session), settings, measure, progress, cancel);
             return PositionsOf(grid, selection);
+        }
+
+        /// <summary>The insertion method's selection, reading the insertion order only as far as the policy needs (a budget's
+        /// points, the tolerance search's prefixes), or the whole ranking when it is already known.</summary>
+        private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, SelectionSettings settings, IPlacementErrorMeasure measure,
+            ProgressCallback progress, CancellationToken cancel)
+        {
+            bool[] valid = PlacementInputs.ValidPoints(session, grid);
+            int[] known = PlacementInputs.KnownInsertionRanking(session, grid);
+            if (known != null) return ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
+            var order = PlacementInputs.InsertionOrder(session, grid);
+            return ProbeSelector.SelectFromPrefixes(grid, order.Count, count => order.Prefix(count, progress, cancel), settings, measure, valid);
         }
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>

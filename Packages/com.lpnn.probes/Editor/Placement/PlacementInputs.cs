@@ -16,13 +16,15 @@ namespace Lpnn.Probes.Editor
     {
         private static readonly ConditionalWeakTable<float[], ScoredPoints> Rankings = new ConditionalWeakTable<float[], ScoredPoints>();
         private static readonly ConditionalWeakTable<float[], ReferenceLighting> References = new ConditionalWeakTable<float[], ReferenceLighting>();
-        private static readonly ConditionalWeakTable<float[], InsertionOrder> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrder>();
+        private static readonly ConditionalWeakTable<float[], InsertionOrderEntry> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrderEntry>();
 
-        /// <summary>An insertion ranking with the grid it ranks and the features whose validity flags it used (null: none).</summary>
-        private sealed class InsertionOrder
+        /// <summary>An insertion order (computed as far as it was read) with the grid it ranks and the features whose
+        /// validity flags it used (null: none); the whole ranking once it was read to its end.</summary>
+        private sealed class InsertionOrderEntry
         {
             public EvaluationGrid Grid;
             public FeatureSet Features;
+            public Core.Quality.InsertionOrder Order;
             public int[] Ranking;
         }
 
@@ -55,25 +57,38 @@ namespace Lpnn.Probes.Editor
         /// first use (about a second per 1,000 points, with progress and cancel), then kept as long as that lighting.</summary>
         public static int[] RankByInsertion(LpnnSession session, EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel)
         {
-            int[] known = KnownInsertionRanking(session, grid);
-            if (known != null) return known;
-            var reference = Reference(session, grid);
-            var features = ValidPoints(session, grid) == null ? null : session.Features;
-            // Only the valid points are ranked (points inside geometry would steer the rounds with lighting read in walls).
-            int[] ranking = Core.Quality.InsertionRanking.RankValid(grid, session.Sh, reference.SceneScale, ValidPoints(session, grid),
-                new UnityTetrahedralizer(), Core.Quality.InsertionRanking.DefaultGrowth, progress, cancel);
-            InsertionOrders.Remove(session.Sh);
-            InsertionOrders.Add(session.Sh, new InsertionOrder { Grid = grid, Features = features, Ranking = ranking });
-            return ranking;
+            var entry = InsertionEntry(session, grid);
+            if (entry.Ranking == null) entry.Ranking = entry.Order.All(progress, cancel);
+            return entry.Ranking;
         }
 
-        /// <summary>The insertion ranking if it was already computed for this lighting and grid, else null (never computes:
+        /// <summary>The insertion order of the session's lighting, computed only as far as a selection reads it (a budget, the
+        /// tolerance search): `Apply` and batch mode place without ranking every point. Kept as long as that lighting, so
+        /// what was computed is reused (also by <see cref="RankByInsertion"/>).</summary>
+        public static Core.Quality.InsertionOrder InsertionOrder(LpnnSession session, EvaluationGrid grid) => InsertionEntry(session, grid).Order;
+
+        private static InsertionOrderEntry InsertionEntry(LpnnSession session, EvaluationGrid grid)
+        {
+            var features = ValidPoints(session, grid) == null ? null : session.Features;
+            if (session.Sh != null && InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid && known.Features == features) return known;
+            var reference = Reference(session, grid);
+            // Only the valid points are ranked (points inside geometry would steer the rounds with lighting read in walls).
+            var order = Core.Quality.InsertionOrder.OfValid(grid, session.Sh, reference.SceneScale, ValidPoints(session, grid), new UnityTetrahedralizer());
+            var entry = new InsertionOrderEntry { Grid = grid, Features = features, Order = order };
+            InsertionOrders.Remove(session.Sh);
+            InsertionOrders.Add(session.Sh, entry);
+            return entry;
+        }
+
+        /// <summary>The whole insertion ranking if it was already computed for this lighting and grid, else null (never computes:
         /// the inspector's repaint must stay fast).</summary>
         public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid)
         {
             if (session.Sh == null || session.Grid != grid) return null;
             var features = ValidPoints(session, grid) == null ? null : session.Features;
-            return InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid && known.Features == features ? known.Ranking : null;
+            if (!InsertionOrders.TryGetValue(session.Sh, out var known) || known.Grid != grid || known.Features != features) return null;
+            if (known.Ranking == null && known.Order.IsComplete) known.Ranking = known.Order.All();
+            return known.Ranking;
         }
 
         /// <summary>The Features step's validity flags for this grid (features.md "Probe validity"), or null when the Features

@@ -31,49 +31,17 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Per-point errors at or below this are exact interpolation: nothing to fix there.</summary>
         public const double Exact = 1e-12;
 
-        private const string Stage = "insertion ranking";
-
-        /// <summary>Every grid point once, most important first.</summary>
+        /// <summary>Every grid point once, most important first (<see cref="InsertionOrder"/> read to its end).</summary>
         /// <param name="reference">The dense lighting of exactly this grid's points.</param>
         /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
         /// <param name="growth">Fraction of the current probes inserted per round (&gt; 0).</param>
-        /// <param name="progress">Called after every round with the points ranked so far.</param>
+        /// <param name="progress">Called before every round with the points ranked so far, and at the end.</param>
         public static int[] Rank(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = DefaultGrowth,
-            ProgressCallback progress = null, CancellationToken cancel = default)
-        {
-            if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
-            CheckGrowth(growth);
-            int[] start = TypicalTetrahedron(grid, reference);
-            int count = reference.Count;
-            var order = new List<int>(count);
-            var chosen = new bool[count];
-            foreach (int p in start)
-            {
-                order.Add(p);
-                chosen[p] = true;
-            }
-            while (order.Count < count)
-            {
-                cancel.ThrowIfCancellationRequested();
-                progress?.Invoke(Stage, order.Count, count);
-                int[] probes = order.ToArray();
-                int[] batch = NextBatch(reference, probes, tetrahedralizer.Tetrahedralize(PositionsOf(reference, probes)), growth);
-                if (batch.Length == 0) break;
-                foreach (int p in batch)
-                {
-                    order.Add(p);
-                    chosen[p] = true;
-                }
-            }
-            for (int n = 0; n < count; n++)
-                if (!chosen[n]) order.Add(n);
-            progress?.Invoke(Stage, count, count);
-            return order.ToArray();
-        }
+            ProgressCallback progress = null, CancellationToken cancel = default) =>
+            new InsertionOrder(grid, reference, tetrahedralizer, growth).All(progress, cancel);
 
-        /// <summary>The insertion ranking of the valid points alone, as `lpnn place` ranks a capture whose points inside
-        /// geometry were dropped: invalid points neither become probes nor steer the rounds (their lighting, read inside
-        /// geometry, would draw insertions that are then thrown away). Returns every grid point once: the valid points in
+        /// <summary>The insertion ranking of the valid points alone (<see cref="InsertionOrder.OfValid"/>), as `lpnn place`
+        /// ranks a capture whose points inside geometry were dropped. Returns every grid point once: the valid points in
         /// insertion order, then the invalid ones by index (never selected: <see cref="ProbeSelector.SelectFromRanking"/>
         /// with the same flags drops them).</summary>
         /// <param name="sh">27 floats per grid point (Documentation~/sh.md).</param>
@@ -82,25 +50,10 @@ namespace Lpnn.Probes.Core.Quality
         public static int[] RankValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
             double growth = DefaultGrowth, ProgressCallback progress = null, CancellationToken cancel = default)
         {
-            if (grid == null) throw new ArgumentNullException(nameof(grid));
-            if (sh == null) throw new ArgumentNullException(nameof(sh));
-            if (valid == null) return Rank(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth, progress, cancel);
-            int validCount = ValidCandidates.Check(grid, valid);
-            if (sh.Length != ShMath.FloatsPerProbe * grid.Count)
-                throw new PlacementErrorException("need 27 SH coefficients per evaluation point: got " + InvariantFormat.Count(sh.Length) +
-                                                  " values for " + InvariantFormat.Count(grid.Count) + " points");
-            var rows = new int[validCount];
-            var validSh = new float[ShMath.FloatsPerProbe * validCount];
-            for (int n = 0, m = 0; n < grid.Count; n++)
-            {
-                if (!valid[n]) continue;
-                Array.Copy(sh, ShMath.FloatsPerProbe * n, validSh, ShMath.FloatsPerProbe * m, ShMath.FloatsPerProbe);
-                rows[m++] = n;
-            }
-            var validGrid = grid.Subset(valid);
-            int[] ranked = Rank(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth, progress, cancel);
+            int[] ranked = InsertionOrder.OfValid(grid, sh, sceneScale, valid, tetrahedralizer, growth).All(progress, cancel);
+            if (valid == null) return ranked;
             var ranking = new int[grid.Count];
-            for (int r = 0; r < ranked.Length; r++) ranking[r] = rows[ranked[r]];
+            Array.Copy(ranked, ranking, ranked.Length);
             for (int n = 0, r = ranked.Length; n < grid.Count; n++)
                 if (!valid[n]) ranking[r++] = n;
             return ranking;
@@ -287,14 +240,7 @@ namespace Lpnn.Probes.Core.Quality
             return spread;
         }
 
-        private static Vector3[] PositionsOf(ReferenceLighting reference, int[] probes)
-        {
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
-            return positions;
-        }
-
-        private static void CheckGrowth(double growth)
+        internal static void CheckGrowth(double growth)
         {
             if (!(growth > 0) || double.IsInfinity(growth))
                 throw new PlacementErrorException("growth " + InvariantFormat.Number(growth) + " must be a fraction greater than 0 of the current probes (e.g. " +

@@ -95,21 +95,59 @@ namespace Lpnn.Probes.Core.Selection
                 ValidCandidates.Check(grid, valid);
                 ranking = ValidCandidates.Filter(ranking, valid); // the valid points in ranking order: nothing else is a candidate
             }
-            int n = ranking.Length;
+            return FromPrefixes(grid, ranking.Length, count => ranking, settings, measure, valid);
+        }
+
+        /// <summary><see cref="SelectFromRanking"/> over a ranking computed only as far as it is read (e.g.
+        /// <see cref="Quality.InsertionOrder.Prefix"/>): a budget reads its first K points, the tolerance search the prefixes
+        /// it tries, and nothing further is computed. Same selections as over the whole ranking.</summary>
+        /// <param name="candidates">The points the whole ranking holds: the grid's, or its valid ones.</param>
+        /// <param name="prefix">Returns at least the first min(count, candidates) points of the ranking (more is allowed),
+        /// valid grid points each listed once, which span a tetrahedron whatever the count (the tetrahedron guarantee
+        /// completes a selection from them only).</param>
+        public static SelectionResult SelectFromPrefixes(EvaluationGrid grid, int candidates, RankingPrefix prefix, SelectionSettings settings,
+            IPlacementErrorMeasure measure, bool[] valid = null)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (prefix == null) throw new ArgumentNullException(nameof(prefix));
+            settings.Validate();
+            int expected = valid == null ? grid.Count : ValidCandidates.Check(grid, valid);
+            if (candidates != expected)
+                throw new SelectionException("the ranking holds " + candidates + " points, but the grid has " + expected + (valid == null ? "" : " valid") + " points");
+            return FromPrefixes(grid, candidates, count =>
+            {
+                int[] head = prefix(count);
+                if (head == null || head.Length < Math.Min(count, candidates) || head.Length > candidates)
+                    throw new SelectionException("the ranking's prefix for " + count + " points has " + (head?.Length ?? 0) + " (of " + candidates + ")");
+                CheckRanking(head, grid.Count, valid);
+                return head;
+            }, settings, measure, valid);
+        }
+
+        private static SelectionResult FromPrefixes(EvaluationGrid grid, int n, RankingPrefix prefix, SelectionSettings settings, IPlacementErrorMeasure measure,
+            bool[] valid)
+        {
             switch (settings.Policy)
             {
                 case SelectionPolicy.Percentile:
-                    return Complete(grid, Prefix(ranking, PercentileCount(settings.Value, n)), settings.KeepBoundsCorners, ranking, valid);
+                    return Head(grid, prefix, PercentileCount(settings.Value, n), settings.KeepBoundsCorners, valid);
                 case SelectionPolicy.Budget:
                 case SelectionPolicy.Spread:
-                    return Complete(grid, Prefix(ranking, (int)Math.Min(settings.Value, n)), settings.KeepBoundsCorners, ranking, valid);
+                    return Head(grid, prefix, (int)Math.Min(settings.Value, n), settings.KeepBoundsCorners, valid);
                 case SelectionPolicy.Threshold:
                     throw new SelectionException("the score threshold policy needs the network's scores, and this ranking has none; " +
                                                  "choose Tolerance, Spread or Budget (a prefix of the ranking), or the Network method");
                 default:
                     if (measure == null) throw MissingMeasure();
-                    return WithinTolerance(grid, ranking, settings, measure, valid);
+                    return WithinTolerance(grid, n, prefix, settings, measure, valid);
             }
+        }
+
+        /// <summary>The ranking's first <paramref name="count"/> points, completed (the guarantee draws from the prefix read).</summary>
+        private static SelectionResult Head(EvaluationGrid grid, RankingPrefix prefix, int count, bool keepBoundsCorners, bool[] valid)
+        {
+            int[] head = prefix(count);
+            return Complete(grid, Prefix(head, count), keepBoundsCorners, head, valid);
         }
 
         /// <summary>The tolerance policy over any ranking (the spread ranking by default; a reference ordering or a
@@ -134,10 +172,17 @@ namespace Lpnn.Probes.Core.Selection
                 throw new SelectionException("the tolerance search needs tolerance settings, got the " + settings.Policy + " policy");
             settings.Validate();
             if (measure == null) throw MissingMeasure();
+            return WithinTolerance(grid, ranking.Length, count => ranking, settings, measure, valid);
+        }
+
+        private static SelectionResult WithinTolerance(EvaluationGrid grid, int n, RankingPrefix prefix, SelectionSettings settings,
+            IPlacementErrorMeasure measure, bool[] valid)
+        {
             var tried = new Dictionary<int, SelectionResult>();
-            var search = ToleranceSearch.Run(ranking.Length, count =>
+            var search = ToleranceSearch.Run(n, count =>
             {
-                var selection = Complete(grid, Prefix(ranking, count), settings.KeepBoundsCorners, ranking, valid);
+                int[] head = prefix(count);
+                var selection = Complete(grid, Prefix(head, count), settings.KeepBoundsCorners, head, valid);
                 tried[count] = selection;
                 return measure.MeanError(selection.Indices);
             }, settings.Value);

@@ -1,0 +1,132 @@
+using System;
+using System.Collections.Generic;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Sh;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>The insertion ranking (<see cref="InsertionRanking"/>) computed only as far as it is read: <see cref="Prefix"/>
+    /// runs rounds until the points asked for are ranked. A budget of K points, or the tolerance policy's search (exponential
+    /// from 4, then bisection: it never reads beyond about twice its answer), thus costs the rounds up to that count instead
+    /// of the ~log(N / 4) / log(1 + growth) rounds of the whole ranking; the prefixes are those of the whole ranking exactly
+    /// (the same rounds, in the same order). Port of lpnn/quality/insertion.py InsertionOrder (quality.md §5.1 step 4).</summary>
+    public sealed class InsertionOrder
+    {
+        private const string Stage = "insertion ranking";
+
+        private readonly ReferenceLighting _reference;
+        private readonly ITetrahedralizer _tetrahedralizer;
+        private readonly double _growth;
+        /// <summary>The grid index of each ranked point (null: the reference's points are the grid's).</summary>
+        private readonly int[] _rows;
+        private readonly List<int> _order;
+        private readonly bool[] _chosen;
+        /// <summary>Every point not yet ranked is interpolated exactly: the rest follow by index.</summary>
+        private bool _exhausted;
+
+        /// <summary>Points this order ranks (the valid ones for <see cref="OfValid"/>).</summary>
+        public int Count => _reference.Count;
+        /// <summary>Points ranked so far.</summary>
+        public int Ranked => _order.Count;
+        public bool IsComplete => _order.Count == _reference.Count;
+        /// <summary>Insertion rounds run so far.</summary>
+        public int Rounds { get; private set; }
+
+        /// <param name="reference">The dense lighting of exactly this grid's points.</param>
+        /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
+        /// <param name="growth">Fraction of the current probes inserted per round (&gt; 0).</param>
+        public InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = InsertionRanking.DefaultGrowth)
+            : this(grid, reference, tetrahedralizer, growth, null)
+        {
+        }
+
+        private InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth, int[] rows)
+        {
+            if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
+            InsertionRanking.CheckGrowth(growth);
+            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            _reference = reference;
+            _tetrahedralizer = tetrahedralizer;
+            _growth = growth;
+            _rows = rows;
+            _order = new List<int>(start);
+            _chosen = new bool[reference.Count];
+            foreach (int p in start) _chosen[p] = true;
+        }
+
+        /// <summary>The insertion order of the valid points alone, as `lpnn place` ranks a capture whose points inside
+        /// geometry were dropped (invalid points neither become probes nor steer the rounds); it ranks grid indices of valid
+        /// points only.</summary>
+        /// <param name="sh">27 floats per grid point (Documentation~/sh.md).</param>
+        /// <param name="sceneScale">The whole grid's scene scale, so the errors are those of the full reference.</param>
+        /// <param name="valid">One flag per grid point, or null (all valid).</param>
+        public static InsertionOrder OfValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
+            double growth = InsertionRanking.DefaultGrowth)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (sh == null) throw new ArgumentNullException(nameof(sh));
+            if (valid == null) return new InsertionOrder(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth);
+            int validCount = ValidCandidates.Check(grid, valid);
+            if (sh.Length != ShMath.FloatsPerProbe * grid.Count)
+                throw new PlacementErrorException("need 27 SH coefficients per evaluation point: got " + InvariantFormat.Count(sh.Length) +
+                                                  " values for " + InvariantFormat.Count(grid.Count) + " points");
+            var rows = new int[validCount];
+            var validSh = new float[ShMath.FloatsPerProbe * validCount];
+            for (int n = 0, m = 0; n < grid.Count; n++)
+            {
+                if (!valid[n]) continue;
+                Array.Copy(sh, ShMath.FloatsPerProbe * n, validSh, ShMath.FloatsPerProbe * m, ShMath.FloatsPerProbe);
+                rows[m++] = n;
+            }
+            var validGrid = grid.Subset(valid);
+            return new InsertionOrder(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth, rows);
+        }
+
+        /// <summary>The ranking's first min(<paramref name="count"/>, <see cref="Count"/>) points — or more: every point
+        /// ranked so far, in order (grid indices). Always at least the starting tetrahedron, which spans a volume.</summary>
+        /// <param name="progress">Called before every round with the points ranked so far, of the count asked for.</param>
+        public int[] Prefix(int count, ProgressCallback progress = null, CancellationToken cancel = default)
+        {
+            count = Math.Max(0, Math.Min(count, Count));
+            if (_order.Count < count)
+            {
+                while (_order.Count < count && !_exhausted)
+                {
+                    cancel.ThrowIfCancellationRequested();
+                    progress?.Invoke(Stage, _order.Count, count);
+                    int[] probes = _order.ToArray();
+                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth);
+                    Rounds++;
+                    if (batch.Length == 0) _exhausted = true;
+                    foreach (int p in batch)
+                    {
+                        _order.Add(p);
+                        _chosen[p] = true;
+                    }
+                }
+                if (_order.Count < count)
+                    for (int n = 0; n < _chosen.Length; n++)
+                        if (!_chosen[n]) _order.Add(n);
+                progress?.Invoke(Stage, count, count);
+            }
+            var ranked = new int[_order.Count];
+            for (int r = 0; r < ranked.Length; r++) ranked[r] = _rows == null ? _order[r] : _rows[_order[r]];
+            return ranked;
+        }
+
+        /// <summary>Every point once, most important first.</summary>
+        public int[] All(ProgressCallback progress = null, CancellationToken cancel = default) => Prefix(Count, progress, cancel);
+
+        private Vector3[] PositionsOf(int[] probes)
+        {
+            var positions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) positions[k] = _reference.GetPosition(probes[k]);
+            return positions;
+        }
+    }
+}
