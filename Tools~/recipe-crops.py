@@ -44,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from dataclasses import fields
 
-    from lpnn.core.capture import write_capture
+    from lpnn.core.capture_file import write_capture
     from lpnn.recipe.config import RecipeConfig
     from lpnn.recipe.crops import crops_of_level
     from lpnn.scenes.levels import load_level

@@ -45,7 +45,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..core.capture import dataset_files, read_capture, safe_file_stem
+    from ..core.capture_file import dataset_files, read_capture, safe_file_stem
     from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
     from .errors import user_errors
     from ..quality.plots import error_plot, time_plot

@@ -15,17 +15,10 @@ import argparse
 from pathlib import Path
 
 from ..core.atomic import write_new_atomic
-from ..core.capture import (
-    EXTENSION,
-    Capture,
-    CaptureError,
-    append_capture,
-    dataset_files,
-    encode_capture,
-    read_capture,
-    safe_file_stem,
-    validate_capture,
-)
+from ..core.capture import Capture, CaptureError
+from ..core.capture_encoder import encode_capture
+from ..core.capture_file import append_capture, dataset_files, read_capture, safe_file_stem, validate_capture
+from ..core.capture_format import EXTENSION
 from ..core.legacy import LegacyFormatError, legacy_to_capture
 from ..errors import UserError
 

@@ -38,7 +38,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..core.capture import dataset_files
+    from ..core.capture_file import dataset_files
     from ..quality.bench import failure_reason
     from .errors import user_errors
     from ..quality.policies import reference_label_source
@@ -76,7 +76,8 @@ def _label_one(path: Path, args: argparse.Namespace, source: str, out_dir: Path 
     import numpy as np
 
     from ..core.atomic import write_new_atomic
-    from ..core.capture import encode_capture, read_capture, write_capture
+    from ..core.capture_encoder import encode_capture
+    from ..core.capture_file import read_capture, write_capture
     from ..quality.reference import run_reference
     from .progress import progress_bar
     from ..quality.metric import ReferenceField

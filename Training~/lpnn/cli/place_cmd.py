@@ -69,7 +69,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..core.capture import read_capture
+    from ..core.capture_file import read_capture
     from ..core.validity import BACK_FACE_THRESHOLD, valid_points, without_invalid
     from ..errors import UserError
     from .errors import user_errors

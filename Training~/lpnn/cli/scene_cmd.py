@@ -92,7 +92,7 @@ def _info(args: argparse.Namespace) -> None:
 
 
 def _import(args: argparse.Namespace) -> None:
-    from ..core.capture import append_capture, write_capture
+    from ..core.capture_file import append_capture, write_capture
     from ..lights.relight import parse_lighting
     from ..scenes.importer import import_level
 

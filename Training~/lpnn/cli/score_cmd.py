@@ -16,7 +16,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..core.capture import read_capture
+    from ..core.capture_file import read_capture
     from ..train.onnx_scoring import OnnxScorer
     from .scores_file import write_scores_csv
 

@@ -14,7 +14,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from ..core.capture import read_capture
+from ..core.capture_file import read_capture
 from ..core.processes import worker_pool
 from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from ..quality.bench import BenchConfig, bench_capture

@@ -11,7 +11,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 from ..errors import UserError
 from ..core.atomic import write_text_atomic
-from ..core.capture import read_capture, write_capture
+from ..core.capture_file import read_capture, write_capture
 from ..core.processes import worker_pool
 from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member

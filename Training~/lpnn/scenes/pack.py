@@ -7,7 +7,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from ..core.capture import CaptureError, append_capture, encode_capture
+from ..core.capture import CaptureError
+from ..core.capture_encoder import encode_capture
+from ..core.capture_file import append_capture
 from ..core.features import FeatureError
 from ..core.grid import GridError
 from .errors import BspError

@@ -15,7 +15,8 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import UserError
-from ..core.capture import Capture, dataset_files, read_capture
+from ..core.capture import Capture
+from ..core.capture_file import dataset_files, read_capture
 from .modelcard import schema_mismatch
 
 

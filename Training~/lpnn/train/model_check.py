@@ -15,7 +15,7 @@ from typing import Any, Sequence
 import numpy as np
 import onnx
 
-from ..core.capture import read_capture
+from ..core.capture_file import read_capture
 from .export import ExportError, check_io, check_ops
 from .metrics import pr_auc, roc_auc
 from .modelcard import INPUT_NAME, OUTPUT_NAME

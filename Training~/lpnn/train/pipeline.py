@@ -9,7 +9,7 @@ from typing import Sequence
 
 from .checkpoint import load_checkpoint, save_checkpoint
 from .config import TrainConfig
-from ..core.capture import read_capture
+from ..core.capture_file import read_capture
 from .data import capture_files, display_names, load_split
 from .diagnostics import batchnorm_report
 from .export import export_model, onnx_path

@@ -16,7 +16,7 @@ from lpnn.core.analytic_scene import (
     LightBlob,
     load_scene,
 )
-from lpnn.core.capture import read_capture, write_capture
+from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.core.features import Raycaster
 
 

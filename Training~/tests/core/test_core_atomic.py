@@ -11,7 +11,7 @@ from lpnn.cli.main import main
 from lpnn.core import atomic
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.atomic import OutputPathError, ensure_folder, write_bytes_atomic, write_new_atomic
-from lpnn.core.capture import write_capture
+from lpnn.core.capture_file import write_capture
 
 
 def _leftovers(folder: Path) -> list[str]:

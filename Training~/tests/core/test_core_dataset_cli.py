@@ -11,7 +11,9 @@ import pytest
 
 from lpnn.cli.main import main
 from lpnn.core.analytic_scene import AnalyticScene
-from lpnn.core.capture import CaptureError, encode_capture, read_capture, validate_capture, write_capture
+from lpnn.core.capture import CaptureError
+from lpnn.core.capture_encoder import encode_capture
+from lpnn.core.capture_file import read_capture, validate_capture, write_capture
 
 
 def thesis_files(folder: Path, points: int = 3) -> tuple[Path, Path]:

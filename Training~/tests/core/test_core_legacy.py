@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.core.capture import read_capture, write_capture
+from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.core.legacy import LegacyFormatError, legacy_to_capture, read_legacy_features, read_legacy_labels
 from lpnn.core.schema import THESIS30
 

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from lpnn.core.capture import KNOWN_HEADER_KEYS, encode_capture, read_capture, validate_capture
+from lpnn.core.capture_encoder import encode_capture
+from lpnn.core.capture_file import read_capture, validate_capture
+from lpnn.core.capture_format import KNOWN_HEADER_KEYS
 
 
 def expected_header(listing: dict) -> dict:

@@ -10,7 +10,7 @@ import pytest
 
 from lit_bsp import lit_level
 from lpnn.cli.main import main
-from lpnn.core.capture import read_capture
+from lpnn.core.capture_file import read_capture
 from lpnn.lights.relight import RigLighting, lighting_of
 from lpnn.lights.rig import Rig, write_rig
 from lpnn.scenes.levels import load_level

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from lpnn.core.capture import Capture, write_capture
+from lpnn.core.capture import Capture
+from lpnn.core.capture_file import write_capture
 from lpnn.quality.metric import ReferenceField
 
 from quality_support import MEDIUM_ROOM, room_capture

@@ -11,7 +11,8 @@ import pytest
 
 from lpnn.cli.main import main
 from lpnn.cli.scores_file import write_scores_csv
-from lpnn.core.capture import Capture, read_capture, write_capture
+from lpnn.core.capture import Capture
+from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.core.validity import CAPTURE_SECTION
 
 

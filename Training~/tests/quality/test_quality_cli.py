@@ -12,7 +12,8 @@ import pytest
 
 from lpnn.cli.main import main
 from lpnn.cli.scores_file import write_scores_csv
-from lpnn.core.capture import Capture, read_capture, write_capture
+from lpnn.core.capture import Capture
+from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture
 from lpnn.quality.lpnn_placement import lpnn_placement
 from lpnn.quality.metric import ReferenceField, placement_error

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lpnn.core.capture import read_capture, write_capture
+from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.recipe.config import RecipeConfig
 from lpnn.recipe.crops import crops_of_level
 from lpnn.recipe.levels import LevelSplit

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from lpnn.cli.main import main
-from lpnn.core.capture import encode_capture, read_capture
+from lpnn.core.capture_encoder import encode_capture
+from lpnn.core.capture_file import read_capture
 from lpnn.core.grid import GridError
 from lpnn.core.grid_box import Box
 from lpnn.scenes.coords import METRES_PER_UNIT, quake_to_unity, unity_to_quake

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lpnn.core.capture import encode_capture
+from lpnn.core.capture_encoder import encode_capture
 from lpnn.core.features import D26
 from lpnn.scenes.coords import METRES_PER_UNIT, quake_to_unity
 from lpnn.scenes.entities import light_entities

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from lpnn.core.capture import write_capture
+from lpnn.core.capture_file import write_capture
 from lpnn.train.synthetic import synthetic_capture
 
 from train_support import CAPTURE_COUNT, TINY_CONFIG, TrainedModel

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from lpnn.cli.main import main
-from lpnn.core.capture import read_capture
+from lpnn.core.capture_file import read_capture
 from lpnn.train.onnx_scoring import OnnxScorer
 
 from train_support import TrainedModel

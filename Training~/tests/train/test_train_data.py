@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from lpnn.cli.errors import UserError
-from lpnn.core.capture import Capture, write_capture
+from lpnn.core.capture import Capture
+from lpnn.core.capture_file import write_capture
 from lpnn.core.schema import THESIS30
 from lpnn.train.batches import BatchSampler, pad_clouds, random_crop
 from lpnn.train.config import TrainConfig, config_from_dict

@@ -17,7 +17,7 @@ from lpnn.train.losses import focal, weighted_bce
 from lpnn.train.metrics import roc_auc
 from lpnn.train.onnx_scoring import OnnxScorer
 from lpnn.train.trainer import fit
-from lpnn.core.capture import read_capture
+from lpnn.core.capture_file import read_capture
 
 from train_support import TINY_CONFIG, TrainedModel
 
