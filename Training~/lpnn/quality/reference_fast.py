@@ -30,8 +30,9 @@ O(|link| x affected points) vectorised work: O(N log N + N d (d log d + a)) in t
 vertex degree (~15) and a the points per star. Memory O(N + T). With `workers=2` two identical
 replicas share the cost evaluations (removal_costs.py); the result is the same.
 
-Modules: decimation_state.py (the mesh, stencils and exact local costs), hole_wrap.py (refilling
-holes), removal_costs.py (one or two processes), this file (the greedy loop).
+Modules: decimation_mesh.py (the mesh, stencils and applying a removal), decimation_state.py (exact
+local removal costs), hole_wrap.py (refilling holes), removal_costs.py (one or two processes), this file
+(the greedy loop).
 """
 
 from __future__ import annotations

@@ -17,7 +17,8 @@ from multiprocessing.connection import Connection
 import numpy as np
 
 from ..core.processes import CONTEXT, worker_process
-from .decimation_state import DecimationState, GlobalRemoval, LocalRemoval
+from .decimation_mesh import GlobalRemoval, LocalRemoval
+from .decimation_state import DecimationState
 from .metric import ReferenceField
 
 
