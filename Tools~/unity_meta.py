@@ -69,6 +69,8 @@ def importer_for(path: Path) -> str | None:
         return None
     if suffix in TEXT_ASSET_EXTENSIONS:
         return "TextScriptImporter"
+    if suffix == ".prefab":
+        return "PrefabImporter"
     return "DefaultImporter"
 
 

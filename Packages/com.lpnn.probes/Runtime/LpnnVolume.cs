@@ -14,7 +14,10 @@ namespace Lpnn.Probes
     [DisallowMultipleComponent]
     public sealed class LpnnVolume : MonoBehaviour
     {
-        /// <summary>Serialized field names, for SerializedObject.FindProperty in the editor (one place, checked by nameof).</summary>
+        /// <summary>Serialized field names, for SerializedObject.FindProperty in the editor (one place, checked by nameof).
+        /// Saved scenes and prefabs hold these names: renaming a field needs [FormerlySerializedAs("oldName")], or every
+        /// saved volume silently loses that setting (make test checks Tests/Editor/Data/LpnnVolume_0.1.0.prefab, a volume
+        /// saved by 0.1.0, against these fields; Unity loads it in SerializationCompatibilityTests).</summary>
         public static class Fields
         {
             public const string Boxes = nameof(boxes);

@@ -4,22 +4,23 @@ using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Scoring
 {
-    /// <summary>Which inference backend the user asked for.</summary>
+    /// <summary>Which inference backend the user asked for. Values are stored in scenes (Unity serializes the number), so
+    /// new preferences are only ever appended.</summary>
     public enum ScoringBackendPreference
     {
         /// <summary>GPU compute when the machine has compute shaders, otherwise CPU; CPU again if the GPU run fails.</summary>
-        Auto,
+        Auto = 0,
         /// <summary>GPU compute only (an error where compute shaders are missing).</summary>
-        Gpu,
+        Gpu = 1,
         /// <summary>CPU only: deterministic and available everywhere, including batch mode with -nographics.</summary>
-        Cpu,
+        Cpu = 2,
     }
 
     /// <summary>A backend actually tried.</summary>
     public enum ScoringDevice
     {
         GpuCompute,
-        Cpu,
+        Cpu = 2,
     }
 
     /// <summary>The engine-agnostic decisions around running the model (Documentation~/model-contract.md): which
