@@ -25,6 +25,7 @@ fi
 
 step "compile Runtime, Editor, Tests/Editor and the sample against the declared Unity API surface" \
   bash "Tools~/compile-unity-layer.sh" || true
+step "public API is Documentation~/public-api.txt (internal by default)" bash "Tools~/check-public-api.sh" || true
 step "package layout: .meta files, asmdefs, package.json" python3 "Tools~/check-package.py" || true
 
 if PY=$(bash "Tools~/setup-python.sh"); then

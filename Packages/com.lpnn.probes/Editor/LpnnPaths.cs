@@ -4,7 +4,7 @@ using UnityEngine;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>Asset paths and folders the editor uses.</summary>
-    public static class LpnnPaths
+    internal static class LpnnPaths
     {
         /// <summary>The package's asset root. The repository root is the package (package.json), and the code lives
         /// under the repository folder Packages/com.lpnn.probes, hence the name twice.</summary>

@@ -10,7 +10,7 @@ namespace Lpnn.Probes
 {
     /// <summary>Conversions between Unity types and the engine-agnostic core (System.Numerics vectors, Double3,
     /// GridBox, the flat 27-float SH layout).</summary>
-    public static class UnityCoreConversions
+    internal static class UnityCoreConversions
     {
         public static NumericsVector3 ToNumerics(this Vector3 v) => new NumericsVector3(v.x, v.y, v.z);
 

@@ -5,7 +5,7 @@ using UnityEngine;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>The inspector's Capture export section: ground truth, the dataset folder, Save capture… and Append to dataset.</summary>
-    public static class ExportPanel
+    internal static class ExportPanel
     {
         public static void Draw(LpnnVolume volume, LpnnSession session, StepStates steps, SerializedObject edited, LpnnVolumeProperties properties)
         {

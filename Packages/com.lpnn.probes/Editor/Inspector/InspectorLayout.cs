@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The pieces every section of the LPNN volume inspector draws the same way: headers, property fields, a step's
     /// status, and leaving the GUI pass after a modal panel.</summary>
-    public static class InspectorLayout
+    internal static class InspectorLayout
     {
         public static void Header(string title)
         {

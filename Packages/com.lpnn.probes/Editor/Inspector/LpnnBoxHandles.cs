@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Scene-view handles that resize and move each box of a volume (BoxBoundsHandle: UnityCsReference
     /// Editor/Mono/EditorHandles/BoundsHandle/BoxBoundsHandle.cs). Edits go through SerializedProperty, so they are
     /// undoable and recorded as prefab overrides.</summary>
-    public sealed class LpnnBoxHandles
+    internal sealed class LpnnBoxHandles
     {
         private readonly BoxBoundsHandle _handle = new BoxBoundsHandle();
 

@@ -5,7 +5,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The inspector's confirmations before work that takes long or rewrites the scene's lighting
     /// (EditorUtility.DisplayDialog: UnityCsReference Editor/Mono/EditorUtility.bindings.cs).</summary>
-    public static class LpnnDialogs
+    internal static class LpnnDialogs
     {
         /// <summary>True at once for grids up to <see cref="PointCountEstimate.LargeGrid"/> points; above, asks.</summary>
         public static bool ConfirmHeavy(long points, string what)

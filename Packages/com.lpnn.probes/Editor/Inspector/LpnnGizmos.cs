@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Scene-view drawing of a volume (DrawGizmo: UnityCsReference Editor/Mono/DrawGizmo.cs; Gizmos:
     /// Runtime/Export/Gizmos/Gizmos.bindings.cs): the boxes always, and when selected the scored evaluation points
     /// coloured by remapped score (blue low, red high) and the probes of the target group.</summary>
-    public static class LpnnGizmos
+    internal static class LpnnGizmos
     {
         /// <summary>Gizmos are immediate mode; beyond this many points only every n-th is drawn.</summary>
         private const int MaxDrawnPoints = 20000;

@@ -11,7 +11,7 @@ namespace Lpnn.Probes.Editor
     /// each step shows its state, last duration and last error (<see cref="StepStates"/>). The work itself is in
     /// <see cref="LpnnPipeline"/>, the texts in <see cref="LpnnVolumeStyles"/>.</summary>
     [CustomEditor(typeof(LpnnVolume))]
-    public sealed class LpnnVolumeEditor : UnityEditor.Editor
+    internal sealed class LpnnVolumeEditor : UnityEditor.Editor
     {
         private readonly LpnnBoxHandles _boxHandles = new LpnnBoxHandles();
         private readonly PointCountEstimate _pointCount = new PointCountEstimate();

@@ -4,7 +4,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The serialized properties of an LPNN volume the inspector edits, looked up once per inspector instead of
     /// by name on every repaint (the names are <see cref="LpnnVolume.Fields"/>, the only place they are spelled).</summary>
-    public sealed class LpnnVolumeProperties
+    internal sealed class LpnnVolumeProperties
     {
         public SerializedProperty Boxes { get; }
         public SerializedProperty CellSize { get; }

@@ -2,7 +2,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The LPNN volume inspector's fixed texts (headers, buttons, help boxes, dialogs), in one place so wording is
     /// reviewed and changed together. Texts that carry numbers are composed where the numbers are.</summary>
-    public static class LpnnVolumeStyles
+    internal static class LpnnVolumeStyles
     {
         public const string Introduction =
             "Places light probes where baked lighting needs them: build the grid, get the lighting at every point, extract features, " +

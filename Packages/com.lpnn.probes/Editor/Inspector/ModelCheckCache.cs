@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The Scoring section's list of model and card problems (<see cref="LpnnScoring.Checks"/>), re-checked only
     /// when the Model or Card field changes (the card is parsed, not the model loaded).</summary>
-    public sealed class ModelCheckCache
+    internal sealed class ModelCheckCache
     {
         private TextAsset _card;
         private Object _model;

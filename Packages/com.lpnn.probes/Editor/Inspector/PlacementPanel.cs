@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The inspector's Placement section: method and policy, the live count of what Apply would place with its
     /// estimated error, the tolerance search, the insertion ranking, and Apply / Clear / Import.</summary>
-    public sealed class PlacementPanel
+    internal sealed class PlacementPanel
     {
         private readonly PlacementPreview _preview = new PlacementPreview();
         private readonly PlacementErrorEstimate _estimate = new PlacementErrorEstimate();

@@ -9,7 +9,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>The Volume section's readout: how many evaluation points the boxes and cell size give and what they cost,
     /// counted without building the grid and only when the boxes, cell size or point limit change.</summary>
-    public sealed class PointCountEstimate
+    internal sealed class PointCountEstimate
     {
         /// <summary>Points above which the inspector asks before running a heavy step.</summary>
         public const int LargeGrid = 250_000;

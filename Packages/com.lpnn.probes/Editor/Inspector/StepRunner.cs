@@ -9,7 +9,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Runs one inspector step: progress bar, timing, and errors turned into the step's HelpBox text plus
     /// one console entry that names the volume and says what to do. Steps publish their results only at the end, so
     /// a cancel or an exception leaves the previous state as it was.</summary>
-    public static class StepRunner
+    internal static class StepRunner
     {
         /// <summary>The work gets a progress callback and a cancellation token and returns the summary line.</summary>
         public delegate string Work(ProgressCallback progress, System.Threading.CancellationToken cancel);

@@ -2,7 +2,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>What the inspector shows for one step: done or not, a one-line summary, the last duration and the
     /// last error (with what to do).</summary>
-    public sealed class StepState
+    internal sealed class StepState
     {
         public string Name { get; }
         public bool Done { get; private set; }

@@ -6,7 +6,7 @@ namespace Lpnn.Probes.Editor
     /// session's data but apart from it: the session holds results, this holds how they were reported. A step's ✓ stays
     /// only while the data it reported is still the session's (a new grid drops the lighting and features, so their ✓
     /// lines go too).</summary>
-    public sealed class StepStates
+    internal sealed class StepStates
     {
         private static readonly Dictionary<ObjectKey, StepStates> All = new Dictionary<ObjectKey, StepStates>();
 

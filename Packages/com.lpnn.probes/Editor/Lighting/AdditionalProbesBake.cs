@@ -21,7 +21,7 @@ namespace Lpnn.Probes.Editor
     /// Lighting Settings exactly as "Generate Lighting" would: callers must have the user's consent
     /// (the inspector asks; batch mode needs -lpnnBake). The requests are withdrawn afterwards so later bakes of
     /// the user do not keep baking our points.</summary>
-    public sealed class AdditionalProbesBake : IEvaluationLighting
+    internal sealed class AdditionalProbesBake : IEvaluationLighting
     {
         /// <summary>Points per request id: GetAdditionalBakedProbes also returns an 8×8 depth map per probe, so the
         /// read-back memory stays bounded (64k points × 64 floats = 16 MB at a time).</summary>

@@ -22,7 +22,7 @@ namespace Lpnn.Probes.Editor
     /// (extract, populate the world, integrate direct and indirect radiance, window the direct part, scale the indirect
     /// part, add, convolve to irradiance, convert to Unity's format, de-ring, read back) is the one Unity's own Adaptive
     /// Probe Volumes use (SRP Core ProbeGIBaking.LightTransport.cs). Needs a GPU the RadeonRays context can use.</summary>
-    public sealed class LightTransportProbeSampler : IEvaluationLighting, ILightSampler
+    internal sealed class LightTransportProbeSampler : IEvaluationLighting, ILightSampler
     {
         private const float PushOff = 0.0001f;
         private const int ShFloats = ShMath.FloatsPerProbe;

@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Lighting from the scene's existing baked light probes, interpolated the way renderers see them
     /// (LightProbes.CalculateInterpolatedLightAndOcclusionProbes: UnityCsReference Runtime/Export/Graphics/Graphics.bindings.cs).
     /// Bakes nothing and writes nothing; only as detailed as the probes that already exist.</summary>
-    public sealed class SceneProbeInterpolation : IEvaluationLighting, ILightSampler
+    internal sealed class SceneProbeInterpolation : IEvaluationLighting, ILightSampler
     {
         public string Description => "interpolated from the scene's baked light probes";
 

@@ -6,7 +6,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>Finds geometry the rays would miss: renderers that take part in baked lighting (static, Contribute GI)
     /// but have no collider, so the occlusion features would see straight through them.</summary>
-    public static class ColliderAudit
+    internal static class ColliderAudit
     {
         public static List<MeshFilter> StaticMeshesWithoutColliders()
         {

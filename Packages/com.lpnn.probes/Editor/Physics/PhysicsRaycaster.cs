@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Editor
     /// normal's orientation: on a back-face hit PhysX reports the triangle's winding normal, turning it toward the ray only
     /// for meshes flagged double-sided (NVIDIAGameWorks/PhysX physx/source/geomutils/src/mesh/GuMidphaseBV4.cpp,
     /// raycast_triangleMesh_BV4), which MeshCollider does not set (Documentation~/features.md "Probe validity").</summary>
-    public sealed class PhysicsRaycaster : IRaycaster
+    internal sealed class PhysicsRaycaster : IRaycaster
     {
         private const int MinCommandsPerJob = 256;
 

@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Editor
     /// are disabled (the rays must see the scene, not the volume), temporary MeshColliders are added to static meshes
     /// that lack one (when asked), and Physics.SyncTransforms() makes edit-mode moves visible to queries (there is no
     /// simulation step outside Play Mode; Modules/Physics/ScriptBindings/Dynamics.bindings.cs 2022.3, Physics.bindings.cs 6000.0).</summary>
-    public sealed class RaycastScope : IDisposable
+    internal sealed class RaycastScope : IDisposable
     {
         private readonly List<Collider> _disabled = new List<Collider>();
         private readonly List<MeshCollider> _added = new List<MeshCollider>();

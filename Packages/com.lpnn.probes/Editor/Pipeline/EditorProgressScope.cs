@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Maps the core's ProgressCallback + CancellationToken onto Unity's cancellable progress bar
     /// (EditorUtility.DisplayCancelableProgressBar / ClearProgressBar: UnityCsReference Editor/Mono/EditorUtility.bindings.cs).
     /// The bar is always cleared on Dispose; in batch mode (no UI) stages are logged instead.</summary>
-    public sealed class EditorProgressScope : IDisposable
+    internal sealed class EditorProgressScope : IDisposable
     {
         private const long RedrawMilliseconds = 100;
         private readonly string _title;

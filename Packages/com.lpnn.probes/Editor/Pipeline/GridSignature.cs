@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>A text key of everything the grid depends on (world boxes and cell size): when it changes, the grid,
     /// lighting and features of a session no longer match the volume.</summary>
-    public static class GridSignature
+    internal static class GridSignature
     {
         public static string Of(IReadOnlyList<GridBox> worldBoxes, double cellSize)
         {

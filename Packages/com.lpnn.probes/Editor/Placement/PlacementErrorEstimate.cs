@@ -11,7 +11,7 @@ namespace Lpnn.Probes.Editor
     /// tetrahedralisation of the selected probes, interpolated at every evaluation point and compared with the Lighting
     /// step's SH. Computed once per selection; automatically for grids up to <see cref="LivePointLimit"/> points (tens of
     /// milliseconds), on request above.</summary>
-    public sealed class PlacementErrorEstimate
+    internal sealed class PlacementErrorEstimate
     {
         /// <summary>Up to this many evaluation points the estimate follows the settings live.</summary>
         public const int LivePointLimit = 50_000;

@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Editor
     /// so the inspector can show a live probe count while a slider moves. The tolerance policy evaluates the placement
     /// error a dozen or more times, far too slow for every repaint: it runs only when asked (<see cref="Search"/>) and its
     /// result is shown until the inputs change.</summary>
-    public sealed class PlacementPreview
+    internal sealed class PlacementPreview
     {
         private SelectionSettings _settings;
         /// <summary>What the selection was made from: the scores (Network) or the insertion ranking (Insertion).</summary>

@@ -16,7 +16,7 @@ namespace Lpnn.Probes.Editor
     /// created once per model asset and backend and reused across runs; the input tensor is created and disposed per run;
     /// the output is read with DownloadToArray (a copy) and never disposed, because PeekOutput returns a tensor the
     /// worker owns.</summary>
-    public sealed class InferenceBackendRunner : IDisposable
+    internal sealed class InferenceBackendRunner : IDisposable
     {
         private readonly ModelAsset _asset;
         private Model _model;

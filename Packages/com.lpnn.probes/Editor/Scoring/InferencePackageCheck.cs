@@ -15,7 +15,7 @@ namespace Lpnn.Probes.Editor
     /// Modules/PackageManager/Editor/Managed/Client.cs (List(bool, bool), Add(string), Remove(string)) and
     /// Requests/Request.cs (IsCompleted, Status, Error).</summary>
     [InitializeOnLoad]
-    public static class InferencePackageCheck
+    internal static class InferencePackageCheck
     {
         private const string AskedKey = "Lpnn.Probes.InferencePackageCheck.Asked";
         private static ListRequest _list;

@@ -34,7 +34,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Scores features with the volume's model: checks the card against the extractor's schema and the point
     /// count before anything runs, then tries the backends the core's ScoringPlan lists (Auto: GPU compute when
     /// SystemInfo.supportsComputeShaders, otherwise CPU; CPU again if the GPU run throws).</summary>
-    public static class LpnnScoring
+    internal static class LpnnScoring
     {
         public const string PackageHint =
             "install com.unity.sentis 2.1.3 (Unity 2022.3) or com.unity.ai.inference 2.4.0 (Unity 6), never both, with the Package " +

@@ -6,7 +6,7 @@ using Lpnn.Probes.Core.Selection;
 namespace Lpnn.Probes.Core.Batch
 {
     /// <summary>What a batch-mode run does for each LPNN volume of the scene.</summary>
-    public enum BatchMode
+    internal enum BatchMode
     {
         /// <summary>Grid, lighting, features, scoring, selection; the probes are written to the LightProbeGroup
         /// and to a <c>*.probes.json</c> file per volume.</summary>
@@ -17,7 +17,7 @@ namespace Lpnn.Probes.Core.Batch
 
     /// <summary>The arguments of <c>Lpnn.Probes.Editor.LpnnBatch.Run</c> (Documentation~/ci.md), parsed from the editor's
     /// whole command line: Unity's own flags are skipped, every <c>-lpnn…</c> flag must be known.</summary>
-    public sealed class BatchOptions
+    internal sealed class BatchOptions
     {
         public const string Usage =
             "-lpnnScene <Assets/…/Scene.unity> [-lpnnMode place|export] [-lpnnOut <folder>] [-lpnnBake] " +

@@ -2,7 +2,7 @@ namespace Lpnn.Probes.Core.Captures
 {
     /// <summary>CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320): the value zlib.crc32 computes, so the
     /// Python tools verify captures written here and vice versa.</summary>
-    public static class Crc32
+    internal static class Crc32
     {
         private static readonly uint[] Table = BuildTable();
 

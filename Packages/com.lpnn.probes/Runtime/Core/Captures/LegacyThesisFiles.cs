@@ -10,7 +10,7 @@ namespace Lpnn.Probes.Core.Captures
 {
     /// <summary>Reads the thesis tool's features.txt / comparisons.txt, which it wrote in the machine's locale
     /// ("0,0226", "2,338238E-05"), so old datasets import (Documentation~/file-formats.md, "Legacy").</summary>
-    public static class LegacyThesisFiles
+    internal static class LegacyThesisFiles
     {
         /// <summary>One float[F] per point. The first non-blank line starts with F; blocks of whitespace-separated
         /// numbers separated by blank lines are points; '.' or ',' is the decimal separator.</summary>

@@ -4,7 +4,7 @@ using System.Numerics;
 namespace Lpnn.Probes.Core.Features
 {
     /// <summary>The fixed direction sets of Documentation~/features.md (no randomness, ever).</summary>
-    public static class DirectionSets
+    internal static class DirectionSets
     {
         /// <summary>Lighting directions: 6 axes, then the 8 cube diagonals.</summary>
         public static readonly double[,] D14 = Build(false);

@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Core.Features
     /// validity = the indirect count, where m = (int)LightingSettings.lightProbeSampleCountMultiplier ("probes sample a larger
     /// area than a lightmap texel", default 4). Counts below one (an empty or hostile Lighting Settings asset) become one:
     /// the integrators need at least one ray.</summary>
-    public struct ProbeSampleCounts
+    internal struct ProbeSampleCounts
     {
         public int Direct;
         public int Indirect;

@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Core.Features
     /// that hit a back face, invalid above 0.25 (Unity-Technologies/Graphics, SRP Core ProbeDilationSettings.SetDefaults,
     /// dilationValidityThreshold). A ray hits a back face when the surface's oriented normal (the side its winding calls
     /// front) points along the ray; misses count as rays, not as back faces.</summary>
-    public static class ProbeValidity
+    internal static class ProbeValidity
     {
         public const double BackFaceThreshold = 0.25;
 

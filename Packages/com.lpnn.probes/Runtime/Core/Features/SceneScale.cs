@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Core.Features
 {
     /// <summary>The scene scale S: median DC luminance over the points that have any light. Every lighting
     /// feature is relative to it (or to a floor tied to it), which makes them invariant to exposure.</summary>
-    public static class SceneScale
+    internal static class SceneScale
     {
         public static double DcLuminance(float[] sh, int point)
         {

@@ -5,7 +5,7 @@ namespace Lpnn.Probes.Core.IO
 {
     /// <summary>Writes files so that nothing is lost on failure: a temporary file beside the target is
     /// written and flushed, then renamed. Either the old file (or none) or the complete new one remains.</summary>
-    public static class AtomicFile
+    internal static class AtomicFile
     {
         /// <summary>Writes (or atomically replaces) <paramref name="path"/>.</summary>
         public static void Write(string path, Action<Stream> writer)

@@ -5,7 +5,7 @@ using System.Text;
 namespace Lpnn.Probes.Core.Json
 {
     /// <summary>Thrown for malformed JSON; carries the 1-based line and column of the problem.</summary>
-    public sealed class JsonParseException : LpnnException
+    internal sealed class JsonParseException : LpnnException
     {
         public int Line { get; }
         public int Column { get; }
@@ -21,7 +21,7 @@ namespace Lpnn.Probes.Core.Json
     }
 
     /// <summary>A strict RFC 8259 parser (no comments, no trailing commas, no NaN), culture-invariant.</summary>
-    public static class JsonParser
+    internal static class JsonParser
     {
         private const int MaxDepth = 256;
 

@@ -5,7 +5,7 @@ namespace Lpnn.Probes.Core.Json
 {
     /// <summary>Serialises JSON deterministically: key order as stored, shortest round-trip numbers,
     /// invariant culture, ", " and ": " separators on one line (or indented when asked).</summary>
-    public static class JsonWriter
+    internal static class JsonWriter
     {
         public static string Write(JsonValue value, bool indented = false)
         {

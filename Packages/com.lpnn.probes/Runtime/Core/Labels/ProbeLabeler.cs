@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Core.Labels
 {
     /// <summary>Training labels from a ground-truth probe set (the thesis' rule): a point is positive when a
     /// probe lies in its cell. O(points + probes): each probe is mapped to its cell id and looked up.</summary>
-    public static class ProbeLabeler
+    internal static class ProbeLabeler
     {
         public sealed class Result
         {

@@ -4,7 +4,7 @@ namespace Lpnn.Probes.Core.Numerics
 {
     /// <summary>Culture-invariant number text: the thesis tool wrote "0,0226" on a Greek locale;
     /// every number this package prints or stores goes through here instead.</summary>
-    public static class InvariantFormat
+    internal static class InvariantFormat
     {
         public static readonly CultureInfo Culture = CultureInfo.InvariantCulture;
 

@@ -4,7 +4,7 @@ using System.Collections.Generic;
 namespace Lpnn.Probes.Core.Numerics
 {
     /// <summary>Order statistics shared by the features (scene scale) and the selection (spread weights).</summary>
-    public static class Statistics
+    internal static class Statistics
     {
         /// <summary>The middle value, or the mean of the two middle values for an even count; the input is not changed.</summary>
         public static double Median(IReadOnlyList<double> values)

@@ -6,7 +6,7 @@ namespace Lpnn.Probes.Core.Quality
     /// <summary>The two per-point errors of Documentation~/quality.md §2, on the 42 values (D14 × RGB) of an
     /// interpolated and a reference lighting. Both are in [0, 1] and invariant to exposure: every term, including the
     /// floor ε·S, scales with the lighting.</summary>
-    public static class PointErrorMetrics
+    internal static class PointErrorMetrics
     {
         /// <summary>ε: points darker than 1 % of the typical brightness S are compared against that floor.</summary>
         public const double Epsilon = 0.01;

@@ -5,7 +5,7 @@ using System.Globalization;
 namespace Lpnn.Probes.Core.Scoring
 {
     /// <summary>What the editor should do about the neural-network inference package of a project.</summary>
-    public enum InferencePackageAction
+    internal enum InferencePackageAction
     {
         /// <summary>Exactly one supported package is installed: nothing to do.</summary>
         Ready = 0,
@@ -17,7 +17,7 @@ namespace Lpnn.Probes.Core.Scoring
 
     /// <summary>The outcome of <see cref="InferencePackagePolicy.Decide"/>: the action, the package identifier for
     /// the Package Manager's <c>Client.Add</c> (or the name for <c>Client.Remove</c>) and a sentence for the user.</summary>
-    public sealed class InferencePackageDecision
+    internal sealed class InferencePackageDecision
     {
         public InferencePackageAction Action { get; }
         /// <summary>"name@version" for Add, the package name for RemoveSentis, empty for Ready.</summary>
@@ -43,7 +43,7 @@ namespace Lpnn.Probes.Core.Scoring
     /// so the package cannot depend on either: Sentis is the only one for Unity 2022.3 (com.unity.ai.inference declares
     /// "unity": "6000.0"), and a Unity 6 project that already uses com.unity.ai.inference would get two importers. The
     /// editor instead asks this policy and offers the Package Manager call it returns.</summary>
-    public static class InferencePackagePolicy
+    internal static class InferencePackagePolicy
     {
         public const string SentisName = "com.unity.sentis";
         public const string InferenceEngineName = "com.unity.ai.inference";

@@ -26,7 +26,7 @@ namespace Lpnn.Probes.Core.Scoring
     /// <summary>The engine-agnostic decisions around running the model (Documentation~/model-contract.md): which
     /// backends to try in which order, the input shape, the point-count guard and the output check. The Sentis calls
     /// themselves live in the editor assembly.</summary>
-    public static class ScoringPlan
+    internal static class ScoringPlan
     {
         /// <summary>Points scored in one pass unless the caller sets another limit. The network pools over the whole
         /// cloud, so a grid cannot be split into chunks without changing its scores; activations grow with the point

@@ -10,7 +10,7 @@ namespace Lpnn.Probes.Core.Selection
     ///
     /// The arithmetic is fixed so that C# and Python (lpnn.core.spread) break every tie alike: the float32
     /// coordinates widened to double, d·p = x·dx + y·dy + z·dz summed left to right.</summary>
-    public static class ExtremeSeeds
+    internal static class ExtremeSeeds
     {
         /// <summary>Seed point indices, first occurrence kept; <paramref name="positions"/> holds x, y, z per point.</summary>
         public static int[] Find(float[] positions)

@@ -4,7 +4,7 @@ namespace Lpnn.Probes.Core.Selection
 {
     /// <summary>Orders points by score and remaps scores to [0, 1] (Documentation~/selection.md). Every
     /// division is guarded: all-equal, NaN and infinite scores are well defined.</summary>
-    public static class ScoreRanking
+    internal static class ScoreRanking
     {
         /// <summary>Point indices, best first: +∞, then finite scores descending, then −∞, then NaN; equal
         /// scores by lower index (so ties never duplicate or reorder between runs).</summary>

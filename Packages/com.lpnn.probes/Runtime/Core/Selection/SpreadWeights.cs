@@ -7,7 +7,7 @@ namespace Lpnn.Probes.Core.Selection
     /// w = (s / median(s))^0.5 with s the score clipped to [1e-6, 1]. Relative to the median so that the weights do
     /// not depend on how confident the model is overall; the square root so that a point ten times as important is
     /// taken at about three times the distance, not ten (scores concentrate the probes; spread keeps them apart).</summary>
-    public static class SpreadWeights
+    internal static class SpreadWeights
     {
         /// <summary>Scores below this (and NaN) count as this: a weight of zero would never pick the point, and every
         /// point must appear in a full ranking.</summary>

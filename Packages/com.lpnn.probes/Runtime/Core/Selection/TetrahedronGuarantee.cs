@@ -6,7 +6,7 @@ namespace Lpnn.Probes.Core.Selection
 {
     /// <summary>Unity tetrahedralises light probes, so a group needs at least 4 probes not all in one plane.
     /// Adds the fewest, highest-ranked points that make one (at most 4), or explains why the grid cannot.</summary>
-    public static class TetrahedronGuarantee
+    internal static class TetrahedronGuarantee
     {
         /// <summary>Adds points from <paramref name="ranking"/> to <paramref name="selected"/> until it spans a
         /// tetrahedron; returns how many were added.</summary>

@@ -25,7 +25,7 @@ namespace Lpnn.Probes.Core.Selection
     /// guarantees what it checks: exponential search from the smallest count (4, 8, 16, …, N), then bisection between
     /// the last failing and the first passing count. The returned count passed; count − 1 was evaluated and failed
     /// (unless it is the smallest count); every smaller evaluated count failed; at most 2·log₂N + 2 evaluations.</summary>
-    public static class ToleranceSearch
+    internal static class ToleranceSearch
     {
         /// <summary>Unity needs 4 probes for a tetrahedron, so smaller prefixes are never worth evaluating.</summary>
         public const int SmallestCount = 4;

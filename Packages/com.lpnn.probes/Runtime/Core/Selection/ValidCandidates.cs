@@ -10,7 +10,7 @@ namespace Lpnn.Probes.Core.Selection
     /// (Documentation~/features.md "Probe validity"). Every selection path takes its points from these only — the
     /// policies' rankings, the tolerance search, the bounds corners and the tetrahedron guarantee — so an invalid point
     /// never becomes a probe (Documentation~/selection.md).</summary>
-    public static class ValidCandidates
+    internal static class ValidCandidates
     {
         /// <summary>One flag per point: true when its back-face fraction is within the threshold. A NaN fraction (no rays
         /// were cast for the point) is an error, not a valid point.</summary>

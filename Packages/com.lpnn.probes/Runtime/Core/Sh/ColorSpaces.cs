@@ -3,7 +3,7 @@ using System.Numerics;
 namespace Lpnn.Probes.Core.Sh
 {
     /// <summary>Rec. 709 luminance and the YCoCg transform LumiProbes compares colours in.</summary>
-    public static class ColorSpaces
+    internal static class ColorSpaces
     {
         public const double LuminanceR = 0.2126;
         public const double LuminanceG = 0.7152;

@@ -6,7 +6,7 @@ namespace Lpnn.Probes.Core.Sh
 {
     /// <summary>One RGB L2 probe with Unity's <c>SphericalHarmonicsL2</c> layout and conventions: the
     /// object form of <see cref="ShMath"/> for code that handles a few probes at a time.</summary>
-    public sealed class ShL2 : IEquatable<ShL2>
+    internal sealed class ShL2 : IEquatable<ShL2>
     {
         private readonly float[] _coefficients = new float[ShMath.FloatsPerProbe];
 

@@ -5,7 +5,7 @@ namespace Lpnn.Probes.Core.Sh
 {
     /// <summary>Unity <c>SphericalHarmonicsL2</c> math on flat float arrays (27 floats per probe,
     /// index <c>rgb*9 + i</c>), so millions of probes need no per-probe objects. Documentation~/sh.md.</summary>
-    public static class ShMath
+    internal static class ShMath
     {
         public const int CoefficientsPerChannel = 9;
         public const int FloatsPerProbe = 27;

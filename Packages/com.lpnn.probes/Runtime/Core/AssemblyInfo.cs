@@ -1,0 +1,8 @@
+using System.Runtime.CompilerServices;
+
+// Internal by default: the public API is what Documentation~/index.md documents (pinned by Documentation~/public-api.txt);
+// the test assemblies and the layers above (the Unity runtime and editor assemblies) reach the rest.
+[assembly: InternalsVisibleTo("Lpnn.Probes")]
+[assembly: InternalsVisibleTo("Lpnn.Probes.Editor")]
+[assembly: InternalsVisibleTo("Lpnn.Probes.Core.Tests")]
+[assembly: InternalsVisibleTo("Lpnn.Probes.Editor.Tests")]
