@@ -14,8 +14,8 @@ import csv
 import math
 import sys
 
-METHODS = ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
-SUMMARY_METHODS = ("lpnn", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random")
+METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
+SUMMARY_METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random")
 
 
 def geometric_mean(values):

@@ -13,6 +13,8 @@ script CERTIFIES each case with exact integer arithmetic before writing it (else
   lies in (1e-14, 1e-9) around the "exact" threshold, and the cells' summed errors differ by > 1e-9 (relative);
 - the typical tetrahedron's inputs: the deviation at the cut and the farthest-point distances are separated by
   > 1e-9, or tie exactly in identical IEEE arithmetic (the "plane" case: lattice coordinates, exact zeros).
+- guided insertion (the "guided" case, quality.md §5.2): per cell the largest error x guide weight among the points
+  above EXACT beats the next by > 1e-9 (relative); the weights come from float32 scores through guide_weights.
 
     PYTHONPATH=Training~ python Tools~/golden/make_insertion_golden.py Tests/Data
 """
@@ -31,7 +33,8 @@ import numpy as np
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import EXACT, INSERTION_GROWTH, insertion_batch, insertion_ranking, typical_tetrahedron
+from lpnn.quality.insertion import (EXACT, INSERTION_GROWTH, guide_weights, insertion_batch, insertion_ranking,
+                                    typical_tetrahedron)
 from lpnn.quality.metric import POINT_ERRORS, ReferenceField, probe_stencil
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -114,15 +117,16 @@ def separated(values: np.ndarray) -> bool:
     return bool(np.all(np.diff(v) > MARGIN * max(1e-300, float(np.max(np.abs(v))))))
 
 
-def certify_round(field: ReferenceField, order: np.ndarray) -> bool:
+def certify_round(field: ReferenceField, order: np.ndarray, guide: np.ndarray | None = None) -> bool:
     indices, others, stencil = probe_stencil(field, order)
     errors = POINT_ERRORS["irradiance"](
         np.einsum("mk,mkv->mv", stencil.weights, field.light[indices][stencil.vertices]), field.light[others], field.scale)
     if np.any((errors > 1e-14) & (errors < 1e-9)):
         return False
+    keys = errors if guide is None else np.where(errors > EXACT, errors * guide[others], -1.0)
     sums = []
     for cell in np.unique(stencil.cell):
-        e = np.sort(errors[stencil.cell == cell])[::-1]
+        e = np.sort(keys[stencil.cell == cell])[::-1]
         if e.shape[0] > 1 and e[0] > EXACT and not e[0] - e[1] > MARGIN * e[0]:
             return False
         if e[0] > EXACT:
@@ -133,6 +137,28 @@ def certify_round(field: ReferenceField, order: np.ndarray) -> bool:
 def enclosed_case(seed: int) -> dict[str, Any] | None:
     """40 points inside a large tetrahedron whose corners carry the typical lighting: every round's probes
     include the corners, so no point is ever outside the hull, and every cell is certified unique."""
+    ids, sh, is_corner, extent = enclosed_points(seed)
+    case = finish_case("enclosed", "40 points strictly inside a tetrahedron of 4 corners that carry the median lighting, general "
+                       "position (integer ids < 1024 at cell 0.25); full ranking with every round certified", ids, sh, extent)
+    if case is None or sorted(case["typical_tetrahedron"]) != sorted(np.flatnonzero(is_corner).tolist()):
+        return None  # the start must be the corners (typical lighting), else points would fall outside the hull
+    return case
+
+
+def guided_case(seed: int) -> dict[str, Any] | None:
+    """The enclosed construction, ranked by guided insertion (quality.md §5.2) with seeded float32 scores in
+    [0.05, 1]: every round certified as for `enclosed`, with the guide's keys (error x weight) separated per cell."""
+    ids, sh, is_corner, extent = enclosed_points(seed)
+    scores = np.random.default_rng(seed + 1000).uniform(0.05, 1.0, ids.shape[0]).astype(np.float32)
+    case = finish_case("guided", "the enclosed construction ranked by guided insertion: seeded float32 scores in [0.05, 1], "
+                       "guide weights sqrt(score / median); full ranking with every round certified", ids, sh, extent, scores)
+    if case is None or sorted(case["typical_tetrahedron"]) != sorted(np.flatnonzero(is_corner).tolist()):
+        return None
+    return case
+
+
+def enclosed_points(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Ids (grid order), SH and corner flags of the enclosed construction (see enclosed_case), and its extent."""
     rng = np.random.default_rng(seed)
     extent = 1024
     corners = np.array([[0, 0, 0], [extent, 37, 91], [53, extent, 11], [29, 71, extent]], dtype=np.int64)
@@ -151,33 +177,38 @@ def enclosed_case(seed: int) -> dict[str, Any] | None:
     sh = np.tile(base, (n, 1))
     bumps = rng.uniform(0.2, 0.6, (n, 27)) * rng.choice([-1.0, 1.0], (n, 27))
     sh[~is_corner] += bumps[~is_corner] * np.array([1.0 if c % 9 == 0 else 0.3 for c in range(27)])
-    case = finish_case("enclosed", "40 points strictly inside a tetrahedron of 4 corners that carry the median lighting, general "
-                       "position (integer ids < 1024 at cell 0.25); full ranking with every round certified", ids, sh, extent)
-    if case is None or sorted(case["typical_tetrahedron"]) != sorted(np.flatnonzero(is_corner).tolist()):
-        return None  # the start must be the corners (typical lighting), else points would fall outside the hull
-    return case
+    return ids, sh, is_corner, extent
 
 
-def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: int) -> dict[str, Any] | None:
+def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: int,
+                scores: np.ndarray | None = None) -> dict[str, Any] | None:
     grid, sh32, scale, field = _field(ids, sh)
+    guide = None if scores is None else guide_weights(scores)
     start = typical_tetrahedron(field, grid)
-    ranking = insertion_ranking(field, grid)
+    ranking = insertion_ranking(field, grid, guide=guide)
     rounds = []
     order = start
     while order.shape[0] < ids.shape[0]:
         indices = order
         tri = tetrahedralize(field.world[indices], field.frame)
-        if not (certify_delaunay(ids, indices, tri.tets, extent) and certify_cells(field, ids, indices) and certify_round(field, indices)):
+        if not (certify_delaunay(ids, indices, tri.tets, extent) and certify_cells(field, ids, indices)
+                and certify_round(field, indices, guide)):
             return None
-        batch = insertion_batch(field, indices)
+        batch = insertion_batch(field, indices, guide=guide)
         rounds.append({"probes": indices.tolist(), "tetrahedra": tri.tets.tolist(), "batch": batch.tolist()})
         if batch.shape[0] == 0:
             break
         order = np.concatenate([order, batch])
     np.testing.assert_array_equal(ranking[:order.shape[0]], order)
-    return {"name": name, "note": note, "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
+    case = {"name": name, "note": note, "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
             "sh": exact(sh32), "lighting_scale": scale, "growth": INSERTION_GROWTH, "typical_tetrahedron": start.tolist(),
             "rounds": rounds, "ranking": ranking.tolist()}
+    if scores is not None:
+        if np.array_equal(ranking, insertion_ranking(field, grid)):
+            return None  # the guide must change the ranking, else the case pins nothing of it
+        case["scores"] = exact(scores)
+        case["guide"] = [float(w) for w in guide]
+    return case
 
 
 def _field(ids: np.ndarray, sh: np.ndarray) -> tuple[EvaluationGrid, np.ndarray, float, ReferenceField]:
@@ -261,10 +292,11 @@ def first_certified(make, seeds) -> dict[str, Any]:
 
 def main(out_dir: str) -> None:
     golden = {
-        "contract": "Documentation~/quality.md §5 (insertion ranking, irradiance metric)",
+        "contract": "Documentation~/quality.md §5 (insertion ranking, irradiance metric; §5.2 guided insertion)",
         "tolerance": "exact: typical tetrahedra, batches and rankings equal index for index",
         "exact_threshold": EXACT,
-        "cases": [first_certified(enclosed_case, range(1, 200)), first_certified(outside_round_case, range(1, 400)), plane_case()],
+        "cases": [first_certified(enclosed_case, range(1, 200)), first_certified(outside_round_case, range(1, 400)), plane_case(),
+                  first_certified(guided_case, range(1, 400))],
     }
     text = json.dumps(golden, indent=None, separators=(",", ":"))
     write_text_atomic(Path(out_dir) / "insertion_golden.json", text + "\n")

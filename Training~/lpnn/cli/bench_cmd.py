@@ -4,7 +4,8 @@
              [--repeats 3] --out DIR
 
 For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
-(spread ranking) and lpnn-refine (spread + seeded exact refinement, factor F, default 2); the fast
+(spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (spread + seeded exact refinement,
+factor F, default 2); the fast
 reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
 refinement), mean and p95 error and the ratio to the reference. Writes DIR/bench.csv and per capture

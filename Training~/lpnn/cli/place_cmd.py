@@ -1,7 +1,7 @@
 """`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
 
   lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv | --method fast|insertion|uniform|heuristic|apv|random]
-             [--refine F] [--topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
+             [--guided | --refine F | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Without --model, --scores or --method it places by insertion (DEFAULT_METHOD): the best method measured
 where the capture's dense lighting is available, which `lpnn place` always has (benchmarks.md §7.1:
@@ -12,7 +12,8 @@ Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest pre
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
 --topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K spread
-points and decimates down to K. SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
+points and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
+best method measured with a model at hand, benchmarks.md §10; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
 reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
 lattice, the curvature heuristic, an APV-style geometry density, random.
 Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
@@ -56,6 +57,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--topk", action="store_true",
                         help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
                              "(the old behaviour, for comparison)")
+    parser.add_argument("--guided", action="store_true",
+                        help="with --model/--scores: rank by insertion guided by the scores (each tetrahedron's "
+                             "badly interpolated point the network rates highest; the best method measured, about "
+                             "a second per thousand points)")
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
     parser.add_argument("--no-report", action="store_true",
                         help="with --model/--scores: skip the final error evaluation (the dense lighting of every "
@@ -74,9 +79,11 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import UserError
     from .errors import user_errors
 
-    lpnn_only = args.refine is not None or args.topk or args.no_report
+    lpnn_only = args.refine is not None or args.topk or args.guided or args.no_report
     if lpnn_only and (args.method is not None or (args.model is None and args.scores is None)):
-        raise UserError("--refine, --topk and --no-report apply to LPNN scores: use them with --model or --scores")
+        raise UserError("--guided, --refine, --topk and --no-report apply to LPNN scores: use them with --model or --scores")
+    if sum((args.refine is not None, args.topk, args.guided)) > 1:
+        raise UserError("--guided, --refine and --topk are different LPNN tiers: give at most one of them")
     if args.method is None and args.model is None and args.scores is None:
         args.method = DEFAULT_METHOD
     capture = read_capture(args.capture)
@@ -97,9 +104,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
-    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, or --topk). A scores file lists every
-    point of the capture file (`all_ids`); only the valid points' scores are used."""
+    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, --topk or --guided). A scores file
+    lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
     from ..quality.lpnn_placement import lpnn_placement
+    from .progress import progress_bar
 
     if args.model is not None:
         from ..train.onnx_scoring import OnnxScorer
@@ -110,10 +118,15 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
 
         scores = read_scores_csv(args.scores, all_ids)
         scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
-    placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                               refine=args.refine, topk=args.topk, workers=args.workers, name=args.capture,
-                               full_ranking=False, report=not args.no_report)
-    tier = "top-K" if args.topk else "spread"
+    update, close_bar = progress_bar(f"{Path(args.capture).name}: guided insertion rounds") if args.guided else (None, None)
+    try:
+        placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
+                                   refine=args.refine, topk=args.topk, guided=args.guided, workers=args.workers,
+                                   name=args.capture, full_ranking=False, report=not args.no_report, progress=update)
+    finally:
+        if close_bar is not None:
+            close_bar()
+    tier = "top-K" if args.topk else "guided insertion" if args.guided else "spread"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
     t = placement.timing

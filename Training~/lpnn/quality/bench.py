@@ -3,13 +3,14 @@ on every capture: probes kept, time, mean/p95 error (both metrics) and the ratio
 
 Methods: uniform, random, heuristic, apv (APV-style geometry density, apv.py; when the capture has the
 `nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, insertion.py: the best
-non-learned lighting-driven method, the bar for the learned tier); with a model the three LPNN tiers (lpnn_placement.py):
-lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking) and lpnn-refine (spread ranking +
-seeded exact refinement, factor `refine`); the fast reference, and the faithful one on small captures.
+non-learned lighting-driven method, the bar for the learned tier); with a model the four LPNN tiers (lpnn_placement.py):
+lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking), lpnn-guided (insertion guided by the
+scores, insertion.py) and lpnn-refine (spread ranking + seeded exact refinement, factor `refine`); the
+fast reference, and the faithful one on small captures.
 Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
 `reference_repeats` times (default 1: they take seconds). LPNN's time is split into features (the
 capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
-the three tiers), selection (ranking + prefix + tetrahedron guarantee) and refinement. A tolerance
+the tiers), selection (ranking + prefix + tetrahedron guarantee) and refinement. A tolerance
 row's time includes its error evaluations (the search needs them).
 """
 
@@ -28,7 +29,7 @@ from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .decimation import MINIMUM_PROBES, Decimation
-from .insertion import insertion_ranking
+from .insertion import guide_weights, insertion_ranking
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
 from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
@@ -229,7 +230,9 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
     if target is not None:
         policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
-    rows = []
+    rows = _guided_rows(name, capture, field_, config, scores, inference, features, reference, target, failures)
+    if log is not None:
+        log(f"{name}: lpnn-guided done")
     for method, options, repeats in tiers:
         for policy, parameter, chosen in policies:
             try:
@@ -252,6 +255,25 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
                                               target.mean_error), target))
         if log is not None:
             log(f"{name}: {method} done")
+    return rows
+
+
+def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scores: np.ndarray,
+                 inference: float, features: float | None, reference: Decimation, target: Placement | None,
+                 failures: list[BenchFailure]) -> list[BenchRow]:
+    """The guided-insertion tier (insertion.py, quality.md §5.2): the whole ranking once, as the insertion
+    baseline is ranked, then every policy on its prefixes; its time adds the features and the inference."""
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    try:
+        method = _ranking_method("lpnn-guided", grid, lambda: insertion_ranking(field_, grid, guide=guide_weights(scores)),
+                                 config.reference_repeats)
+        rows = _ranking_rows(name, field_, method, config, reference, target)
+    except Exception as error:  # recorded; the other tiers go on
+        failures.append(BenchFailure(name, "lpnn-guided", failure_reason(error)))
+        return []
+    for row in rows:
+        row.inference_seconds, row.feature_seconds = inference, features
+        row.seconds += inference + (features or 0.0)
     return rows
 
 

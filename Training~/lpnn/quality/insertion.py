@@ -27,6 +27,16 @@ tetrahedron in that order (selection.ensure_tetrahedron).
 Why it is the yardstick: it reads the dense lighting, as the reference does, but never evaluates a
 removal or an insertion candidate by itself (no greedy search over candidates), so it is the "best
 fast non-learned" bar a learned tier has to beat. Deterministic: ties go to the lower index.
+
+Guided insertion (quality.md §5.2): the same rounds, but each cell's candidate is the point with the
+largest error x guide weight instead of the largest error, where the guide weight is a per-point
+prior of importance — the network's score through the spread ranking's weights (`spread_weights`,
+sqrt(score / median)). The error still decides which cells are fixed first and whether a cell needs
+a point at all; the prior only decides which of a cell's badly interpolated points becomes the probe.
+Why: a per-point scorer cannot place probes by itself however good its scores (even the reference's
+own ranking through the spread ranking is 1.42x the reference's error at a 5 % budget on the
+validation crops), and insertion cannot tell a point the reference keeps from its equally wrong
+neighbour; together they beat insertion alone on the validation crops (benchmarks.md §10).
 """
 
 from __future__ import annotations
@@ -39,7 +49,7 @@ import numpy as np
 from ..core import sh as shmath
 from ..core.grid import EvaluationGrid
 from ..core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
-from ..core.spread import farthest_point_ranking
+from ..core.spread import farthest_point_ranking, spread_weights
 from .metric import POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
@@ -65,15 +75,41 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
     return start[np.argsort(rank_of[start], kind="stable")]
 
 
+def guide_weights(scores: np.ndarray) -> np.ndarray:
+    """A guided insertion's per-point weights from importance scores: the spread ranking's weights
+    (selection.md: clip to [1e-6, 1], NaN -> 1e-6, sqrt(score / median)), all > 0."""
+    return spread_weights(scores)
+
+
+def checked_guide(guide: np.ndarray | None, point_count: int) -> np.ndarray | None:
+    """None, or (N,) float64 weights, each finite and > 0 (an error names the first bad one)."""
+    if guide is None:
+        return None
+    weights = np.asarray(guide, dtype=np.float64)
+    if weights.shape != (point_count,):
+        raise MetricError(f"guide weights must be one number per point ({point_count:,}), got shape {list(weights.shape)}")
+    bad = np.flatnonzero(~(np.isfinite(weights) & (weights > 0.0)))
+    if bad.shape[0]:
+        raise MetricError(f"guide weight {int(bad[0])} = {float(weights[bad[0]])!r} must be a finite number > 0 "
+                          f"({bad.shape[0]:,} such weights): build them with guide_weights(scores)")
+    return weights
+
+
 def insertion_batch(field: ReferenceField, order: np.ndarray, metric: str = PRIMARY_METRIC,
-                    growth: float = INSERTION_GROWTH) -> np.ndarray:
+                    growth: float = INSERTION_GROWTH, guide: np.ndarray | None = None) -> np.ndarray:
     """One round given the probes so far (`order`): the next points to insert, in insertion order (module
-    text); empty when every other point is interpolated exactly. The C# core's InsertionRanking.NextBatch."""
+    text); empty when every other point is interpolated exactly. `guide` (checked_guide): each cell's
+    candidate is its point of largest error x weight among those with error > EXACT (guided insertion)
+    instead of its point of largest error. The C# core's InsertionRanking.NextBatch."""
     values = field.values(metric)
+    guide = checked_guide(guide, field.point_count)
     indices, others, stencil = probe_stencil(field, order)
     blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
     errors = POINT_ERRORS[metric](blended, values[others], field.scale)
-    by_cell = np.lexsort((others, -errors, stencil.cell))  # per cell: worst first, ties by index
+    # Per cell the candidate first, ties by index. Unguided, the key is the error itself; guided, points at
+    # or below EXACT never become candidates (key -1), so a cell needs a point exactly when it does unguided.
+    key = errors if guide is None else np.where(errors > EXACT, errors * guide[others], -1.0)
+    by_cell = np.lexsort((others, -key, stencil.cell))
     first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
     worst = first[errors[first] > EXACT]
     if worst.shape[0] == 0:
@@ -90,22 +126,33 @@ class InsertionOrder:
     growth) rounds of the whole ranking; prefixes are those of `insertion_ranking` exactly."""
 
     def __init__(self, field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
-                 growth: float = INSERTION_GROWTH, progress: Callable[[int, int], None] | None = None) -> None:
+                 growth: float = INSERTION_GROWTH, progress: Callable[[int, int], None] | None = None,
+                 guide: np.ndarray | None = None) -> None:
         checked_metric(metric)
         if not (math.isfinite(growth) and growth > 0.0):
             raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
                               f"(e.g. {INSERTION_GROWTH})")
         self._field, self._metric, self._growth, self._progress = field, metric, growth, progress
+        self._guide = checked_guide(guide, field.point_count)
         self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
         self.rounds = 0
+
+    @property
+    def point_count(self) -> int:
+        return self._field.point_count
+
+    @property
+    def computed(self) -> int:
+        """How many leading points are ranked so far."""
+        return int(self._order.shape[0])
 
     def prefix(self, count: int) -> np.ndarray:
         """The first min(count, N) points of the ranking, in order."""
         n = self._field.point_count
         count = min(int(count), n)
         while self._order.shape[0] < count and not self._exhausted:
-            batch = insertion_batch(self._field, self._order, self._metric, self._growth)
+            batch = insertion_batch(self._field, self._order, self._metric, self._growth, self._guide)
             self.rounds += 1
             if batch.shape[0] == 0:
                 self._exhausted = True
@@ -130,6 +177,7 @@ class InsertionOrder:
 
 
 def insertion_ranking(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
-                      growth: float = INSERTION_GROWTH) -> np.ndarray:
-    """The insertion order of the module text: (N,) int64, every point once."""
-    return InsertionOrder(field, grid, metric, growth).prefix(field.point_count)
+                      growth: float = INSERTION_GROWTH, guide: np.ndarray | None = None) -> np.ndarray:
+    """The insertion order of the module text (guided by `guide`, checked_guide, when given): (N,) int64, every
+    point once."""
+    return InsertionOrder(field, grid, metric, growth, guide=guide).prefix(field.point_count)

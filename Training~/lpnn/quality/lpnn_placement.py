@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, rank
 from ..core.spread import SpreadPrefix, spread_ranking
 from .decimation import MINIMUM_PROBES
+from .insertion import InsertionOrder, guide_weights
 from .metric import PlacementQuality, ReferenceField, evaluate_placement
 from .policies import (PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection,
                        spread_prefix_selection)
@@ -122,11 +123,14 @@ def feature_seconds(capture: Capture) -> float | None:
 
 def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np.ndarray | None = None,
                    budget: float | None = None, tolerance: float | None = None, refine: float | None = None,
-                   topk: bool = False, reference: ReferenceField | None = None, workers: int | None = None,
-                   name: str = "the capture", full_ranking: bool = True, report: bool = True) -> LpnnPlacement:
+                   topk: bool = False, guided: bool = False, reference: ReferenceField | None = None,
+                   workers: int | None = None, name: str = "the capture", full_ranking: bool = True,
+                   report: bool = True, progress: Callable[[int, int], None] | None = None) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
     `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
-    exact refinement; `topk` ranks by raw score instead of the spread ranking; `reference` reuses
+    exact refinement; `topk` ranks by raw score instead of the spread ranking; `guided` ranks by insertion
+    guided by the scores (insertion.py, quality.md §5.2: lazily, as far as the policy reads; `progress`
+    gets its rounds' points ranked of the count asked for); `reference` reuses
     ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
     `name` appears in error messages; full_ranking=False (spread ranking, no refinement) ranks only the
     points the policy reads (core.spread.SpreadPrefix: the same probes; `ranking` is then the computed
@@ -137,6 +141,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     if (scorer is None) == (scores is None):
         raise PolicyError("give exactly one of scorer (an OnnxScorer) and scores (one value per point)")
     factor = checked_refine(refine)
+    if guided and (topk or factor is not None):
+        raise PolicyError("guided insertion ranks by itself: use it without topk and refine")
     tau = None if tolerance is None else checked_tolerance(tolerance)
     n = capture.point_count
     inference = 0.0
@@ -150,8 +156,13 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
 
     start = time.perf_counter()
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    lazy = None if (full_ranking or topk or factor is not None) else SpreadPrefix(capture.positions, values)
-    if lazy is None:
+    lazy = None if (full_ranking or topk or guided or factor is not None) else SpreadPrefix(capture.positions, values)
+    order = None
+    if guided:
+        reference = ReferenceField.from_capture(capture) if reference is None else reference
+        order = InsertionOrder(reference, grid, progress=progress, guide=guide_weights(values))
+        select = order.selection()
+    elif lazy is None:
         ranking = rank(values) if topk else spread_ranking(capture.positions, values)
         select = prefix_selection(grid, ranking)
     else:
@@ -185,6 +196,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         refinement = time.perf_counter() - start
     if lazy is not None:
         ranking = lazy.prefix(lazy.computed)
+    elif order is not None:
+        ranking = order.prefix(order.point_count if full_ranking else order.computed)
     quality = None
     if report:
         reference = ReferenceField.from_capture(capture) if reference is None else reference

@@ -9,7 +9,7 @@ from pathlib import Path
 from lpnn.quality.bench import BenchRow, rows_csv
 
 SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "bench-table.py"
-METHODS = ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
+METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
 
 
 def _row(capture: str, method: str, policy: str, ratio: float) -> BenchRow:
@@ -35,7 +35,8 @@ def test_means_leave_out_non_finite_ratios_and_say_how_many(tmp_path: Path) -> N
     mean = next(line for line in printed if line.startswith("| **geometric mean**")).split("|")[2:-1]
     left_out = next(line for line in printed if line.startswith("| ratios left out")).split("|")[2:-1]
     assert mean[0].strip() == "**4.00**"  # lpnn @20 %: sqrt(2 x 8), the infinite ratio left out
-    assert [cell.strip() for cell in left_out[:12]] == ["1", "0", "0", "0", "1", "0", "1", "0", "0", "0", "1", "0"]
+    # Budget columns (7 methods), then tolerance columns: lpnn leaves out b's infinite ratio, apv the missing c.
+    assert [cell.strip() for cell in left_out[:14]] == ["1", "0", "0", "0", "0", "1", "0", "1", "0", "0", "0", "0", "1", "0"]
 
 
 def test_summary_row_per_method_with_left_out_counts(tmp_path: Path) -> None:

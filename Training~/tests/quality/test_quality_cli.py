@@ -195,13 +195,14 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     result = bench_capture("room2", capture, config, scorer=_StubScorer())
     by_method = {(row.method, row.policy): row for row in result.rows}
     assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "apv", "insertion", "fast-reference",
-                                          "lpnn-topk", "lpnn", "lpnn-refine"}
+                                          "lpnn-topk", "lpnn", "lpnn-guided", "lpnn-refine"}
     assert result.failures == []
-    for method in ("lpnn-topk", "lpnn", "lpnn-refine"):
+    for method in ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-refine"):
         row = by_method[(method, "budget")]
         assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
-        assert row.seconds == pytest.approx(row.feature_seconds + row.inference_seconds + row.selection_seconds
-                                            + (row.refine_seconds or 0.0))
+        ranking_seconds = row.seconds - row.feature_seconds - row.inference_seconds - row.selection_seconds
+        # The guided tier ranks every point once (like the insertion baseline), the others rank inside the selection.
+        assert (ranking_seconds > 0.0) if method == "lpnn-guided" else ranking_seconds == pytest.approx(row.refine_seconds or 0.0)
         assert (row.refine_seconds is not None) == (method == "lpnn-refine")
         assert row.probes == round(0.2 * capture.point_count)
         assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
@@ -214,9 +215,11 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     assert by_method[("lpnn", "budget")].mean_error == pytest.approx(spread.mean_error)
     refined = lpnn_placement(capture, scores=scores, budget=0.2, refine=2.0, reference=field)
     assert by_method[("lpnn-refine", "budget")].mean_error == pytest.approx(refined.mean_error)
+    guided = lpnn_placement(capture, scores=scores, budget=0.2, guided=True, reference=field)
+    assert by_method[("lpnn-guided", "budget")].mean_error == pytest.approx(guided.mean_error)
 
 
-def test_place_from_scores_uses_the_spread_ranking_topk_and_refinement(capture_files: list[Path], tmp_path: Path,
+def test_place_from_scores_uses_the_spread_ranking_topk_refinement_and_guided_insertion(capture_files: list[Path], tmp_path: Path,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     capture = read_capture(capture_files[2])
     scores = np.random.default_rng(1).uniform(0, 1, capture.point_count).astype(np.float32)
@@ -226,7 +229,8 @@ def test_place_from_scores_uses_the_spread_ranking_topk_and_refinement(capture_f
     for extra, expected in (([], lpnn_placement(capture, scores=scores, budget=0.25, reference=field)),
                             (["--topk"], lpnn_placement(capture, scores=scores, budget=0.25, topk=True, reference=field)),
                             (["--refine", "2"], lpnn_placement(capture, scores=scores, budget=0.25, refine=2.0,
-                                                               reference=field))):
+                                                               reference=field)),
+                            (["--guided"], lpnn_placement(capture, scores=scores, budget=0.25, guided=True, reference=field))):
         out = tmp_path / "p.probes.json"
         assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.25", *extra,
                      "--out", str(out)]) == 0
@@ -236,9 +240,15 @@ def test_place_from_scores_uses_the_spread_ranking_topk_and_refinement(capture_f
         assert document["source"]["mean_error"] == pytest.approx(expected.mean_error, abs=1e-6)
         printed = capsys.readouterr().out
         assert ("top-K" in printed) == ("--topk" in extra) and ("refinement" in printed) == ("--refine" in extra)
+        assert ("guided insertion" in printed) == ("--guided" in extra)
     assert main(["place", str(capture_files[2]), "--method", "uniform", "--refine", "2", "--budget", "0.2",
                  "--out", str(tmp_path / "x.json")]) == 1
-    assert "--refine, --topk and --no-report apply to LPNN scores" in capsys.readouterr().err
+    assert "--guided, --refine, --topk and --no-report apply to LPNN scores" in capsys.readouterr().err
+    assert main(["place", str(capture_files[2]), "--guided", "--budget", "0.2", "--out", str(tmp_path / "x.json")]) == 1
+    assert "use them with --model or --scores" in capsys.readouterr().err
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--guided", "--topk", "--budget", "0.2",
+                 "--out", str(tmp_path / "x.json")]) == 1
+    assert "give at most one of them" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "1", "--budget", "0.2",
               "--out", str(tmp_path / "x.json")])

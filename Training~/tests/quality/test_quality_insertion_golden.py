@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import EXACT, insertion_batch, insertion_ranking, typical_tetrahedron
+from lpnn.quality.insertion import EXACT, guide_weights, insertion_batch, insertion_ranking, typical_tetrahedron
 from lpnn.quality.metric import ReferenceField
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -32,6 +32,15 @@ def _case(case: dict[str, Any]) -> tuple[EvaluationGrid, ReferenceField]:
     return grid, field
 
 
+def _guide(case: dict[str, Any]) -> np.ndarray | None:
+    """The case's guide weights (None: plain insertion), checked to be guide_weights of its float32 scores, exactly."""
+    if "scores" not in case:
+        return None
+    guide = guide_weights(np.asarray(case["scores"], dtype=np.float32))
+    np.testing.assert_array_equal(guide, np.asarray(case["guide"], dtype=np.float64), err_msg=case["name"])
+    return guide
+
+
 def _tet_keys(tets) -> list[tuple[int, ...]]:
     return sorted(tuple(sorted(int(v) for v in t)) for t in tets)
 
@@ -39,7 +48,7 @@ def _tet_keys(tets) -> list[tuple[int, ...]]:
 def test_the_golden_lists_the_certified_cases(golden: dict[str, Any]) -> None:
     assert golden["tolerance"].startswith("exact")
     assert golden["exact_threshold"] == EXACT
-    assert [c["name"] for c in golden["cases"]] == ["enclosed", "outside", "plane"]
+    assert [c["name"] for c in golden["cases"]] == ["enclosed", "outside", "plane", "guided"]
 
 
 def test_typical_tetrahedra_are_reproduced(golden: dict[str, Any]) -> None:
@@ -57,15 +66,17 @@ def test_every_round_given_its_mesh_is_reproduced(golden: dict[str, Any]) -> Non
             probes = np.asarray(round_["probes"], dtype=np.int64)
             tri = tetrahedralize(field.world[probes], field.frame)
             assert _tet_keys(tri.tets) == _tet_keys(round_["tetrahedra"]), case["name"]
-            np.testing.assert_array_equal(insertion_batch(field, probes, growth=case["growth"]), round_["batch"], err_msg=case["name"])
+            np.testing.assert_array_equal(insertion_batch(field, probes, growth=case["growth"], guide=_guide(case)),
+                                          round_["batch"], err_msg=case["name"])
             rounds += 1
     assert rounds > 10
 
 
-def test_the_whole_ranking_is_reproduced_and_is_its_rounds_in_order(golden: dict[str, Any]) -> None:
-    case = next(c for c in golden["cases"] if c["name"] == "enclosed")
+@pytest.mark.parametrize("name", ["enclosed", "guided"])
+def test_the_whole_ranking_is_reproduced_and_is_its_rounds_in_order(golden: dict[str, Any], name: str) -> None:
+    case = next(c for c in golden["cases"] if c["name"] == name)
     grid, field = _case(case)
-    ranking = insertion_ranking(field, grid, growth=case["growth"])
+    ranking = insertion_ranking(field, grid, growth=case["growth"], guide=_guide(case))
     np.testing.assert_array_equal(ranking, case["ranking"])
     order = list(case["typical_tetrahedron"])
     for round_ in case["rounds"]:
@@ -75,6 +86,8 @@ def test_the_whole_ranking_is_reproduced_and_is_its_rounds_in_order(golden: dict
     # The start is the enclosing tetrahedron's corners (the case's design): no point is ever outside the hull.
     corners = np.asarray(case["ids"])[case["typical_tetrahedron"]]
     assert sorted(map(tuple, corners.tolist())) == sorted(map(tuple, np.asarray([[0, 0, 0], [1024, 37, 91], [53, 1024, 11], [29, 71, 1024]]).tolist()))
+    if name == "guided":  # the guide matters in this case: plain insertion ranks the same points otherwise
+        assert insertion_ranking(field, grid, growth=case["growth"]).tolist() != case["ranking"]
 
 
 def test_the_plane_case_needs_the_tetrahedron_guarantee(golden: dict[str, Any]) -> None:

@@ -12,6 +12,7 @@ from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.selection import ensure_tetrahedron, rank
 from lpnn.core.spread import spread_ranking
+from lpnn.quality.insertion import guide_weights, insertion_ranking
 from lpnn.quality.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.policies import PolicyError, bounded_tolerance, budget_count, place_tolerance, prefix_selection
@@ -107,6 +108,29 @@ def test_parameters_are_checked(small_captures: dict[int, Capture]) -> None:
         lpnn_placement(capture, scores=scores[:-1], budget=0.2)
     with pytest.raises(PolicyError, match="budget"):
         lpnn_placement(capture, scores=scores, budget=1.5)
+    for other in ({"topk": True}, {"refine": 2.0}):
+        with pytest.raises(PolicyError, match="guided insertion ranks by itself"):
+            lpnn_placement(capture, scores=scores, budget=0.2, guided=True, **other)
+
+
+def test_guided_tier_is_the_guided_insertion_order_read_only_as_far_as_the_policy_needs(medium_capture: Capture) -> None:
+    capture = medium_capture
+    field = ReferenceField.from_capture(capture)
+    grid = _grid(capture)
+    scores = StubScorer().score_capture(capture)
+    full = insertion_ranking(field, grid, guide=guide_weights(scores))
+    count = budget_count(0.1, capture.point_count)
+    placed = lpnn_placement(capture, scores=scores, budget=0.1, guided=True, reference=field, full_ranking=False)
+    np.testing.assert_array_equal(placed.indices, np.sort(full[:count]))
+    assert count <= placed.ranking.shape[0] < capture.point_count  # lazily: only the rounds the budget needs
+    np.testing.assert_array_equal(placed.ranking, full[:placed.ranking.shape[0]])
+    expected = place_tolerance(field, prefix_selection(grid, full), 0.05)
+    reported: list[tuple[int, int]] = []
+    searched = lpnn_placement(capture, scores=scores, tolerance=0.05, guided=True, reference=field,
+                              progress=lambda done, total: reported.append((done, total)))
+    np.testing.assert_array_equal(searched.indices, expected.indices)
+    np.testing.assert_array_equal(searched.ranking, full)  # full_ranking=True: the whole order
+    assert reported and all(done <= total for done, total in reported)
 
 
 def test_validation_metric_scores_the_spread_placement(small_captures: dict[int, Capture]) -> None:
