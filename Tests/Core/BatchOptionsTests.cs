@@ -39,12 +39,34 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(options.Method, Is.Null, "no -lpnnMethod: each volume's own method");
         }
 
+        [TestCase("insertion", PlacementMethod.Insertion)]
+        [TestCase("Guided", PlacementMethod.GuidedInsertion)]
+        [TestCase("guided", PlacementMethod.GuidedInsertion)]
+        [TestCase("network", PlacementMethod.Network)]
+        public void MethodNamesParse(string name, PlacementMethod method)
+        {
+            Assert.That(BatchOptions.Parse(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", name }).Method, Is.EqualTo(method));
+        }
+
+        [Test]
+        public void EveryMethodHasANameThatParsesBackToIt()
+        {
+            foreach (PlacementMethod method in System.Enum.GetValues(typeof(PlacementMethod)))
+            {
+                string name = BatchOptions.MethodName(method);
+                Assert.That(BatchOptions.Parse(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", name }).Method, Is.EqualTo(method), name);
+                StringAssert.Contains(name, BatchOptions.Usage);
+            }
+            Assert.That(BatchOptions.MethodName(PlacementMethod.GuidedInsertion), Is.EqualTo("guided"));
+        }
+
         [TestCase(new[] { "-lpnnMode", "place" }, "missing -lpnnScene")]
         [TestCase(new[] { "-lpnnScene" }, "-lpnnScene needs a value")]
         [TestCase(new[] { "-lpnnScene", "-lpnnBake" }, "-lpnnScene needs a value")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMode", "train" }, "-lpnnMode 'train' must be place or export")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnBackend", "tpu" }, "-lpnnBackend 'tpu' must be auto, gpu or cpu")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "-lpnnMethod 'heuristic' must be insertion")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "guided (insertion guided by the model's scores")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnScenes", "B.unity" }, "unknown argument -lpnnScenes")]
         public void BadArgumentsAreExplained(string[] args, string expected)
         {

@@ -27,6 +27,11 @@ namespace Lpnn.Probes.Core.Tests
             public JsonValue Json;
             public EvaluationGrid Grid;
             public ReferenceLighting Reference;
+            /// <summary>The guided case's float32 scores (null: plain insertion).</summary>
+            public float[] Scores;
+            /// <summary>The guided case's weights, computed here from <see cref="Scores"/> and checked to equal the golden's
+            /// exactly (null: plain insertion).</summary>
+            public double[] Guide;
 
             public static List<GoldenCase> ReadAll()
             {
@@ -45,15 +50,28 @@ namespace Lpnn.Probes.Core.Tests
                         Assert.That(new[] { p.X, p.Y, p.Z }, Is.EqualTo(JsonArrays.Floats(positions[n])), "grid position of point " + n);
                     }
                     float[] sh = c.Get("sh").Items.SelectMany(JsonArrays.Floats).ToArray();
+                    float[] scores = null;
+                    double[] guide = null;
+                    if (c.TryGet("scores", out var scoreValues))
+                    {
+                        scores = JsonArrays.Floats(scoreValues);
+                        Assert.That(scores.Select(v => (double)v), Is.EqualTo(JsonArrays.Doubles(scoreValues)), "the scores are float32 values");
+                        guide = SpreadWeights.Compute(scores);
+                        Assert.That(guide, Is.EqualTo(JsonArrays.Doubles(c.Get("guide"))), "guide weights of " + c.Get("name").AsString);
+                        Assert.That(InsertionRanking.GuideWeights(scores), Is.EqualTo(guide));
+                    }
                     cases.Add(new GoldenCase
                     {
                         Name = c.Get("name").AsString,
                         Json = c,
                         Grid = grid,
                         Reference = ReferenceLighting.FromGrid(grid, sh, c.Get("lighting_scale").AsNumber),
+                        Scores = scores,
+                        Guide = guide,
                     });
                 }
-                Assert.That(cases.Select(c => c.Name), Is.EqualTo(new[] { "enclosed", "outside", "plane" }));
+                Assert.That(cases.Select(c => c.Name), Is.EqualTo(new[] { "enclosed", "outside", "plane", "guided" }));
+                Assert.That(cases.Select(c => c.Scores != null), Is.EqualTo(new[] { false, false, false, true }));
                 return cases;
             }
         }
@@ -68,13 +86,13 @@ namespace Lpnn.Probes.Core.Tests
                 Assert.That(InsertionRanking.TypicalTetrahedron(c.Grid, c.Reference), Is.EqualTo(Ints(expected)), c.Name);
                 checkedCases++;
             }
-            Assert.That(checkedCases, Is.EqualTo(2));
+            Assert.That(checkedCases, Is.EqualTo(3));
         }
 
         [Test]
         public void EveryRoundGivenItsMeshEqualsThePythonReference()
         {
-            int rounds = 0;
+            int rounds = 0, guidedRounds = 0;
             foreach (var c in GoldenCase.ReadAll())
             {
                 if (!c.Json.TryGet("rounds", out var list)) continue;
@@ -83,12 +101,14 @@ namespace Lpnn.Probes.Core.Tests
                 {
                     int[] probes = Ints(round.Get("probes"));
                     int[] tetrahedra = round.Get("tetrahedra").Items.SelectMany(Ints).ToArray();
-                    Assert.That(InsertionRanking.NextBatch(c.Reference, probes, tetrahedra, growth), Is.EqualTo(Ints(round.Get("batch"))),
+                    Assert.That(InsertionRanking.NextBatch(c.Reference, probes, tetrahedra, growth, c.Guide), Is.EqualTo(Ints(round.Get("batch"))),
                         c.Name + " round from " + probes.Length + " probes");
                     rounds++;
+                    if (c.Guide != null) guidedRounds++;
                 }
             }
             Assert.That(rounds, Is.GreaterThan(10));
+            Assert.That(guidedRounds, Is.GreaterThan(10));
         }
 
         [Test]
@@ -120,12 +140,26 @@ namespace Lpnn.Probes.Core.Tests
             return keys;
         }
 
-        [Test]
-        public void TheWholeRankingEqualsThePythonReference()
+        [TestCase("enclosed")]
+        [TestCase("guided")]
+        public void TheWholeRankingEqualsThePythonReference(string name)
         {
-            var c = GoldenCase.ReadAll().Single(g => g.Name == "enclosed");
-            int[] ranking = InsertionRanking.Rank(c.Grid, c.Reference, new BowyerWatsonDelaunay(), c.Json.Get("growth").AsNumber);
-            Assert.That(ranking, Is.EqualTo(Ints(c.Json.Get("ranking"))));
+            var c = GoldenCase.ReadAll().Single(g => g.Name == name);
+            double growth = c.Json.Get("growth").AsNumber;
+            int[] expected = Ints(c.Json.Get("ranking"));
+            Assert.That(InsertionRanking.Rank(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth, scores: c.Scores), Is.EqualTo(expected));
+            // The same through the order's own guide, and through the grid-level entry (all points valid).
+            Assert.That(new InsertionOrder(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth, c.Guide).All(), Is.EqualTo(expected));
+            // The ranking is its rounds' batches in order.
+            var order = Ints(c.Json.Get("typical_tetrahedron")).ToList();
+            foreach (var round in c.Json.Get("rounds").Items)
+            {
+                Assert.That(Ints(round.Get("probes")), Is.EqualTo(order));
+                order.AddRange(Ints(round.Get("batch")));
+            }
+            Assert.That(expected.Take(order.Count), Is.EqualTo(order));
+            if (c.Guide != null)  // the guide matters in this case: plain insertion ranks otherwise
+                Assert.That(InsertionRanking.Rank(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth), Is.Not.EqualTo(expected));
         }
 
         // ---- behaviour on cases known by hand -------------------------------------------------------------------------
@@ -221,6 +255,149 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(start.Length, Is.GreaterThanOrEqualTo(4));
         }
 
+        // ---- guided insertion (quality.md §5.2) ----------------------------------------------------------------------------
+
+        /// <summary>One cell: the 4 corners of a large tetrahedron are the probes, 5 points inside it lie on an affine field
+        /// (dyadic coordinates: exact) except points 5 and 6, which carry bumps (6 the larger); 4, 7 and 8 are exact.</summary>
+        private static ReferenceLighting OneCell(out int[] probes, out int[] tetrahedra)
+        {
+            var positions = new[]
+            {
+                new Vector3(0, 0, 0), new Vector3(8, 0, 0), new Vector3(0, 8, 0), new Vector3(0, 0, 8),
+                new Vector3(1, 1, 1), new Vector3(2, 1, 1), new Vector3(1, 2, 1), new Vector3(1, 1, 2), new Vector3(2, 2, 1),
+            };
+            var sh = QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1));
+            for (int c = 0; c < ShMath.FloatsPerProbe; c += ShMath.CoefficientsPerChannel)
+            {
+                sh[ShMath.FloatsPerProbe * 5 + c] += 1f;
+                sh[ShMath.FloatsPerProbe * 6 + c] += 2f;
+            }
+            probes = new[] { 0, 1, 2, 3 };
+            tetrahedra = new BowyerWatsonDelaunay().Tetrahedralize(positions.Take(4).ToArray());
+            return ReferenceLighting.Create(positions, sh);
+        }
+
+        private static double[] Ones(int count) => Enumerable.Repeat(1.0, count).ToArray();
+
+        [Test]
+        public void TheGuidePicksAmongACellsBadlyInterpolatedPointsButNeverAnExactOne()
+        {
+            var reference = OneCell(out int[] probes, out int[] tetrahedra);
+            int n = reference.Count;
+            Assert.That(tetrahedra.Length, Is.EqualTo(4), "one cell");
+            const double growth = InsertionRanking.DefaultGrowth;
+            // Plain insertion, and equal weights: the cell's worst point, the larger bump.
+            Assert.That(InsertionRanking.NextBatch(reference, probes, tetrahedra), Is.EqualTo(new[] { 6 }));
+            Assert.That(InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, Ones(n)), Is.EqualTo(new[] { 6 }));
+            // A guide that rates the smaller bump ten times higher takes it instead.
+            var guide = Ones(n);
+            guide[5] = 10;
+            Assert.That(InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide), Is.EqualTo(new[] { 5 }));
+            // Exactly interpolated points never become the candidate, however high their weight; a lower weight on the worst
+            // point is only a preference among the badly interpolated ones.
+            guide = Ones(n);
+            guide[4] = guide[7] = guide[8] = 1e12;
+            guide[6] = 1e-6;
+            Assert.That(InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide), Is.EqualTo(new[] { 5 }));
+            guide[5] = 1e-9;
+            Assert.That(InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide), Is.EqualTo(new[] { 6 }));
+            // A cell whose points are all exact needs no point, guided or not.
+            var flat = ReferenceLighting.Create(Enumerable.Range(0, n).Select(reference.GetPosition).ToArray(),
+                QualityFixtures.LinearField(Enumerable.Range(0, n).Select(reference.GetPosition).ToArray(), new Vector3(-1, -1, -1)));
+            Assert.That(InsertionRanking.NextBatch(flat, probes, tetrahedra, growth, guide), Is.Empty);
+        }
+
+        [Test]
+        public void EqualWeightsGiveThePlainRanking()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            int[] plain = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay());
+            var equal = Enumerable.Repeat(0.37f, grid.Count).ToArray();
+            Assert.That(InsertionRanking.GuideWeights(equal), Is.All.EqualTo(1.0));
+            Assert.That(InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), scores: equal), Is.EqualTo(plain));
+            Assert.That(new InsertionOrder(grid, reference, new BowyerWatsonDelaunay(), InsertionRanking.DefaultGrowth, Ones(grid.Count)).All(), Is.EqualTo(plain));
+            // Unequal scores change the ranking here (a permutation still).
+            var varied = Enumerable.Range(0, grid.Count).Select(p => 0.05f + 0.9f * ((p * 37) % grid.Count) / grid.Count).ToArray();
+            int[] guided = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), scores: varied);
+            Assert.That(guided.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+            Assert.That(guided, Is.Not.EqualTo(plain));
+        }
+
+        [Test]
+        public void RankValidWeighsTheValidPointsScoresAlone()
+        {
+            // `lpnn place --guided` drops the invalid points and then computes the weights: their median is the valid points'.
+            var grid = QualityFixtures.Box(6, 5, 4);
+            var positions = QualityFixtures.Positions(grid);
+            var sh = QualityFixtures.BlobField(positions, new Vector3(2, 1, 1), new Vector3(4, 3, 2), 1.3f);
+            var valid = new bool[grid.Count];
+            for (int n = 0; n < grid.Count; n++) valid[n] = grid.GetId(n).I > 1; // two layers inside geometry
+            var scores = new float[grid.Count];
+            for (int n = 0; n < grid.Count; n++) scores[n] = valid[n] ? 0.05f + 0.9f * ((n * 53) % 97) / 97f : 0f;  // 0: as the Scoring step scatters
+            double scale = ReferenceLighting.FromGrid(grid, sh).SceneScale;
+            int[] ranking = InsertionRanking.RankValid(grid, sh, scale, valid, new BowyerWatsonDelaunay(), scores: scores);
+            int validCount = valid.Count(v => v);
+            Assert.That(ranking.OrderBy(p => p), Is.EqualTo(Enumerable.Range(0, grid.Count)));
+            Assert.That(ranking.Skip(validCount), Is.EqualTo(Enumerable.Range(0, grid.Count).Where(p => !valid[p])));
+            // Independent construction: the valid sub-grid ranked with the weights of its own scores, mapped back.
+            var rows = Enumerable.Range(0, grid.Count).Where(p => valid[p]).ToArray();
+            var subGrid = grid.Subset(valid);
+            var subSh = rows.SelectMany(p => sh.Skip(ShMath.FloatsPerProbe * p).Take(ShMath.FloatsPerProbe)).ToArray();
+            var subGuide = InsertionRanking.GuideWeights(rows.Select(p => scores[p]).ToArray());
+            int[] sub = new InsertionOrder(subGrid, ReferenceLighting.FromGrid(subGrid, subSh, scale), new BowyerWatsonDelaunay(),
+                InsertionRanking.DefaultGrowth, subGuide).All();
+            Assert.That(ranking.Take(validCount), Is.EqualTo(sub.Select(p => rows[p])));
+            Assert.That(ranking, Is.Not.EqualTo(InsertionRanking.RankValid(grid, sh, scale, valid, new BowyerWatsonDelaunay())), "the guide matters here");
+            // The lazy order reads the same prefixes.
+            var order = InsertionOrder.OfValid(grid, sh, scale, valid, new BowyerWatsonDelaunay(), InsertionRanking.DefaultGrowth, scores);
+            Assert.That(order.Prefix(20).Take(20), Is.EqualTo(ranking.Take(20)));
+            // No flags: the weights of every point's score.
+            Assert.That(InsertionRanking.RankValid(grid, sh, scale, null, new BowyerWatsonDelaunay(), scores: scores),
+                Is.EqualTo(InsertionRanking.Rank(grid, ReferenceLighting.FromGrid(grid, sh, scale), new BowyerWatsonDelaunay(), scores: scores)));
+        }
+
+        [Test]
+        public void BadGuidesAreRefusedNamingTheFirstBadWeight()
+        {
+            var grid = Grid();
+            var positions = Jittered(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(2, 3, 1), 1.2f));
+            int n = grid.Count;
+            int[] probes = InsertionRanking.TypicalTetrahedron(grid, reference);
+            int[] tetrahedra = new BowyerWatsonDelaunay().Tetrahedralize(probes.Select(p => positions[p]).ToArray());
+            const double growth = InsertionRanking.DefaultGrowth;
+
+            var shortGuide = Assert.Throws<PlacementErrorException>(() => InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, Ones(n - 1)));
+            StringAssert.Contains("one number per point (48), got 47", shortGuide.Message);
+            Assert.Throws<PlacementErrorException>(() => new InsertionOrder(grid, reference, new BowyerWatsonDelaunay(), growth, Ones(n + 1)));
+
+            var cases = new[] { double.NaN, 0.0, -0.5, double.PositiveInfinity, double.NegativeInfinity };
+            var shown = new[] { "NaN", "0", "-0.5", "Infinity", "-Infinity" };
+            for (int k = 0; k < cases.Length; k++)
+            {
+                var guide = Ones(n);
+                guide[7] = guide[30] = cases[k];
+                var bad = Assert.Throws<PlacementErrorException>(() => InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide));
+                StringAssert.Contains("guide weight 7 = " + shown[k] + " must be a finite number greater than 0 (2 such weights)", bad.Message);
+                StringAssert.Contains("GuideWeights(scores)", bad.Message);
+                // The order refuses it before any round.
+                var early = Assert.Throws<PlacementErrorException>(() => new InsertionOrder(grid, reference, new BowyerWatsonDelaunay(), growth, guide));
+                StringAssert.Contains("guide weight 7 = " + shown[k], early.Message);
+            }
+
+            // Scores: one per point (NaN scores are allowed: they weigh like the floor, 1e-6).
+            var fewScores = Assert.Throws<PlacementErrorException>(() => InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay(), scores: new float[n - 1]));
+            StringAssert.Contains("one score per evaluation point: got 47 scores for 48 points", fewScores.Message);
+            var sh = QualityFixtures.LinearField(positions, Vector3.Zero);
+            var valid = Enumerable.Range(0, n).Select(p => p % 5 != 0).ToArray();
+            var manyScores = Assert.Throws<PlacementErrorException>(() => InsertionOrder.OfValid(grid, sh, 1.0, valid, new BowyerWatsonDelaunay(), growth, new float[n + 1]));
+            StringAssert.Contains("one score per evaluation point", manyScores.Message);
+            var nan = Enumerable.Repeat(float.NaN, n).ToArray();
+            Assert.That(InsertionRanking.GuideWeights(nan), Is.All.EqualTo(1.0));
+        }
+
         [Test]
         public void APointRepeatedInTheBatchOrAProbeCannotHappen()
         {
@@ -298,15 +475,24 @@ namespace Lpnn.Probes.Core.Tests
         // ---- the method choice ---------------------------------------------------------------------------------------
 
         [Test]
-        public void TheDefaultMethodIsInsertionAndOnlyTheNetworkNeedsScores()
+        public void TheDefaultMethodIsGuidedInsertionAndWhatEachMethodNeeds()
         {
-            // Documentation~/benchmarks.md §7.1: insertion beats the shipped network at every budget from 5 % and at τ.
-            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.Insertion));
+            // Documentation~/benchmarks.md §10: on the validation crops guided insertion beats plain insertion and the network
+            // at τ and at 10-30 % budgets.
+            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.GuidedInsertion));
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Network), Is.True);
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Insertion), Is.False);
-            // Stored in scenes: values never move.
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.GuidedInsertion), Is.True, "the scores are its guide");
+            Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.Network), Is.False);
+            Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.Insertion), Is.True);
+            Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.GuidedInsertion), Is.True);
+            Assert.That(Enum.GetValues(typeof(PlacementMethod)).Cast<PlacementMethod>().Where(PlacementMethods.GuidesInsertion),
+                Is.EqualTo(new[] { PlacementMethod.GuidedInsertion }));
+            // Stored in scenes: values never move, new ones are appended.
             Assert.That((int)PlacementMethod.Network, Is.EqualTo(0));
             Assert.That((int)PlacementMethod.Insertion, Is.EqualTo(1));
+            Assert.That((int)PlacementMethod.GuidedInsertion, Is.EqualTo(2));
+            Assert.That(Enum.GetValues(typeof(PlacementMethod)).Length, Is.EqualTo(3));
         }
 
         [Test]

@@ -77,7 +77,8 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void TheInsertionMethodsRunSkipsScoringAndPlacesProbes()
         {
-            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion));
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.GuidedInsertion), "a new volume places by guided insertion");
+            _room.Volume.SetMethod(PlacementMethod.Insertion);
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step),
                 Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Placement }));
@@ -103,9 +104,9 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
-        public void ANewVolumePlacesByInsertionFromTheLightingAloneWithUnitysTetrahedra()
+        public void PlainInsertionPlacesFromTheLightingAloneWithUnitysTetrahedra()
         {
-            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion));
+            _room.Volume.SetMethod(PlacementMethod.Insertion);
             LpnnPipeline.BuildGrid(_room.Volume, _session);
             using (var lighting = _room.AnalyticLighting())
                 LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
@@ -123,6 +124,33 @@ namespace Lpnn.Probes.Editor.Tests
             var measure = PlacementInputs.Evaluator(_session, _session.Grid);
             Assert.That(ProbeSelector.SelectFromRanking(_session.Grid, ranking, _room.Volume.GetSelectionSettings(), measure,
                 PlacementInputs.ValidPoints(_session, _session.Grid)).Indices, Is.EqualTo(selection.Indices));
+        }
+
+        [Test]
+        public void GuidedInsertionRunsScoringAndRanksByTheLightingGuidedByTheStoredScores()
+        {
+            _room.Volume.SetMethod(PlacementMethod.GuidedInsertion);
+            _room.Volume.SetSelection(SelectionSettings.Budget(24));
+            var results = RunUpTo(PipelineStep.Placement);
+            Assert.That(results.Select(r => r.Step), Is.EqualTo(new[]
+            {
+                PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Scoring, PipelineStep.Placement,
+            }));
+            var grid = _session.Grid;
+            float[] scores = _room.Volume.LastScores.Scores;
+            Assert.That(LpnnPipeline.GuideScores(_room.Volume), Is.SameAs(scores));
+            Assert.That(LpnnPipeline.PlacementGrid(_room.Volume, _session), Is.SameAs(grid));
+            bool[] valid = PlacementInputs.ValidPoints(_session, grid);
+            int[] guided = PlacementInputs.RankByInsertion(_session, grid, null, CancellationToken.None, scores);
+            // The core's guided ranking of the valid points (their scores make the weights) with Unity's tetrahedra.
+            Assert.That(guided, Is.EqualTo(Core.Quality.InsertionRanking.RankValid(grid, _session.Sh, PlacementInputs.Reference(_session, grid).SceneScale,
+                valid, new UnityTetrahedralizer(), scores: scores)));
+            // Kept apart from plain insertion's ranking: neither answers for the other.
+            Assert.That(PlacementInputs.KnownInsertionRanking(_session, grid), Is.Null);
+            Assert.That(PlacementInputs.KnownInsertionRanking(_session, grid, scores), Is.SameAs(guided));
+            var placed = (PlacementResult)results.Last();
+            Assert.That(placed.Selection.Indices,
+                Is.EqualTo(ProbeSelector.SelectFromRanking(grid, guided, _room.Volume.GetSelectionSettings(), null, valid).Indices));
         }
 
         [Test]

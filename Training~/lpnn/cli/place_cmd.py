@@ -4,9 +4,11 @@
              [--guided | --refine F | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Without --model, --scores or --method it places by insertion (DEFAULT_METHOD): the best method measured
-where the capture's dense lighting is available, which `lpnn place` always has (benchmarks.md §7.1:
-1.63x the reference's probes at tau = 0.05 against the shipped network's 2.06x; lower error at every
-budget from 5 %). The network is the fast tier (milliseconds instead of about a second per 1,000 points).
+without a model where the capture's dense lighting is available, which `lpnn place` always has
+(benchmarks.md §7.1: 1.63x the reference's probes at tau = 0.05 against the shipped network's 2.06x; lower
+error at every budget from 5 %). With a model, --guided is better still (benchmarks.md §10) and is what a
+new Unity volume does by default; the network's spread ranking is the fast tier (milliseconds instead of
+about a second per 1,000 points).
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
@@ -34,7 +36,7 @@ if TYPE_CHECKING:
     from ..quality.metric import PlacementQuality
 
 PLACE_METHODS = ("fast", "insertion", "uniform", "heuristic", "apv", "random")
-DEFAULT_METHOD = "insertion"  # module text; the Unity volume's default too (PlacementMethods.Default)
+DEFAULT_METHOD = "insertion"  # module text; with a model the Unity volume's default is guided insertion (= --model M --guided)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -2,7 +2,9 @@
 and compared with the reference and the baselines (Documentation~/benchmarks.md "Demo").
 
 Steps, each timed: import (BSP, grid, solid test, light grid SH, features — what Unity's steps 1–4 do),
-inference (onnxruntime, after one warm-up run, as a Unity worker is created once per model), selection (spread ranking + tolerance search), refinement (LPNN + refine ×2).
+inference (onnxruntime, after one warm-up run, as a Unity worker is created once per model), selection:
+LPNN-guided insertion (the package's default with a model, quality.md §5.2: its rounds and the tolerance search),
+the spread ranking (LPNN's milliseconds tier) and LPNN + refine ×2 (its seeded decimation timed as refinement).
 The fast reference and the baselines run afterwards, for comparison only.
 """
 
@@ -18,7 +20,7 @@ from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from ..quality.policy_rules import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
-from ..quality.insertion import insertion_ranking
+from ..quality.insertion import guide_weights, insertion_ranking
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
 from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
@@ -26,6 +28,7 @@ from ..quality.policies import SelectionForCount, place_tolerance, prefix_select
 from ..quality.reference_fast import fast_decimation
 
 Log = Callable[[str], None]
+PRIMARY = "lpnn-guided"  # the package's default with a model (Unity's Method = Guided insertion): probes.json
 
 
 @dataclass(frozen=True)
@@ -50,7 +53,7 @@ class DemoResult:
     tolerance: float
     methods: dict[str, MethodResult] = field(default_factory=dict)
     reference: Decimation | None = None
-    same_count: dict[str, PlacementQuality] = field(default_factory=dict)  # every method at LPNN's count
+    same_count: dict[str, PlacementQuality] = field(default_factory=dict)  # every method at the PRIMARY method's count
     curves: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # method -> (counts, errors)
 
 
@@ -100,7 +103,11 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     inference = time.perf_counter() - start
     result = DemoResult(level, capture, held_out, import_seconds, scores, tolerance)
 
-    log(f"placing: LPNN, tolerance {tolerance:g}")
+    log(f"placing: LPNN-guided insertion, tolerance {tolerance:g}")
+    guided = lpnn_placement(capture, scores=scores, tolerance=tolerance, guided=True, reference=field_, name=level,
+                            full_ranking=False)
+    result.methods["lpnn-guided"] = _lpnn("lpnn-guided", guided, inference)
+    log(f"placing: LPNN spread ranking (milliseconds), tolerance {tolerance:g}")
     lpnn = lpnn_placement(capture, scores=scores, tolerance=tolerance, reference=field_, name=level)
     result.methods["lpnn"] = _lpnn("lpnn", lpnn, inference)
     log(f"placing: LPNN + refine x{RECOMMENDED_REFINE:g}")
@@ -131,10 +138,11 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     insertion_select = prefix_selection(grid, insertion)
     result.methods["insertion"] = _searched("insertion", field_, insertion_select, tolerance, insertion_seconds)
 
-    count = result.methods["lpnn"].probes
-    lpnn_select = prefix_selection(grid, lpnn.ranking)
+    count = result.methods[PRIMARY].probes
+    guided_select = prefix_selection(grid, insertion_ranking(field_, grid, guide=guide_weights(scores)))  # for the curves
     selections: dict[str, SelectionForCount] = {
-        "lpnn": lpnn_select, "uniform": uniform, "heuristic": heuristic_select, "insertion": insertion_select,
+        "lpnn-guided": guided_select, "lpnn": prefix_selection(grid, lpnn.ranking), "uniform": uniform,
+        "heuristic": heuristic_select, "insertion": insertion_select,
         "fast-reference": lambda k: reference.prefix(max(k, reference.smallest_count))}
     result.same_count = {name: evaluate_placement(field_, select(count)) for name, select in selections.items()}
     counts = curve_counts(n)

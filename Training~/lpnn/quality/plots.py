@@ -17,6 +17,7 @@ METHOD_STYLE = {
     "heuristic": ("tab:orange", "^"),
     "lpnn-topk": ("tab:cyan", "p"),
     "lpnn": ("tab:blue", "o"),
+    "lpnn-guided": ("tab:red", "*"),
     "lpnn-refine": ("navy", "h"),
     "fast-reference": ("tab:green", "D"),
     "faithful-reference": ("tab:purple", "v"),

@@ -72,6 +72,7 @@ def _ms(seconds: Any) -> str:
 
 ROW_LABELS = {
     "lpnn": "LPNN (spread ranking)",
+    "lpnn-guided": "LPNN-guided insertion",
     "lpnn-refine": "LPNN + refine ×2",
     "lpnn-topk": "LPNN top-K (raw scores)",
     "insertion": "insertion (best non-learned)",
@@ -103,7 +104,7 @@ def report_markdown(card: ModelCard) -> str:
              "",
              "| method | budget | probes | × reference | × uniform | × heuristic | features ms | inference ms | selection ms | refine ms | total ms |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random"):
+    for method in ("lpnn", "lpnn-guided", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random"):
         for budget in held_out["budgets"]:
             try:
                 entry = find(held_out, method, "budget", budget)
@@ -119,7 +120,7 @@ def report_markdown(card: ModelCard) -> str:
     lines += ["", f"Tolerance policy, mean error ≤ {tau:g} (probes as a ratio to the reference's smallest count within τ):",
               "", "| method | probes | × reference probes | crops within τ | selection ms | refine ms | total ms |",
               "|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-refine", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
+    for method in ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
         try:
             entry = find(held_out, method, "tolerance", tau)
         except KeyError:

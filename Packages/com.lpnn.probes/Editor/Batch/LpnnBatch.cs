@@ -121,7 +121,7 @@ namespace Lpnn.Probes.Editor
             var session = LpnnSession.For(volume);
             var log = new List<string>();
             // Export mode stops after the features (a capture needs no scores); place mode runs what the volume's method
-            // needs (LpnnPipeline.Run: scores for Network only), then writes the positions file itself (the volume may have
+            // needs (LpnnPipeline.Run: scores for Network and Guided insertion only), then writes the positions file itself (the volume may have
             // no target group to apply to).
             bool export = options.Mode == BatchMode.Export;
             System.Numerics.Vector3[] positions;
@@ -145,14 +145,13 @@ namespace Lpnn.Probes.Editor
                 }
                 positions = LpnnPipeline.SelectedPositions(volume, session, progress.Callback, progress.Token, out selection);
             }
-            bool byScores = PlacementMethods.NeedsScores(volume.Method);
             // The positions file is the batch result; the group is filled too when the volume has one.
             if (volume.TargetGroup != null) ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             var source = JsonValue.NewObject();
             source.Set("scene", JsonValue.From(volume.gameObject.scene.path));
             source.Set("volume", JsonValue.From(volume.name));
-            source.Set("method", JsonValue.From(byScores ? "network" : "insertion"));
-            if (byScores)
+            source.Set("method", JsonValue.From(BatchOptions.MethodName(volume.Method)));
+            if (PlacementMethods.NeedsScores(volume.Method))
             {
                 source.Set("backend", JsonValue.From(volume.LastScores.Backend));
                 source.Set("model", JsonValue.From(volume.LastScores.Model));

@@ -37,6 +37,9 @@ namespace Lpnn.Probes.Editor
         public const string ImportProbesPanel = "Import probe positions (*.probes.json)";
         public const string EstimateError = "Estimate error";
         public const string NoScoresYet = "No scores yet: run the Scoring step (or import a .probes.json).";
+        public const string NoGuideScoresYet =
+            "No scores yet: guided insertion takes, in each tetrahedron, the badly interpolated point the network rates highest: " +
+            "run the Features and Scoring steps (or import a .probes.json).";
         public const string NoLightingYet =
             "No lighting yet: the insertion method ranks points by the Lighting data step's SH (or import a .probes.json).";
         public const string InsertionNotRankedYet =

@@ -29,8 +29,9 @@ namespace Lpnn.Probes.Editor
             InspectorLayout.Field(properties.TargetGroup);
             InspectorLayout.Field(properties.Method);
             edited.ApplyModifiedProperties();
-            bool byScores = PlacementMethods.NeedsScores(volume.Method);
-            if (byScores) EditorGUILayout.HelpBox(LpnnVolumeStyles.NetworkMeasuredWorse, MessageType.None);
+            bool byInsertion = PlacementMethods.RanksByInsertion(volume.Method);
+            bool needsScores = PlacementMethods.NeedsScores(volume.Method);
+            if (!byInsertion) EditorGUILayout.HelpBox(LpnnVolumeStyles.NetworkMeasuredWorse, MessageType.None);
             var policy = PolicyPopup(properties.Policy);
             switch (policy)
             {
@@ -46,9 +47,9 @@ namespace Lpnn.Probes.Editor
             var placement = steps[PipelineStep.Placement];
             using (new EditorGUILayout.HorizontalScope())
             {
-                using (new EditorGUI.DisabledScope(byScores ? volume.LastScores.IsEmpty : session.Sh == null))
+                using (new EditorGUI.DisabledScope((needsScores && volume.LastScores.IsEmpty) || (byInsertion && session.Sh == null)))
                 {
-                    if (!byScores && KnownInsertionRanking(volume, session) == null && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
+                    if (byInsertion && KnownInsertionRanking(volume, session) == null && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
                         StepRunner.Run(volume, placement, (progress, cancel) => RankByInsertion(volume, session, progress, cancel));
                     if (policy == SelectionPolicy.Tolerance && GUILayout.Button(LpnnVolumeStyles.FindProbes))
                         StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
@@ -89,14 +90,14 @@ namespace Lpnn.Probes.Editor
         /// there is none yet).</summary>
         private SelectionResult PreviewCount(LpnnVolume volume, LpnnSession session)
         {
-            bool byScores = PlacementMethods.NeedsScores(volume.Method);
+            bool byInsertion = PlacementMethods.RanksByInsertion(volume.Method);
             var record = volume.LastScores;
-            if (byScores && record.IsEmpty)
+            if (PlacementMethods.NeedsScores(volume.Method) && record.IsEmpty)
             {
-                EditorGUILayout.HelpBox(LpnnVolumeStyles.NoScoresYet, MessageType.None);
+                EditorGUILayout.HelpBox(byInsertion ? LpnnVolumeStyles.NoGuideScoresYet : LpnnVolumeStyles.NoScoresYet, MessageType.None);
                 return null;
             }
-            if (!byScores && session.Sh == null)
+            if (byInsertion && session.Sh == null)
             {
                 EditorGUILayout.HelpBox(LpnnVolumeStyles.NoLightingYet, MessageType.None);
                 return null;
@@ -107,7 +108,7 @@ namespace Lpnn.Probes.Editor
             try
             {
                 grid = LpnnPipeline.PlacementGrid(volume, session);
-                if (byScores)
+                if (!byInsertion)
                 {
                     result = _preview.Get(grid, record, volume.GetSelectionSettings(), out error);
                 }
@@ -137,7 +138,7 @@ namespace Lpnn.Probes.Editor
             }
             string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
                            InvariantFormat.Count(grid.Count) + " points" + StepSummaries.Extras(result) + "." +
-                           (byScores ? ValidityLine(record) : InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)));
+                           (byInsertion ? InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)) : ValidityLine(record));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
             if (!_estimate.Has(result, session) && session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button(LpnnVolumeStyles.EstimateError))
                 _estimate.Get(result, session, grid, out bool _);
@@ -178,19 +179,20 @@ namespace Lpnn.Probes.Editor
         {
             var grid = LpnnPipeline.PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
-            var result = PlacementMethods.NeedsScores(volume.Method)
-                ? _preview.Search(grid, volume.LastScores, settings, PlacementInputs.Evaluator(session, grid))
-                : _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(session, grid, progress, cancel), PlacementInputs.ValidPoints(session, grid),
-                    settings, PlacementInputs.Evaluator(session, grid));
+            var result = PlacementMethods.RanksByInsertion(volume.Method)
+                ? _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(session, grid, progress, cancel, LpnnPipeline.GuideScores(volume)),
+                    PlacementInputs.ValidPoints(session, grid), settings, PlacementInputs.Evaluator(session, grid))
+                : _preview.Search(grid, volume.LastScores, settings, PlacementInputs.Evaluator(session, grid));
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
         }
 
-        /// <summary>The insertion ranking of the current lighting if already computed (never computes during a repaint).</summary>
+        /// <summary>The insertion ranking of the current lighting (guided by the stored scores for Guided insertion) if already
+        /// computed (never computes during a repaint).</summary>
         private static int[] KnownInsertionRanking(LpnnVolume volume, LpnnSession session)
         {
             try
             {
-                return PlacementInputs.KnownInsertionRanking(session, LpnnPipeline.FreshLitGrid(volume, session));
+                return PlacementInputs.KnownInsertionRanking(session, LpnnPipeline.PlacementGrid(volume, session), LpnnPipeline.GuideScores(volume));
             }
             catch (LpnnException)
             {
@@ -200,9 +202,10 @@ namespace Lpnn.Probes.Editor
 
         private static string RankByInsertion(LpnnVolume volume, LpnnSession session, ProgressCallback progress, System.Threading.CancellationToken cancel)
         {
-            var grid = LpnnPipeline.FreshLitGrid(volume, session);
-            PlacementInputs.RankByInsertion(session, grid, progress, cancel);
-            return InvariantFormat.Count(grid.Count) + " points ranked by insertion";
+            var grid = LpnnPipeline.PlacementGrid(volume, session);
+            float[] guide = LpnnPipeline.GuideScores(volume);
+            PlacementInputs.RankByInsertion(session, grid, progress, cancel, guide);
+            return InvariantFormat.Count(grid.Count) + " points ranked by " + (guide == null ? "insertion" : "guided insertion");
         }
     }
 }

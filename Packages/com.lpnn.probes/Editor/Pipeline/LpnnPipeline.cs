@@ -41,7 +41,8 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>Whether the volume's method needs the step. Features run for every method: their rays tell which points
-        /// lie inside geometry (never probes); only the Network method needs scores (insertion ranks by the lighting).</summary>
+        /// lie inside geometry (never probes); only the Network and Guided insertion methods need scores (plain insertion
+        /// ranks by the lighting alone).</summary>
         public static bool IsNeeded(LpnnVolume volume, PipelineStep step) =>
             step != PipelineStep.Scoring || PlacementMethods.NeedsScores(volume.Method);
 
@@ -127,14 +128,16 @@ namespace Lpnn.Probes.Editor
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
             EditorUtility.SetDirty(volume);
             // The spread ranking (behind the default Tolerance policy and Spread) costs O(N log N): computed here, under the
-            // step's progress bar, rather than on the inspector's first repaint.
+            // step's progress bar, rather than on the inspector's first repaint (the Network method's; guided insertion only
+            // reads the scores as its guide).
             var policy = volume.GetSelectionSettings().Policy;
-            if (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance)
+            if (!PlacementMethods.RanksByInsertion(volume.Method) && (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance))
                 PlacementInputs.ComputeSpreadOrder(grid, volume.LastScores);
             return new ScoringResult(outcome, volume.LastScores.InvalidCount);
         }
 
-        /// <summary>The selection the current settings give (the volume's method: the last scores, or the insertion ranking).</summary>
+        /// <summary>The selection the current settings give (the volume's method: the last scores, or the insertion ranking,
+        /// guided by the last scores for Guided insertion).</summary>
         public static SelectionResult Select(LpnnVolume volume, LpnnSession session)
         {
             SelectedPositions(volume, session, out var selection);
@@ -142,8 +145,9 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>World positions of the probes the current settings select: on the last scores (Network), or on the
-        /// insertion ranking of the Lighting step's SH (Insertion, computed on first use). The tolerance policy measures
-        /// placement errors against that SH with Unity's tetrahedralisation.</summary>
+        /// insertion ranking of the Lighting step's SH (Insertion; guided by the last scores for Guided insertion; computed
+        /// as far as the policy reads it). The tolerance policy measures placement errors against that SH with Unity's
+        /// tetrahedralisation.</summary>
         public static NumericsVector3[] SelectedPositions(LpnnVolume volume, LpnnSession session, out SelectionResult selection) =>
             SelectedPositions(volume, session, null, CancellationToken.None, out selection);
 
@@ -153,23 +157,28 @@ namespace Lpnn.Probes.Editor
             var grid = PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
             var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
-            selection = PlacementMethods.NeedsScores(volume.Method)
-                ? ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure)
-                : SelectByInsertion(session, FreshLitGrid(volume, session), settings, measure, progress, cancel);
+            selection = PlacementMethods.RanksByInsertion(volume.Method)
+                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, progress, cancel)
+                : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
             return PositionsOf(grid, selection);
         }
 
-        /// <summary>The insertion method's selection, reading the insertion order only as far as the policy needs (a budget's
-        /// points, the tolerance search's prefixes), or the whole ranking when it is already known.</summary>
-        private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, SelectionSettings settings, IPlacementErrorMeasure measure,
-            ProgressCallback progress, CancellationToken cancel)
+        /// <summary>The insertion methods' selection, reading the insertion order (guided by <paramref name="guideScores"/> when
+        /// given) only as far as the policy needs (a budget's points, the tolerance search's prefixes), or the whole ranking
+        /// when it is already known.</summary>
+        private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, float[] guideScores, SelectionSettings settings,
+            IPlacementErrorMeasure measure, ProgressCallback progress, CancellationToken cancel)
         {
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
-            int[] known = PlacementInputs.KnownInsertionRanking(session, grid);
+            int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores);
             if (known != null) return ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
-            var order = PlacementInputs.InsertionOrder(session, grid);
+            var order = PlacementInputs.InsertionOrder(session, grid, guideScores);
             return ProbeSelector.SelectFromPrefixes(grid, order.Count, count => order.Prefix(count, progress, cancel), settings, measure, valid);
         }
+
+        /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the
+        /// grid <see cref="PlacementGrid"/> returned), else null (plain insertion, or the Network method).</summary>
+        public static float[] GuideScores(LpnnVolume volume) => PlacementMethods.GuidesInsertion(volume.Method) ? volume.LastScores.Scores : null;
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
         public static PlacementResult Apply(LpnnVolume volume, LpnnSession session) => Apply(volume, session, null, CancellationToken.None);
@@ -206,9 +215,16 @@ namespace Lpnn.Probes.Editor
             return session.Grid;
         }
 
-        /// <summary>The grid the volume's method places on: the scored grid (Network) or the session's lit grid (Insertion).</summary>
-        public static EvaluationGrid PlacementGrid(LpnnVolume volume, LpnnSession session) =>
-            PlacementMethods.NeedsScores(volume.Method) ? ScoredGrid(volume, session) : FreshLitGrid(volume, session);
+        /// <summary>The grid the volume's method places on: the scored grid (Network), the session's lit grid (Insertion), or
+        /// the session's lit grid whose ids the stored scores were made for (Guided insertion).</summary>
+        public static EvaluationGrid PlacementGrid(LpnnVolume volume, LpnnSession session)
+        {
+            if (!PlacementMethods.RanksByInsertion(volume.Method)) return ScoredGrid(volume, session);
+            var grid = FreshLitGrid(volume, session);
+            // The lit grid is the session's fresh grid, so ScoredGrid returns it after checking the scores' ids against it.
+            if (PlacementMethods.NeedsScores(volume.Method)) ScoredGrid(volume, session);
+            return grid;
+        }
 
         /// <summary>The session's grid with its lighting (what the insertion method ranks), or an error saying which step to run.</summary>
         public static EvaluationGrid FreshLitGrid(LpnnVolume volume, LpnnSession session)

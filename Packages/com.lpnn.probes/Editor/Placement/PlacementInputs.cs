@@ -16,16 +16,31 @@ namespace Lpnn.Probes.Editor
     {
         private static readonly ConditionalWeakTable<float[], ScoredPoints> Rankings = new ConditionalWeakTable<float[], ScoredPoints>();
         private static readonly ConditionalWeakTable<float[], ReferenceLighting> References = new ConditionalWeakTable<float[], ReferenceLighting>();
-        private static readonly ConditionalWeakTable<float[], InsertionOrderEntry> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrderEntry>();
+        private static readonly ConditionalWeakTable<float[], InsertionOrderSlots> InsertionOrders = new ConditionalWeakTable<float[], InsertionOrderSlots>();
 
-        /// <summary>An insertion order (computed as far as it was read) with the grid it ranks and the features whose
-        /// validity flags it used (null: none); the whole ranking once it was read to its end.</summary>
+        /// <summary>An insertion order (computed as far as it was read) with the grid it ranks, the features whose validity
+        /// flags it used (null: none) and the scores that guided it (null: plain insertion); the whole ranking once it was
+        /// read to its end.</summary>
         private sealed class InsertionOrderEntry
         {
             public EvaluationGrid Grid;
             public FeatureSet Features;
+            public float[] GuideScores;
             public Core.Quality.InsertionOrder Order;
             public int[] Ranking;
+
+            /// <summary>Made from exactly these inputs (arrays and objects by identity: a new Features or Scoring result is a
+            /// new object, so a stale order never matches).</summary>
+            public bool Matches(EvaluationGrid grid, FeatureSet features, float[] guideScores) =>
+                Grid == grid && Features == features && ReferenceEquals(GuideScores, guideScores);
+        }
+
+        /// <summary>The orders of one lighting: plain insertion and guided insertion are kept side by side, so switching the
+        /// method back and forth recomputes neither.</summary>
+        private sealed class InsertionOrderSlots
+        {
+            public InsertionOrderEntry Plain;
+            public InsertionOrderEntry Guided;
         }
 
         /// <summary>The grid's stored scores and valid points with their rankings (computed on first use, then kept; the
@@ -55,38 +70,56 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The insertion ranking of the session's lighting (quality.md §5) with Unity's tetrahedralisation: computed on
         /// first use (about a second per 1,000 points, with progress and cancel), then kept as long as that lighting.</summary>
-        public static int[] RankByInsertion(LpnnSession session, EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel)
+        /// <param name="guideScores">One score per grid point (the Scoring step's, already checked to be this grid's:
+        /// LpnnPipeline.PlacementGrid): guided insertion (quality.md §5.2); null: plain insertion.</param>
+        public static int[] RankByInsertion(LpnnSession session, EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel,
+            float[] guideScores = null)
         {
-            var entry = InsertionEntry(session, grid);
+            var entry = InsertionEntry(session, grid, guideScores);
             if (entry.Ranking == null) entry.Ranking = entry.Order.All(progress, cancel);
             return entry.Ranking;
         }
 
-        /// <summary>The insertion order of the session's lighting, computed only as far as a selection reads it (a budget, the
-        /// tolerance search): `Apply` and batch mode place without ranking every point. Kept as long as that lighting, so
-        /// what was computed is reused (also by <see cref="RankByInsertion"/>).</summary>
-        public static Core.Quality.InsertionOrder InsertionOrder(LpnnSession session, EvaluationGrid grid) => InsertionEntry(session, grid).Order;
+        /// <summary>The insertion order of the session's lighting (guided by <paramref name="guideScores"/> when given), computed
+        /// only as far as a selection reads it (a budget, the tolerance search): `Apply` and batch mode place without ranking
+        /// every point. Kept as long as that lighting (and those scores), so what was computed is reused (also by
+        /// <see cref="RankByInsertion"/>).</summary>
+        public static Core.Quality.InsertionOrder InsertionOrder(LpnnSession session, EvaluationGrid grid, float[] guideScores = null) =>
+            InsertionEntry(session, grid, guideScores).Order;
 
-        private static InsertionOrderEntry InsertionEntry(LpnnSession session, EvaluationGrid grid)
+        private static InsertionOrderEntry InsertionEntry(LpnnSession session, EvaluationGrid grid, float[] guideScores)
         {
             var features = ValidPoints(session, grid) == null ? null : session.Features;
-            if (session.Sh != null && InsertionOrders.TryGetValue(session.Sh, out var known) && known.Grid == grid && known.Features == features) return known;
+            var known = KnownEntry(session, grid, features, guideScores);
+            if (known != null) return known;
             var reference = Reference(session, grid);
-            // Only the valid points are ranked (points inside geometry would steer the rounds with lighting read in walls).
-            var order = Core.Quality.InsertionOrder.OfValid(grid, session.Sh, reference.SceneScale, ValidPoints(session, grid), new UnityTetrahedralizer());
-            var entry = new InsertionOrderEntry { Grid = grid, Features = features, Order = order };
-            InsertionOrders.Remove(session.Sh);
-            InsertionOrders.Add(session.Sh, entry);
+            // Only the valid points are ranked (points inside geometry would steer the rounds with lighting read in walls), and
+            // only their scores make the guide's weights (as `lpnn place --guided`: the median is the valid points').
+            var order = Core.Quality.InsertionOrder.OfValid(grid, session.Sh, reference.SceneScale, ValidPoints(session, grid), new UnityTetrahedralizer(),
+                InsertionRanking.DefaultGrowth, guideScores);
+            var entry = new InsertionOrderEntry { Grid = grid, Features = features, GuideScores = guideScores, Order = order };
+            var slots = InsertionOrders.GetValue(session.Sh, sh => new InsertionOrderSlots());
+            if (guideScores == null) slots.Plain = entry;
+            else slots.Guided = entry;
             return entry;
         }
 
-        /// <summary>The whole insertion ranking if it was already computed for this lighting and grid, else null (never computes:
-        /// the inspector's repaint must stay fast).</summary>
-        public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid)
+        /// <summary>The kept order of these inputs, or null.</summary>
+        private static InsertionOrderEntry KnownEntry(LpnnSession session, EvaluationGrid grid, FeatureSet features, float[] guideScores)
+        {
+            if (session.Sh == null || !InsertionOrders.TryGetValue(session.Sh, out var slots)) return null;
+            var entry = guideScores == null ? slots.Plain : slots.Guided;
+            return entry != null && entry.Matches(grid, features, guideScores) ? entry : null;
+        }
+
+        /// <summary>The whole insertion ranking (guided by <paramref name="guideScores"/> when given) if it was already computed
+        /// for this lighting, grid, validity and scores, else null (never computes: the inspector's repaint must stay fast).</summary>
+        public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid, float[] guideScores = null)
         {
             if (session.Sh == null || session.Grid != grid) return null;
             var features = ValidPoints(session, grid) == null ? null : session.Features;
-            if (!InsertionOrders.TryGetValue(session.Sh, out var known) || known.Grid != grid || known.Features != features) return null;
+            var known = KnownEntry(session, grid, features, guideScores);
+            if (known == null) return null;
             if (known.Ranking == null && known.Order.IsComplete) known.Ranking = known.Order.All();
             return known.Ranking;
         }

@@ -21,7 +21,7 @@ namespace Lpnn.Probes.Core.Batch
     {
         public const string Usage =
             "-lpnnScene <Assets/…/Scene.unity> [-lpnnMode place|export] [-lpnnOut <folder>] [-lpnnBake] " +
-            "[-lpnnVolume <GameObject name>] [-lpnnMethod insertion|network] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
+            "[-lpnnVolume <GameObject name>] [-lpnnMethod insertion|guided|network] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
 
         public string ScenePath { get; private set; }
         public BatchMode Mode { get; private set; } = BatchMode.Place;
@@ -90,8 +90,23 @@ namespace Lpnn.Probes.Core.Batch
             switch (text.ToLowerInvariant())
             {
                 case "insertion": return PlacementMethod.Insertion;
+                case "guided": return PlacementMethod.GuidedInsertion;
                 case "network": return PlacementMethod.Network;
-                default: throw new LpnnException("-lpnnMethod '" + text + "' must be insertion (error-driven, the default for new volumes) or network (the model's scores)");
+                default:
+                    throw new LpnnException("-lpnnMethod '" + text + "' must be insertion (error-driven on the sampled lighting), guided (insertion " +
+                                            "guided by the model's scores, quality.md §5.2) or network (the model's scores alone)");
+            }
+        }
+
+        /// <summary>The -lpnnMethod value that selects the method (what a probes file's source.method records).</summary>
+        public static string MethodName(PlacementMethod method)
+        {
+            switch (method)
+            {
+                case PlacementMethod.Insertion: return "insertion";
+                case PlacementMethod.GuidedInsertion: return "guided";
+                case PlacementMethod.Network: return "network";
+                default: throw new ArgumentOutOfRangeException(nameof(method), method, "not a placement method");
             }
         }
 

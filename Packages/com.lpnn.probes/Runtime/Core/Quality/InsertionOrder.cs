@@ -14,7 +14,8 @@ namespace Lpnn.Probes.Core.Quality
     /// runs rounds until the points asked for are ranked. A budget of K points, or the tolerance policy's search (exponential
     /// from 4, then bisection: it never reads beyond about twice its answer), thus costs the rounds up to that count instead
     /// of the ~log(N / 4) / log(1 + growth) rounds of the whole ranking; the prefixes are those of the whole ranking exactly
-    /// (the same rounds, in the same order). Port of lpnn/quality/insertion.py InsertionOrder (quality.md §5.1 step 4).</summary>
+    /// (the same rounds, in the same order). Port of lpnn/quality/insertion.py InsertionOrder (quality.md §5.1 step 4); with
+    /// a guide, guided insertion (quality.md §5.2).</summary>
     public sealed class InsertionOrder
     {
         private const string Stage = "insertion ranking";
@@ -22,6 +23,8 @@ namespace Lpnn.Probes.Core.Quality
         private readonly ReferenceLighting _reference;
         private readonly ITetrahedralizer _tetrahedralizer;
         private readonly double _growth;
+        /// <summary>Guided insertion's weight of each of the reference's points (null: plain insertion).</summary>
+        private readonly double[] _guide;
         /// <summary>The grid index of each ranked point (null: the reference's points are the grid's).</summary>
         private readonly int[] _rows;
         private readonly List<int> _order;
@@ -40,19 +43,26 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="reference">The dense lighting of exactly this grid's points.</param>
         /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
         /// <param name="growth">Fraction of the current probes inserted per round (&gt; 0).</param>
-        public InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = InsertionRanking.DefaultGrowth)
-            : this(grid, reference, tetrahedralizer, growth, null)
+        /// <param name="guide">Null (plain insertion), or one weight per point of <paramref name="reference"/>, each finite and
+        /// &gt; 0 (<see cref="InsertionRanking.GuideWeights"/> of their scores): guided insertion (quality.md §5.2). Copied.</param>
+        public InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = InsertionRanking.DefaultGrowth,
+            double[] guide = null)
+            : this(grid, reference, tetrahedralizer, growth, guide == null ? null : (double[])guide.Clone(), null)
         {
         }
 
-        private InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth, int[] rows)
+        /// <param name="guide">Owned by this order (not copied).</param>
+        private InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth, double[] guide, int[] rows)
         {
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
             InsertionRanking.CheckGrowth(growth);
+            InsertionRanking.CheckGuide(guide, reference.Count);
             int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
             _reference = reference;
             _tetrahedralizer = tetrahedralizer;
             _growth = growth;
+            _guide = guide;
             _rows = rows;
             _order = new List<int>(start);
             _chosen = new bool[reference.Count];
@@ -61,30 +71,39 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>The insertion order of the valid points alone, as `lpnn place` ranks a capture whose points inside
         /// geometry were dropped (invalid points neither become probes nor steer the rounds); it ranks grid indices of valid
-        /// points only.</summary>
+        /// points only. With scores, guided insertion (quality.md §5.2) as `lpnn place --guided` does it: the valid points'
+        /// scores alone make the weights (<see cref="InsertionRanking.GuideWeights"/>, so the median is theirs; the scores of
+        /// invalid points, e.g. the Scoring step's 0, are never read).</summary>
         /// <param name="sh">27 floats per grid point (Documentation~/sh.md).</param>
         /// <param name="sceneScale">The whole grid's scene scale, so the errors are those of the full reference.</param>
         /// <param name="valid">One flag per grid point, or null (all valid).</param>
+        /// <param name="scores">One network score per grid point (guided insertion), or null (plain insertion).</param>
         public static InsertionOrder OfValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
-            double growth = InsertionRanking.DefaultGrowth)
+            double growth = InsertionRanking.DefaultGrowth, float[] scores = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (sh == null) throw new ArgumentNullException(nameof(sh));
-            if (valid == null) return new InsertionOrder(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth);
+            if (valid == null)
+                return new InsertionOrder(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth,
+                    InsertionRanking.GuideOf(scores, grid.Count), null);
             int validCount = ValidCandidates.Check(grid, valid);
             if (sh.Length != ShMath.FloatsPerProbe * grid.Count)
                 throw new PlacementErrorException("need 27 SH coefficients per evaluation point: got " + InvariantFormat.Count(sh.Length) +
                                                   " values for " + InvariantFormat.Count(grid.Count) + " points");
+            InsertionRanking.CheckScoreCount(scores, grid.Count);  // the weights are the valid points' (below)
             var rows = new int[validCount];
             var validSh = new float[ShMath.FloatsPerProbe * validCount];
+            var validScores = scores == null ? null : new float[validCount];
             for (int n = 0, m = 0; n < grid.Count; n++)
             {
                 if (!valid[n]) continue;
                 Array.Copy(sh, ShMath.FloatsPerProbe * n, validSh, ShMath.FloatsPerProbe * m, ShMath.FloatsPerProbe);
+                if (validScores != null) validScores[m] = scores[n];
                 rows[m++] = n;
             }
             var validGrid = grid.Subset(valid);
-            return new InsertionOrder(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth, rows);
+            return new InsertionOrder(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth,
+                InsertionRanking.GuideOf(validScores, validCount), rows);
         }
 
         /// <summary>The ranking's first min(<paramref name="count"/>, <see cref="Count"/>) points — or more: every point
@@ -100,7 +119,7 @@ namespace Lpnn.Probes.Core.Quality
                     cancel.ThrowIfCancellationRequested();
                     progress?.Invoke(Stage, _order.Count, count);
                     int[] probes = _order.ToArray();
-                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth);
+                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide);
                     Rounds++;
                     if (batch.Length == 0) _exhausted = true;
                     foreach (int p in batch)

@@ -19,7 +19,12 @@ namespace Lpnn.Probes.Core.Quality
     ///
     /// Needs the dense lighting at every evaluation point and a tetrahedraliser (Unity's in the editor). Cost: about
     /// log(N / 4) / log(1 + growth) rounds (~60 for 1,000 points), each one tetrahedralisation of the probes and one
-    /// location of the other points.</summary>
+    /// location of the other points.
+    ///
+    /// Guided insertion (quality.md §5.2): the same rounds, but each cell's candidate is its point of largest error ×
+    /// guide weight among those with error above <see cref="Exact"/>, the weights being the network's scores through the
+    /// spread ranking's rule (<see cref="GuideWeights"/>). Which cells get a point, their order and the batch size are
+    /// unchanged; equal weights give the plain ranking.</summary>
     public static class InsertionRanking
     {
         /// <summary>Points inserted per round, as a fraction of the current probes (chosen on training crops, quality.md §5).</summary>
@@ -36,9 +41,14 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
         /// <param name="growth">Fraction of the current probes inserted per round (&gt; 0).</param>
         /// <param name="progress">Called before every round with the points ranked so far, and at the end.</param>
+        /// <param name="scores">The network's score of every point, or null: guided insertion by <see cref="GuideWeights"/> of
+        /// them (quality.md §5.2), else plain insertion.</param>
         public static int[] Rank(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = DefaultGrowth,
-            ProgressCallback progress = null, CancellationToken cancel = default) =>
-            new InsertionOrder(grid, reference, tetrahedralizer, growth).All(progress, cancel);
+            ProgressCallback progress = null, CancellationToken cancel = default, float[] scores = null)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            return new InsertionOrder(grid, reference, tetrahedralizer, growth, GuideOf(scores, reference.Count)).All(progress, cancel);
+        }
 
         /// <summary>The insertion ranking of the valid points alone (<see cref="InsertionOrder.OfValid"/>), as `lpnn place`
         /// ranks a capture whose points inside geometry were dropped. Returns every grid point once: the valid points in
@@ -47,10 +57,12 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="sh">27 floats per grid point (Documentation~/sh.md).</param>
         /// <param name="sceneScale">The whole grid's scene scale, so the errors are those of the full reference.</param>
         /// <param name="valid">One flag per grid point, or null (all valid: <see cref="Rank"/> on the whole grid).</param>
+        /// <param name="scores">One score per grid point, or null: guided insertion by the weights of the valid points' scores
+        /// (<see cref="InsertionOrder.OfValid"/>), else plain insertion.</param>
         public static int[] RankValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
-            double growth = DefaultGrowth, ProgressCallback progress = null, CancellationToken cancel = default)
+            double growth = DefaultGrowth, ProgressCallback progress = null, CancellationToken cancel = default, float[] scores = null)
         {
-            int[] ranked = InsertionOrder.OfValid(grid, sh, sceneScale, valid, tetrahedralizer, growth).All(progress, cancel);
+            int[] ranked = InsertionOrder.OfValid(grid, sh, sceneScale, valid, tetrahedralizer, growth, scores).All(progress, cancel);
             if (valid == null) return ranked;
             var ranking = new int[grid.Count];
             Array.Copy(ranked, ranking, ranked.Length);
@@ -59,20 +71,25 @@ namespace Lpnn.Probes.Core.Quality
             return ranking;
         }
 
-        /// <summary>One round given the mesh: the points to insert next, in insertion order — per cell its worst
-        /// interpolated point (ties: lower index), those with error above <see cref="Exact"/>, by summed cell error
-        /// (largest first; ties: lower index), the first max(1, ceil(growth × probes)). Empty when every other point is
-        /// interpolated exactly.</summary>
+        /// <summary>One round given the mesh: the points to insert next, in insertion order — per cell its candidate (its
+        /// worst interpolated point; guided, its point of largest error × <paramref name="guide"/> weight among those with
+        /// error above <see cref="Exact"/>; ties: lower index), those with error above <see cref="Exact"/>, by summed cell
+        /// error (unweighted, largest first; ties: lower index), the first max(1, ceil(growth × probes)). Empty when every
+        /// other point is interpolated exactly.</summary>
         /// <param name="probes">The probes so far (evaluation point indices, in insertion order).</param>
         /// <param name="tetrahedra">4 indices into <paramref name="probes"/> per tetrahedron.</param>
-        public static int[] NextBatch(ReferenceLighting reference, int[] probes, int[] tetrahedra, double growth = DefaultGrowth)
+        /// <param name="guide">Null (plain insertion), or one weight per point of <paramref name="reference"/>, each finite and
+        /// &gt; 0 (<see cref="GuideWeights"/>): guided insertion (quality.md §5.2).</param>
+        public static int[] NextBatch(ReferenceLighting reference, int[] probes, int[] tetrahedra, double growth = DefaultGrowth, double[] guide = null)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             if (tetrahedra == null) throw new ArgumentNullException(nameof(tetrahedra));
             CheckGrowth(growth);
+            CheckGuide(guide, reference.Count);
             int cells = tetrahedra.Length / 4;
             var cellError = new double[cells];
             var worst = new int[cells];
+            var worstKey = new double[cells];
             for (int c = 0; c < cells; c++) worst[c] = -1;
             var errors = new double[reference.Count];
             PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
@@ -81,8 +98,15 @@ namespace Lpnn.Probes.Core.Quality
                 errors[n] = e;
                 int cell = stencil.Cell;
                 cellError[cell] += e;
-                // Points arrive in ascending index order, so a strict > keeps the lower index among equal errors.
-                if (worst[cell] < 0 || e > errors[worst[cell]]) worst[cell] = n;
+                // The candidate's key: the error itself, or (guided) error × weight, with points at or below Exact never
+                // candidates (key -1), so a cell needs a point exactly when it does unguided.
+                double key = guide == null ? e : e > Exact ? e * guide[n] : -1.0;
+                // Points arrive in ascending index order, so a strict > keeps the lower index among equal keys.
+                if (worst[cell] < 0 || key > worstKey[cell])
+                {
+                    worst[cell] = n;
+                    worstKey[cell] = key;
+                }
             });
             var candidates = new List<int>();
             var candidateError = new List<double>();
@@ -238,6 +262,46 @@ namespace Lpnn.Probes.Core.Quality
             var spread = new int[length];
             for (int k = 0; k < length; k++) spread[k] = candidates[order[k]];
             return spread;
+        }
+
+        /// <summary>Guided insertion's per-point weights from the network's scores (quality.md §5.2): the spread ranking's
+        /// weights (selection.md: clip to [1e-6, 1], NaN → 1e-6, sqrt(score / median)), all finite and &gt; 0. Python's
+        /// insertion.guide_weights.</summary>
+        public static double[] GuideWeights(float[] scores) => SpreadWeights.Compute(scores);
+
+        /// <summary>Null for null scores, else <see cref="GuideWeights"/> of one score per point (an error otherwise).</summary>
+        internal static double[] GuideOf(float[] scores, int pointCount)
+        {
+            CheckScoreCount(scores, pointCount);
+            return scores == null ? null : GuideWeights(scores);
+        }
+
+        /// <summary>Null, or one score per point (an error saying so otherwise).</summary>
+        internal static void CheckScoreCount(float[] scores, int pointCount)
+        {
+            if (scores != null && scores.Length != pointCount)
+                throw new PlacementErrorException("guided insertion needs one score per evaluation point: got " + InvariantFormat.Count(scores.Length) +
+                                                  " scores for " + InvariantFormat.Count(pointCount) + " points; score this grid again");
+        }
+
+        /// <summary>Null, or one weight per point, each finite and &gt; 0; else an error naming the first bad weight (Python's
+        /// insertion.checked_guide).</summary>
+        internal static void CheckGuide(double[] guide, int pointCount)
+        {
+            if (guide == null) return;
+            if (guide.Length != pointCount)
+                throw new PlacementErrorException("guide weights must be one number per point (" + InvariantFormat.Count(pointCount) + "), got " +
+                                                  InvariantFormat.Count(guide.Length) + ": build them with InsertionRanking.GuideWeights(scores) of these points' scores");
+            int first = -1, bad = 0;
+            for (int n = 0; n < guide.Length; n++)
+            {
+                if (guide[n] > 0 && !double.IsInfinity(guide[n])) continue;  // false for NaN
+                if (first < 0) first = n;
+                bad++;
+            }
+            if (first >= 0)
+                throw new PlacementErrorException("guide weight " + first + " = " + InvariantFormat.Number(guide[first]) + " must be a finite number greater than 0 (" +
+                                                  InvariantFormat.Count(bad) + " such weights): build them with InsertionRanking.GuideWeights(scores)");
         }
 
         internal static void CheckGrowth(double growth)

@@ -10,18 +10,31 @@ namespace Lpnn.Probes.Core.Selection
         /// <summary>Error-driven insertion on the sampled lighting (Quality.InsertionRanking, quality.md §5): no features,
         /// no model; about a second per 1,000 points of Unity tetrahedralisations.</summary>
         Insertion = 1,
+        /// <summary>Guided insertion (Quality.InsertionRanking with the scores as guide, quality.md §5.2): <see cref="Insertion"/>
+        /// whose tetrahedra take, among their badly interpolated points, the one the network rates highest (error ×
+        /// sqrt(score / median)); needs the lighting, the Features and Scoring steps, and the rounds of insertion.</summary>
+        GuidedInsertion = 2,
     }
 
     /// <summary>The default method and what each one needs.</summary>
     public static class PlacementMethods
     {
-        /// <summary>The best method measured where the dense lighting is available — always in the Unity pipeline, whose
-        /// Lighting step samples SH at every evaluation point: on the held-out crops of Documentation~/benchmarks.md §7.1,
-        /// insertion needs 1.63× the reference's probes at τ = 0.05 against the network's 2.06×, and has 1.43× the
-        /// reference's error at a 20 % budget against 1.82× (lower at every budget from 5 %; a tie at 1 %).</summary>
-        public const PlacementMethod Default = PlacementMethod.Insertion;
+        /// <summary>The best method measured with the dense lighting and a model — both always there in the Unity pipeline,
+        /// whose Lighting step samples SH at every evaluation point and whose volumes come with the shipped model: on the
+        /// validation crops of Documentation~/benchmarks.md §10 (the choice) guided insertion needs 1.60× the reference's
+        /// probes at τ = 0.05 against plain insertion's 1.66× and the network's 1.99×, with lower error at 10, 20 and 30 %
+        /// budgets (1.40× the reference's at 20 % against 1.47× and 1.87×; a tie at 1 % and 5 %).</summary>
+        public const PlacementMethod Default = PlacementMethod.GuidedInsertion;
 
-        /// <summary>True when the method ranks by the network's scores (the Features and Scoring steps must run first).</summary>
-        public static bool NeedsScores(PlacementMethod method) => method == PlacementMethod.Network;
+        /// <summary>True when the method reads the network's scores (the Features and Scoring steps must run first): the
+        /// network's ranking, or guided insertion's guide.</summary>
+        public static bool NeedsScores(PlacementMethod method) => method == PlacementMethod.Network || method == PlacementMethod.GuidedInsertion;
+
+        /// <summary>True when the insertion rounds rank the points (on the sampled lighting; guided by the scores for
+        /// <see cref="PlacementMethod.GuidedInsertion"/>), false when the spread ranking of the scores does (Network).</summary>
+        public static bool RanksByInsertion(PlacementMethod method) => method == PlacementMethod.Insertion || method == PlacementMethod.GuidedInsertion;
+
+        /// <summary>True when the stored scores guide the insertion rounds (<see cref="PlacementMethod.GuidedInsertion"/>).</summary>
+        public static bool GuidesInsertion(PlacementMethod method) => method == PlacementMethod.GuidedInsertion;
     }
 }
