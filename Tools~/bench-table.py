@@ -82,9 +82,12 @@ def summary(rows) -> int:
     table = {(r["capture"], r["method"], r["policy"], float(r["parameter"])): r for r in rows}
     header = [f"×ref @{b * 100:g} %" for b in budgets] + [f"probes ×ref @τ={t:g}" for t in tolerances]
     print(f"{len(captures)} captures; geometric means of per-capture ratios, (n) = ratios left out")
+    blockwise = sorted({r["capture"] for r in rows if r.get("yardstick") == "blockwise-reference"})
+    if blockwise:  # bench.csv files before the column have no yardstick: the fast reference
+        print(f"ref = the blockwise reference (quality.md §3.3) for {', '.join(blockwise)}; the fast reference elsewhere")
     print("| method | " + " | ".join(header) + " |")
     print("|" + "---|" * (len(header) + 1))
-    for method in SUMMARY_METHODS:
+    for method in SUMMARY_METHODS + ("blockwise-reference",):
         if not any(r["method"] == method for r in rows):
             continue
         cells = []

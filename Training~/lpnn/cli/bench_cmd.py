@@ -8,7 +8,8 @@ For every capture x method (uniform, random, heuristic, apv, insertion; with --m
 factor F, default 2); the fast
 reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
-refinement), mean and p95 error and the ratio to the reference. Writes DIR/bench.csv and per capture
+refinement), mean and p95 error and the ratio to the reference — the fast reference, or above
+--full-reference-limit points (20,000) the blockwise reference (quality.md §3.3; column `yardstick`). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
 Long runs lose nothing: bench.csv is rewritten (atomically) after every capture, a method or capture
@@ -23,7 +24,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
     from .arguments import fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
@@ -41,6 +42,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--reference-repeats", type=int, default=1, help="timing repeats of the references (default 1)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random baseline (default 0)")
     parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for the fast reference (default 1; 2 helps only on an idle second core)")
+    parser.add_argument("--full-reference-limit", type=int, default=FULL_REFERENCE_LIMIT, metavar="N",
+                        help="above N points the yardstick is the blockwise reference (quality.md §3.3) and the methods "
+                             f"that run the full reference are skipped (default {FULL_REFERENCE_LIMIT:,})")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (bench.csv and PNG figures)")
     parser.set_defaults(handler=run)
 
@@ -54,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.repeats < 1 or args.reference_repeats < 1:
         raise UserError("--repeats and --reference-repeats must be >= 1")
+    if args.full_reference_limit < 4:
+        raise UserError(f"--full-reference-limit {args.full_reference_limit} must be at least 4 points")
     files = dataset_files(args.captures)
     if not files:
         raise UserError("no capture files found in " + ", ".join(args.captures))
@@ -64,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         scorer = OnnxScorer(args.model)
     config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
-                         workers=args.workers, refine=args.refine)
+                         workers=args.workers, refine=args.refine, full_reference_limit=args.full_reference_limit)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows: list[BenchRow] = []

@@ -7,6 +7,14 @@ non-learned lighting-driven method, the bar for the learned tier); with a model 
 lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking), lpnn-guided (insertion guided by the
 scores, insertion.py) and lpnn-refine (spread ranking + seeded exact refinement, factor `refine`); the
 fast reference, and the faithful one on small captures.
+
+The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points
+(20,000 by default: about a minute of reference), and above it the blockwise reference (quality.md §3.3, rows
+`blockwise-reference`): its error at a budget's count is its ranking's prefix evaluated, its tolerance answer the
+union of the blocks' answers (which lands ~10 % above tau on the whole volume). Above the limit the methods that run
+the full reference (the fast and faithful references, lpnn-refine) are not run. The insertion methods rank lazily, as
+`lpnn place` does: a budget row costs the rounds up to its count (a fresh order per row, so each row's time is what
+placing at that budget costs), the tolerance row the rounds its search reads.
 Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
 `reference_repeats` times (default 1: they take seconds). LPNN's time is split into features (the
 capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
@@ -25,13 +33,14 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
+from .blockwise import BlockwiseReference, blockwise_reference
 from .decimation import MINIMUM_PROBES, Decimation
-from .insertion import guide_weights, insertion_ranking
+from .insertion import InsertionOrder, guide_weights
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
-from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio
+from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio, placement_error
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
                        reference_tolerance)
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
@@ -40,7 +49,7 @@ from .reference_fast import fast_decimation
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
-    "reference_error", "error_ratio", "reference_probes", "probes_ratio",
+    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick",
 )
 T = TypeVar("T")
 
@@ -55,6 +64,7 @@ class BenchConfig:
     faithful_limit: int = FAITHFUL_MAX_CANDIDATES
     workers: int | None = None  # fast reference processes (None: 1)
     refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
+    full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
 
 
 @dataclass
@@ -74,10 +84,11 @@ class BenchRow:
     p95_error: float
     smape_mean: float
     smape_p95: float
-    reference_error: float  # fast reference at the same probe count (budget rows) / its tolerance set
+    reference_error: float  # the yardstick at the same probe count (budget rows) / its tolerance set
     error_ratio: float
-    reference_probes: int | None = None  # tolerance rows: the reference's smallest count within tau
+    reference_probes: int | None = None  # tolerance rows: the yardstick's smallest count within tau
     probes_ratio: float | None = None
+    yardstick: str = "fast-reference"  # or "blockwise-reference" (module text)
 
 
 @dataclass(frozen=True)
@@ -94,7 +105,8 @@ class CaptureResult:
     name: str
     points: int
     rows: list[BenchRow]
-    reference_curve: np.ndarray  # fast reference: mean error by probe count
+    reference_curve: np.ndarray  # the yardstick's mean error by probe count (NaN where not evaluated)
+    yardstick: str = "fast-reference"
     extra: dict[str, Any] = field(default_factory=dict)
     failures: list[BenchFailure] = field(default_factory=list)
 
@@ -120,6 +132,53 @@ class _Method:
     select: SelectionForCount
     seconds: float  # producing the ranking (e.g. curvature for the heuristic, the whole reference ordering)
     decimation: Decimation | None = None
+    fresh: Callable[[], SelectionForCount] | None = None  # lazy methods: a new selection per row (module text)
+    target: Placement | None = None  # a yardstick's own tolerance answer
+
+
+@dataclass
+class _Yardstick:
+    """What every ratio divides by: the fast reference's error curve, or the blockwise reference's prefixes evaluated
+    on demand (module text); `target` its tolerance answer."""
+
+    name: str
+    method: _Method
+    error_at: Callable[[int], float]
+    curve: np.ndarray
+    target: Placement | None
+
+
+def _fast_yardstick(method: _Method, tolerance: float | None) -> _Yardstick:
+    decimation = method.decimation
+    assert decimation is not None
+    target = None if tolerance is None else reference_tolerance(decimation, tolerance)
+    return _Yardstick(method.name, method, lambda count: float(decimation.error_curve[count]), decimation.error_curve,
+                      target)
+
+
+def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture,
+                         tolerance: float | None) -> _Yardstick:
+    blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids), 1)
+    select = prefix_selection(grid, blockwise.ranking)
+    curve = np.full(field_.point_count + 1, np.nan)
+
+    def error_at(count: int) -> float:
+        if np.isnan(curve[count]):
+            curve[count] = placement_error(field_, select(count)).mean
+        return float(curve[count])
+
+    target = None
+    if tolerance is not None:
+        indices = _blockwise_within(blockwise, grid, tolerance)
+        target = Placement(indices=indices, requested=int(indices.shape[0]), added_for_tetrahedron=0,
+                           mean_error=placement_error(field_, indices).mean, metric=PRIMARY_METRIC)
+    method = _Method("blockwise-reference", select, seconds, target=target)
+    return _Yardstick(method.name, method, error_at, curve, target)
+
+
+def _blockwise_within(blockwise: BlockwiseReference, grid: EvaluationGrid, tolerance: float) -> np.ndarray:
+    """The blockwise tolerance answer, completed to a tetrahedron from its own ranking (a volume of one flat block)."""
+    return prefix_selection(grid, blockwise.ranking)(int(blockwise.within(tolerance).shape[0]))
 
 
 def timed(function: Callable[[], T], repeats: int) -> tuple[T, float]:
@@ -137,6 +196,14 @@ def _ranking_method(name: str, grid: EvaluationGrid, make_ranking: Callable[[], 
     return _Method(name, prefix_selection(grid, ranking), seconds)
 
 
+def _insertion_method(name: str, field_: ReferenceField, grid: EvaluationGrid, guide: np.ndarray | None = None) -> _Method:
+    """An insertion ranking read lazily (module text): every row starts a fresh order."""
+    def fresh() -> SelectionForCount:
+        return InsertionOrder(field_, grid, guide=guide).selection()
+
+    return _Method(name, fresh(), 0.0, fresh=fresh)
+
+
 def _uniform_method(grid: EvaluationGrid) -> _Method:
     return _Method("uniform", uniform_selector(grid), 0.0)
 
@@ -149,43 +216,50 @@ def _reference_method(name: str, decimation: Decimation, seconds: float) -> _Met
 
 
 def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig,
-             reference: Decimation | None, failures: list[BenchFailure], name: str) -> list[_Method]:
-    """Every method's ranking; a baseline whose ranking fails is recorded in `failures` and left out
-    (the fast reference is every row's yardstick: its failure fails the capture)."""
+             reference: Decimation | None, failures: list[BenchFailure], name: str) -> tuple[list[_Method], _Yardstick]:
+    """Every method's ranking and the yardstick; a baseline whose ranking fails is recorded in `failures` and left out
+    (the yardstick's failure fails the capture)."""
     rankings: list[tuple[str, Callable[[], np.ndarray], int]] = [
         ("random", lambda: random_ranking(grid.point_count, config.seed), config.repeats),
         ("heuristic", lambda: heuristic_ranking(grid, capture.sh, capture.lighting_scale), config.repeats),
     ]
     if NEAREST_SURFACE in capture.feature_names:
         rankings.append(("apv", lambda: apv_ranking(grid, capture.features, capture.feature_names), config.repeats))
-    rankings.append(("insertion", lambda: insertion_ranking(field_, grid), config.reference_repeats))
     methods = [_uniform_method(grid)]
     for method, make_ranking, repeats in rankings:
         try:
             methods.append(_ranking_method(method, grid, make_ranking, repeats))
         except Exception as error:  # recorded; the other methods go on
             failures.append(BenchFailure(name, method, failure_reason(error)))
-    if reference is not None:  # computed before (e.g. stored with the labels): not re-timed
-        methods.append(_reference_method("fast-reference", reference, reference.seconds))
-        return methods
-    fast, fast_seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)
-    methods.append(_reference_method("fast-reference", fast, fast_seconds))
+    try:
+        methods.append(_insertion_method("insertion", field_, grid))
+    except Exception as error:  # recorded; the other methods go on
+        failures.append(BenchFailure(name, "insertion", failure_reason(error)))
+    if reference is None and field_.point_count > config.full_reference_limit:
+        yardstick = _blockwise_yardstick(field_, grid, capture, config.tolerance)
+        return methods + [yardstick.method], yardstick
+    if reference is None:
+        computed, seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)
+        fast = _reference_method("fast-reference", computed, seconds)
+    else:  # computed before (e.g. stored with the labels): not re-timed
+        fast = _reference_method("fast-reference", reference, reference.seconds)
+    methods.append(fast)
     if field_.point_count <= config.faithful_limit:
         faithful, faithful_seconds = timed(lambda: faithful_decimation(field_, max_candidates=config.faithful_limit),
                                            config.reference_repeats)
         methods.append(_reference_method("faithful-reference", faithful, faithful_seconds))
-    return methods
+    return methods, _fast_yardstick(fast, config.tolerance)
 
 
 def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter: float, quality: PlacementQuality,
-         timing: _Timing, reference_error: float) -> BenchRow:
+         timing: _Timing, reference_error: float, yardstick: str) -> BenchRow:
     return BenchRow(
         capture=name, points=field_.point_count, method=method, policy=policy, parameter=parameter,
         probes=quality.probes, seconds=timing.seconds, feature_seconds=timing.features,
         inference_seconds=timing.inference, selection_seconds=timing.selection, refine_seconds=timing.refine,
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
-        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error))
+        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error), yardstick=yardstick)
 
 
 def _with_target(row: BenchRow, target: Placement) -> BenchRow:
@@ -195,42 +269,54 @@ def _with_target(row: BenchRow, target: Placement) -> BenchRow:
     return row
 
 
-def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: BenchConfig, reference: Decimation,
-                  target: Placement | None) -> list[BenchRow]:
+def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: BenchConfig,
+                  yardstick: _Yardstick) -> list[BenchRow]:
     rows = []
+    precomputed = method.decimation is not None or method.target is not None  # a reference: all in method.seconds
+    repeats = config.reference_repeats if method.fresh is not None else config.repeats
     for fraction in config.budgets:
         count = budget_count(fraction, field_.point_count)
-        indices, selection_seconds = timed(lambda count=count: method.select(count), config.repeats)
-        precomputed = method.decimation is not None  # a reference: its whole ordering is in method.seconds
+        if method.fresh is not None:
+            indices, selection_seconds = timed(lambda count=count: method.fresh()(count), repeats)
+        else:
+            indices, selection_seconds = timed(lambda count=count: method.select(count), repeats)
         timing = _Timing(method.seconds + (0.0 if precomputed else selection_seconds),
                          selection=None if precomputed else selection_seconds)
         rows.append(_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices), timing,
-                         float(reference.error_curve[max(indices.shape[0], MINIMUM_PROBES)])))
+                         yardstick.error_at(max(indices.shape[0], MINIMUM_PROBES)), yardstick.name))
+    target = yardstick.target
     if target is not None:
         start = time.perf_counter()
-        placement = (reference_tolerance(method.decimation, config.tolerance) if method.decimation is not None
-                     else place_tolerance(field_, method.select, config.tolerance, PRIMARY_METRIC))
-        search_seconds = time.perf_counter() - start
+        if method.decimation is not None:
+            placement = reference_tolerance(method.decimation, config.tolerance)
+        elif method.target is not None:
+            placement = method.target
+        else:
+            select = method.fresh() if method.fresh is not None else method.select
+            placement = place_tolerance(field_, select, config.tolerance, PRIMARY_METRIC)
+        search_seconds = 0.0 if precomputed else time.perf_counter() - start
         rows.append(_with_target(_row(name, field_, method.name, "tolerance", config.tolerance,
                                       evaluate_placement(field_, placement.indices),
-                                      _Timing(method.seconds + search_seconds, selection=search_seconds),
-                                      target.mean_error), target))
+                                      _Timing(method.seconds + search_seconds,
+                                              selection=None if precomputed else search_seconds),
+                                      target.mean_error, yardstick.name), target))
     return rows
 
 
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
-               reference: Decimation, target: Placement | None, log: Callable[[str], None] | None,
-               failures: list[BenchFailure]) -> list[BenchRow]:
-    """The three LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a
-    policy is recorded in `failures` and the others go on."""
+               yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure]) -> list[BenchRow]:
+    """The LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a policy is recorded
+    in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
     features = feature_seconds(capture)
-    tiers = (("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats),
-             ("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
+    tiers = [("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats)]
+    if yardstick.name == "fast-reference":
+        tiers.append(("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
+    target = yardstick.target
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
     if target is not None:
         policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
-    rows = _guided_rows(name, capture, field_, config, scores, inference, features, reference, target, failures)
+    rows = _guided_rows(name, capture, field_, config, scores, inference, features, yardstick, failures)
     if log is not None:
         log(f"{name}: lpnn-guided done")
     for method, options, repeats in tiers:
@@ -248,26 +334,25 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
             placement = runs[-1]
             if policy == "budget":
                 rows.append(_row(name, field_, method, policy, parameter, placement.quality, timing,
-                                 float(reference.error_curve[max(placement.quality.probes, MINIMUM_PROBES)])))
+                                 yardstick.error_at(max(placement.quality.probes, MINIMUM_PROBES)), yardstick.name))
             else:
                 assert target is not None
                 rows.append(_with_target(_row(name, field_, method, policy, parameter, placement.quality, timing,
-                                              target.mean_error), target))
+                                              target.mean_error, yardstick.name), target))
         if log is not None:
             log(f"{name}: {method} done")
     return rows
 
 
 def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scores: np.ndarray,
-                 inference: float, features: float | None, reference: Decimation, target: Placement | None,
+                 inference: float, features: float | None, yardstick: _Yardstick,
                  failures: list[BenchFailure]) -> list[BenchRow]:
-    """The guided-insertion tier (insertion.py, quality.md §5.2): the whole ranking once, as the insertion
-    baseline is ranked, then every policy on its prefixes; its time adds the features and the inference."""
+    """The guided-insertion tier (insertion.py, quality.md §5.2), read lazily as the insertion baseline is; its time
+    adds the features and the inference."""
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     try:
-        method = _ranking_method("lpnn-guided", grid, lambda: insertion_ranking(field_, grid, guide=guide_weights(scores)),
-                                 config.reference_repeats)
-        rows = _ranking_rows(name, field_, method, config, reference, target)
+        method = _insertion_method("lpnn-guided", field_, grid, guide_weights(scores))
+        rows = _ranking_rows(name, field_, method, config, yardstick)
     except Exception as error:  # recorded; the other tiers go on
         failures.append(BenchFailure(name, "lpnn-guided", failure_reason(error)))
         return []
@@ -286,23 +371,20 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
     if reference is not None and reference.point_count != field_.point_count:
         raise ValueError(f"{name}: the given reference covers {reference.point_count:,} points, the capture {field_.point_count:,}")
     failures: list[BenchFailure] = []
-    methods = _methods(capture, field_, grid, config, reference, failures, name)
-    reference = next(m for m in methods if m.name == "fast-reference").decimation
-    assert reference is not None
-    target = None if config.tolerance is None else reference_tolerance(reference, config.tolerance)
+    methods, yardstick = _methods(capture, field_, grid, config, reference, failures, name)
     rows: list[BenchRow] = []
     for method in methods:
         try:
-            rows.extend(_ranking_rows(name, field_, method, config, reference, target))
+            rows.extend(_ranking_rows(name, field_, method, config, yardstick))
         except Exception as error:  # one method's failure must not cost the others' results
             failures.append(BenchFailure(name, method.name, failure_reason(error)))
             continue
         if log is not None:
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
     if scorer is not None:
-        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, reference, target, log, failures))
-    return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=reference.error_curve,
-                         failures=failures)
+        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures))
+    return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=yardstick.curve,
+                         yardstick=yardstick.name, failures=failures)
 
 
 def _cell(value: Any) -> str:

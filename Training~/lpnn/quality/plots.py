@@ -20,6 +20,7 @@ METHOD_STYLE = {
     "lpnn-guided": ("tab:red", "*"),
     "lpnn-refine": ("navy", "h"),
     "fast-reference": ("tab:green", "D"),
+    "blockwise-reference": ("darkgreen", "d"),
     "faithful-reference": ("tab:purple", "v"),
 }
 
@@ -53,7 +54,8 @@ def error_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
     curve = result.reference_curve
     counts = np.flatnonzero(np.isfinite(curve) & (np.arange(curve.shape[0]) >= 4))
     axes.plot(counts, _positive(curve[counts]), color="tab:green", linewidth=0.8, alpha=0.6,
-              label="fast reference (every count)")
+              label="fast reference (every count)" if result.yardstick == "fast-reference"
+              else f"{result.yardstick} (counts evaluated)", marker=None if result.yardstick == "fast-reference" else ".")
     for method, (colour, marker) in METHOD_STYLE.items():
         rows = sorted((r for r in result.rows if r.method == method and r.policy == "budget"), key=lambda r: r.probes)
         if rows:

@@ -15,6 +15,9 @@ DEFAULT_TOLERANCE = 0.05
 # Budgets of `lpnn bench` and the recipe's evaluation: down to 1 %, where artists' smallest counts lie.
 # Here, not in bench.py, so that building the CLI parser imports no numerical library.
 DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
+# Points above which `lpnn bench` measures against the blockwise reference (quality.md §3.3) instead of the full fast
+# reference (about a minute at 20,000 points) and skips the methods that run the full reference.
+FULL_REFERENCE_LIMIT = 20_000
 
 
 def budget_problem(value: float) -> str | None:

@@ -173,7 +173,7 @@ def test_bench_records_a_failing_method_and_keeps_the_others(small_captures: dic
     def broken(*args: object, **kwargs: object) -> np.ndarray:
         raise ValueError("all 4 probes lie in one plane")
 
-    monkeypatch.setattr(bench, "insertion_ranking", broken)
+    monkeypatch.setattr(bench, "InsertionOrder", broken)
     result = bench_capture("room1", small_captures[1], BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
     assert [(f.method, f.reason) for f in result.failures] == [("insertion", "ValueError: all 4 probes lie in one plane")]
     assert {row.method for row in result.rows} == {"uniform", "random", "heuristic", "apv", "fast-reference"}
@@ -200,9 +200,9 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     for method in ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-refine"):
         row = by_method[(method, "budget")]
         assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
-        ranking_seconds = row.seconds - row.feature_seconds - row.inference_seconds - row.selection_seconds
-        # The guided tier ranks every point once (like the insertion baseline), the others rank inside the selection.
-        assert (ranking_seconds > 0.0) if method == "lpnn-guided" else ranking_seconds == pytest.approx(row.refine_seconds or 0.0)
+        # Every tier ranks inside its selection (the guided tier lazily, its rounds up to the row's count).
+        assert row.seconds == pytest.approx(row.feature_seconds + row.inference_seconds + row.selection_seconds
+                                            + (row.refine_seconds or 0.0))
         assert (row.refine_seconds is not None) == (method == "lpnn-refine")
         assert row.probes == round(0.2 * capture.point_count)
         assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
@@ -267,3 +267,34 @@ def test_a_flat_capture_is_a_one_line_error(tmp_path: Path, capsys: pytest.Captu
     assert main(["place", str(path), "--method", "uniform", "--budget", "0.5", "--out", str(tmp_path / "p.json")]) == 1
     errors = capsys.readouterr().err.strip().splitlines()
     assert len(errors) == 2 and all("flat.lpnncap" in line and "plane" in line for line in errors)
+
+
+def test_above_the_full_reference_limit_the_blockwise_reference_is_the_yardstick(medium_capture: Capture) -> None:
+    """quality.md §3.3 as the bench's yardstick: every ratio divides by the blockwise reference at the same count (its
+    ranking's prefix) or by its tolerance answer's count; the methods that run the full reference are not run."""
+    from lpnn.core.grid import EvaluationGrid
+    from lpnn.quality.blockwise import blockwise_reference
+    from lpnn.quality.metric import placement_error
+    from lpnn.quality.policies import prefix_selection
+
+    config = BenchConfig(budgets=(0.05, 0.2), tolerance=0.05, repeats=1, faithful_limit=0, full_reference_limit=100)
+    result = bench_capture("room3", medium_capture, config, scorer=_StubScorer())
+    assert result.failures == [] and result.yardstick == "blockwise-reference"
+    methods = {row.method for row in result.rows}
+    assert "blockwise-reference" in methods and {"insertion", "lpnn", "lpnn-guided"} <= methods
+    assert not methods & {"fast-reference", "faithful-reference", "lpnn-refine"}
+    assert all(row.yardstick == "blockwise-reference" for row in result.rows)
+    field = ReferenceField.from_capture(medium_capture)
+    grid = EvaluationGrid(cell_size=medium_capture.cell_size, ids=medium_capture.ids)
+    blockwise = blockwise_reference(field, medium_capture.ids)
+    select = prefix_selection(grid, blockwise.ranking)
+    for row in (r for r in result.rows if r.policy == "budget"):
+        assert row.reference_error == pytest.approx(placement_error(field, select(row.probes)).mean), row.method
+        assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
+    own = {row.policy: row for row in result.rows if row.method == "blockwise-reference"}
+    assert own["budget"].error_ratio == pytest.approx(1.0)
+    assert own["tolerance"].probes == own["tolerance"].reference_probes == blockwise.within(0.05).shape[0]
+    for row in (r for r in result.rows if r.policy == "tolerance"):
+        assert row.probes_ratio == pytest.approx(row.probes / own["tolerance"].probes)
+    # Below the limit nothing changes: the fast reference is the yardstick.
+    assert bench_capture("room3", medium_capture, replace(config, full_reference_limit=10**6)).yardstick == "fast-reference"
