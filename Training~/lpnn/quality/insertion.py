@@ -132,7 +132,7 @@ class InsertionOrder:
         if not (math.isfinite(growth) and growth > 0.0):
             raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
                               f"(e.g. {INSERTION_GROWTH})")
-        self._field, self._metric, self._growth, self._progress = field, metric, growth, progress
+        self._field, self._grid, self._metric, self._growth, self._progress = field, grid, metric, growth, progress
         self._guide = checked_guide(guide, field.point_count)
         self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
@@ -167,11 +167,17 @@ class InsertionOrder:
         return self._order[:count]
 
     def selection(self) -> Callable[[int], np.ndarray]:
-        """K -> the first K points (at least the starting tetrahedron's four; sorted), as
-        policies.prefix_selection(grid, insertion_ranking(...)) gives them, without the rest of the ranking."""
+        """K -> the first K points completed to a tetrahedron (sorted), as policies.prefix_selection(grid,
+        insertion_ranking(...)) gives them, without the rest of the ranking."""
         def select(count: int) -> np.ndarray:
+            # The tetrahedron guarantee as prefix_selection applies it, over the ranked points then the others by
+            # index: the start is ranked and never flat, so every point it adds is one the whole ranking would add
+            # (a start of 5 points, its first 4 in one plane, needs the fifth at count 4).
             prefix = self.prefix(max(int(count), TETRAHEDRON_POINTS))
-            return np.sort(prefix[:max(int(count), min(TETRAHEDRON_POINTS, prefix.shape[0]))])
+            ranked = np.zeros(self.point_count, dtype=bool)
+            ranked[prefix] = True
+            provisional = np.concatenate([prefix, np.flatnonzero(~ranked)])
+            return ensure_tetrahedron(self._grid, provisional, prefix[:max(int(count), 1)])[0]
 
         return select
 

@@ -167,3 +167,26 @@ def test_bad_guide_weights_are_refused_by_name(medium_capture: Capture, guide: n
     weights = guide if guide.shape[0] == 3 else np.resize(guide, medium_capture.point_count)
     with pytest.raises(MetricError, match=message):
         InsertionOrder(field, _grid(medium_capture), guide=weights)
+
+
+def test_the_lazy_selection_completes_a_flat_head_of_the_start_as_the_whole_ranking_does() -> None:
+    """A start of 5 points whose first 4 lie in one plane (the golden's `plane` construction: a lattice lit by layer):
+    the lazy selection at 4 probes must add the fifth, as prefix_selection over the whole ranking does; it returned the
+    4 flat points before, and `lpnn place --method insertion --tolerance` failed on such levels (dm4ish whole)."""
+    k, j, i = np.meshgrid(np.arange(5), np.arange(5), np.arange(5), indexing="ij")
+    ids = np.stack([i.ravel(), j.ravel(), k.ravel()], axis=1).astype(np.int32)
+    sh = np.zeros((ids.shape[0], 27), dtype=np.float32)
+    layer = ids[:, 2].astype(np.float64)
+    for c in (0, 9, 18):
+        sh[:, c] = 1.0 + 0.5 * layer * layer
+    sh[:, 1] = 0.25 * layer
+    grid = EvaluationGrid(cell_size=0.25, ids=ids)
+    field = ReferenceField.from_sh(grid.positions, sh)
+    start = typical_tetrahedron(field, grid)
+    assert start.shape[0] == 5 and flatness(field.local[start[:4]]) is not None  # the case's premise
+    eager = prefix_selection(grid, insertion_ranking(field, grid))
+    lazy = InsertionOrder(field, grid).selection()
+    for count in (1, 2, 3, 4, 5, 6, 20):
+        np.testing.assert_array_equal(lazy(count), eager(count), err_msg=f"count {count}")
+    assert lazy(4).shape[0] == 5 and flatness(field.local[lazy(4)]) is None
+    assert place_tolerance(field, lazy, 0.05).indices.shape[0] >= 4  # the search starts at 4 probes: no flat error
