@@ -36,7 +36,7 @@ from ..core.grid import EvaluationGrid
 from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
-from .blockwise import BlockwiseReference, blockwise_reference
+from .blockwise import blockwise_reference
 from .decimation import MINIMUM_PROBES, Decimation
 from .insertion import InsertionOrder, guide_weights
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
@@ -168,17 +168,12 @@ def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: 
         return float(curve[count])
 
     target = None
-    if tolerance is not None:
-        indices = _blockwise_within(blockwise, grid, tolerance)
+    if tolerance is not None:  # completed to a tetrahedron from its own ranking (a volume of one flat block)
+        indices = select(int(blockwise.within(tolerance).shape[0]))
         target = Placement(indices=indices, requested=int(indices.shape[0]), added_for_tetrahedron=0,
                            mean_error=placement_error(field_, indices).mean, metric=PRIMARY_METRIC)
     method = _Method("blockwise-reference", select, seconds, target=target)
     return _Yardstick(method.name, method, error_at, curve, target)
-
-
-def _blockwise_within(blockwise: BlockwiseReference, grid: EvaluationGrid, tolerance: float) -> np.ndarray:
-    """The blockwise tolerance answer, completed to a tetrahedron from its own ranking (a volume of one flat block)."""
-    return prefix_selection(grid, blockwise.ranking)(int(blockwise.within(tolerance).shape[0]))
 
 
 def timed(function: Callable[[], T], repeats: int) -> tuple[T, float]:
@@ -197,11 +192,12 @@ def _ranking_method(name: str, grid: EvaluationGrid, make_ranking: Callable[[], 
 
 
 def _insertion_method(name: str, field_: ReferenceField, grid: EvaluationGrid, guide: np.ndarray | None = None) -> _Method:
-    """An insertion ranking read lazily (module text): every row starts a fresh order."""
+    """An insertion ranking read lazily (module text): every row starts a fresh order (its errors surface there and
+    are recorded as that method's failure)."""
     def fresh() -> SelectionForCount:
         return InsertionOrder(field_, grid, guide=guide).selection()
 
-    return _Method(name, fresh(), 0.0, fresh=fresh)
+    return _Method(name, lambda count: fresh()(count), 0.0, fresh=fresh)
 
 
 def _uniform_method(grid: EvaluationGrid) -> _Method:
@@ -231,10 +227,7 @@ def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, con
             methods.append(_ranking_method(method, grid, make_ranking, repeats))
         except Exception as error:  # recorded; the other methods go on
             failures.append(BenchFailure(name, method, failure_reason(error)))
-    try:
-        methods.append(_insertion_method("insertion", field_, grid))
-    except Exception as error:  # recorded; the other methods go on
-        failures.append(BenchFailure(name, "insertion", failure_reason(error)))
+    methods.append(_insertion_method("insertion", field_, grid))
     if reference is None and field_.point_count > config.full_reference_limit:
         yardstick = _blockwise_yardstick(field_, grid, capture, config.tolerance)
         return methods + [yardstick.method], yardstick
