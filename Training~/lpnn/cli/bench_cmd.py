@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--repeats", type=int, default=3, help="timing repeats of the cheap methods (median; default 3)")
     parser.add_argument("--reference-repeats", type=int, default=1, help="timing repeats of the references (default 1)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random baseline (default 0)")
-    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for the fast reference (default 1; 2 helps only on an idle second core)")
+    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for the fast reference and the blockwise reference's blocks (default 1; 2 helps only on an idle second core)")
     parser.add_argument("--full-reference-limit", type=int, default=FULL_REFERENCE_LIMIT, metavar="N",
                         help="above N points the yardstick is the blockwise reference (quality.md §3.3) and the methods "
                              f"that run the full reference are skipped (default {FULL_REFERENCE_LIMIT:,})")

@@ -62,7 +62,7 @@ class BenchConfig:
     reference_repeats: int = 1
     seed: int = DEFAULT_SEED
     faithful_limit: int = FAITHFUL_MAX_CANDIDATES
-    workers: int | None = None  # fast reference processes (None: 1)
+    workers: int | None = None  # processes of the fast reference and of the blockwise reference's blocks (None: 1)
     refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
     full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
 
@@ -156,9 +156,9 @@ def _fast_yardstick(method: _Method, tolerance: float | None) -> _Yardstick:
                       target)
 
 
-def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture,
-                         tolerance: float | None) -> _Yardstick:
-    blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids), 1)
+def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture, tolerance: float | None,
+                         workers: int | None) -> _Yardstick:
+    blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids, workers=workers or 1), 1)
     select = prefix_selection(grid, blockwise.ranking)
     curve = np.full(field_.point_count + 1, np.nan)
 
@@ -229,7 +229,7 @@ def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, con
             failures.append(BenchFailure(name, method, failure_reason(error)))
     methods.append(_insertion_method("insertion", field_, grid))
     if reference is None and field_.point_count > config.full_reference_limit:
-        yardstick = _blockwise_yardstick(field_, grid, capture, config.tolerance)
+        yardstick = _blockwise_yardstick(field_, grid, capture, config.tolerance, config.workers)
         return methods + [yardstick.method], yardstick
     if reference is None:
         computed, seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)

@@ -58,10 +58,29 @@ def _sub_field(field: ReferenceField, members: np.ndarray) -> ReferenceField:
                           ycocg=field.ycocg[members], scale=field.scale, frame=frame)
 
 
+def _block_entries(task: tuple[ReferenceField, np.ndarray, np.ndarray, str] | None
+                   ) -> tuple[np.ndarray, np.ndarray] | None:
+    """One block (runs in a worker when `workers` > 1): its core points' entries and positions in its decimation's
+    ordering; None for a block kept whole (task None: too few points with its margin, or flat)."""
+    if task is None:
+        return None
+    field, members, core_rows, metric = task
+    decimation = fast_decimation(field, metric=metric)
+    curve = decimation.error_curve[1:].copy()  # curve[r] = error with r + 1 probes
+    curve[np.isnan(curve)] = np.inf  # counts the decimation never held
+    curve[:MINIMUM_PROBES - 1] = np.inf  # fewer than 4 probes: never an answer
+    smallest_before = np.minimum.accumulate(np.concatenate([[np.inf], curve[:-1]]))  # min over counts <= r
+    position = np.empty(members.shape[0], dtype=np.int64)
+    position[decimation.ordering] = np.arange(members.shape[0])  # the ordering lists positions into `members`
+    rank = position[core_rows]
+    return np.where(rank < MINIMUM_PROBES, np.inf, smallest_before[rank]), rank
+
+
 def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLOCK_CELLS, margin: int = MARGIN_CELLS,
-                        metric: str = PRIMARY_METRIC, progress: Callable[[int, int], None] | None = None
-                        ) -> BlockwiseReference:
-    """One fast reference per block with its margin (module text); `ids` (N, 3) the points' lattice ids."""
+                        metric: str = PRIMARY_METRIC, progress: Callable[[int, int], None] | None = None,
+                        workers: int = 1) -> BlockwiseReference:
+    """One fast reference per block with its margin (module text); `ids` (N, 3) the points' lattice ids; `workers`
+    processes decimate blocks side by side (core/processes.py; the same answer: blocks are independent)."""
     if block < 1 or margin < 0:
         raise ValueError(f"block {block} must be >= 1 cell and margin {margin} >= 0 cells")
     start = time.perf_counter()
@@ -72,23 +91,29 @@ def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLO
     owner = owner.reshape(-1)
     entry = np.full(n, np.inf)
     block_position = np.zeros(n, dtype=np.int64)  # tie-break: position in its block's ordering
-    for b, key in enumerate(keys):
-        core = np.flatnonzero(owner == b)
-        low, high = key * block - margin, (key + 1) * block - 1 + margin
-        members = np.flatnonzero(np.all((offset >= low) & (offset <= high), axis=1))
-        if members.shape[0] > MINIMUM_PROBES and flatness(field.local[members]) is None:
-            decimation = fast_decimation(_sub_field(field, members), metric=metric)
-            ordering = decimation.ordering  # positions into `members`
-            curve = decimation.error_curve[1:].copy()  # curve[r] = error with r + 1 probes
-            curve[np.isnan(curve)] = np.inf  # counts the decimation never held
-            curve[:MINIMUM_PROBES - 1] = np.inf  # fewer than 4 probes: never an answer
-            smallest_before = np.minimum.accumulate(np.concatenate([[np.inf], curve[:-1]]))  # min over counts <= r
-            position = np.empty(members.shape[0], dtype=np.int64)
-            position[ordering] = np.arange(members.shape[0])
-            global_rank = np.empty(n, dtype=np.int64)
-            global_rank[members] = position
-            entry[core] = np.where(global_rank[core] < MINIMUM_PROBES, np.inf, smallest_before[global_rank[core]])
-            block_position[core] = global_rank[core]
+    cores = [np.flatnonzero(owner == b) for b in range(keys.shape[0])]
+
+    def tasks():  # built as they are consumed: a level's blocks with margins would not fit in memory at once
+        for b, key in enumerate(keys):
+            low, high = key * block - margin, (key + 1) * block - 1 + margin
+            members = np.flatnonzero(np.all((offset >= low) & (offset <= high), axis=1))
+            if members.shape[0] <= MINIMUM_PROBES or flatness(field.local[members]) is not None:
+                yield None  # kept whole
+            else:
+                yield _sub_field(field, members), members, np.searchsorted(members, cores[b]), metric
+
+    def results():
+        if workers <= 1 or keys.shape[0] <= 1:
+            yield from map(_block_entries, tasks())
+            return
+        from ..core.processes import worker_pool
+
+        with worker_pool(workers) as pool:
+            yield from pool.imap(_block_entries, tasks(), chunksize=1)
+
+    for b, result in enumerate(results()):
+        if result is not None:
+            entry[cores[b]], block_position[cores[b]] = result
         if progress is not None:
             progress(b + 1, keys.shape[0])
     ranking = np.lexsort((np.arange(n), block_position, -entry)).astype(np.int64)

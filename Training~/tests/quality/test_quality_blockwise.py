@@ -38,3 +38,15 @@ def test_blocks_nest_cover_every_point_and_stay_near_the_tolerance(medium_captur
     # More probes than the exact reference (blocks cannot share probes across faces), but not many more.
     count = blocks.within(0.03).shape[0]
     assert reference.smallest_count_within(0.03) <= count <= 2.5 * reference.smallest_count_within(0.03)
+
+
+def test_two_workers_give_the_same_answer(medium_capture: Capture) -> None:
+    """Blocks are independent: decimating them in two processes changes nothing, including a block kept whole."""
+    field = ReferenceField.from_capture(medium_capture)
+    one = blockwise_reference(field, medium_capture.ids, block=5, margin=1)
+    reported: list[tuple[int, int]] = []
+    two = blockwise_reference(field, medium_capture.ids, block=5, margin=1, workers=2,
+                              progress=lambda done, total: reported.append((done, total)))
+    assert two.blocks == one.blocks > 8 and reported[-1] == (one.blocks, one.blocks)
+    np.testing.assert_array_equal(two.entry, one.entry)
+    np.testing.assert_array_equal(two.ranking, one.ranking)
