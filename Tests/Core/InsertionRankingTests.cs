@@ -472,6 +472,18 @@ namespace Lpnn.Probes.Core.Tests
             Assert.Throws<ArgumentNullException>(() => InsertionRanking.Rank(grid, reference, null));
         }
 
+        [Test]
+        public void TheGuideIsUsedUpToTheGuidedPointLimitAndPlainInsertionAbove()
+        {
+            // quality.md §5.2 (Python's insertion.guide_of): larger clouds than the network saw get no guide.
+            Assert.That(InsertionRanking.GuidedPointLimit, Is.EqualTo(32768));
+            var atLimit = Enumerable.Repeat(0.5f, InsertionRanking.GuidedPointLimit).ToArray();
+            Assert.That(InsertionRanking.GuideOf(atLimit, atLimit.Length), Is.All.EqualTo(1.0));
+            var above = Enumerable.Repeat(0.5f, InsertionRanking.GuidedPointLimit + 1).ToArray();
+            Assert.That(InsertionRanking.GuideOf(above, above.Length), Is.Null);
+            Assert.That(InsertionRanking.GuideOf(null, 10), Is.Null);
+        }
+
         // ---- the method choice ---------------------------------------------------------------------------------------
 
         [Test]

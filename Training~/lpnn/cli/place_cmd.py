@@ -108,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
     """--model / --scores: the LPNN tiers (spread ranking, optional refinement, --topk or --guided). A scores file
     lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
+    from ..quality.insertion import GUIDED_POINT_LIMIT
     from ..quality.lpnn_placement import lpnn_placement
     from .progress import progress_bar
 
@@ -129,6 +130,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
         if close_bar is not None:
             close_bar()
     tier = "top-K" if args.topk else "guided insertion" if args.guided else "spread"
+    if args.guided and capture.point_count > GUIDED_POINT_LIMIT:
+        tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
     t = placement.timing

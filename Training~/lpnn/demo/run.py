@@ -20,7 +20,7 @@ from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from ..quality.policy_rules import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
-from ..quality.insertion import guide_weights, insertion_ranking
+from ..quality.insertion import guide_of, insertion_ranking
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
 from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
@@ -139,7 +139,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     result.methods["insertion"] = _searched("insertion", field_, insertion_select, tolerance, insertion_seconds)
 
     count = result.methods[PRIMARY].probes
-    guided_select = prefix_selection(grid, insertion_ranking(field_, grid, guide=guide_weights(scores)))  # for the curves
+    guided_select = prefix_selection(grid, insertion_ranking(field_, grid, guide=guide_of(scores)))  # for the curves
     selections: dict[str, SelectionForCount] = {
         "lpnn-guided": guided_select, "lpnn": prefix_selection(grid, lpnn.ranking), "uniform": uniform,
         "heuristic": heuristic_select, "insertion": insertion_select,

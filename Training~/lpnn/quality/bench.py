@@ -38,7 +38,7 @@ from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .blockwise import blockwise_reference
 from .decimation import MINIMUM_PROBES, Decimation
-from .insertion import InsertionOrder, guide_weights
+from .insertion import InsertionOrder, guide_of
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
 from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio, placement_error
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
@@ -344,7 +344,7 @@ def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: Be
     adds the features and the inference."""
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     try:
-        method = _insertion_method("lpnn-guided", field_, grid, guide_weights(scores))
+        method = _insertion_method("lpnn-guided", field_, grid, guide_of(scores))
         rows = _ranking_rows(name, field_, method, config, yardstick)
     except Exception as error:  # recorded; the other tiers go on
         failures.append(BenchFailure(name, "lpnn-guided", failure_reason(error)))

@@ -55,6 +55,9 @@ from .metric import POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, c
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
 EXACT = 1e-12  # per-point errors at or below this are exact interpolation (nothing to fix there)
+# Guided insertion uses the network's scores only on volumes of at most this many points (quality.md §5.2: chosen on
+# whole training and validation levels; larger clouds than the network ever saw make its guide worse than none).
+GUIDED_POINT_LIMIT = 32_768
 
 
 def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC) -> np.ndarray:
@@ -79,6 +82,12 @@ def guide_weights(scores: np.ndarray) -> np.ndarray:
     """A guided insertion's per-point weights from importance scores: the spread ranking's weights
     (selection.md: clip to [1e-6, 1], NaN -> 1e-6, sqrt(score / median)), all > 0."""
     return spread_weights(scores)
+
+
+def guide_of(scores: np.ndarray) -> np.ndarray | None:
+    """The guide of guided insertion for one volume's scores: guide_weights(scores), or None (plain insertion) above
+    GUIDED_POINT_LIMIT points (quality.md §5.2). The C# core's InsertionRanking.GuideOf."""
+    return None if np.asarray(scores).shape[0] > GUIDED_POINT_LIMIT else guide_weights(scores)
 
 
 def checked_guide(guide: np.ndarray | None, point_count: int) -> np.ndarray | None:

@@ -45,7 +45,7 @@ from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, rank
 from ..core.spread import SpreadPrefix, spread_ranking
 from .decimation import MINIMUM_PROBES
-from .insertion import InsertionOrder, guide_weights
+from .insertion import InsertionOrder, guide_of
 from .metric import PlacementQuality, ReferenceField, evaluate_placement
 from .policies import (PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection,
                        spread_prefix_selection)
@@ -160,7 +160,7 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     order = None
     if guided:
         reference = ReferenceField.from_capture(capture) if reference is None else reference
-        order = InsertionOrder(reference, grid, progress=progress, guide=guide_weights(values))
+        order = InsertionOrder(reference, grid, progress=progress, guide=guide_of(values))
         select = order.selection()
     elif lazy is None:
         ranking = rank(values) if topk else spread_ranking(capture.positions, values)

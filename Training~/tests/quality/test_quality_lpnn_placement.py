@@ -212,3 +212,25 @@ def test_a_tiny_budget_seeds_the_refinement_with_at_least_64_points(medium_captu
     spread = spread_ranking(medium_capture.positions, scores)
     expected = fast_decimation(field, initial=spread[:64], min_count=count)
     np.testing.assert_array_equal(placed.indices, expected.prefix(count))
+
+
+def test_above_the_guided_point_limit_the_guided_tier_is_plain_insertion(medium_capture: Capture,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """quality.md §5.2: the network's guide is used on volumes of at most GUIDED_POINT_LIMIT points (32,768), plain
+    insertion above. Shown with the limit lowered to just below and at this room's point count."""
+    import lpnn.quality.insertion as insertion
+
+    field = ReferenceField.from_capture(medium_capture)
+    grid = _grid(medium_capture)
+    scores = StubScorer().score_capture(medium_capture)
+    n = medium_capture.point_count
+    plain = prefix_selection(grid, insertion_ranking(field, grid))
+    guided = prefix_selection(grid, insertion_ranking(field, grid, guide=guide_weights(scores)))
+    count = budget_count(0.2, n)
+    assert not np.array_equal(plain(count), guided(count))  # the guide matters on this room
+    assert insertion.GUIDED_POINT_LIMIT == 32_768
+    assert insertion.guide_of(np.ones(32_769)) is None and insertion.guide_of(np.ones(32_768)) is not None
+    for limit, expected in ((n - 1, plain), (n, guided)):
+        monkeypatch.setattr(insertion, "GUIDED_POINT_LIMIT", limit)
+        placed = lpnn_placement(medium_capture, scores=scores, budget=0.2, guided=True, reference=field)
+        np.testing.assert_array_equal(placed.indices, expected(count), err_msg=f"limit {limit}")

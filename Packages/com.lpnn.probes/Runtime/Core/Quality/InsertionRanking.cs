@@ -269,11 +269,17 @@ namespace Lpnn.Probes.Core.Quality
         /// insertion.guide_weights.</summary>
         public static double[] GuideWeights(float[] scores) => SpreadWeights.Compute(scores);
 
-        /// <summary>Null for null scores, else <see cref="GuideWeights"/> of one score per point (an error otherwise).</summary>
+        /// <summary>Guided insertion uses the network's scores only on volumes of at most this many points (quality.md §5.2:
+        /// chosen on whole training and validation levels; on larger clouds than the network ever saw its guide did worse
+        /// than none). Python's insertion.GUIDED_POINT_LIMIT.</summary>
+        public const int GuidedPointLimit = 32768;
+
+        /// <summary>Null for null scores or more than <see cref="GuidedPointLimit"/> points (plain insertion), else
+        /// <see cref="GuideWeights"/> of one score per point (an error otherwise). Python's insertion.guide_of.</summary>
         internal static double[] GuideOf(float[] scores, int pointCount)
         {
             CheckScoreCount(scores, pointCount);
-            return scores == null ? null : GuideWeights(scores);
+            return scores == null || pointCount > GuidedPointLimit ? null : GuideWeights(scores);
         }
 
         /// <summary>Null, or one score per point (an error saying so otherwise).</summary>
