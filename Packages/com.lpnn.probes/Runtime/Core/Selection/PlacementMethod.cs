@@ -12,7 +12,8 @@ namespace Lpnn.Probes.Core.Selection
         Insertion = 1,
         /// <summary>Guided insertion (Quality.InsertionRanking with the scores as guide, quality.md §5.2): <see cref="Insertion"/>
         /// whose tetrahedra take, among their badly interpolated points, the one the network rates highest (error ×
-        /// sqrt(score / median)); needs the lighting, the Features and Scoring steps, and the rounds of insertion.</summary>
+        /// sqrt(score / median)); needs the lighting, the Features and Scoring steps, and the rounds of insertion. On volumes of
+        /// more than Quality.InsertionRanking.GuidedPointLimit valid points the guide is not used (plain insertion).</summary>
         GuidedInsertion = 2,
     }
 
