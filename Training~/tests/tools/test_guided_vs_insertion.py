@@ -2,40 +2,26 @@
 
 from __future__ import annotations
 
-import importlib.util
-import json
 from pathlib import Path
 
 import pytest
 
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.capture_file import write_capture
+from tools_support import card_with_held_out, load_tool
 
-SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "guided-vs-insertion.py"
-
-
-def _tool():
-    spec = importlib.util.spec_from_file_location("guided_vs_insertion", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def _card(tmp_path: Path) -> Path:
-    path = tmp_path / "card.json"
-    path.write_text(json.dumps({"training": {"recipe": {"levels": {"held_out": ["oa_dm1"]}}}}), encoding="utf-8")
-    return path
+SCRIPT = "guided-vs-insertion.py"
 
 
 def test_held_out_levels_are_refused(tmp_path: Path) -> None:
     with pytest.raises(SystemExit, match="held-out level"):
-        _tool().main([str(tmp_path / "oa_dm1.lpnncap"), "--card", str(_card(tmp_path))])
+        load_tool(SCRIPT).main([str(tmp_path / "oa_dm1.lpnncap"), "--card", str(card_with_held_out(tmp_path, ["oa_dm1"]))])
 
 
 def test_one_row_per_capture_with_the_shipped_model(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "room.lpnncap"
     write_capture(path, AnalyticScene.random(3, cell_size=0.5, room_size=(4.0, 2.5, 3.0)).capture(name="room"))
-    assert _tool().main([str(path), "--card", str(_card(tmp_path))]) == 0
+    assert load_tool(SCRIPT).main([str(path), "--card", str(card_with_held_out(tmp_path, ["oa_dm1"]))]) == 0
     rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| room |")]
     assert len(rows) == 1
     cells = [c.strip() for c in rows[0].strip("|").split("|")]

@@ -2,24 +2,15 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import pytest
 
-SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "recipe-crops.py"
+from tools_support import load_tool
+
 CARD = {"training": {"recipe": {"levels": {"train": ["b", "a"], "validation": ["v"], "held_out": ["h"]}}}}
 
 
-def _tool():
-    spec = importlib.util.spec_from_file_location("recipe_crops", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_the_split_of_the_card_is_used_and_held_out_levels_are_refused() -> None:
-    tool = _tool()
+    tool = load_tool("recipe-crops.py")
     assert tool.levels_for_role(CARD, "validation") == ["v"]
     assert tool.levels_for_role(CARD, "train") == ["a", "b"]
     with pytest.raises(SystemExit, match="held-out levels are never used"):
@@ -31,6 +22,6 @@ def test_the_split_of_the_card_is_used_and_held_out_levels_are_refused() -> None
 def test_the_shipped_card_has_a_split_whose_validation_levels_are_not_held_out() -> None:
     import json
 
-    card = json.loads(_tool().DEFAULT_CARD.read_text(encoding="utf-8"))
-    validation = set(_tool().levels_for_role(card, "validation"))
+    card = json.loads(load_tool("recipe-crops.py").DEFAULT_CARD.read_text(encoding="utf-8"))
+    validation = set(load_tool("recipe-crops.py").levels_for_role(card, "validation"))
     assert validation and not validation & set(card["training"]["recipe"]["levels"]["held_out"])

@@ -2,35 +2,21 @@
 
 from __future__ import annotations
 
-import importlib.util
-import json
 from pathlib import Path
 
 import pytest
 
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.capture_file import write_capture
+from tools_support import card_with_held_out, load_tool
 
-SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "score-ceilings.py"
-
-
-def _tool():
-    spec = importlib.util.spec_from_file_location("score_ceilings", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def _card(tmp_path: Path, held_out: list[str]) -> Path:
-    path = tmp_path / "card.json"
-    path.write_text(json.dumps({"training": {"recipe": {"levels": {"held_out": held_out}}}}), encoding="utf-8")
-    return path
+SCRIPT = "score-ceilings.py"
 
 
 def test_held_out_levels_are_refused(tmp_path: Path) -> None:
-    card = _card(tmp_path, ["oa_dm1"])
+    card = card_with_held_out(tmp_path, ["oa_dm1"])
     with pytest.raises(SystemExit, match="held-out level"):
-        _tool().main([str(tmp_path / "oa_dm1@1.626m__0.lpnncap"), "--card", str(card), "--no-model"])
+        load_tool(SCRIPT).main([str(tmp_path / "oa_dm1@1.626m__0.lpnncap"), "--card", str(card), "--no-model"])
 
 
 def test_the_oracle_rows_on_a_room(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -38,7 +24,7 @@ def test_the_oracle_rows_on_a_room(tmp_path: Path, capsys: pytest.CaptureFixture
     every row has six finite ratios >= ~1 (nothing beats the reference by much at the same count)."""
     path = tmp_path / "room@0.5m__0.lpnncap"
     write_capture(path, AnalyticScene.random(3, cell_size=0.5, room_size=(4.0, 2.5, 3.0)).capture(name="room"))
-    assert _tool().main([str(path), "--card", str(_card(tmp_path, ["oa_dm1"])), "--no-model", "--workers", "1"]) == 0
+    assert load_tool(SCRIPT).main([str(path), "--card", str(card_with_held_out(tmp_path, ["oa_dm1"])), "--no-model", "--workers", "1"]) == 0
     rows = {line.split(" | ")[0].strip("| "): [float(v) for v in line.strip(" |").split(" | ")[1:]]
             for line in capsys.readouterr().out.splitlines() if line.startswith("| ") and "ranking" not in line}
     assert set(rows) == {"insertion", "insertion guided by the oracle score", "insertion guided by the oracle importance",
