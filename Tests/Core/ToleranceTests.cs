@@ -37,7 +37,11 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(evaluated[result.Count], Is.LessThanOrEqualTo(tolerance));
             Assert.That(result.MeanError, Is.EqualTo(evaluated[result.Count]));
             if (result.Count > Math.Min(ToleranceSearch.SmallestCount, pointCount))
-                Assert.That(evaluated[result.Count - 1], Is.GreaterThan(tolerance), "count − 1 was evaluated and failed");
+            {
+                int window = Math.Max(1, result.Count / ToleranceSearch.Resolution);
+                Assert.That(result.Evaluated.Any(e => e.Key < result.Count && e.Key >= result.Count - window && e.Value > tolerance),
+                            "a count within max(1, count / Resolution) below the answer was evaluated and failed");
+            }
             foreach (var e in result.Evaluated.Where(e => e.Key < result.Count))
                 Assert.That(e.Value, Is.GreaterThan(tolerance), "evaluated count " + e.Key + " below the answer failed");
             Assert.That(result.Evaluated.Count, Is.LessThanOrEqualTo(2 * Math.Log(pointCount, 2) + 2));
@@ -55,6 +59,28 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(calls.Take(5).ToArray(), Is.EqualTo(new[] { 4, 8, 16, 32, 64 }), "exponential from 4");
             Assert.That(calls.Distinct().Count(), Is.EqualTo(calls.Count), "no count is evaluated twice");
             Assert.That(result.Count, Is.EqualTo(37).Or.EqualTo(41), "a count whose neighbour below failed");
+        }
+
+        [Test]
+        public void AboveTheResolutionTheSearchStopsAtAFractionOfTheCountAndSavesEvaluations()
+        {
+            // A smooth falling curve with its smallest passing count at 7,779 of 10^6 points (as the 10^6-point level of
+            // benchmarks.md §7.3): bisection to the unit needs 12 halvings after 4, 8, …, 8192 (24 evaluations); stopping
+            // once the bracket is at most count / 256 apart takes 8 (20 evaluations), at the price of at most ~30 probes.
+            const int trueAnswer = 7779;
+            Func<int, double> curve = k => 0.05 * Math.Sqrt((double)trueAnswer / k);
+            var result = ToleranceSearch.Run(1000000, curve, 0.05);
+            AssertSearchGuarantees(result, 0.05, 1000000);
+            Assert.That(result.Count, Is.InRange(trueAnswer, trueAnswer + trueAnswer / ToleranceSearch.Resolution));
+            Assert.That(result.Count, Is.EqualTo(7792), "the same answer as Python's search (test_quality_policies.py)");
+            int unitSearch = 12 + 12; // 4 … 8192 (12 counts), then 12 halvings of the 4,096 between 4,096 and 8,192
+            Assert.That(result.Evaluated.Count, Is.EqualTo(unitSearch - 4));
+            Assert.That(ToleranceSearch.Resolved(4096, 8192), Is.False);
+            Assert.That(ToleranceSearch.Resolved(7776, 7806), Is.True, "30 × 256 ≤ 7,806");
+            Assert.That(ToleranceSearch.Resolved(7776, 7807), Is.False, "31 × 256 > 7,807");
+            Assert.That(ToleranceSearch.Resolved(200, 201), Is.True, "adjacent");
+            Assert.That(ToleranceSearch.Resolved(199, 201), Is.False, "below 256 the search goes to the unit");
+            Assert.That(ToleranceSearch.Resolved(int.MaxValue - 100000000, int.MaxValue), Is.False, "no overflow (10^8 × 256 exceeds an int)");
         }
 
         [Test]

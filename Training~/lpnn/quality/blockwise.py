@@ -54,8 +54,8 @@ class BlockwiseReference:
 def _sub_field(field: ReferenceField, members: np.ndarray) -> ReferenceField:
     world = field.world[members]
     frame = Frame.for_points(world)
-    return ReferenceField(world=world, local=frame.to_local(world), light=field.light[members],
-                          ycocg=field.ycocg[members], scale=field.scale, frame=frame)
+    return ReferenceField(world=world, local=frame.to_local(world), light=field.light[members], scale=field.scale,
+                          frame=frame)
 
 
 def _block_entries(task: tuple[ReferenceField, np.ndarray, np.ndarray, str] | None

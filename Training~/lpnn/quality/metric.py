@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -53,13 +54,23 @@ class ReferenceField:
     world: np.ndarray  # (N, 3) float64 evaluation points (= candidate probe positions)
     local: np.ndarray  # (N, 3) float64 in `frame`
     light: np.ndarray  # (N, 42) float64 E(p, d) over D14, direction-major RGB
-    ycocg: np.ndarray  # (N, 42) float64 the same values in YCoCg
     scale: float  # scene scale S
     frame: Frame
 
     @property
     def point_count(self) -> int:
         return int(self.world.shape[0])
+
+    @cached_property
+    def ycocg(self) -> np.ndarray:
+        """(N, 42) float64: `light` in YCoCg, row by row the same values; computed on first use (the SMAPE metric,
+        reports), not by the tolerance search, which reads irradiance only (0.34 GB and ~1 s saved at 10^6 points)."""
+        out = np.empty_like(self.light)
+        for start in range(0, self.point_count, CHUNK_POINTS):
+            stop = min(start + CHUNK_POINTS, self.point_count)
+            rgb = self.light[start:stop].reshape(-1, D14.shape[0], 3)
+            out[start:stop] = shmath.rgb_to_ycocg(rgb).reshape(-1, LIGHT_VALUES)
+        return out
 
     def values(self, metric: str) -> np.ndarray:
         return self.ycocg if checked_metric(metric) == "smape" else self.light
@@ -81,14 +92,11 @@ class ReferenceField:
             raise MetricError(f"scene scale {scale!r} must be a finite number > 0")
         n = world.shape[0]
         light = np.empty((n, LIGHT_VALUES))
-        ycocg = np.empty((n, LIGHT_VALUES))
         for start in range(0, n, CHUNK_POINTS):  # row by row the same values; no (N, 42) temporaries
             stop = min(start + CHUNK_POINTS, n)
-            rgb = shmath.evaluate(values[start:stop], D14)  # (M, 14, 3), float64
-            light[start:stop] = rgb.reshape(-1, LIGHT_VALUES)
-            ycocg[start:stop] = shmath.rgb_to_ycocg(rgb).reshape(-1, LIGHT_VALUES)
+            light[start:stop] = shmath.evaluate(values[start:stop], D14).reshape(-1, LIGHT_VALUES)  # (M, 14, 3)
         frame = Frame.for_points(world)
-        return ReferenceField(world=world, local=frame.to_local(world), light=light, ycocg=ycocg, scale=s, frame=frame)
+        return ReferenceField(world=world, local=frame.to_local(world), light=light, scale=s, frame=frame)
 
     @staticmethod
     def from_capture(capture: Capture) -> "ReferenceField":
@@ -187,6 +195,11 @@ def point_errors(field: ReferenceField, probes: np.ndarray, metric: str = PRIMAR
 
 def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> ErrorSummary:
     return summarize(point_errors(field, probes, metric))
+
+
+def mean_placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> float:
+    """placement_error(...).mean without the p95 (a partition of every point: the tolerance search reads the mean)."""
+    return float(np.mean(point_errors(field, probes, metric)))
 
 
 @dataclass(frozen=True)

@@ -23,9 +23,9 @@ from ..errors import InvalidInputError
 from ..core.grid import EvaluationGrid
 from ..core.selection import ensure_tetrahedron, percentile_count
 from ..core.spread import SpreadPrefix
-from .policy_rules import budget_problem, tolerance_problem
+from .policy_rules import SEARCH_RESOLUTION, budget_problem, tolerance_problem
 from .decimation import MINIMUM_PROBES, Decimation
-from .metric import PRIMARY_METRIC, ReferenceField, placement_error
+from .metric import PRIMARY_METRIC, ReferenceField, mean_placement_error, placement_error
 
 SelectionForCount = Callable[[int], np.ndarray]
 
@@ -105,10 +105,18 @@ def place_count(field_: ReferenceField, selection: SelectionForCount, count: int
 
 def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
                     metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES) -> Placement:
-    """Tolerance policy: exponential search from `smallest`, then bisection, over prefix counts."""
+    """Tolerance policy: exponential search from `smallest`, then bisection over prefix counts down to the search's
+    resolution (`search_resolved`)."""
     found = bounded_tolerance(field_, selection, tolerance, metric, smallest)
     assert found is not None  # without a bound the search ends at the latest with all points
     return found
+
+
+def search_resolved(failing: int, passing: int) -> bool:
+    """Whether the bisection between the last failing and the first passing count may stop: they are adjacent, or
+    at most passing / SEARCH_RESOLUTION apart (integers only, so C#'s ToleranceSearch decides exactly alike)."""
+    width = passing - failing
+    return width <= 1 or width * SEARCH_RESOLUTION <= passing
 
 
 def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
@@ -127,7 +135,7 @@ def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tole
     def error_at(count: int) -> float:
         if count not in checked:
             chosen[count] = selection(count)
-            checked[count] = placement_error(field_, chosen[count], metric).mean
+            checked[count] = mean_placement_error(field_, chosen[count], metric)
         return checked[count]
 
     failing, passing = low_limit - 1, low_limit
@@ -137,7 +145,7 @@ def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tole
         if passing >= ceiling:
             return None
         failing, passing = passing, min(2 * passing, ceiling)
-    while passing - failing > 1:
+    while not search_resolved(failing, passing):
         middle = (failing + passing) // 2
         if error_at(middle) <= tau:
             passing = middle

@@ -32,6 +32,7 @@ TIE_BREAK_FRACTION = 1e-5  # lifted-height perturbation, as a fraction of the sq
 LOWER_FACET_TOLERANCE = 1e-10  # 4-D facet normals with w-component above -this are not lower facets
 QHULL_OPTIONS = "Qt"  # triangulated output; no Qbb/Qz: those are for Qhull's own Delaunay mode
 VERTEX_KEY_BITS = 21  # three vertex ids fit one int64 face key when there are < 2^21 points
+QUERY_WORKERS = -1  # the spacing's nearest-neighbour query on every core (same distances; ~1 s less at 10^6 points)
 
 
 class GeometryError(InvalidInputError):
@@ -78,7 +79,7 @@ class Frame:
         local = (points - origin) / scale
         spacing = 1.0
         if points.shape[0] >= 2:
-            distances = cKDTree(local).query(local, k=2)[0][:, 1]
+            distances = cKDTree(local).query(local, k=2, workers=QUERY_WORKERS)[0][:, 1]
             positive = distances[distances > 0.0]
             if positive.shape[0]:
                 spacing = float(np.median(positive))

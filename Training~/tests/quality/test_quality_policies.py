@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import math
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.baselines import heuristic_ranking, hull_corners, random_ranking, uniform_selection
+from lpnn.quality import policies
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.policies import (PolicyError, budget_count, place_count, place_tolerance, prefix_selection,
                                    reference_count, reference_tolerance)
+from lpnn.quality.policy_rules import SEARCH_RESOLUTION
 from lpnn.quality.reference_fast import fast_decimation
 
 from quality_support import box_grid
@@ -31,9 +36,24 @@ def test_tolerance_policy_meets_tau_and_is_minimal_among_checked_prefixes(
     assert placement.mean_error == pytest.approx(placement_error(field, placement.indices).mean)  # verified
     below = {count: error for count, error in placement.checked.items() if count < placement.requested}
     assert all(error > tolerance for error in below.values())  # every smaller checked prefix failed
-    if placement.requested > 4:
-        assert placement.requested - 1 in placement.checked  # its predecessor was checked, and failed
+    if placement.requested > 4:  # a count within the search's resolution below was checked, and failed
+        window = max(1, placement.requested // SEARCH_RESOLUTION)
+        assert any(placement.requested - window <= count < placement.requested for count in below)
     assert len(placement.checked) <= 2 * int(np.log2(capture.point_count)) + 2  # exponential + bisection
+
+
+def test_above_the_resolution_the_search_stops_at_a_fraction_of_the_count(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The C# case of ToleranceTests (same curve, same answer and evaluations): a smooth error whose smallest passing
+    count is 7,779 of 10^6; the unit search takes 24 evaluations, this one 20, and keeps at most 1/256 more probes."""
+    true_answer = 7779
+    monkeypatch.setattr(policies, "mean_placement_error",
+                        lambda field_, indices, metric: 0.05 * math.sqrt(true_answer / indices.shape[0]))
+    placement = policies.place_tolerance(SimpleNamespace(point_count=1_000_000), lambda count: np.arange(count), 0.05)
+    assert placement.requested == 7792 and len(placement.checked) == 20
+    assert true_answer <= placement.requested <= true_answer + true_answer // SEARCH_RESOLUTION
+    assert not policies.search_resolved(4096, 8192)
+    assert policies.search_resolved(7776, 7806) and not policies.search_resolved(7776, 7807)  # 30 x 256 <= 7806 < 31 x 256
+    assert policies.search_resolved(200, 201) and not policies.search_resolved(199, 201)  # to the unit below 256
 
 
 def test_tolerance_on_a_reference_is_the_exact_smallest_prefix(small_field: ReferenceField) -> None:
