@@ -13,8 +13,8 @@ about a second per 1,000 points).
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
---topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K spread
-points and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
+--topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K points of
+the guided insertion (of the top-K with --topk) and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
 best method measured with a model at hand, benchmarks.md §10; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
 reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
 lattice, the curvature heuristic, an APV-style geometry density, random.
@@ -54,8 +54,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
     parser.add_argument("--refine", type=refine_factor, metavar="F",
-                        help="with --model/--scores: refine with the exact greedy seeded by the first F x K spread "
-                             "points (F > 1; 2 recommended; about a second per thousand points)")
+                        help="with --model/--scores: refine with the exact greedy seeded by the first F x K points of the "
+                             "guided insertion (F > 1; 2 recommended; about a second per thousand points)")
     parser.add_argument("--topk", action="store_true",
                         help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
                              "(the old behaviour, for comparison)")

@@ -5,7 +5,7 @@ Methods: uniform, random, heuristic, apv (APV-style geometry density, apv.py; wh
 `nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, insertion.py: the best
 non-learned lighting-driven method, the bar for the learned tier); with a model the four LPNN tiers (lpnn_placement.py):
 lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking), lpnn-guided (insertion guided by the
-scores, insertion.py) and lpnn-refine (spread ranking + seeded exact refinement, factor `refine`); the
+scores, insertion.py) and lpnn-refine (guided insertion + seeded exact refinement, factor `refine`); the
 fast reference, and the faithful one on small captures.
 
 The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points

@@ -1,4 +1,5 @@
-"""LPNN placement tiers (quality.md §4): network scores -> spread ranking -> probes, optionally refined.
+"""LPNN placement tiers (quality.md §4): network scores -> spread ranking (or guided insertion) -> probes, optionally
+refined.
 
     lpnn_placement(capture, scorer, budget=0.2)                # LPNN: milliseconds
     lpnn_placement(capture, scorer, budget=0.2, refine=2.0)    # LPNN + exact refinement: about a second
@@ -8,10 +9,12 @@
 - budget f: K = round(f N); the spread ranking's first K points (+ tetrahedron guarantee).
 - tolerance tau: the smallest spread prefix within tau (the search of policies.place_tolerance).
 - refine F (> 1; 2 recommended): seed the exact greedy decimation (reference_fast, initial=...) with
-  the spread ranking's first min(N, max(round(F K), MINIMUM_SEED)) points (+ tetrahedron guarantee)
-  and decimate down to K. The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
+  the guided insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points (+ tetrahedron
+  guarantee; the raw score ranking's with topk) and decimate down to K. Guided insertion, not the spread
+  ranking, since 2026-11-26: on the 10 validation crops the tier's error over the reference's went from
+  0.98/1.14/1.12/1.03/1.00x to 1.02/1.06/1.03/1.01/1.01x at 1/5/10/20/30 % (benchmarks.md §7.2). The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
   reach the reference's sparse answer (8 crops of training levels: 1.39x the reference's error with
-  2K, 1.02x with 64, at 0.9 s instead of 0.3 s; 5 % budgets unchanged). With a tolerance: K0 = the LPNN tolerance count, seed with round(F K0) points, decimate down
+  2K, 1.02x with 64, at 0.9 s instead of 0.3 s; 5 % budgets unchanged). With a tolerance: K0 = the guided insertion's tolerance count, seed with round(F K0) points, decimate down
   to 4 and read the exact smallest count within tau from the decimation's error curve (the LPNN
   answer K0 is kept if the decimation never gets below it within tau).
   A seed of more than FULL_REFERENCE_FRACTION x N points (K > floor(0.4 N / F)) runs the full
@@ -42,7 +45,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..core.selection import ensure_tetrahedron, rank
+from ..core.selection import rank
 from ..core.spread import SpreadPrefix, spread_ranking
 from .decimation import MINIMUM_PROBES
 from .insertion import InsertionOrder, guide_of
@@ -80,7 +83,7 @@ class PlacementTiming:
 class LpnnPlacement:
     indices: np.ndarray  # (K,) int64 point indices, sorted
     quality: PlacementQuality | None  # irradiance (primary) and SMAPE errors of `indices` (None: report=False)
-    ranking: np.ndarray  # (N,) the spread (or top-K) ranking the probes came from (full_ranking=False: its computed prefix)
+    ranking: np.ndarray  # (N,) the spread, top-K or guided insertion ranking the probes came from (full_ranking=False: its computed prefix)
     requested: int  # the count asked for (budget K, or the tolerance search's answer)
     added_for_tetrahedron: int
     refine: float | None
@@ -128,9 +131,9 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
                    report: bool = True, progress: Callable[[int, int], None] | None = None) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
     `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
-    exact refinement; `topk` ranks by raw score instead of the spread ranking; `guided` ranks by insertion
-    guided by the scores (insertion.py, quality.md §5.2: lazily, as far as the policy reads; `progress`
-    gets its rounds' points ranked of the count asked for); `reference` reuses
+    exact refinement, seeded by guided insertion; `topk` ranks by raw score instead of the spread ranking;
+    `guided` ranks by insertion guided by the scores (insertion.py, quality.md §5.2: lazily, as far as the
+    policy reads; `progress` gets its rounds' points ranked of the count asked for); `reference` reuses
     ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
     `name` appears in error messages; full_ranking=False (spread ranking, no refinement) ranks only the
     points the policy reads (core.spread.SpreadPrefix: the same probes; `ranking` is then the computed
@@ -141,8 +144,12 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     if (scorer is None) == (scores is None):
         raise PolicyError("give exactly one of scorer (an OnnxScorer) and scores (one value per point)")
     factor = checked_refine(refine)
-    if guided and (topk or factor is not None):
-        raise PolicyError("guided insertion ranks by itself: use it without topk and refine")
+    if guided and topk:
+        raise PolicyError("guided insertion ranks by itself: use it without topk")
+    # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): on the
+    # validation crops it brought the tier within 1.07x the reference's error at every budget, where the spread
+    # ranking's seed left it at 1.14x at 5 % (benchmarks.md §7.2).
+    by_insertion = guided or (factor is not None and not topk)
     tau = None if tolerance is None else checked_tolerance(tolerance)
     n = capture.point_count
     inference = 0.0
@@ -156,9 +163,9 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
 
     start = time.perf_counter()
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    lazy = None if (full_ranking or topk or guided or factor is not None) else SpreadPrefix(capture.positions, values)
+    lazy = None if (full_ranking or topk or by_insertion) else SpreadPrefix(capture.positions, values)
     order = None
-    if guided:
+    if by_insertion:
         reference = ReferenceField.from_capture(capture) if reference is None else reference
         order = InsertionOrder(reference, grid, progress=progress, guide=guide_of(values))
         select = order.selection()
@@ -174,7 +181,10 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         indices = select(requested)
     else:
         reference = ReferenceField.from_capture(capture) if reference is None else reference
-        found = bounded_tolerance(reference, select, tau, largest=largest)
+        found = None
+        if order is None or largest is None or not _spread_answer_too_large(reference, grid, capture.positions, values,
+                                                                            tau, largest):
+            found = bounded_tolerance(reference, select, tau, largest=largest)
         if found is None:  # K0 > largest: the refinement below runs the full reference
             requested, indices = n, np.arange(n, dtype=np.int64)
         else:
@@ -188,7 +198,7 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         target = requested if tau is None else int(indices.shape[0])
         seed = None
         if target <= int(largest):  # type: ignore[arg-type]
-            seed = ensure_tetrahedron(grid, ranking, ranking[:seed_count(factor, target, n)])[0]
+            seed = select(seed_count(factor, target, n))  # the ranking's prefix, completed to a tetrahedron
         seeded = n if seed is None else int(seed.shape[0])
         refined = _refined(reference, seed, target, tau, workers)
         if refined is not None:
@@ -206,6 +216,17 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
                          requested=int(requested), added_for_tetrahedron=max(0, int(indices.shape[0]) - int(requested)),
                          refine=factor, timing=PlacementTiming(feature_seconds(capture), inference, selection, refinement),
                          checked=checked, seed_count=seeded)
+
+
+def _spread_answer_too_large(reference: ReferenceField, grid: EvaluationGrid, positions: np.ndarray, scores: np.ndarray,
+                             tau: float, largest: int) -> bool:
+    """Whether the spread ranking's tolerance answer exceeds `largest`, found in its milliseconds (the search gives up
+    past largest + 1): the refine tier then runs the full reference at once instead of first paying for guided
+    insertion's rounds up to `largest` (14 held-out crops at tau: 4 rows were up to 1.52x the reference's time with
+    that search, benchmarks.md §7.2). The spread answer is the larger one on nearly every crop (2.06x against 1.57x
+    the reference's probes, §10.2), so this sends to the full reference at most the volumes near the bound."""
+    return bounded_tolerance(reference, spread_prefix_selection(grid, SpreadPrefix(positions, scores)), tau,
+                             largest=largest) is None
 
 
 def _refined(reference: ReferenceField, seed: np.ndarray | None, target: int, tau: float | None,

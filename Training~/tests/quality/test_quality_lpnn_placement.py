@@ -68,28 +68,34 @@ def test_refined_budget_is_the_seeded_decimation_down_to_k(medium_capture: Captu
     scores = StubScorer().score_capture(medium_capture)
     count = budget_count(0.2, n)
     placed = lpnn_placement(medium_capture, scores=scores, budget=0.2, refine=2.0, reference=field)
-    spread = spread_ranking(medium_capture.positions, scores)
-    seed = ensure_tetrahedron(_grid(medium_capture), spread, spread[:seed_count(2.0, count, n)])[0]
+    guided = insertion_ranking(field, _grid(medium_capture), guide=guide_weights(scores))  # the seed's ranking
+    seed = ensure_tetrahedron(_grid(medium_capture), guided, guided[:seed_count(2.0, count, n)])[0]
     assert placed.seed_count == seed.shape[0] == 2 * count
     expected = fast_decimation(field, initial=seed, min_count=count)
     np.testing.assert_array_equal(placed.indices, expected.prefix(count))
     assert placed.indices.shape[0] == count and set(placed.indices.tolist()) <= set(seed.tolist())
     assert placed.timing.refinement > 0.0
-    # What the tier is for: on this room the refined placement beats the plain spread prefix.
+    # What the tier is for: on this room the refined placement beats the plain spread prefix and guided insertion.
     plain = lpnn_placement(medium_capture, scores=scores, budget=0.2, reference=field)
-    assert placed.mean_error < plain.mean_error
+    unrefined = lpnn_placement(medium_capture, scores=scores, budget=0.2, guided=True, reference=field)
+    assert placed.mean_error < unrefined.mean_error and placed.mean_error < plain.mean_error
+    # topk keeps its own ranking as the seed (kept for comparison).
+    top = lpnn_placement(medium_capture, scores=scores, budget=0.2, refine=2.0, topk=True, reference=field)
+    ranked = rank(scores)
+    top_seed = ensure_tetrahedron(_grid(medium_capture), ranked, ranked[:seed_count(2.0, count, n)])[0]
+    np.testing.assert_array_equal(top.indices, fast_decimation(field, initial=top_seed, min_count=count).prefix(count))
 
 
 def test_refined_tolerance_reads_the_exact_smallest_count_from_the_seeded_curve(small_captures: dict[int, Capture]) -> None:
     capture = small_captures[3]
     field = ReferenceField.from_capture(capture)
     scores = StubScorer().score_capture(capture)
-    plain = lpnn_placement(capture, scores=scores, tolerance=0.04, reference=field)
+    plain = lpnn_placement(capture, scores=scores, tolerance=0.04, guided=True, reference=field)  # K0 and the seed
     refined = lpnn_placement(capture, scores=scores, tolerance=0.04, refine=2.0, reference=field)
-    assert refined.mean_error <= 0.04 and refined.indices.shape[0] < plain.indices.shape[0]  # 9 vs 19 probes here
-    spread = plain.ranking
+    assert refined.mean_error <= 0.04 and refined.indices.shape[0] < plain.indices.shape[0]
+    guided = plain.ranking
     start = seed_count(2.0, plain.indices.shape[0], capture.point_count)
-    seed = ensure_tetrahedron(_grid(capture), spread, spread[:start])[0]
+    seed = ensure_tetrahedron(_grid(capture), guided, guided[:start])[0]
     curve = fast_decimation(field, initial=seed).error_curve
     within = np.flatnonzero(curve <= 0.04)  # NaN compares false
     assert refined.indices.shape[0] == min(within[0], plain.indices.shape[0])
@@ -108,9 +114,8 @@ def test_parameters_are_checked(small_captures: dict[int, Capture]) -> None:
         lpnn_placement(capture, scores=scores[:-1], budget=0.2)
     with pytest.raises(PolicyError, match="budget"):
         lpnn_placement(capture, scores=scores, budget=1.5)
-    for other in ({"topk": True}, {"refine": 2.0}):
-        with pytest.raises(PolicyError, match="guided insertion ranks by itself"):
-            lpnn_placement(capture, scores=scores, budget=0.2, guided=True, **other)
+    with pytest.raises(PolicyError, match="guided insertion ranks by itself"):
+        lpnn_placement(capture, scores=scores, budget=0.2, guided=True, topk=True)
 
 
 def test_guided_tier_is_the_guided_insertion_order_read_only_as_far_as_the_policy_needs(medium_capture: Capture) -> None:
@@ -165,12 +170,14 @@ def test_refined_tolerance_with_a_large_answer_stops_searching_and_runs_the_full
     field = ReferenceField.from_capture(medium_capture)
     n = medium_capture.point_count
     scores = StubScorer().score_capture(medium_capture)
-    tau = 0.004  # the spread prefix needs far more than 0.4 N / 2 points for it on this room
+    tau = 0.004  # guided insertion needs far more than 0.4 N / 2 points for it on this room
     largest = largest_seeded_count(2.0, n)
-    plain = lpnn_placement(medium_capture, scores=scores, tolerance=tau, reference=field)
-    assert plain.requested > largest
+    plain = lpnn_placement(medium_capture, scores=scores, tolerance=tau, guided=True, reference=field)
+    spread = lpnn_placement(medium_capture, scores=scores, tolerance=tau, reference=field)
+    assert plain.requested > largest and spread.requested > largest
     refined = lpnn_placement(medium_capture, scores=scores, tolerance=tau, refine=2.0, reference=field)
-    assert refined.seed_count == n and max(refined.checked, default=0) <= largest + 1
+    # The spread ranking's search (milliseconds) already shows the answer is too large: no guided insertion search.
+    assert refined.seed_count == n and refined.checked == {}
     full = fast_decimation(field)
     best = full.smallest_count_within(tau)
     np.testing.assert_array_equal(refined.indices, full.prefix(best))
@@ -209,8 +216,8 @@ def test_a_tiny_budget_seeds_the_refinement_with_at_least_64_points(medium_captu
     assert 2 * count < 64
     placed = lpnn_placement(medium_capture, scores=scores, budget=0.01, refine=2.0, reference=field)
     assert placed.seed_count == 64
-    spread = spread_ranking(medium_capture.positions, scores)
-    expected = fast_decimation(field, initial=spread[:64], min_count=count)
+    guided = insertion_ranking(field, _grid(medium_capture), guide=guide_weights(scores))
+    expected = fast_decimation(field, initial=guided[:64], min_count=count)
     np.testing.assert_array_equal(placed.indices, expected.prefix(count))
 
 
