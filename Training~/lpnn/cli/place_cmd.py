@@ -14,7 +14,7 @@ Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest pre
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
 --topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K points of
-the guided insertion (of the top-K with --topk) and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
+the guided insertion and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
 best method measured with a model at hand, benchmarks.md §10; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
 reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
 lattice, the curvature heuristic, an APV-style geometry density, random.
@@ -129,11 +129,11 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     finally:
         if close_bar is not None:
             close_bar()
-    tier = "top-K" if args.topk else "guided insertion" if args.guided else "spread"
-    if args.guided and capture.point_count > GUIDED_POINT_LIMIT:
-        tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
+    tier = "top-K" if args.topk else "guided insertion" if (args.guided or args.refine is not None) else "spread"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
+    if (args.guided or args.refine is not None) and capture.point_count > GUIDED_POINT_LIMIT:
+        tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
     t = placement.timing
     split = (f"features {t.features * 1000:.0f} ms, " if t.features is not None else "") + (
         f"inference {t.inference * 1000:.0f} ms, selection {t.selection * 1000:.0f} ms"

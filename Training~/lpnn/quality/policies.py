@@ -7,8 +7,8 @@ Both always end with lpnn.core.selection.ensure_tetrahedron (>= 4 probes, not al
 
 The error of a prefix is not monotonic in K (adding a probe re-tetrahedralises and can make some
 points worse), so the tolerance search guarantees what it checks: the returned K has error <= tau,
-K - 1 was checked and failed (unless K is the smallest count searched), and every count below K
-that was checked failed. For a reference decimation every prefix's error is known (its error
+a count within max(1, K // SEARCH_RESOLUTION) below K was checked and failed (unless K is the
+smallest count searched), and every count below K that was checked failed. For a reference decimation every prefix's error is known (its error
 curve), so the answer there is the exact smallest count.
 """
 
@@ -145,7 +145,10 @@ def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tole
         if passing >= ceiling:
             return None
         failing, passing = passing, min(2 * passing, ceiling)
-    while not search_resolved(failing, passing):
+    # Above a bound the bracket is narrowed to the unit: a resolved bracket [failing, largest + 1] may still hold a
+    # passing count <= largest, and giving up then would send a caller to its costlier plan for nothing.
+    while not search_resolved(failing, passing) or (largest is not None and failing + 1 < passing
+                                                    and failing < largest < passing):
         middle = (failing + passing) // 2
         if error_at(middle) <= tau:
             passing = middle

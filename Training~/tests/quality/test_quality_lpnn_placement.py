@@ -79,6 +79,8 @@ def test_refined_budget_is_the_seeded_decimation_down_to_k(medium_capture: Captu
     plain = lpnn_placement(medium_capture, scores=scores, budget=0.2, reference=field)
     unrefined = lpnn_placement(medium_capture, scores=scores, budget=0.2, guided=True, reference=field)
     assert placed.mean_error < unrefined.mean_error and placed.mean_error < plain.mean_error
+    same = lpnn_placement(medium_capture, scores=scores, budget=0.2, refine=2.0, guided=True, reference=field)
+    np.testing.assert_array_equal(same.indices, placed.indices)  # guided + refine is the refine tier itself
     # topk keeps its own ranking as the seed (kept for comparison).
     top = lpnn_placement(medium_capture, scores=scores, budget=0.2, refine=2.0, topk=True, reference=field)
     ranked = rank(scores)
@@ -161,6 +163,7 @@ def test_refine_runs_the_full_reference_when_the_seed_would_hold_most_points(med
     assert count > largest_seeded_count(2.0, n)
     placed = lpnn_placement(medium_capture, scores=scores, budget=0.3, refine=2.0, reference=field)
     assert placed.seed_count == n
+    assert placed.ranking.shape[0] < count  # no guided insertion rounds up to K: the full reference ignores them
     full = fast_decimation(field, min_count=count)
     np.testing.assert_array_equal(placed.indices, full.prefix(count))
 

@@ -54,6 +54,13 @@ def test_above_the_resolution_the_search_stops_at_a_fraction_of_the_count(monkey
     assert not policies.search_resolved(4096, 8192)
     assert policies.search_resolved(7776, 7806) and not policies.search_resolved(7776, 7807)  # 30 x 256 <= 7806 < 31 x 256
     assert policies.search_resolved(200, 201) and not policies.search_resolved(199, 201)  # to the unit below 256
+    # With a bound just above the answer the resolved bracket would end at largest + 1 (7,791); the search narrows it
+    # to the unit instead of giving up, and finds the answer below the bound.
+    bounded = policies.bounded_tolerance(SimpleNamespace(point_count=1_000_000), lambda count: np.arange(count), 0.05,
+                                         largest=7790)
+    assert bounded is not None and true_answer <= bounded.requested <= 7790  # 7,783 here: resolved again below it
+    assert policies.bounded_tolerance(SimpleNamespace(point_count=1_000_000), lambda count: np.arange(count), 0.05,
+                                      largest=true_answer - 1) is None
 
 
 def test_tolerance_on_a_reference_is_the_exact_smallest_prefix(small_field: ReferenceField) -> None:
