@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
     """--model / --scores: the LPNN tiers (spread ranking, optional refinement, --topk or --guided). A scores file
     lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
-    from ..quality.insertion import GUIDED_POINT_LIMIT
+    from ..quality.insertion import GUIDED_POINT_LIMIT, guide_applies
     from ..quality.lpnn_placement import lpnn_placement
     from .progress import progress_bar
 
@@ -129,10 +129,11 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     finally:
         if close_bar is not None:
             close_bar()
-    tier = "top-K" if args.topk else "guided insertion" if (args.guided or args.refine is not None) else "spread"
+    by_insertion = args.guided or args.refine is not None  # the refine tier seeds from guided insertion
+    tier = "top-K" if args.topk else "guided insertion" if by_insertion else "spread"
     if args.refine is not None:
         tier += f" + refine {args.refine:g}"
-    if (args.guided or args.refine is not None) and capture.point_count > GUIDED_POINT_LIMIT:
+    if by_insertion and not guide_applies(capture.point_count):
         tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
     t = placement.timing
     split = (f"features {t.features * 1000:.0f} ms, " if t.features is not None else "") + (

@@ -40,7 +40,8 @@ from .blockwise import blockwise_reference
 from .decimation import MINIMUM_PROBES, Decimation
 from .insertion import InsertionOrder, guide_of
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
-from .metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio, placement_error
+from .metric import (PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio,
+                     mean_placement_error)
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
                        reference_tolerance)
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
@@ -164,14 +165,14 @@ def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: 
 
     def error_at(count: int) -> float:
         if np.isnan(curve[count]):
-            curve[count] = placement_error(field_, select(count)).mean
+            curve[count] = mean_placement_error(field_, select(count))
         return float(curve[count])
 
     target = None
     if tolerance is not None:  # completed to a tetrahedron from its own ranking (a volume of one flat block)
         indices = select(int(blockwise.within(tolerance).shape[0]))
         target = Placement(indices=indices, requested=int(indices.shape[0]), added_for_tetrahedron=0,
-                           mean_error=placement_error(field_, indices).mean, metric=PRIMARY_METRIC)
+                           mean_error=mean_placement_error(field_, indices), metric=PRIMARY_METRIC)
     method = _Method("blockwise-reference", select, seconds, target=target)
     return _Yardstick(method.name, method, error_at, curve, target)
 
@@ -269,10 +270,7 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
     repeats = config.reference_repeats if method.fresh is not None else config.repeats
     for fraction in config.budgets:
         count = budget_count(fraction, field_.point_count)
-        if method.fresh is not None:
-            indices, selection_seconds = timed(lambda count=count: method.fresh()(count), repeats)
-        else:
-            indices, selection_seconds = timed(lambda count=count: method.select(count), repeats)
+        indices, selection_seconds = timed(lambda count=count: method.select(count), repeats)  # lazy: a fresh order
         timing = _Timing(method.seconds + (0.0 if precomputed else selection_seconds),
                          selection=None if precomputed else selection_seconds)
         rows.append(_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices), timing,

@@ -84,10 +84,15 @@ def guide_weights(scores: np.ndarray) -> np.ndarray:
     return spread_weights(scores)
 
 
+def guide_applies(point_count: int) -> bool:
+    """Whether guided insertion uses the network's guide on a volume of `point_count` points (quality.md §5.2)."""
+    return point_count <= GUIDED_POINT_LIMIT
+
+
 def guide_of(scores: np.ndarray) -> np.ndarray | None:
     """The guide of guided insertion for one volume's scores: guide_weights(scores), or None (plain insertion) above
     GUIDED_POINT_LIMIT points (quality.md §5.2). The C# core's InsertionRanking.GuideOf."""
-    return None if np.asarray(scores).shape[0] > GUIDED_POINT_LIMIT else guide_weights(scores)
+    return guide_weights(scores) if guide_applies(np.asarray(scores).shape[0]) else None
 
 
 def checked_guide(guide: np.ndarray | None, point_count: int) -> np.ndarray | None:

@@ -142,10 +142,15 @@ def guarded_ratio(value: float, reference: float) -> float:
     return 1.0 if value == 0 else math.inf
 
 
-def summarize(per_point: np.ndarray) -> ErrorSummary:
+def _checked_errors(per_point: np.ndarray) -> np.ndarray:
     errors = np.asarray(per_point, dtype=np.float64)
     if errors.shape[0] == 0:
         raise MetricError("no evaluation points: the error of an empty capture is undefined")
+    return errors
+
+
+def summarize(per_point: np.ndarray) -> ErrorSummary:
+    errors = _checked_errors(per_point)
     return ErrorSummary(mean=float(np.mean(errors)), p95=float(np.percentile(errors, PERCENTILE)), per_point=errors)
 
 
@@ -199,7 +204,7 @@ def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRI
 
 def mean_placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> float:
     """placement_error(...).mean without the p95 (a partition of every point: the tolerance search reads the mean)."""
-    return float(np.mean(point_errors(field, probes, metric)))
+    return float(np.mean(_checked_errors(point_errors(field, probes, metric))))
 
 
 @dataclass(frozen=True)
