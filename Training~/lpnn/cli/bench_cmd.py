@@ -4,7 +4,7 @@
              [--repeats 3] --out DIR
 
 For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
-(spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (spread + seeded exact refinement,
+(spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (guided insertion + seeded exact refinement,
 factor F, default 2); the fast
 reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
@@ -14,7 +14,8 @@ DIR/<capture>.error.png and DIR/<capture>.time.png.
 
 Long runs lose nothing: bench.csv is rewritten (atomically) after every capture, a method or capture
 that fails is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
-goes on; the exit code is 1 when anything failed.
+goes on; the exit code is 1 when anything failed. The blockwise reference (an hour or more on a level of 10^5-10^6
+points) keeps its finished blocks in DIR/<capture>.blockwise.npz as it goes: the same command run again resumes it.
 """
 
 from __future__ import annotations
@@ -70,7 +71,8 @@ def run(args: argparse.Namespace) -> int:
         scorer = OnnxScorer(args.model)
     config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
-                         workers=args.workers, refine=args.refine, full_reference_limit=args.full_reference_limit)
+                         workers=args.workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
+                         checkpoints=args.out)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows: list[BenchRow] = []

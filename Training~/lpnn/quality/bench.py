@@ -27,11 +27,13 @@ from __future__ import annotations
 import statistics
 import time
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any, Callable, Sequence, TypeVar
 
 import numpy as np
 
 from ..core.capture import Capture
+from ..core.capture_file import safe_file_stem
 from ..core.grid import EvaluationGrid
 from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
 from .apv import NEAREST_SURFACE, apv_ranking
@@ -66,6 +68,7 @@ class BenchConfig:
     workers: int | None = None  # processes of the fast reference and of the blockwise reference's blocks (None: 1)
     refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
     full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
+    checkpoints: str | None = None  # folder keeping the blockwise reference's finished blocks (a rerun resumes)
 
 
 @dataclass
@@ -157,9 +160,12 @@ def _fast_yardstick(method: _Method, tolerance: float | None) -> _Yardstick:
                       target)
 
 
-def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture, tolerance: float | None,
-                         workers: int | None) -> _Yardstick:
-    blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids, workers=workers or 1), 1)
+def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture, config: BenchConfig,
+                         name: str) -> _Yardstick:
+    tolerance = config.tolerance
+    checkpoint = None if config.checkpoints is None else Path(config.checkpoints) / f"{safe_file_stem(name)}.blockwise.npz"
+    blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids, workers=config.workers or 1,
+                                                           checkpoint=checkpoint), 1)
     select = prefix_selection(grid, blockwise.ranking)
     curve = np.full(field_.point_count + 1, np.nan)
 
@@ -230,7 +236,7 @@ def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, con
             failures.append(BenchFailure(name, method, failure_reason(error)))
     methods.append(_insertion_method("insertion", field_, grid))
     if reference is None and field_.point_count > config.full_reference_limit:
-        yardstick = _blockwise_yardstick(field_, grid, capture, config.tolerance, config.workers)
+        yardstick = _blockwise_yardstick(field_, grid, capture, config, name)
         return methods + [yardstick.method], yardstick
     if reference is None:
         computed, seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)

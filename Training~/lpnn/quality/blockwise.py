@@ -20,23 +20,38 @@ block's error curve[c] (r < 4, a block's last tetrahedron: always), so any tau g
 {entry > tau}, and the ranking by entry (descending; ties by position in the block's ordering,
 then index) nests them: a budget K is its first K points. Blocks with fewer than
 MINIMUM_PROBES + 1 points with margin, or flat ones, keep every core point.
+
+A level of 10^5-10^6 points takes an hour or more (benchmarks.md §7.5), so with `checkpoint` the finished blocks are
+written to that file as they go (atomically, at most every CHECKPOINT_SECONDS, and at the end); a later call with
+the same points, lighting, metric, block and margin resumes from it. A file of other inputs, or one that cannot be
+read, is started afresh.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
+import os
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from ..core.atomic import write_bytes_atomic
 from .decimation import MINIMUM_PROBES
 from .metric import PRIMARY_METRIC, ReferenceField
 from .reference_fast import fast_decimation
 from .triangulation import Frame, flatness
 
-BLOCK_CELLS = 10  # core edge: ~1,000 points per block on a full lattice, about a second of reference each
-MARGIN_CELLS = 3  # evaluated beyond each face: (10 + 2 x 3)^3 = 4,096 points at most per decimation
+# The fast reference costs ~5 ms per point at any block size (measured: 4,070 points 19 s, 17,116 points 86 s), and
+# every block decimates its margin again, so larger blocks cost less in all: a full lattice decimates (B + 2M)^3 / B^3
+# times its points, 2.2x for blocks of 20 cells (26^3 = 17,576 points at most), 4.1x for 10. Larger blocks are also
+# nearer the whole-level reference (fewer faces).
+BLOCK_CELLS = 20
+MARGIN_CELLS = 3  # evaluated beyond each face (benchmarks.md §7.5: the answer lands ~10 % above tau on the level)
+CHECKPOINT_SECONDS = 60.0  # finished blocks are written at most this often (and at the end)
 
 
 @dataclass(frozen=True)
@@ -76,11 +91,49 @@ def _block_entries(task: tuple[ReferenceField, np.ndarray, np.ndarray, str] | No
     return np.where(rank < MINIMUM_PROBES, np.inf, smallest_before[rank]), rank
 
 
+def _fingerprint(field: ReferenceField, ids: np.ndarray, block: int, margin: int, metric: str) -> str:
+    """What a checkpoint's blocks depend on: the points, their lighting and ids, the metric and the blocking."""
+    digest = hashlib.sha256(f"{block},{margin},{metric},{field.scale!r}".encode())
+    for array in (ids, field.world, field.light):
+        digest.update(np.ascontiguousarray(array).tobytes())
+    return digest.hexdigest()
+
+
+@dataclass
+class _Progress:
+    """Blocks finished so far (restored from a checkpoint, then filled in as blocks finish)."""
+
+    entry: np.ndarray
+    position: np.ndarray
+    done: np.ndarray  # (blocks,) bool
+
+    def save(self, path: Path, fingerprint: str) -> None:
+        buffer = io.BytesIO()
+        np.savez(buffer, fingerprint=np.array(fingerprint), entry=self.entry, position=self.position, done=self.done)
+        write_bytes_atomic(path, buffer.getvalue())
+
+    @classmethod
+    def restore(cls, path: Path | None, fingerprint: str, points: int, blocks: int) -> "_Progress":
+        fresh = cls(np.full(points, np.inf), np.zeros(points, dtype=np.int64), np.zeros(blocks, dtype=bool))
+        if path is None or not path.is_file():
+            return fresh
+        try:
+            with np.load(path, allow_pickle=False) as stored:
+                if str(stored["fingerprint"]) != fingerprint:
+                    return fresh  # other inputs: started afresh
+                restored = cls(stored["entry"], stored["position"], stored["done"])
+        except (OSError, ValueError, KeyError, EOFError):  # unreadable (e.g. cut short by hand): started afresh
+            return fresh
+        shapes = (restored.entry.shape, restored.position.shape, restored.done.shape)
+        return restored if shapes == ((points,), (points,), (blocks,)) else fresh
+
+
 def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLOCK_CELLS, margin: int = MARGIN_CELLS,
                         metric: str = PRIMARY_METRIC, progress: Callable[[int, int], None] | None = None,
-                        workers: int = 1) -> BlockwiseReference:
+                        workers: int = 1, checkpoint: str | os.PathLike | None = None) -> BlockwiseReference:
     """One fast reference per block with its margin (module text); `ids` (N, 3) the points' lattice ids; `workers`
-    processes decimate blocks side by side (core/processes.py; the same answer: blocks are independent)."""
+    processes decimate blocks side by side (core/processes.py; the same answer: blocks are independent);
+    `checkpoint` a file that keeps finished blocks and resumes a run cut short (module text)."""
     if block < 1 or margin < 0:
         raise ValueError(f"block {block} must be >= 1 cell and margin {margin} >= 0 cells")
     start = time.perf_counter()
@@ -89,12 +142,15 @@ def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLO
     cell = offset // block
     keys, owner = np.unique(cell, axis=0, return_inverse=True)
     owner = owner.reshape(-1)
-    entry = np.full(n, np.inf)
-    block_position = np.zeros(n, dtype=np.int64)  # tie-break: position in its block's ordering
     cores = [np.flatnonzero(owner == b) for b in range(keys.shape[0])]
+    path = None if checkpoint is None else Path(checkpoint)
+    fingerprint = "" if path is None else _fingerprint(field, np.asarray(ids), block, margin, metric)
+    state = _Progress.restore(path, fingerprint, n, keys.shape[0])
+    pending = np.flatnonzero(~state.done)
 
     def tasks():  # built as they are consumed: a level's blocks with margins would not fit in memory at once
-        for b, key in enumerate(keys):
+        for b in pending:
+            key = keys[b]
             low, high = key * block - margin, (key + 1) * block - 1 + margin
             members = np.flatnonzero(np.all((offset >= low) & (offset <= high), axis=1))
             if members.shape[0] <= MINIMUM_PROBES or flatness(field.local[members]) is not None:
@@ -111,11 +167,22 @@ def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLO
         with worker_pool(workers) as pool:
             yield from pool.imap(_block_entries, tasks(), chunksize=1)
 
-    for b, result in enumerate(results()):
+    finished = keys.shape[0] - pending.shape[0]
+    if progress is not None and finished:
+        progress(finished, keys.shape[0])
+    saved = time.perf_counter()
+    for b, result in zip(pending, results()):
         if result is not None:
-            entry[cores[b]], block_position[cores[b]] = result
+            state.entry[cores[b]], state.position[cores[b]] = result
+        state.done[b] = True
+        finished += 1
+        if path is not None and time.perf_counter() - saved >= CHECKPOINT_SECONDS:
+            state.save(path, fingerprint)
+            saved = time.perf_counter()
         if progress is not None:
-            progress(b + 1, keys.shape[0])
-    ranking = np.lexsort((np.arange(n), block_position, -entry)).astype(np.int64)
-    return BlockwiseReference(entry=entry, ranking=ranking, blocks=int(keys.shape[0]),
+            progress(finished, keys.shape[0])
+    if path is not None and pending.shape[0]:
+        state.save(path, fingerprint)
+    ranking = np.lexsort((np.arange(n), state.position, -state.entry)).astype(np.int64)
+    return BlockwiseReference(entry=state.entry, ranking=ranking, blocks=int(keys.shape[0]),
                               seconds=time.perf_counter() - start)

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from lpnn.core.capture import Capture
+from lpnn.quality import blockwise
 from lpnn.quality.blockwise import blockwise_reference
 from lpnn.quality.metric import ReferenceField, placement_error
 from lpnn.quality.reference_fast import fast_decimation
@@ -50,3 +52,38 @@ def test_two_workers_give_the_same_answer(medium_capture: Capture) -> None:
     assert two.blocks == one.blocks > 8 and reported[-1] == (one.blocks, one.blocks)
     np.testing.assert_array_equal(two.entry, one.entry)
     np.testing.assert_array_equal(two.ranking, one.ranking)
+
+
+def test_a_run_cut_short_resumes_from_its_checkpoint(medium_capture: Capture, tmp_path, monkeypatch) -> None:
+    """Finished blocks are kept as they go; a second call decimates only the others and gives the uninterrupted
+    answer. A checkpoint of other inputs (another margin) or a damaged one is started afresh."""
+    monkeypatch.setattr(blockwise, "CHECKPOINT_SECONDS", 0.0)  # write after every block
+    field = ReferenceField.from_capture(medium_capture)
+    whole = blockwise_reference(field, medium_capture.ids, block=5, margin=1)
+    checkpoint = tmp_path / "level.blockwise.npz"
+
+    class CutShort(Exception):
+        pass
+
+    def cut_after_three(done: int, total: int) -> None:
+        if done == 3:
+            raise CutShort
+
+    with pytest.raises(CutShort):
+        blockwise_reference(field, medium_capture.ids, block=5, margin=1, progress=cut_after_three,
+                            checkpoint=checkpoint)
+    assert checkpoint.is_file()
+    reported: list[int] = []
+    resumed = blockwise_reference(field, medium_capture.ids, block=5, margin=1, checkpoint=checkpoint,
+                                  progress=lambda done, total: reported.append(done))
+    assert reported[0] == 3 and reported[-1] == whole.blocks and len(reported) == whole.blocks - 2
+    np.testing.assert_array_equal(resumed.entry, whole.entry)
+    np.testing.assert_array_equal(resumed.ranking, whole.ranking)
+
+    other: list[int] = []  # another margin: the stored blocks do not apply
+    blockwise_reference(field, medium_capture.ids, block=5, margin=2, checkpoint=checkpoint,
+                        progress=lambda done, total: other.append(done))
+    assert other[0] == 1
+    checkpoint.write_bytes(b"not a checkpoint")
+    damaged = blockwise_reference(field, medium_capture.ids, block=5, margin=1, checkpoint=checkpoint)
+    np.testing.assert_array_equal(damaged.ranking, whole.ranking)

@@ -269,17 +269,21 @@ def test_a_flat_capture_is_a_one_line_error(tmp_path: Path, capsys: pytest.Captu
     assert len(errors) == 2 and all("flat.lpnncap" in line and "plane" in line for line in errors)
 
 
-def test_above_the_full_reference_limit_the_blockwise_reference_is_the_yardstick(medium_capture: Capture) -> None:
+def test_above_the_full_reference_limit_the_blockwise_reference_is_the_yardstick(medium_capture: Capture,
+                                                                                 tmp_path: Path) -> None:
     """quality.md §3.3 as the bench's yardstick: every ratio divides by the blockwise reference at the same count (its
-    ranking's prefix) or by its tolerance answer's count; the methods that run the full reference are not run."""
+    ranking's prefix) or by its tolerance answer's count; the methods that run the full reference are not run. Its
+    finished blocks are kept in the bench's folder (a rerun resumes)."""
     from lpnn.core.grid import EvaluationGrid
     from lpnn.quality.blockwise import blockwise_reference
     from lpnn.quality.metric import placement_error
     from lpnn.quality.policies import prefix_selection
 
-    config = BenchConfig(budgets=(0.05, 0.2), tolerance=0.05, repeats=1, faithful_limit=0, full_reference_limit=100)
+    config = BenchConfig(budgets=(0.05, 0.2), tolerance=0.05, repeats=1, faithful_limit=0, full_reference_limit=100,
+                         checkpoints=str(tmp_path))
     result = bench_capture("room3", medium_capture, config, scorer=_StubScorer())
     assert result.failures == [] and result.yardstick == "blockwise-reference"
+    assert (tmp_path / "room3.blockwise.npz").is_file()
     methods = {row.method for row in result.rows}
     assert "blockwise-reference" in methods and {"insertion", "lpnn", "lpnn-guided"} <= methods
     assert not methods & {"fast-reference", "faithful-reference", "lpnn-refine"}
