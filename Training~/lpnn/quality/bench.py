@@ -14,7 +14,8 @@ The yardstick every ratio divides by is the fast reference (quality.md §3.2) up
 union of the blocks' answers (which lands ~10 % above tau on the whole volume). Above the limit the methods that run
 the full reference (the fast and faithful references, lpnn-refine) are not run. The insertion methods rank lazily, as
 `lpnn place` does: a budget row costs the rounds up to its count (a fresh order per row, so each row's time is what
-placing at that budget costs), the tolerance row the rounds its search reads.
+placing at that budget costs), the tolerance row the rounds its search reads. Above the guide's point limit
+(insertion.GUIDED_POINT_LIMIT) lpnn-guided is plain insertion, and its rows are the insertion rows plus the inference.
 Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
 `reference_repeats` times (default 1: they take seconds). LPNN's time is split into features (the
 capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
@@ -26,7 +27,7 @@ from __future__ import annotations
 
 import statistics
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence, TypeVar
 
@@ -301,7 +302,8 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
 
 
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
-               yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure]) -> list[BenchRow]:
+               yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure],
+               insertion_rows: Sequence[BenchRow]) -> list[BenchRow]:
     """The LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a policy is recorded
     in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
@@ -313,7 +315,8 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
     if target is not None:
         policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
-    rows = _guided_rows(name, capture, field_, config, scores, inference, features, yardstick, failures)
+    rows = _guided_rows(name, capture, field_, config, scores, inference, features, yardstick, failures,
+                        insertion_rows)
     if log is not None:
         log(f"{name}: lpnn-guided done")
     for method, options, repeats in tiers:
@@ -343,13 +346,17 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
 
 def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scores: np.ndarray,
                  inference: float, features: float | None, yardstick: _Yardstick,
-                 failures: list[BenchFailure]) -> list[BenchRow]:
+                 failures: list[BenchFailure], insertion_rows: Sequence[BenchRow]) -> list[BenchRow]:
     """The guided-insertion tier (insertion.py, quality.md §5.2), read lazily as the insertion baseline is; its time
-    adds the features and the inference."""
+    adds the features and the inference. Above the guide's point limit the tier is plain insertion: its rows are the
+    insertion baseline's (when it ran), not computed again (minutes on a whole level)."""
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    guide = guide_of(scores)
     try:
-        method = _insertion_method("lpnn-guided", field_, grid, guide_of(scores))
-        rows = _ranking_rows(name, field_, method, config, yardstick)
+        if guide is None and insertion_rows:
+            rows = [replace(row, method="lpnn-guided") for row in insertion_rows]
+        else:
+            rows = _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_, grid, guide), config, yardstick)
     except Exception as error:  # recorded; the other tiers go on
         failures.append(BenchFailure(name, "lpnn-guided", failure_reason(error)))
         return []
@@ -379,7 +386,8 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
         if log is not None:
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
     if scorer is not None:
-        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures))
+        rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures,
+                               [row for row in rows if row.method == "insertion"]))
     return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=yardstick.curve,
                          yardstick=yardstick.name, failures=failures)
 

@@ -219,6 +219,25 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     assert by_method[("lpnn-guided", "budget")].mean_error == pytest.approx(guided.mean_error)
 
 
+def test_above_the_guides_limit_the_guided_rows_are_the_insertion_rows(small_captures: dict[int, Capture],
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """Above GUIDED_POINT_LIMIT guided insertion is plain insertion: the bench reuses the insertion baseline's rows
+    (same probes and errors; the time adds the inference) instead of running minutes of rounds again."""
+    from lpnn.quality import insertion
+
+    monkeypatch.setattr(insertion, "GUIDED_POINT_LIMIT", 10)
+    config = BenchConfig(budgets=(0.1, 0.2), tolerance=0.05, repeats=1, faithful_limit=0)
+    result = bench_capture("room2", small_captures[2], config, scorer=_StubScorer())
+    plain = {(row.policy, row.parameter): row for row in result.rows if row.method == "insertion"}
+    guided = {(row.policy, row.parameter): row for row in result.rows if row.method == "lpnn-guided"}
+    assert result.failures == [] and guided.keys() == plain.keys() and len(plain) == 3
+    for key, row in guided.items():
+        assert (row.probes, row.mean_error, row.error_ratio) == (plain[key].probes, plain[key].mean_error,
+                                                                 plain[key].error_ratio)
+        assert row.inference_seconds is not None and plain[key].inference_seconds is None
+        assert row.seconds == pytest.approx(plain[key].seconds + row.inference_seconds)
+
+
 def test_place_from_scores_uses_the_spread_ranking_topk_refinement_and_guided_insertion(capture_files: list[Path], tmp_path: Path,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     capture = read_capture(capture_files[2])
