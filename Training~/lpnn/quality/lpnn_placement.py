@@ -59,6 +59,11 @@ from .policies import (PolicyError, bounded_tolerance, budget_count, checked_tol
 from .reference_fast import fast_decimation
 
 RECOMMENDED_REFINE = 2.0
+# At a tolerance tau the refinement's greedy stops once the mean error exceeds this multiple of tau (reference_fast's
+# stop_above): on the full reference curves of the 154 labelled recipe crops of training and validation levels, tau =
+# 0.02/0.05/0.1, stopping at 2 tau gave the full curve's smallest count within tau in all 462 cases (stopping at tau:
+# 4 differed, up to 1.5x), and it skips the dearest removals.
+REFINE_STOP_FACTOR = 2.0
 FULL_REFERENCE_FRACTION = 0.4  # seeds above this fraction of the points: run the full reference (module text)
 MINIMUM_SEED = 64  # a seed of 2K points is too small to find a sparse answer at tiny K (module text)
 
@@ -245,7 +250,8 @@ def _refined(reference: ReferenceField, seed: np.ndarray | None, target: int, ta
     if start_count <= (max(target, MINIMUM_PROBES) if tau is None else MINIMUM_PROBES):
         return None  # nothing to decimate: the seed is the answer already
     decimation = fast_decimation(reference, workers=workers, initial=seed,
-                                 min_count=target if tau is None else MINIMUM_PROBES)
+                                 min_count=target if tau is None else MINIMUM_PROBES,
+                                 stop_above=None if tau is None else REFINE_STOP_FACTOR * tau)
     if tau is None:
         return target, decimation.prefix(max(target, decimation.smallest_count))
     best = decimation.smallest_count_within(tau)

@@ -51,7 +51,7 @@ from .triangulation import flatness
 
 def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_count: int = MINIMUM_PROBES,
                     workers: int | None = None, progress: Callable[[int, int], None] | None = None,
-                    initial: np.ndarray | None = None) -> Decimation:
+                    initial: np.ndarray | None = None, stop_above: float | None = None) -> Decimation:
     """Greedy decimation down to `min_count` (>= 4) probes; its ordering ranks every candidate.
 
     initial: the starting probe set, a boolean mask (N,) or point indices (>= 4 points, not all in one
@@ -60,6 +60,10 @@ def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_cou
     the full run (quality.md §4). Points outside the initial set are never probes but are always
     evaluated. workers: 1 (this process, the default) or 2 (plus one identical replica process, which
     helps only when the second core is idle). The result does not depend on it.
+    stop_above: stop once the mean error exceeds this (None: down to `min_count`). A tolerance answer needs the
+    curve only until it leaves the tolerance for good, and the last removals, with few probes and large holes,
+    are the dearest (35-40 % of the time on two validation crops at tau = 0.05); the ordering then ranks only
+    the candidates removed before the stop (the survivors follow by index, as below `min_count`).
     """
     checked_metric(metric)
     n = field.point_count
@@ -77,7 +81,7 @@ def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_cou
                           seconds=time.perf_counter() - start, initial=mask)
     with (ParallelCosts(field, metric, mask) if count == 2 else SerialCosts(field, metric, mask)) as costs:
         start_error = float(costs.state.errors.sum()) / n
-        removed, errors, stop_reason = _greedy(costs, floor, progress)
+        removed, errors, stop_reason = _greedy(costs, floor, progress, stop_above)
     removed, errors, stop_reason = _without_flat_tail(field, mask, removed, errors, stop_reason)
     return Decimation(method="fast-greedy", metric=metric, removed=np.asarray(removed, dtype=np.int64),
                       error_curve=error_curve_from(errors, n, start_count, start_error), stop_reason=stop_reason,
@@ -105,9 +109,10 @@ def _without_flat_tail(field: ReferenceField, mask: np.ndarray | None, removed: 
     return removed[:cut], errors[:cut], "the rest would lie in one plane"
 
 
-def _greedy(costs: SerialCosts, floor: int, progress: Callable[[int, int], None] | None
-            ) -> tuple[list[int], list[float], str]:
-    """Exact greedy from the alive set: pop the cheapest fresh removal, apply it, recompute every cost it changed."""
+def _greedy(costs: SerialCosts, floor: int, progress: Callable[[int, int], None] | None,
+            stop_above: float | None = None) -> tuple[list[int], list[float], str]:
+    """Exact greedy from the alive set: pop the cheapest fresh removal, apply it, recompute every cost it changed;
+    until `floor` probes are left or the mean error exceeds `stop_above`."""
     state = costs.state
     n = state.field.point_count
     alive = np.flatnonzero(state.alive)
@@ -149,6 +154,8 @@ def _greedy(costs: SerialCosts, floor: int, progress: Callable[[int, int], None]
         stale_list = sorted(u for u in stale if state.alive[u])
         removed.append(v)
         errors.append(float(state.errors.sum()) / n)  # summed afresh: no drift over thousands of removals
+        if stop_above is not None and errors[-1] > stop_above:
+            return removed, errors, "error above the stop"
         version[stale_list] += 1
         push(costs.evaluate(stale_list))
         if progress is not None:

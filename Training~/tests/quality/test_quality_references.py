@@ -203,6 +203,22 @@ def test_a_seeded_run_ends_at_the_count_and_records_every_set_it_held(small_capt
     np.testing.assert_array_equal(parallel.error_curve, decimation.error_curve)
 
 
+def test_a_run_stopped_above_an_error_is_the_full_runs_beginning(small_captures: dict[int, Capture]) -> None:
+    """stop_above ends the greedy at the first removal whose mean error exceeds it: the same removals as the full run
+    up to there, so every tolerance answer below the stop is the full run's (the refine tier's use at 2 tau)."""
+    field = ReferenceField.from_capture(small_captures[2])
+    full = fast_decimation(field, workers=1)
+    tau = float(np.nanmedian(full.error_curve[MINIMUM_PROBES:]))  # a tolerance the curve crosses mid-way
+    stopped = fast_decimation(field, workers=1, stop_above=2 * tau)
+    removals = stopped.removed.shape[0]
+    assert stopped.stop_reason == "error above the stop" and 0 < removals < full.removed.shape[0]
+    np.testing.assert_array_equal(stopped.removed, full.removed[:removals])
+    held = stopped.error_curve[stopped.smallest_count:]
+    assert held[0] > 2 * tau and np.all(held[1:] <= 2 * tau)  # stopped right after the first count above the stop
+    for tolerance in (tau, tau / 2, tau / 4):
+        assert stopped.smallest_count_within(tolerance) == full.smallest_count_within(tolerance)
+
+
 def test_bad_initial_sets_are_rejected_with_the_reason(small_field: ReferenceField) -> None:
     n = small_field.point_count
     with pytest.raises(ValueError, match="3 point"):
