@@ -12,7 +12,7 @@ refinement), mean and p95 error and the ratio to the reference — the fast refe
 --full-reference-limit points (20,000) the blockwise reference (quality.md §3.3; column `yardstick`). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
-Long runs lose nothing: bench.csv is rewritten (atomically) after every capture, a method or capture
+Long runs lose nothing: bench.csv is rewritten (atomically) after every method of every capture, a method or capture
 that fails is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
 goes on; the exit code is 1 when anything failed. The blockwise reference (an hour or more on a level of 10^5-10^6
 points) keeps its finished blocks in DIR/<capture>.blockwise.npz as it goes: the same command run again resumes it.
@@ -86,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
                 if scorer is not None:
                     scorer.check_capture(capture, str(path))
                 result = bench_capture(path.stem, capture, config, scorer,
-                                       log=lambda message: print(message, flush=True))
+                                       log=lambda message: print(message, flush=True),
+                                       partial=lambda done: _write_results(out, rows + done, failures))
         except Exception as error:  # reported, and the run goes on (user_errors words the known ones)
             failures.append(BenchFailure(path.stem, "*", failure_reason(error)))
             print(f"  FAILED {path.stem}: {failures[-1].reason}", flush=True)

@@ -367,9 +367,11 @@ def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: Be
 
 
 def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any | None = None,
-                  log: Callable[[str], None] | None = None, reference: Decimation | None = None) -> CaptureResult:
+                  log: Callable[[str], None] | None = None, reference: Decimation | None = None,
+                  partial: Callable[[list[BenchRow]], None] | None = None) -> CaptureResult:
     """Every method on one capture. `reference`: the capture's fast-reference decimation when already
-    known (its time is then its own `seconds`, and the faithful reference is skipped)."""
+    known (its time is then its own `seconds`, and the faithful reference is skipped). `partial` gets the rows so far
+    after every method (a whole level's methods take minutes each: the CLI writes them as they come)."""
     field_ = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     if reference is not None and reference.point_count != field_.point_count:
@@ -385,6 +387,8 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
             continue
         if log is not None:
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
+        if partial is not None:
+            partial(rows)
     if scorer is not None:
         rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures,
                                [row for row in rows if row.method == "insertion"]))

@@ -219,6 +219,16 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     assert by_method[("lpnn-guided", "budget")].mean_error == pytest.approx(guided.mean_error)
 
 
+def test_the_bench_hands_out_its_rows_after_every_method(small_captures: dict[int, Capture]) -> None:
+    """A whole level's methods take minutes each: `partial` gets the rows so far after each, so the CLI can write them."""
+    seen: list[list[str]] = []
+    config = BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, faithful_limit=0)
+    result = bench_capture("room2", small_captures[2], config, partial=lambda rows: seen.append([r.method for r in rows]))
+    methods = list(dict.fromkeys(row.method for row in result.rows))
+    assert len(seen) == len(methods) and seen[-1] == [row.method for row in result.rows]
+    assert [calls[-1] for calls in seen] == methods  # one call per method, each adding that method's rows
+
+
 def test_above_the_guides_limit_the_guided_rows_are_the_insertion_rows(small_captures: dict[int, Capture],
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     """Above GUIDED_POINT_LIMIT guided insertion is plain insertion: the bench reuses the insertion baseline's rows
