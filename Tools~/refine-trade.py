@@ -7,7 +7,7 @@ against the full reference in the same process; each timed `--repeats` times, th
   PYTHONPATH=Training~ python Tools~/refine-trade.py crops/*.lpnncap [--factors 1.1,1.25,1.5,2] [--repeats 2]
 
 Prints one JSON line per capture x policy x factor as it goes, then a table of geometric means (largest ratio in
-brackets) and of the median and largest time fraction. The factor is chosen on validation crops; held-out crops report.
+brackets; non-finite or zero ratios left out and counted) and of the median and largest time fraction. The factor is chosen on validation crops; held-out crops report.
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def _fastest(function, repeats: int):
 def measure(path: Path, scorer, factors: list[float], budgets: list[float], repeats: int) -> list[dict]:
     from lpnn.core.capture_file import read_capture
     from lpnn.quality.lpnn_placement import lpnn_placement
-    from lpnn.quality.metric import ReferenceField, mean_placement_error
+    from lpnn.quality.metric import ReferenceField, guarded_ratio, mean_placement_error
     from lpnn.quality.policies import budget_count, reference_count, reference_tolerance
     from lpnn.quality.reference_fast import fast_decimation
 
@@ -55,17 +55,15 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
     rows = []
     for budget in [*budgets, None]:
         for factor in [1.0, *factors]:
-            def place(budget=budget, factor=factor):
-                return lpnn_placement(capture, scores=scores, budget=budget, tolerance=None if budget else TOLERANCE,
-                                      refine=None if factor == 1.0 else factor, guided=factor == 1.0, reference=field,
-                                      full_ranking=False, report=False)
-
-            runs = [place() for _ in range(repeats)]  # the tier's own timing: selection + refinement, fastest run
+            runs = [lpnn_placement(capture, scores=scores, budget=budget, tolerance=None if budget else TOLERANCE,
+                                   refine=None if factor == 1.0 else factor, guided=factor == 1.0, reference=field,
+                                   full_ranking=False, report=False) for _ in range(repeats)]
             placement = runs[-1]
-            seconds = min(run.timing.selection + (run.timing.refinement or 0.0) for run in runs)
+            seconds = min(run.timing.selection + (run.timing.refinement or 0.0) for run in runs)  # the fastest run
             if budget is not None:
                 count = budget_count(budget, capture.point_count)
-                ratio = mean_placement_error(field, placement.indices) / reference_count(reference, count).mean_error
+                ratio = guarded_ratio(mean_placement_error(field, placement.indices),
+                                      reference_count(reference, count).mean_error)
             else:
                 ratio = placement.indices.shape[0] / reference_tolerance(reference, TOLERANCE).indices.shape[0]
             rows.append(dict(capture=path.stem, points=capture.point_count, budget=budget, factor=factor,
@@ -76,6 +74,8 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
 
 
 def table(rows: list[dict], factors: list[float], budgets: list[float]) -> str:
+    from lpnn.recipe.evaluation import geometric_mean
+
     ratios, fractions = defaultdict(list), defaultdict(list)
     for row in rows:
         key = (row["factor"], row["budget"])
@@ -89,8 +89,8 @@ def table(rows: list[dict], factors: list[float], budgets: list[float]) -> str:
         cells = []
         for policy in policies:
             values = ratios[(factor, policy)]
-            mean = math.exp(sum(math.log(v) for v in values) / len(values))
-            cells.append(f"{mean:.2f} ({max(values):.2f})")
+            mean, left_out = geometric_mean(values)
+            cells.append(f"{mean:.2f} ({max(values):.2f})" + (f" [{left_out} left out]" if left_out else ""))
         spent = [f for policy in policies for f in fractions[(factor, policy)]]
         label = "1 (guided, no refinement)" if factor == 1.0 else f"{factor:g}"
         lines.append(f"| {label} | " + " | ".join(cells) + f" | {statistics.median(spent):.2f} ({max(spent):.2f}) |")
