@@ -9,7 +9,8 @@ factor F, default 2); the fast
 reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
 refinement), mean and p95 error and the ratio to the reference — the fast reference, or above
---full-reference-limit points (20,000) the blockwise reference (quality.md §3.3; column `yardstick`). Writes DIR/bench.csv and per capture
+--full-reference-limit points (150,000) the blockwise reference (quality.md §3.3; column `yardstick`); lpnn-refine
+only up to --refine-limit points (20,000). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
 Long runs lose nothing: bench.csv is rewritten (atomically) after every method of every capture, a method or capture
@@ -25,7 +26,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
+    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
     from .arguments import fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
@@ -46,6 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--full-reference-limit", type=int, default=FULL_REFERENCE_LIMIT, metavar="N",
                         help="above N points the yardstick is the blockwise reference (quality.md §3.3) and the methods "
                              f"that run the full reference are skipped (default {FULL_REFERENCE_LIMIT:,})")
+    parser.add_argument("--refine-limit", type=int, default=REFINE_BENCH_LIMIT, metavar="N",
+                        help="above N points the lpnn-refine tier is skipped: each of its rows decimates again "
+                             f"(default {REFINE_BENCH_LIMIT:,})")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (bench.csv and PNG figures)")
     parser.set_defaults(handler=run)
 
@@ -61,6 +65,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("--repeats and --reference-repeats must be >= 1")
     if args.full_reference_limit < 4:
         raise UserError(f"--full-reference-limit {args.full_reference_limit} must be at least 4 points")
+    if args.refine_limit < 0:
+        raise UserError(f"--refine-limit {args.refine_limit} must be >= 0 points (0 skips the lpnn-refine tier)")
     files = dataset_files(args.captures)
     if not files:
         raise UserError("no capture files found in " + ", ".join(args.captures))
@@ -72,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
                          workers=args.workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
-                         checkpoints=args.out)
+                         refine_limit=args.refine_limit, checkpoints=args.out)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows: list[BenchRow] = []

@@ -9,10 +9,11 @@ scores, insertion.py) and lpnn-refine (guided insertion + seeded exact refinemen
 fast reference, and the faithful one on small captures.
 
 The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points
-(20,000 by default: about a minute of reference), and above it the blockwise reference (quality.md §3.3, rows
+(150,000 by default: ~20 minutes and ~3 GB), and above it the blockwise reference (quality.md §3.3, rows
 `blockwise-reference`): its error at a budget's count is its ranking's prefix evaluated, its tolerance answer the
 union of the blocks' answers (which lands ~10 % above tau on the whole volume). Above the limit the methods that run
-the full reference (the fast and faithful references, lpnn-refine) are not run. The insertion methods rank lazily, as
+the full reference (the fast and faithful references, lpnn-refine) are not run; lpnn-refine, which decimates again
+for every row, runs only up to `refine_limit` points (20,000). The insertion methods rank lazily, as
 `lpnn place` does: a budget row costs the rounds up to its count (a fresh order per row, so each row's time is what
 placing at that budget costs), the tolerance row the rounds its search reads. Above the guide's point limit
 (insertion.GUIDED_POINT_LIMIT) lpnn-guided is plain insertion, and its rows are the insertion rows plus the inference.
@@ -36,7 +37,7 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.capture_file import safe_file_stem
 from ..core.grid import EvaluationGrid
-from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT
+from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
 from .apv import NEAREST_SURFACE, apv_ranking
 from .baselines import DEFAULT_SEED, heuristic_ranking, random_ranking, uniform_selector
 from .blockwise import blockwise_reference
@@ -69,6 +70,7 @@ class BenchConfig:
     workers: int | None = None  # processes of the fast reference and of the blockwise reference's blocks (None: 1)
     refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
     full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
+    refine_limit: int = REFINE_BENCH_LIMIT  # above: no lpnn-refine rows (each decimates again, minutes per row)
     checkpoints: str | None = None  # folder keeping the blockwise reference's finished blocks (a rerun resumes)
 
 
@@ -305,11 +307,12 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
                yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure],
                insertion_rows: Sequence[BenchRow]) -> list[BenchRow]:
     """The LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a policy is recorded
-    in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit."""
+    in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit, nor
+    above `refine_limit` points (a decimation per row)."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
     features = feature_seconds(capture)
     tiers = [("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats)]
-    if yardstick.name == "fast-reference":
+    if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit:
         tiers.append(("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
     target = yardstick.target
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]

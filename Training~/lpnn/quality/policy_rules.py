@@ -16,8 +16,14 @@ DEFAULT_TOLERANCE = 0.05
 # Here, not in bench.py, so that building the CLI parser imports no numerical library.
 DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 # Points above which `lpnn bench` measures against the blockwise reference (quality.md §3.3) instead of the full fast
-# reference (about a minute at 20,000 points) and skips the methods that run the full reference.
-FULL_REFERENCE_LIMIT = 20_000
+# reference. The full reference is exact and no slower: 1,118 s and 3.1 GB peak at 136,512 points on one core
+# (ctf_compromise), where the blockwise one decimates 2.2x the points; on sparse levels the blockwise answer is far
+# from it (islanddm, 63,185 points: 191 probes at tau against the full reference's 4, found in 480 s). So the blockwise
+# reference is for what the full one cannot hold: above ~150,000 points its memory passes ~3.5 GB (benchmarks.md §7.5).
+FULL_REFERENCE_LIMIT = 150_000
+# Points above which `lpnn bench` skips the lpnn-refine tier: each of its rows decimates again (a seeded greedy, or the
+# full reference for seeds above 0.4 N), minutes per row on a whole level, about the reference's time each.
+REFINE_BENCH_LIMIT = 20_000
 # The tolerance search's bisection stops once the last failing count is within 1/SEARCH_RESOLUTION of the first
 # passing one (quality.md §4): the answer passes tau and keeps at most 1/256 more probes than a unit-resolution
 # search would (within the error's own non-monotonic noise), for about log2(256) fewer error evaluations, each a

@@ -148,6 +148,16 @@ def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_
         assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_bench_refuses_limits_it_cannot_use_naming_the_value(capture_files: list[Path], tmp_path: Path,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    for option, value, says in (("--full-reference-limit", "3", "must be at least 4 points"),
+                                ("--refine-limit", "-1", "must be >= 0 points")):
+        assert main(["bench", str(capture_files[0]), option, value, "--out", str(tmp_path / "bench")]) == 1
+        err = capsys.readouterr().err
+        assert f"{option} {value} {says}" in err and "Traceback" not in err
+    assert not (tmp_path / "bench").exists()
+
+
 def test_bench_goes_on_after_a_failing_capture_keeps_every_result_and_exits_non_zero(
         capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     broken = tmp_path / "broken.lpnncap"
@@ -217,6 +227,21 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     assert by_method[("lpnn-refine", "budget")].mean_error == pytest.approx(refined.mean_error)
     guided = lpnn_placement(capture, scores=scores, budget=0.2, guided=True, reference=field)
     assert by_method[("lpnn-guided", "budget")].mean_error == pytest.approx(guided.mean_error)
+
+
+def test_above_the_refine_limit_the_bench_skips_only_the_refine_tier(small_captures: dict[int, Capture]) -> None:
+    """Each lpnn-refine row decimates again (minutes on a whole level): above `refine_limit` points only that tier is
+    left out; the yardstick is still the full reference below `full_reference_limit`, and the other tiers' rows are
+    those of a run without the limit."""
+    capture = small_captures[2]
+    config = BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, faithful_limit=0)
+    below = bench_capture("room2", capture, replace(config, refine_limit=capture.point_count), scorer=_StubScorer())
+    above = bench_capture("room2", capture, replace(config, refine_limit=capture.point_count - 1), scorer=_StubScorer())
+    assert below.yardstick == above.yardstick == "fast-reference" and below.failures == above.failures == []
+    assert "lpnn-refine" in {row.method for row in below.rows}
+    assert {row.method for row in above.rows} == {row.method for row in below.rows} - {"lpnn-refine"}
+    kept = {(row.method, row.policy): (row.probes, row.mean_error) for row in below.rows if row.method != "lpnn-refine"}
+    assert {(row.method, row.policy): (row.probes, row.mean_error) for row in above.rows} == kept
 
 
 def test_the_bench_hands_out_its_rows_after_every_method(small_captures: dict[int, Capture]) -> None:
