@@ -52,6 +52,7 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
     field = ReferenceField.from_capture(capture)
     scores = scorer.score_capture(capture, path.name)
     reference, reference_seconds = _fastest(lambda: fast_decimation(field, workers=1), repeats)
+    reference_probes = reference_tolerance(reference, TOLERANCE).indices.shape[0]  # the same for every factor
     rows = []
     for budget in [*budgets, None]:
         for factor in [1.0, *factors]:
@@ -65,7 +66,7 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
                 ratio = guarded_ratio(mean_placement_error(field, placement.indices),
                                       reference_count(reference, count).mean_error)
             else:
-                ratio = placement.indices.shape[0] / reference_tolerance(reference, TOLERANCE).indices.shape[0]
+                ratio = guarded_ratio(placement.indices.shape[0], reference_probes)
             rows.append(dict(capture=path.stem, points=capture.point_count, budget=budget, factor=factor,
                              ratio=ratio, seconds=seconds, reference_seconds=reference_seconds,
                              probes=int(placement.indices.shape[0])))
@@ -74,13 +75,14 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
 
 
 def table(rows: list[dict], factors: list[float], budgets: list[float]) -> str:
+    from lpnn.quality.metric import guarded_ratio
     from lpnn.recipe.evaluation import geometric_mean
 
     ratios, fractions = defaultdict(list), defaultdict(list)
     for row in rows:
         key = (row["factor"], row["budget"])
         ratios[key].append(row["ratio"])
-        fractions[key].append(row["seconds"] / row["reference_seconds"])
+        fractions[key].append(guarded_ratio(row["seconds"], row["reference_seconds"]))
     policies = [*budgets, None]
     names = [f"{b:.0%}" if b is not None else f"τ={TOLERANCE:g} (probes)" for b in policies]
     lines = ["| factor | " + " | ".join(f"×ref @{name}" for name in names) + " | time / reference: median (largest) |",
