@@ -12,3 +12,4 @@ PY=$(bash "Tools~/setup-python.sh")
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_sh_golden.py" "$REPO_ROOT/Tests/Data"
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_quality_golden.py" "$REPO_ROOT/Tests/Data"
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_insertion_golden.py" "$REPO_ROOT/Tests/Data"
+PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_batched_refinement_golden.py" "$REPO_ROOT/Tests/Data"

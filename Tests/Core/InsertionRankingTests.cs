@@ -41,15 +41,7 @@ namespace Lpnn.Probes.Core.Tests
                 var cases = new List<GoldenCase>();
                 foreach (var c in golden.Get("cases").Items)
                 {
-                    var ids = c.Get("ids").Items.Select(row => new LatticeId((int)row.Items[0].AsNumber, (int)row.Items[1].AsNumber, (int)row.Items[2].AsNumber)).ToList();
-                    var grid = EvaluationGrid.FromIds(c.Get("cell_size").AsNumber, ids);
-                    var positions = c.Get("positions").Items;
-                    for (int n = 0; n < grid.Count; n++)
-                    {
-                        var p = grid.GetPosition(n);
-                        Assert.That(new[] { p.X, p.Y, p.Z }, Is.EqualTo(JsonArrays.Floats(positions[n])), "grid position of point " + n);
-                    }
-                    float[] sh = c.Get("sh").Items.SelectMany(JsonArrays.Floats).ToArray();
+                    var grid = GoldenLighting.Grid(c);
                     float[] scores = null;
                     double[] guide = null;
                     if (c.TryGet("scores", out var scoreValues))
@@ -65,7 +57,7 @@ namespace Lpnn.Probes.Core.Tests
                         Name = c.Get("name").AsString,
                         Json = c,
                         Grid = grid,
-                        Reference = ReferenceLighting.FromGrid(grid, sh, c.Get("lighting_scale").AsNumber),
+                        Reference = GoldenLighting.Reference(c, grid),
                         Scores = scores,
                         Guide = guide,
                     });

@@ -1,7 +1,8 @@
 """`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
 
-  lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv | --method fast|insertion|uniform|heuristic|apv|random]
-             [--guided | --refine F | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
+  lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv
+                      | --method fast|insertion|insertion-refined|uniform|heuristic|apv|random]
+             [--guided | --refine F [--batched] | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Without --model, --scores or --method it places by insertion (DEFAULT_METHOD): the best method measured
 without a model where the capture's dense lighting is available, which `lpnn place` always has
@@ -35,7 +36,7 @@ if TYPE_CHECKING:
     from ..core.capture import Capture
     from ..quality.metric import PlacementQuality
 
-PLACE_METHODS = ("fast", "insertion", "uniform", "heuristic", "apv", "random")
+PLACE_METHODS = ("fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random")
 DEFAULT_METHOD = "insertion"  # module text; with a model the Unity volume's default is guided insertion (= --model M --guided)
 
 
@@ -49,13 +50,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     source.add_argument("--model", metavar="M.onnx", help="score the points with this model (and its card)")
     source.add_argument("--scores", metavar="SCORES.csv", help="scores from `lpnn score` (index,i,j,k,score)")
     source.add_argument("--method", choices=PLACE_METHODS,
-                        help="fast reference, insertion (the best method measured; the default without --model/--scores), uniform "
-                             "lattice, curvature-weighted farthest-point heuristic, APV-style geometry density, or random (seeded)")
+                        help="fast reference, insertion (the default without --model/--scores), insertion refined in "
+                             "batches (quality.md §5.3: fewer probes for the same error, seconds more), uniform lattice, curvature-weighted farthest-point heuristic, APV-style geometry density, or random (seeded)")
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
     parser.add_argument("--refine", type=refine_factor, metavar="F",
                         help="with --model/--scores: refine with the exact greedy seeded by the first F x K points of the "
                              "guided insertion (F > 1; 2 recommended; about a second per thousand points)")
+    parser.add_argument("--batched", action="store_true",
+                        help="with --refine: refine in batches (quality.md §5.3; what Unity volumes do: seconds on a whole "
+                             "level where the exact refinement takes minutes, within ~1.1x of it)")
     parser.add_argument("--topk", action="store_true",
                         help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
                              "(the old behaviour, for comparison)")
@@ -81,6 +85,8 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import UserError
     from .errors import user_errors
 
+    if args.batched and args.refine is None:
+        raise UserError("--batched is a way to refine: give it with --refine F (2 recommended)")
     lpnn_only = args.refine is not None or args.topk or args.guided or args.no_report
     if lpnn_only and (args.method is not None or (args.model is None and args.scores is None)):
         raise UserError("--guided, --refine, --topk and --no-report apply to LPNN scores: use them with --model or --scores")
@@ -124,7 +130,8 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     update, close_bar = progress_bar(f"{Path(args.capture).name}: guided insertion rounds") if args.guided else (None, None)
     try:
         placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                                   refine=args.refine, topk=args.topk, guided=args.guided, workers=args.workers,
+                                   refine=args.refine, topk=args.topk, guided=args.guided, batched=args.batched,
+                                   workers=args.workers,
                                    name=args.capture, full_ranking=False, report=not args.no_report, progress=update)
     finally:
         if close_bar is not None:
@@ -132,7 +139,7 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     by_insertion = args.guided or args.refine is not None  # the refine tier seeds from guided insertion
     tier = "top-K" if args.topk else "guided insertion" if by_insertion else "spread"
     if args.refine is not None:
-        tier += f" + refine {args.refine:g}"
+        tier += f" + {'batched ' if args.batched else ''}refine {args.refine:g}"
     if by_insertion and not guide_applies(capture.point_count):
         tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
     t = placement.timing
@@ -173,6 +180,21 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
         if args.method == "uniform":
             select = uniform_selector(grid)
             what = "uniform lattice"
+        elif args.method == "insertion-refined":
+            from ..quality.refined_insertion import refined_insertion
+
+            name = Path(args.capture).name
+            ranked, close_ranked = progress_bar(f"{name}: insertion rounds")
+            removed, close_removed = progress_bar(f"{name}: batched refinement")
+            try:
+                refined = refined_insertion(field, grid, budget=args.budget, tolerance=args.tolerance,
+                                            insertion_progress=ranked, refinement_progress=removed)
+            finally:
+                close_ranked()
+                close_removed()
+            _write(args, capture, refined.indices, evaluate_placement(field, refined.indices), 0,
+                   "insertion refined in batches", {}, f"; {refined.rounds} refinement rounds")
+            return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
             update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
             select = InsertionOrder(field, grid, progress=update).selection()

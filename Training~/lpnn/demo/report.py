@@ -14,10 +14,10 @@ from ..quality.plots import pyplot, save_png
 from ..quality.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
-LABELS = {"lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",
+LABELS = {"lpnn-batched": "LPNN-guided + batched", "lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",
           "fast-reference": "fast reference", "uniform": "uniform grid", "heuristic": "heuristic",
           "insertion": "insertion (non-learned)"}
-STYLE = {"lpnn-guided": ("tab:purple", "-"), "lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"),
+STYLE = {"lpnn-batched": ("tab:pink", "-"), "lpnn-guided": ("tab:purple", "-"), "lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"),
          "fast-reference": ("tab:green", "-"), "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"),
          "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
@@ -36,7 +36,7 @@ def table(result: DemoResult) -> str:
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
-    for name in ("lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "heuristic", "uniform"):
+    for name in ("lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "heuristic", "uniform"):
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
         lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
@@ -46,9 +46,10 @@ def table(result: DemoResult) -> str:
     same = result.same_count
     primary_error = same[PRIMARY].irradiance.mean
     others = ", ".join(f"{LABELS[name].split(' (')[0]} {same[name].irradiance.mean:.4f} "
-                       f"(guided x{guarded_ratio(primary_error, same[name].irradiance.mean):.2f})"
-                       for name in ("fast-reference", "insertion", "lpnn", "uniform", "heuristic"))
-    lines += ["", f"At the guided insertion's {count} probes: mean error {primary_error:.4f}; {others}"]
+                       f"(default x{guarded_ratio(primary_error, same[name].irradiance.mean):.2f})"
+                       for name in ("fast-reference", "lpnn-guided", "insertion", "lpnn", "uniform", "heuristic"))
+    lines += ["", f"At the default's {count} probes (guided insertion refined in batches): mean error {primary_error:.4f}; "
+              f"the rankings' first {count} probes: {others}"]
     return "\n".join(lines) + "\n"
 
 
@@ -81,24 +82,26 @@ def plot(result: DemoResult, path: Path) -> Path:
     points = view.scatter(positions[order, 0], positions[order, 2], c=result.scores[order], s=6, cmap="viridis",
                           vmin=0.0, vmax=1.0, alpha=0.6, linewidths=0)
     view.scatter(chosen[:, 0], chosen[:, 2], s=28, facecolors="none", edgecolors="red", linewidths=0.9,
-                 label=f"LPNN-guided probes ({chosen.shape[0]})")
+                 label=f"probes of the default ({chosen.shape[0]})")
     figure.colorbar(points, ax=view, label="LPNN score")
     view.set_aspect("equal")
     view.set_xlabel("x (m)")
     view.set_ylabel("z (m)")
-    view.set_title("scores and LPNN-guided probes (top view)")
+    view.set_title("scores and the default's probes (top view)")
     view.legend(fontsize=7, loc="upper right")
     figure.tight_layout()
     return save_png(plt, figure, path, dpi=110)
 
 
 def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, Path]:
-    """probes.json (LPNN-guided insertion, the main result: the package's default with a model), probes-spread.json
-    (LPNN's milliseconds tier), probes-refined.json, demo.png, summary.json, table.txt."""
+    """probes.json (LPNN-guided insertion refined in batches, the main result: the package's default with a model),
+    probes-guided.json (guided insertion alone), probes-spread.json (LPNN's milliseconds tier), probes-refined.json
+    (exact refinement), demo.png, summary.json, table.txt."""
     out.mkdir(parents=True, exist_ok=True)
     capture = result.capture
     files: dict[str, Path] = {}
-    for name, file in ((PRIMARY, "probes.json"), ("lpnn", "probes-spread.json"), ("lpnn-refine", "probes-refined.json")):
+    for name, file in ((PRIMARY, "probes.json"), ("lpnn-guided", "probes-guided.json"), ("lpnn", "probes-spread.json"),
+                       ("lpnn-refine", "probes-refined.json")):
         method = result.methods[name]
         files[name] = write_probes_json(
             out / file, capture.positions[method.indices], capture.units,

@@ -2,11 +2,13 @@
 on every capture: probes kept, time, mean/p95 error (both metrics) and the ratio to the reference.
 
 Methods: uniform, random, heuristic, apv (APV-style geometry density, apv.py; when the capture has the
-`nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, insertion.py: the best
-non-learned lighting-driven method, the bar for the learned tier); with a model the four LPNN tiers (lpnn_placement.py):
-lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking), lpnn-guided (insertion guided by the
-scores, insertion.py) and lpnn-refine (guided insertion + seeded exact refinement, factor `refine`); the
-fast reference, and the faithful one on small captures.
+`nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, insertion.py), insertion-refined
+(insertion refined in batches, refined_insertion.py: the best non-learned method, the bar for the learned tier); with
+a model the five LPNN tiers (lpnn_placement.py): lpnn-topk (the raw top-K, for comparison), lpnn (spread ranking),
+lpnn-guided (insertion guided by the scores, insertion.py), lpnn-batched (guided insertion refined in batches: what a
+Unity volume does; above the guide's point limit its rows are insertion-refined's plus the inference) and lpnn-refine
+(guided insertion + seeded exact refinement, factor `refine`); the fast reference, and the faithful one on small
+captures.
 
 The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points
 (150,000 by default: ~20 minutes and ~3 GB), and above it the blockwise reference (quality.md §3.3, rows
@@ -46,6 +48,7 @@ from .insertion import InsertionOrder, guide_of
 from .lpnn_placement import RECOMMENDED_REFINE, feature_seconds, lpnn_placement
 from .metric import (PRIMARY_METRIC, PlacementQuality, ReferenceField, evaluate_placement, guarded_ratio,
                      mean_placement_error)
+from .refined_insertion import refined_insertion
 from .policies import (Placement, SelectionForCount, budget_count, place_tolerance, prefix_selection, reference_count,
                        reference_tolerance)
 from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
@@ -305,7 +308,7 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
 
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
                yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure],
-               insertion_rows: Sequence[BenchRow]) -> list[BenchRow]:
+               insertion_rows: Sequence[BenchRow], refined_rows: Sequence[BenchRow] = ()) -> list[BenchRow]:
     """The LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a policy is recorded
     in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit, nor
     above `refine_limit` points (a decimation per row)."""
@@ -318,10 +321,17 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
     if target is not None:
         policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
-    rows = _guided_rows(name, capture, field_, config, scores, inference, features, yardstick, failures,
-                        insertion_rows)
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    rows = _guided_tier_rows(name, "lpnn-guided", scores, inference, features, failures, insertion_rows,
+                             lambda guide: _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_, grid,
+                                                                                         guide), config, yardstick))
     if log is not None:
         log(f"{name}: lpnn-guided done")
+    rows.extend(_guided_tier_rows(name, "lpnn-batched", scores, inference, features, failures, refined_rows,
+                                  lambda guide: _refined_rows(name, field_, grid, config, yardstick, "lpnn-batched",
+                                                              guide)))
+    if log is not None:
+        log(f"{name}: lpnn-batched done")
     for method, options, repeats in tiers:
         for policy, parameter, chosen in policies:
             try:
@@ -347,25 +357,45 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     return rows
 
 
-def _guided_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scores: np.ndarray,
-                 inference: float, features: float | None, yardstick: _Yardstick,
-                 failures: list[BenchFailure], insertion_rows: Sequence[BenchRow]) -> list[BenchRow]:
-    """The guided-insertion tier (insertion.py, quality.md §5.2), read lazily as the insertion baseline is; its time
-    adds the features and the inference. Above the guide's point limit the tier is plain insertion: its rows are the
-    insertion baseline's (when it ran), not computed again (minutes on a whole level)."""
-    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+def _guided_tier_rows(name: str, method: str, scores: np.ndarray, inference: float, features: float | None,
+                      failures: list[BenchFailure], unguided_rows: Sequence[BenchRow],
+                      compute: Callable[[np.ndarray], list[BenchRow]]) -> list[BenchRow]:
+    """A tier seeded by insertion guided by the scores (quality.md §5.2): `compute(guide)`, or above the guide's point
+    limit, where the tier is its unguided method, that method's rows (when they ran; minutes on a whole level, not
+    computed again). Its time adds the features and the inference; a failure is recorded and the other tiers go on."""
     guide = guide_of(scores)
     try:
-        if guide is None and insertion_rows:
-            rows = [replace(row, method="lpnn-guided") for row in insertion_rows]
-        else:
-            rows = _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_, grid, guide), config, yardstick)
+        rows = ([replace(row, method=method) for row in unguided_rows] if guide is None and unguided_rows
+                else compute(guide))
     except Exception as error:  # recorded; the other tiers go on
-        failures.append(BenchFailure(name, "lpnn-guided", failure_reason(error)))
+        failures.append(BenchFailure(name, method, failure_reason(error)))
         return []
     for row in rows:
         row.inference_seconds, row.feature_seconds = inference, features
         row.seconds += inference + (features or 0.0)
+    return rows
+
+
+def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig, yardstick: _Yardstick,
+                  method: str = "insertion-refined", guide: np.ndarray | None = None) -> list[BenchRow]:
+    """Insertion refined in batches (refined_insertion.py; guided by `guide` when given) at every budget and the
+    tolerance: each row places afresh, so its time is what that placement costs (selection + refinement)."""
+    policies: list[tuple[str, float, dict[str, float]]] = [("budget", f, {"budget": f}) for f in config.budgets]
+    if yardstick.target is not None:
+        policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
+    rows = []
+    for policy, parameter, chosen in policies:
+        placed = refined_insertion(field_, grid, refine=config.refine, guide=guide, **chosen)  # minutes on a level: once
+        timing = _Timing(placed.selection_seconds + placed.refinement_seconds, selection=placed.selection_seconds,
+                         refine=placed.refinement_seconds)
+        quality = evaluate_placement(field_, placed.indices)
+        if policy == "budget":
+            rows.append(_row(name, field_, method, policy, parameter, quality, timing,
+                             yardstick.error_at(max(quality.probes, MINIMUM_PROBES)), yardstick.name))
+        else:
+            assert yardstick.target is not None
+            rows.append(_with_target(_row(name, field_, method, policy, parameter, quality, timing,
+                                          yardstick.target.mean_error, yardstick.name), yardstick.target))
     return rows
 
 
@@ -392,9 +422,18 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
             log(f"{name}: {method.name} done ({method.seconds:.3f} s to rank)")
         if partial is not None:
             partial(rows)
+    try:
+        rows.extend(_refined_rows(name, field_, grid, config, yardstick))
+        if log is not None:
+            log(f"{name}: insertion-refined done")
+        if partial is not None:
+            partial(rows)
+    except Exception as error:  # recorded; the others go on
+        failures.append(BenchFailure(name, "insertion-refined", failure_reason(error)))
     if scorer is not None:
         rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures,
-                               [row for row in rows if row.method == "insertion"]))
+                               [row for row in rows if row.method == "insertion"],
+                               [row for row in rows if row.method == "insertion-refined"]))
     return CaptureResult(name=name, points=field_.point_count, rows=rows, reference_curve=yardstick.curve,
                          yardstick=yardstick.name, failures=failures)
 

@@ -58,15 +58,14 @@ from .metric import PlacementQuality, ReferenceField, evaluate_placement
 from .policies import (PolicyError, bounded_tolerance, budget_count, checked_tolerance, prefix_selection,
                        spread_prefix_selection)
 from .reference_fast import fast_decimation
+from .refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
 
-RECOMMENDED_REFINE = 2.0
 # At a tolerance tau the refinement's greedy stops once the mean error exceeds this multiple of tau (reference_fast's
 # stop_above): on the full reference curves of the 154 labelled recipe crops of training and validation levels, tau =
 # 0.02/0.05/0.1, stopping at 2 tau gave the full curve's smallest count within tau in all 462 cases (stopping at tau:
 # 4 differed, up to 1.5x), and it skips the dearest removals.
 REFINE_STOP_FACTOR = 2.0
 FULL_REFERENCE_FRACTION = 0.4  # seeds above this fraction of the points: run the full reference (module text)
-MINIMUM_SEED = 64  # a seed of 2K points is too small to find a sparse answer at tiny K (module text)
 
 
 class Scorer(Protocol):
@@ -119,11 +118,6 @@ def checked_refine(refine: float | None) -> float | None:
     return value
 
 
-def seed_count(refine: float, count: int, point_count: int) -> int:
-    """min(N, max(round(F K), MINIMUM_SEED)), halves up."""
-    return min(point_count, max(int(math.floor(refine * count + 0.5)), MINIMUM_SEED))
-
-
 def largest_seeded_count(refine: float, point_count: int) -> int:
     """The largest K the refine tier seeds with a prefix of its ranking; above it runs the full reference."""
     return int(math.floor(FULL_REFERENCE_FRACTION * point_count / refine))
@@ -136,7 +130,8 @@ def feature_seconds(capture: Capture) -> float | None:
 
 def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np.ndarray | None = None,
                    budget: float | None = None, tolerance: float | None = None, refine: float | None = None,
-                   topk: bool = False, guided: bool = False, reference: ReferenceField | None = None,
+                   topk: bool = False, guided: bool = False, batched: bool = False,
+                   reference: ReferenceField | None = None,
                    workers: int | None = None, name: str = "the capture", full_ranking: bool = True,
                    report: bool = True, progress: Callable[[int, int], None] | None = None) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
@@ -145,6 +140,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     `guided` ranks by insertion guided by the scores (insertion.py, quality.md §5.2: lazily, as far as the
     policy reads; `progress` gets its rounds' points ranked of the count asked for); `reference` reuses
     ReferenceField.from_capture(capture); `workers` (1 or 2) goes to the refinement's decimation;
+    `batched` (with `refine`) refines by batched refinement instead of the exact greedy (refined_insertion.py,
+    quality.md §5.3: what Unity volumes run; seconds instead of minutes on whole levels, never the full reference);
     `name` appears in error messages; full_ranking=False ranks only the points the policy reads
     (spread ranking: core.spread.SpreadPrefix; guided: the insertion rounds up to the count; the same probes;
     `ranking` is then the computed prefix; the refine tier always returns its computed prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
@@ -156,6 +153,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     factor = checked_refine(refine)
     if guided and topk:
         raise PolicyError("guided insertion ranks by itself: use it without topk")
+    if batched and (factor is None or topk):
+        raise PolicyError("batched is a way to refine guided insertion: use it with refine (e.g. 2) and without topk")
     # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): on the
     # validation crops it brought the tier within 1.07x the reference's error at every budget, where the spread
     # ranking's seed left it at 1.14x at 5 % (benchmarks.md §7.2).
@@ -171,8 +170,11 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     if values.shape != (n,):
         raise PolicyError(f"{name}: scores of shape {list(values.shape)} for {n:,} points: give one score per point")
 
-    start = time.perf_counter()
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    if batched:
+        return _batched_placement(capture, grid, values, budget, tolerance, factor, reference, inference, report,
+                                  progress)
+    start = time.perf_counter()
     lazy = None if (full_ranking or topk or by_insertion) else SpreadPrefix(capture.positions, values)
     order = None
     if by_insertion:
@@ -229,6 +231,22 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
                          requested=int(requested), added_for_tetrahedron=max(0, int(indices.shape[0]) - int(requested)),
                          refine=factor, timing=PlacementTiming(feature_seconds(capture), inference, selection, refinement),
                          checked=checked, seed_count=seeded)
+
+
+def _batched_placement(capture: Capture, grid: EvaluationGrid, scores: np.ndarray, budget: float | None,
+                       tolerance: float | None, factor: float, reference: ReferenceField | None, inference: float,
+                       report: bool, progress: Callable[[int, int], None] | None) -> LpnnPlacement:
+    """The batched refine tier: refined_insertion seeded by guided insertion (plain above its point limit)."""
+    reference = ReferenceField.from_capture(capture) if reference is None else reference
+    placed = refined_insertion(reference, grid, budget=budget, tolerance=tolerance, refine=factor,
+                               guide=guide_of(scores), insertion_progress=progress)
+    quality = evaluate_placement(reference, placed.indices) if report else None
+    checked = {} if tolerance is None else {placed.requested: placed.mean_error}
+    return LpnnPlacement(indices=placed.indices, quality=quality, ranking=placed.indices, requested=placed.requested,
+                         added_for_tetrahedron=0, refine=factor,
+                         timing=PlacementTiming(feature_seconds(capture), inference, placed.selection_seconds,
+                                                placed.refinement_seconds),
+                         checked=checked, seed_count=placed.seed_count)
 
 
 def _spread_answer_too_large(reference: ReferenceField, grid: EvaluationGrid, positions: np.ndarray, scores: np.ndarray,

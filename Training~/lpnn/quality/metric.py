@@ -33,7 +33,7 @@ from ..core.capture import Capture
 from ..core.features import D14, scene_scale
 from .location import Stencil, locate_local
 from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
-from .triangulation import Frame, checked_positions, tetrahedralize
+from .triangulation import Frame, Tetrahedralization, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
 LIGHT_VALUES = D14.shape[0] * 3
@@ -169,20 +169,27 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     return indices
 
 
-def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = False
-                  ) -> tuple[np.ndarray, np.ndarray, Stencil]:
-    """Checked probe indices, the other points (M,) and their stencils (indices into the probes);
-    coherent: location.locate_local's walk from the previous point (the errors' own path)."""
+def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False
+               ) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
+    """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices)."""
     indices = checked_probes(field, probes)
     tri = tetrahedralize(field.world[indices], field.frame)
     is_probe = np.zeros(field.point_count, dtype=bool)
     is_probe[indices] = True
     others = np.flatnonzero(~is_probe)
-    return indices, others, locate_local(tri, field.local[others], coherent)
+    return indices, others, tri, locate_local(tri, field.local[others], coherent)
 
 
-def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
-            metric: str) -> np.ndarray:
+def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray, Stencil]:
+    """Checked probe indices, the other points (M,) and their stencils (indices into the probes);
+    coherent: location.locate_local's walk from the previous point (the errors' own path)."""
+    indices, others, _, stencil = probe_mesh(field, probes, coherent)
+    return indices, others, stencil
+
+
+def stencil_point_errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+                         metric: str = PRIMARY_METRIC) -> np.ndarray:
     """Per-point errors (N,), 0 at the probes: metric_kernel.stencil_errors, the numbers of
     POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
     floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
@@ -195,7 +202,7 @@ def _errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, sten
 def point_errors(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> np.ndarray:
     """Per-point error (N,) of the placement `probes` (indices into the field's points)."""
     checked_metric(metric)
-    return _errors(field, *probe_stencil(field, probes, coherent=True), metric)
+    return stencil_point_errors(field, *probe_stencil(field, probes, coherent=True), metric)
 
 
 def placement_error(field: ReferenceField, probes: np.ndarray, metric: str = PRIMARY_METRIC) -> ErrorSummary:
@@ -218,5 +225,5 @@ def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQu
     """Both metrics for one placement (one tetrahedralisation)."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
     return PlacementQuality(probes=int(indices.shape[0]),
-                            irradiance=summarize(_errors(field, indices, others, stencil, "irradiance")),
-                            smape=summarize(_errors(field, indices, others, stencil, "smape")))
+                            irradiance=summarize(stencil_point_errors(field, indices, others, stencil, "irradiance")),
+                            smape=summarize(stencil_point_errors(field, indices, others, stencil, "smape")))

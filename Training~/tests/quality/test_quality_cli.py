@@ -59,7 +59,7 @@ def test_label_refuses_the_faithful_method_on_large_captures(tmp_path: Path, med
     assert "use --method fast" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("method", ["fast", "insertion", "uniform", "heuristic", "apv", "random"])
+@pytest.mark.parametrize("method", ["fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random"])
 def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, method: str,
                                     capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / f"{method}.probes.json"
@@ -105,6 +105,24 @@ def test_place_from_a_scores_file_with_a_tolerance(capture_files: list[Path], tm
     assert "mean_error" not in json.loads(quick.read_text(encoding="utf-8"))["source"]
 
 
+def test_place_refines_in_batches_with_scores_or_without(capture_files: list[Path], tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    capture = read_capture(capture_files[2])
+    scores_file = tmp_path / "scores.csv"
+    write_scores_csv(scores_file, capture.ids, np.linspace(0.1, 1.0, capture.point_count).astype(np.float32))
+    batched, refined = tmp_path / "batched.probes.json", tmp_path / "refined.probes.json"
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "2", "--batched",
+                 "--tolerance", "0.05", "--out", str(batched)]) == 0
+    assert "batched refine 2" in capsys.readouterr().out
+    assert json.loads(batched.read_text(encoding="utf-8"))["source"]["mean_error"] <= 0.05
+    assert main(["place", str(capture_files[2]), "--method", "insertion-refined", "--tolerance", "0.05",
+                 "--out", str(refined)]) == 0
+    assert json.loads(refined.read_text(encoding="utf-8"))["source"]["mean_error"] <= 0.05
+    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--batched", "--budget", "0.2",
+                 "--out", str(batched)]) == 1
+    assert "--batched is a way to refine: give it with --refine F" in capsys.readouterr().err
+
+
 def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
     capture = read_capture(capture_files[0])
@@ -135,9 +153,10 @@ def test_bench_end_to_end_writes_csv_and_figures(capture_files: list[Path], tmp_
         rows = list(csv.DictReader(handle))
     assert tuple(rows[0].keys()) == CSV_COLUMNS
     methods = {row["method"] for row in rows}
-    assert methods == {"uniform", "random", "heuristic", "apv", "insertion", "fast-reference", "faithful-reference"}
+    assert methods == {"uniform", "random", "heuristic", "apv", "insertion", "insertion-refined", "fast-reference",
+                       "faithful-reference"}
     assert {row["policy"] for row in rows} == {"budget", "tolerance"}
-    assert len(rows) == 7 * 3
+    assert len(rows) == 8 * 3
     assert not (out / "failures.csv").exists()
     for row in rows:
         assert float(row["mean_error"]) >= 0.0 and "," not in row["mean_error"]
@@ -168,7 +187,7 @@ def test_bench_goes_on_after_a_failing_capture_keeps_every_result_and_exits_non_
     assert code == 1
     with (out / "bench.csv").open(encoding="utf-8", newline="") as handle:
         rows = list(csv.DictReader(handle))
-    assert {row["capture"] for row in rows} == {capture_files[1].stem} and len(rows) == 7
+    assert {row["capture"] for row in rows} == {capture_files[1].stem} and len(rows) == 8
     with (out / "failures.csv").open(encoding="utf-8", newline="") as handle:
         failures = list(csv.DictReader(handle))
     assert [(f["capture"], f["method"]) for f in failures] == [("broken", "*")] and failures[0]["reason"]
@@ -186,7 +205,9 @@ def test_bench_records_a_failing_method_and_keeps_the_others(small_captures: dic
     monkeypatch.setattr(bench, "InsertionOrder", broken)
     result = bench_capture("room1", small_captures[1], BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
     assert [(f.method, f.reason) for f in result.failures] == [("insertion", "ValueError: all 4 probes lie in one plane")]
-    assert {row.method for row in result.rows} == {"uniform", "random", "heuristic", "apv", "fast-reference"}
+    # insertion-refined runs its own insertion order (refined_insertion.py), untouched by the patch.
+    assert {row.method for row in result.rows} == {"uniform", "random", "heuristic", "apv", "fast-reference",
+                                                   "insertion-refined"}
 
 
 class _StubScorer:
@@ -204,16 +225,17 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     config = BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, faithful_limit=0)
     result = bench_capture("room2", capture, config, scorer=_StubScorer())
     by_method = {(row.method, row.policy): row for row in result.rows}
-    assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "apv", "insertion", "fast-reference",
-                                          "lpnn-topk", "lpnn", "lpnn-guided", "lpnn-refine"}
+    assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "apv", "insertion", "insertion-refined",
+                                          "fast-reference", "lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched",
+                                          "lpnn-refine"}
     assert result.failures == []
-    for method in ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-refine"):
+    for method in ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched", "lpnn-refine"):
         row = by_method[(method, "budget")]
         assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
         # Every tier ranks inside its selection (the guided tier lazily, its rounds up to the row's count).
         assert row.seconds == pytest.approx(row.feature_seconds + row.inference_seconds + row.selection_seconds
                                             + (row.refine_seconds or 0.0))
-        assert (row.refine_seconds is not None) == (method == "lpnn-refine")
+        assert (row.refine_seconds is not None) == (method in ("lpnn-refine", "lpnn-batched"))
         assert row.probes == round(0.2 * capture.point_count)
         assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
         assert row.reference_error == pytest.approx(result.reference_curve[row.probes])

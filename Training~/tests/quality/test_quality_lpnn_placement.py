@@ -12,9 +12,11 @@ from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.selection import ensure_tetrahedron, rank
 from lpnn.core.spread import spread_ranking
-from lpnn.quality.insertion import guide_weights, insertion_ranking
+from lpnn.quality.batched_refinement import batched_refinement
+from lpnn.quality.insertion import InsertionOrder, guide_weights, insertion_ranking
 from lpnn.quality.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
-from lpnn.quality.metric import ReferenceField, placement_error
+from lpnn.quality.metric import MetricError, ReferenceField, placement_error
+from lpnn.quality.refined_insertion import refined_insertion
 from lpnn.quality.policies import PolicyError, bounded_tolerance, budget_count, place_tolerance, prefix_selection
 from lpnn.quality.reference_fast import fast_decimation
 from lpnn.train.placement_metric import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
@@ -101,6 +103,38 @@ def test_refined_tolerance_reads_the_exact_smallest_count_from_the_seeded_curve(
     curve = fast_decimation(field, initial=seed).error_curve
     within = np.flatnonzero(curve <= 0.04)  # NaN compares false
     assert refined.indices.shape[0] == min(within[0], plain.indices.shape[0])
+
+
+def test_the_batched_tier_is_guided_insertion_refined_in_batches(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    n = medium_capture.point_count
+    scores = StubScorer().score_capture(medium_capture)
+    count = budget_count(0.1, n)
+    placed = lpnn_placement(medium_capture, scores=scores, budget=0.1, refine=2.0, batched=True, reference=field)
+    guided = insertion_ranking(field, _grid(medium_capture), guide=guide_weights(scores))
+    seed = ensure_tetrahedron(_grid(medium_capture), guided, guided[:seed_count(2.0, count, n)])[0]
+    np.testing.assert_array_equal(placed.indices, batched_refinement(field, seed, count=count).indices)
+    assert placed.seed_count == seed.shape[0] and placed.timing.refinement > 0.0
+    unrefined = lpnn_placement(medium_capture, scores=scores, budget=0.1, guided=True, reference=field)
+    assert placed.mean_error < unrefined.mean_error
+    within = lpnn_placement(medium_capture, scores=scores, tolerance=0.05, refine=2.0, batched=True, reference=field)
+    searched = lpnn_placement(medium_capture, scores=scores, tolerance=0.05, guided=True, reference=field)
+    assert within.mean_error <= 0.05 and within.indices.shape[0] < searched.indices.shape[0]
+    assert within.checked == {within.requested: pytest.approx(within.mean_error)}
+    with pytest.raises(PolicyError, match="batched is a way to refine"):
+        lpnn_placement(medium_capture, scores=scores, budget=0.1, batched=True)
+
+
+def test_refined_insertion_never_keeps_more_than_insertions_tolerance_answer(small_captures: dict[int, Capture]) -> None:
+    for capture in small_captures.values():
+        field = ReferenceField.from_capture(capture)
+        grid = _grid(capture)
+        searched = place_tolerance(field, InsertionOrder(field, grid).selection(), 0.03)
+        refined = refined_insertion(field, grid, tolerance=0.03)
+        assert refined.mean_error <= 0.03 and refined.indices.shape[0] <= searched.indices.shape[0]
+        assert refined.mean_error == pytest.approx(placement_error(field, refined.indices).mean)
+    with pytest.raises(MetricError, match="refine 1 must be a factor > 1"):
+        refined_insertion(field, grid, budget=0.2, refine=1)
 
 
 def test_parameters_are_checked(small_captures: dict[int, Capture]) -> None:

@@ -13,7 +13,7 @@ from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
 from lpnn.quality import location
-from lpnn.quality.metric import POINT_ERRORS, ReferenceField, _errors, point_errors, probe_stencil
+from lpnn.quality.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil, stencil_point_errors
 from lpnn.quality.policies import prefix_selection
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -81,7 +81,7 @@ def test_the_compiled_errors_equal_the_numpy_formulas(scene, count: int) -> None
     indices, others, stencil = probe_stencil(field, select(count))
     for metric in ("irradiance", "smape"):
         expected = _numpy_errors(field, indices, others, stencil, metric)
-        np.testing.assert_array_equal(_errors(field, indices, others, stencil, metric), expected)
+        np.testing.assert_array_equal(stencil_point_errors(field, indices, others, stencil, metric), expected)
 
 
 @pytest.mark.parametrize("count", [6, 90, 2000])

@@ -85,12 +85,17 @@ def test_demo_places_within_tolerance_on_a_held_out_level(quick_run: tuple[Path,
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
     assert summary["held_out"] is True and summary["tolerance"] == 0.08
     probes = json.loads((out / "probes.json").read_text(encoding="utf-8"))
-    assert summary["primary"] == "lpnn-guided"
-    lpnn = summary["methods"]["lpnn-guided"]  # probes.json: the package's default with a model
+    assert summary["primary"] == "lpnn-batched"
+    lpnn = summary["methods"]["lpnn-batched"]  # probes.json: the package's default with a model
     assert probes["count"] == lpnn["probes"] == len(probes["positions"]) and probes["space"] == "world"
     spread = json.loads((out / "probes-spread.json").read_text(encoding="utf-8"))
     assert spread["count"] == summary["methods"]["lpnn"]["probes"]
-    for method in ("lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "uniform", "heuristic"):
+    guided = json.loads((out / "probes-guided.json").read_text(encoding="utf-8"))
+    assert guided["count"] == summary["methods"]["lpnn-guided"]["probes"]
+    # The refinement keeps the guided insertion's answer at worst (refined_insertion.py).
+    assert lpnn["probes"] <= summary["methods"]["lpnn-guided"]["probes"]
+    for method in ("lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "uniform",
+                   "heuristic"):
         assert summary["methods"][method]["mean_error"] <= 0.08, method
         assert 4 <= summary["methods"][method]["probes"] <= summary["points"]
     assert f"{lpnn['probes']:>8}" in printed  # the table shows the written count

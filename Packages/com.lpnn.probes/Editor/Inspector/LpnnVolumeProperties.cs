@@ -24,6 +24,7 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty Threshold { get; }
         public SerializedProperty Tolerance { get; }
         public SerializedProperty KeepBoundsCorners { get; }
+        public SerializedProperty RefineInBatches { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
 
@@ -47,6 +48,7 @@ namespace Lpnn.Probes.Editor
             Threshold = volume.FindProperty(LpnnVolume.Fields.Threshold);
             Tolerance = volume.FindProperty(LpnnVolume.Fields.Tolerance);
             KeepBoundsCorners = volume.FindProperty(LpnnVolume.Fields.KeepBoundsCorners);
+            RefineInBatches = volume.FindProperty(LpnnVolume.Fields.RefineInBatches);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);
         }

@@ -42,6 +42,9 @@ namespace Lpnn.Probes.Editor
             "run the Features and Scoring steps (or import a .probes.json).";
         public const string NoLightingYet =
             "No lighting yet: the insertion method ranks points by the Lighting data step's SH (or import a .probes.json).";
+        public const string RefinedOnApply =
+            "Refine in batches is on: Apply removes the probes the sampled lighting does not need (Documentation~/quality.md §5.3; " +
+            "about a third fewer at the same error on the validation volumes), which takes seconds to a minute.";
         public const string InsertionNotRankedYet =
             "The insertion method ranks the points once (about a second per 1,000 points): press 'Rank by insertion' " +
             "(Apply and Find probes also rank first).";

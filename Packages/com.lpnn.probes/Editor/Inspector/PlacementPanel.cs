@@ -42,7 +42,10 @@ namespace Lpnn.Probes.Editor
                 default: InspectorLayout.Field(properties.Percentile); break;
             }
             InspectorLayout.Field(properties.KeepBoundsCorners);
+            if (byInsertion) InspectorLayout.Field(properties.RefineInBatches);
             edited.ApplyModifiedProperties();
+            // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
+            bool refines = byInsertion && volume.RefineInBatches;
             var preview = PreviewCount(volume, session);
             var placement = steps[PipelineStep.Placement];
             using (new EditorGUILayout.HorizontalScope())
@@ -55,7 +58,7 @@ namespace Lpnn.Probes.Editor
                         StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
                     if (GUILayout.Button(LpnnVolumeStyles.Apply))
                         runStep(PipelineStep.Placement, (progress, cancel) =>
-                            preview != null ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
+                            preview != null && !refines ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
                 }
                 if (GUILayout.Button(LpnnVolumeStyles.Clear))
                     StepRunner.Run(volume, placement, (progress, cancel) => { ProbeGroupWriter.Clear(volume.TargetGroup); return "probes cleared"; });
@@ -136,8 +139,10 @@ namespace Lpnn.Probes.Editor
                 EditorGUILayout.HelpBox(error, MessageType.Warning);
                 return null;
             }
-            string count = "Apply would place " + InvariantFormat.Count(result.Indices.Length) + " of " +
+            string count = (byInsertion && volume.RefineInBatches ? "Before refinement, Apply would place " : "Apply would place ") +
+                           InvariantFormat.Count(result.Indices.Length) + " of " +
                            InvariantFormat.Count(grid.Count) + " points" + StepSummaries.Extras(result) + "." +
+                           (byInsertion && volume.RefineInBatches ? "\n" + LpnnVolumeStyles.RefinedOnApply : "") +
                            (byInsertion ? InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)) : ValidityLine(record));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
             if (!_estimate.Has(result, session) && session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button(LpnnVolumeStyles.EstimateError))

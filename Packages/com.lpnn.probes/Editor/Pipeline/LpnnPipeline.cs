@@ -5,6 +5,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using NumericsVector3 = System.Numerics.Vector3;
@@ -158,22 +159,38 @@ namespace Lpnn.Probes.Editor
             var settings = volume.GetSelectionSettings();
             var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
             selection = PlacementMethods.RanksByInsertion(volume.Method)
-                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, progress, cancel)
+                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
             return PositionsOf(grid, selection);
         }
 
         /// <summary>The insertion methods' selection, reading the insertion order (guided by <paramref name="guideScores"/> when
         /// given) only as far as the policy needs (a budget's points, the tolerance search's prefixes), or the whole ranking
-        /// when it is already known.</summary>
+        /// when it is already known; with <paramref name="refine"/>, refined in batches from twice its count of the ranking
+        /// (Core.Quality.RefinedSelection, quality.md §5.3).</summary>
         private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, float[] guideScores, SelectionSettings settings,
-            IPlacementErrorMeasure measure, ProgressCallback progress, CancellationToken cancel)
+            IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel)
         {
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
             int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores);
-            if (known != null) return ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
-            var order = PlacementInputs.InsertionOrder(session, grid, guideScores);
-            return ProbeSelector.SelectFromPrefixes(grid, order.Count, count => order.Prefix(count, progress, cancel), settings, measure, valid);
+            RankingPrefix prefix;
+            int candidates;
+            SelectionResult selection;
+            if (known != null)
+            {
+                candidates = valid == null ? grid.Count : grid.Count - ValidCandidates.CountInvalid(valid);
+                prefix = count => known;
+                selection = ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
+            }
+            else
+            {
+                var order = PlacementInputs.InsertionOrder(session, grid, guideScores);
+                candidates = order.Count;
+                prefix = count => order.Prefix(count, progress, cancel);
+                selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, prefix, settings, measure, valid);
+            }
+            if (!refine) return selection;
+            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, PlacementInputs.Evaluator(session, grid), valid, progress, cancel);
         }
 
         /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the

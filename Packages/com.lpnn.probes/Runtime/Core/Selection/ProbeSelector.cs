@@ -16,15 +16,20 @@ namespace Lpnn.Probes.Core.Selection
         /// the other policies.</summary>
         public ToleranceSearchResult Tolerance { get; }
 
+        /// <summary>How many probes the policy's own selection held before a batched refinement removed some
+        /// (Quality.RefinedSelection); 0 when the selection was not refined.</summary>
+        public int UnrefinedCount { get; }
+
         public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron)
             : this(indices, cornersAdded, addedForTetrahedron, null) { }
 
-        public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron, ToleranceSearchResult tolerance)
+        public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron, ToleranceSearchResult tolerance, int unrefinedCount = 0)
         {
             Indices = indices;
             CornersAdded = cornersAdded;
             AddedForTetrahedron = addedForTetrahedron;
             Tolerance = tolerance;
+            UnrefinedCount = unrefinedCount;
         }
     }
 
@@ -230,24 +235,32 @@ namespace Lpnn.Probes.Core.Selection
             return new SelectionResult(indices, corners, added);
         }
 
-        /// <summary>The grid point whose cell holds each box corner (a grid point unless a filter such as "drop
-        /// points inside walls" removed it, in which case that corner is skipped; so is a corner inside geometry);
-        /// returns how many were added.</summary>
+        /// <summary>Adds <see cref="BoundsCorners"/> to the selection; returns how many were added.</summary>
         private static int AddCorners(EvaluationGrid grid, ISet<int> selected, bool[] valid)
+        {
+            int added = 0;
+            foreach (int index in BoundsCorners(grid, valid))
+                if (selected.Add(index)) added++;
+            return added;
+        }
+
+        /// <summary>The grid point whose cell holds each box corner (a grid point unless a filter such as "drop points
+        /// inside walls" removed it, in which case that corner is skipped; so is a corner inside geometry), each once.</summary>
+        internal static List<int> BoundsCorners(EvaluationGrid grid, bool[] valid)
         {
             if (grid.Boxes.Count == 0)
                 throw new SelectionException("this grid was rebuilt from stored ids and has no boxes, so the bounds corners are unknown; turn off 'keep bounds corners'");
-            int added = 0;
+            var corners = new List<int>();
             foreach (var box in grid.Boxes)
             {
                 for (int c = 0; c < 8; c++)
                 {
                     var corner = box.Corner(c);
                     int index = LatticeId.TryCellOf(corner, grid.CellSize, out var id) ? grid.IndexOf(id) : -1;
-                    if (index >= 0 && (valid == null || valid[index]) && selected.Add(index)) added++;
+                    if (index >= 0 && (valid == null || valid[index]) && !corners.Contains(index)) corners.Add(index);
                 }
             }
-            return added;
+            return corners;
         }
     }
 }

@@ -1,0 +1,346 @@
+using System;
+using System.Collections.Generic;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Batched refinement (Documentation~/quality.md §5.3): greedy decimation of a seed set by whole independent
+    /// sets of probes, so that a Unity volume gets within ~1.1× of the reference's probe count with nothing but the
+    /// tetrahedraliser, point location and error it already has. Two probes that share no Delaunay edge share no
+    /// tetrahedron, so removing an independent set and tetrahedralising once gives every member's exact removal cost;
+    /// costs of an independent set add up, so any subset can be committed with a known error. Port of
+    /// lpnn/quality/batched_refinement.py (the same rounds, irradiance metric); parity pinned by
+    /// Tests/Data/batched_refinement_golden.json.
+    ///
+    /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by last measured
+    /// cost (never measured first; ties: lower index), locked probes left out, at most |P| − 4, only the first if the
+    /// rest is flat; (2) one trial without them gives each its cost; (3) commit those within the
+    /// <see cref="CommitFraction"/> quantile of all measured costs, cheapest first (at least one), capped by the count,
+    /// or the longest prefix that keeps the error sum within τ·N (none fits: stop once every cost is fresh, else forget
+    /// the stale ones); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
+    /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
+    /// Each round: two tetrahedralisations of the probes and two interpolations of every point.</summary>
+    public static class BatchedRefinement
+    {
+        /// <summary>Commit the candidates within this quantile of the measured costs (chosen on validation crops and levels,
+        /// quality.md §5.3).</summary>
+        public const double CommitFraction = 0.05;
+
+        /// <summary>A set thinner than this fraction of its extent is flat (lpnn/quality/triangulation.py FLAT_TOLERANCE).</summary>
+        public const double FlatTolerance = 1e-7;
+
+        private const string Stage = "batched refinement";
+
+        /// <summary>Down to <paramref name="count"/> probes (at least 4).</summary>
+        /// <param name="seed">Evaluation point indices (distinct, at least 4, not in one plane).</param>
+        /// <param name="keep">Point indices never removed (e.g. the bounds corners), or null.</param>
+        public static BatchedRefinementResult ToCount(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int count,
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+        {
+            if (count < 1) throw new PlacementErrorException("the count to refine down to must be at least 1, got " + count);
+            return Run(reference, tetrahedralizer, seed, Math.Max(ProbeIndices.Minimum, count), double.NaN, keep, progress, cancel, fraction);
+        }
+
+        /// <summary>As far as the mean irradiance error stays ≤ <paramref name="tolerance"/>. A seed already above it comes
+        /// back unrefined (<see cref="BatchedRefinementResult.SeedAboveTolerance"/>).</summary>
+        public static BatchedRefinementResult WithinTolerance(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, double tolerance,
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+        {
+            if (!(tolerance > 0) || double.IsInfinity(tolerance))
+                throw new PlacementErrorException("tolerance " + InvariantFormat.Number(tolerance) + " must be a finite mean error > 0 (e.g. 0.05)");
+            return Run(reference, tetrahedralizer, seed, ProbeIndices.Minimum, tolerance, keep, progress, cancel, fraction);
+        }
+
+        private sealed class MeshState
+        {
+            public int[] Probes;      // sorted evaluation point indices
+            public double[] Errors;   // per point, 0 at the probes
+            public int[] Owners;      // 4 per point: the probes (point indices) its stencil weighs > 0, else -1
+            public int[] EdgeStart;   // CSR over Probes' positions: neighbours of Probes[k] in EdgeStart[k]..EdgeStart[k+1]
+            public int[] EdgeTarget;  // neighbour point indices
+            public double ErrorSum;
+        }
+
+        private static BatchedRefinementResult Run(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int goal, double tolerance,
+            int[] keep, ProgressCallback progress, CancellationToken cancel, double fraction)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
+            if (!(fraction >= 0 && fraction <= 1))
+                throw new PlacementErrorException("commit fraction " + InvariantFormat.Number(fraction) + " must be in [0, 1] (e.g. " +
+                                                  InvariantFormat.Number(CommitFraction) + ")");
+            ProbeIndices.Check(seed, reference.Count);
+            int n = reference.Count;
+            bool byTolerance = !double.IsNaN(tolerance);
+            double limit = byTolerance ? tolerance * n : double.PositiveInfinity;
+            var locked = new bool[n];
+            if (keep != null)
+                foreach (int p in keep)
+                {
+                    if ((uint)p >= (uint)n) throw new PlacementErrorException("kept point " + p + " is outside the " + InvariantFormat.Count(n) + " evaluation points");
+                    locked[p] = true;
+                }
+            var probes = (int[])seed.Clone();
+            Array.Sort(probes);
+            var state = Evaluate(reference, tetrahedralizer, probes);
+            if (byTolerance && state.ErrorSum > limit)
+                return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, 0, BatchedRefinementResult.SeedAboveTolerance);
+            var cost = new double[n];
+            for (int p = 0; p < n; p++) cost[p] = double.NegativeInfinity;  // never measured: candidates first
+            var fresh = new bool[n];
+            int seeded = state.Probes.Length, rounds = 0;
+            string stop;
+            while (true)
+            {
+                cancel.ThrowIfCancellationRequested();
+                int[] current = state.Probes;
+                if (current.Length <= goal)
+                {
+                    stop = byTolerance ? BatchedRefinementResult.StoppedAtMinimum : BatchedRefinementResult.StoppedAtCount;
+                    break;
+                }
+                int[] candidates = Candidates(state, cost, locked, current.Length - ProbeIndices.Minimum);
+                if (candidates.Length == 0)
+                {
+                    stop = BatchedRefinementResult.StoppedAtTolerance;  // every probe left is locked
+                    break;
+                }
+                int[] remaining = Without(current, candidates, n);
+                if (IsFlat(reference, remaining))
+                {
+                    candidates = new[] { candidates[0] };
+                    remaining = Without(current, candidates, n);
+                    if (IsFlat(reference, remaining))
+                    {
+                        stop = BatchedRefinementResult.StoppedFlat;
+                        break;
+                    }
+                }
+                rounds++;
+                var trial = Evaluate(reference, tetrahedralizer, remaining);
+                RemovalCosts(state, trial, candidates, cost, n);
+                foreach (int c in candidates) fresh[c] = true;
+                var commit = Commit(candidates, cost, current, fraction);
+                if (!byTolerance && commit.Count > current.Length - goal) commit.RemoveRange(current.Length - goal, commit.Count - (current.Length - goal));
+                if (byTolerance)
+                {
+                    double sum = state.ErrorSum;
+                    int fits = 0;
+                    while (fits < commit.Count && sum + cost[commit[fits]] <= limit) sum += cost[commit[fits++]];
+                    commit.RemoveRange(fits, commit.Count - fits);
+                    if (commit.Count == 0)
+                    {
+                        bool anyStale = false;
+                        foreach (int p in current)
+                            if (!fresh[p] && !locked[p])
+                            {
+                                cost[p] = double.NegativeInfinity;  // measured first next round
+                                anyStale = true;
+                            }
+                        if (!anyStale)
+                        {
+                            stop = BatchedRefinementResult.StoppedAtTolerance;
+                            break;
+                        }
+                        continue;
+                    }
+                }
+                MarkNeighboursStale(state, commit, fresh, n);
+                var following = Evaluate(reference, tetrahedralizer, Without(current, commit.ToArray(), n));
+                int back = commit.Count;
+                while (byTolerance && following.ErrorSum > limit && back > 0)  // an unattributed hull effect
+                {
+                    back--;
+                    locked[commit[back]] = true;
+                    following = Evaluate(reference, tetrahedralizer, Without(current, commit.GetRange(0, back).ToArray(), n));
+                }
+                state = following;
+                progress?.Invoke(Stage, seeded - state.Probes.Length, seeded - goal);
+            }
+            return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, rounds, stop);
+        }
+
+        /// <summary>The greedy independent set by (cost, index) among the unlocked probes, in that order; at most
+        /// <paramref name="limit"/>.</summary>
+        private static int[] Candidates(MeshState state, double[] cost, bool[] locked, int limit)
+        {
+            int[] probes = state.Probes;
+            var order = new List<int>(probes.Length);  // positions in probes
+            for (int k = 0; k < probes.Length; k++)
+                if (!locked[probes[k]]) order.Add(k);
+            order.Sort((a, b) =>
+            {
+                int byCost = cost[probes[a]].CompareTo(cost[probes[b]]);
+                return byCost != 0 ? byCost : probes[a].CompareTo(probes[b]);
+            });
+            var blocked = new bool[probes.Length];
+            var position = PositionOf(probes);
+            var chosen = new List<int>();
+            foreach (int k in order)
+            {
+                if (blocked[k]) continue;
+                chosen.Add(probes[k]);
+                for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++)
+                    if (position.TryGetValue(state.EdgeTarget[e], out int j)) blocked[j] = true;
+                blocked[k] = true;
+                if (chosen.Count == limit) break;
+            }
+            return chosen.ToArray();
+        }
+
+        /// <summary>Each candidate's removal cost: the summed error change (ascending point order) at the points whose
+        /// stencil weighed it, plus its own new error.</summary>
+        private static void RemovalCosts(MeshState state, MeshState trial, int[] candidates, double[] cost, int n)
+        {
+            var isCandidate = new bool[n];
+            foreach (int c in candidates) isCandidate[c] = true;
+            var total = new Dictionary<int, double>(candidates.Length);
+            foreach (int c in candidates) total[c] = 0.0;
+            for (int p = 0; p < n; p++)
+            {
+                int owner = isCandidate[p] ? p : -1;
+                for (int k = 0; k < 4 && owner < 0; k++)
+                {
+                    int o = state.Owners[4 * p + k];
+                    if (o >= 0 && isCandidate[o]) owner = o;
+                }
+                if (owner >= 0) total[owner] += trial.Errors[p] - state.Errors[p];
+            }
+            foreach (int c in candidates) cost[c] = total[c];
+        }
+
+        /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
+        /// costs of <paramref name="probes"/>, cheapest first (ties: lower index); at least the cheapest candidate.</summary>
+        private static List<int> Commit(int[] candidates, double[] cost, int[] probes, double fraction)
+        {
+            var measured = new List<double>(probes.Length);
+            foreach (int p in probes)
+                if (!double.IsInfinity(cost[p]) && !double.IsNaN(cost[p])) measured.Add(cost[p]);
+            measured.Sort();
+            double threshold = measured[(int)Math.Floor(fraction * (measured.Count - 1))];
+            var ordered = (int[])candidates.Clone();
+            Array.Sort(ordered, (a, b) =>
+            {
+                int byCost = cost[a].CompareTo(cost[b]);
+                return byCost != 0 ? byCost : a.CompareTo(b);
+            });
+            var commit = new List<int>();
+            foreach (int c in ordered)
+                if (cost[c] <= threshold) commit.Add(c);
+            if (commit.Count == 0) commit.Add(ordered[0]);
+            return commit;
+        }
+
+        private static void MarkNeighboursStale(MeshState state, List<int> removed, bool[] fresh, int n)
+        {
+            var position = PositionOf(state.Probes);
+            foreach (int r in removed)
+            {
+                int k = position[r];
+                for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++) fresh[state.EdgeTarget[e]] = false;
+            }
+        }
+
+        private static Dictionary<int, int> PositionOf(int[] probes)
+        {
+            var position = new Dictionary<int, int>(probes.Length);
+            for (int k = 0; k < probes.Length; k++) position[probes[k]] = k;
+            return position;
+        }
+
+        private static int[] Without(int[] probes, int[] removed, int n)
+        {
+            var gone = new bool[n];
+            foreach (int r in removed) gone[r] = true;
+            var kept = new List<int>(probes.Length);
+            foreach (int p in probes)
+                if (!gone[p]) kept.Add(p);
+            return kept.ToArray();
+        }
+
+        private static MeshState Evaluate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
+        {
+            int n = reference.Count;
+            var positions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
+            int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
+            var errors = new double[n];
+            var owners = new int[4 * n];
+            for (int i = 0; i < owners.Length; i++) owners[i] = -1;
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int p, ref Stencil stencil, double[] interpolated) =>
+            {
+                errors[p] = PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale);
+                if (stencil.Weight0 > 0) owners[4 * p] = probes[stencil.Probe0];
+                if (stencil.Weight1 > 0) owners[4 * p + 1] = probes[stencil.Probe1];
+                if (stencil.Weight2 > 0) owners[4 * p + 2] = probes[stencil.Probe2];
+                if (stencil.Weight3 > 0) owners[4 * p + 3] = probes[stencil.Probe3];
+            });
+            double sum = 0;
+            foreach (double e in errors) sum += e;
+            Edges(tetrahedra, probes, out int[] start, out int[] target);
+            return new MeshState { Probes = probes, Errors = errors, Owners = owners, EdgeStart = start, EdgeTarget = target, ErrorSum = sum };
+        }
+
+        /// <summary>The Delaunay graph as CSR over the probe list: each tetrahedron's 6 edges, both ways, without repeats.</summary>
+        private static void Edges(int[] tetrahedra, int[] probes, out int[] start, out int[] target)
+        {
+            int count = probes.Length;
+            var keys = new List<long>(tetrahedra.Length * 3);
+            for (int t = 0; t + 3 < tetrahedra.Length; t += 4)
+                for (int a = 0; a < 4; a++)
+                    for (int b = 0; b < 4; b++)
+                        if (a != b) keys.Add((long)tetrahedra[t + a] * count + tetrahedra[t + b]);
+            keys.Sort();
+            start = new int[count + 1];
+            var targets = new List<int>(keys.Count / 2);
+            long previous = -1;
+            foreach (long key in keys)
+            {
+                if (key == previous) continue;
+                previous = key;
+                start[(int)(key / count) + 1]++;
+                targets.Add(probes[(int)(key % count)]);
+            }
+            for (int k = 0; k < count; k++) start[k + 1] += start[k];
+            target = targets.ToArray();
+        }
+
+        /// <summary>Whether the points lie (within <see cref="FlatTolerance"/> of their extent) on one line or in one plane:
+        /// the farthest point from the first, the farthest from that line, the farthest from that plane.</summary>
+        internal static bool IsFlat(ReferenceLighting reference, int[] points)
+        {
+            if (points.Length < 4) return true;
+            double[] local = reference.Local;
+            var origin = Point(local, points[0]);
+            Double3 far = origin;
+            double extent = 0;
+            foreach (int p in points)
+            {
+                double d = (Point(local, p) - origin).Length;
+                if (d > extent) { extent = d; far = Point(local, p); }
+            }
+            if (!(extent > 0)) return true;
+            var axis = (far - origin) * (1.0 / extent);
+            Double3 normal = default;
+            double offLine = 0;
+            foreach (int p in points)
+            {
+                var r = Point(local, p) - origin;
+                var across = r - axis * Double3.Dot(r, axis);
+                double d = across.Length;
+                if (d > offLine) { offLine = d; normal = across; }
+            }
+            if (offLine <= FlatTolerance * extent) return true;
+            var planeNormal = Double3.Cross(axis, normal * (1.0 / offLine));
+            double length = planeNormal.Length;
+            foreach (int p in points)
+                if (Math.Abs(Double3.Dot(Point(local, p) - origin, planeNormal)) / length > FlatTolerance * extent) return false;
+            return true;
+        }
+
+        private static Double3 Point(double[] local, int p) => new Double3(local[3 * p], local[3 * p + 1], local[3 * p + 2]);
+    }
+}

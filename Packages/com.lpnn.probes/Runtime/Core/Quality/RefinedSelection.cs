@@ -1,0 +1,66 @@
+using System;
+using System.Collections.Generic;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Selection;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Refined insertion (Documentation~/quality.md §5.3): a selection made from an insertion ranking's prefixes,
+    /// refined by <see cref="BatchedRefinement"/> — what a Unity volume's Apply does with the insertion methods. The seed
+    /// is the ranking's first min(N, max(round(<see cref="DefaultFactor"/> × K), <see cref="MinimumSeed"/>)) points plus
+    /// whatever the selection holds (bounds corners, the tetrahedron guarantee), K being the selection's count; the bounds
+    /// corners are kept. A count policy (Budget, Spread, Percentile) refines down to K; the tolerance policy as far as
+    /// the error stays within τ, keeping the refined set only when it has fewer probes than the search's. Port of
+    /// lpnn/quality/refined_insertion.py (same seed, same refinement).</summary>
+    public static class RefinedSelection
+    {
+        /// <summary>The seed holds this many times the selection's count (the refine tier's factor).</summary>
+        public const double DefaultFactor = 2.0;
+
+        /// <summary>A seed of 2K points cannot reach a sparse answer at tiny K (lpnn/quality/lpnn_placement.py MINIMUM_SEED).</summary>
+        public const int MinimumSeed = 64;
+
+        /// <param name="selection">What the policy selected from <paramref name="prefix"/> (ProbeSelector.SelectFromPrefixes
+        /// or SelectFromRanking with the same settings).</param>
+        /// <param name="candidates">The points the whole ranking holds (the grid's, or its valid ones).</param>
+        /// <param name="evaluator">The lighting of every grid point and the tetrahedraliser (Unity's in the editor).</param>
+        public static SelectionResult Refine(EvaluationGrid grid, SelectionResult selection, RankingPrefix prefix, int candidates, SelectionSettings settings,
+            PlacementEvaluator evaluator, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (selection == null) throw new ArgumentNullException(nameof(selection));
+            if (prefix == null) throw new ArgumentNullException(nameof(prefix));
+            if (evaluator == null) throw new ArgumentNullException(nameof(evaluator));
+            if (evaluator.Reference.Count != grid.Count)
+                throw new PlacementErrorException("the reference lighting has " + evaluator.Reference.Count + " points but the grid has " + grid.Count +
+                                                  "; sample the lighting for this grid");
+            settings.Validate();
+            if (settings.Policy == SelectionPolicy.Threshold)
+                throw new SelectionException("batched refinement refines a ranking's prefix; the score threshold policy has none: choose Tolerance, Spread or Budget");
+            int target = selection.Indices.Length;
+            int seedCount = SeedCount(target, candidates);
+            var seed = new HashSet<int>(selection.Indices);
+            int[] head = prefix(seedCount);
+            for (int r = 0; r < seedCount && r < head.Length; r++) seed.Add(head[r]);
+            if (seed.Count <= target) return selection;  // the seed is the selection: nothing to remove
+            var seedPoints = new int[seed.Count];
+            seed.CopyTo(seedPoints);
+            int[] keep = settings.KeepBoundsCorners ? ProbeSelector.BoundsCorners(grid, valid).ToArray() : null;
+            var tetrahedralizer = evaluator.Tetrahedralizer;
+            if (settings.Policy != SelectionPolicy.Tolerance)
+            {
+                var counted = BatchedRefinement.ToCount(evaluator.Reference, tetrahedralizer, seedPoints, target, keep, progress, cancel);
+                return new SelectionResult(counted.Indices, selection.CornersAdded, 0, null, target);
+            }
+            var refined = BatchedRefinement.WithinTolerance(evaluator.Reference, tetrahedralizer, seedPoints, settings.Value, keep, progress, cancel);
+            bool better = refined.MeanError <= settings.Value && refined.Indices.Length < target;
+            return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, target) : selection;
+        }
+
+        /// <summary>min(N, max(round(F K), <see cref="MinimumSeed"/>)), halves up.</summary>
+        public static int SeedCount(int count, int candidates) =>
+            Math.Min(candidates, Math.Max((int)Math.Floor(DefaultFactor * count + 0.5), MinimumSeed));
+    }
+}

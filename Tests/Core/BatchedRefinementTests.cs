@@ -1,0 +1,212 @@
+using System;
+using System.Collections.Generic;
+using System.Linq;
+using System.Numerics;
+using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Tests.Support;
+using NUnit.Framework;
+
+namespace Lpnn.Probes.Core.Tests
+{
+    /// <summary>Batched refinement (Documentation~/quality.md §5.3): parity with the Python reference through
+    /// Tests/Data/batched_refinement_golden.json (every evaluated set and decision certified unique, Tests/Data/README.md),
+    /// and its behaviour on cases whose answer is known by hand.</summary>
+    [TestFixture]
+    public class BatchedRefinementTests
+    {
+        private static int[] Ints(JsonValue array) => array.Items.Select(v => (int)v.AsNumber).ToArray();
+
+        [TestCase(0, "count")]
+        [TestCase(1, "tolerance")]
+        public void KeepsThePythonReferencesPointsWithTheSameRoundsAndStop(int index, string name)
+        {
+            var golden = TestData.ReadJson("batched_refinement_golden.json");
+            StringAssert.StartsWith("exact", golden.Get("tolerance").AsString);
+            var c = golden.Get("cases").Items[index];
+            Assert.That(c.Get("name").AsString, Is.EqualTo(name));
+            Assert.That(c.Get("commit_fraction").AsNumber, Is.EqualTo(BatchedRefinement.CommitFraction));
+            var grid = GoldenLighting.Grid(c);
+            var reference = GoldenLighting.Reference(c, grid);
+            int[] seed = Ints(c.Get("seed_points"));
+            int[] keep = Ints(c.Get("keep"));
+            var result = c.TryGet("count", out var count)
+                ? BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), seed, (int)count.AsNumber, keep)
+                : BatchedRefinement.WithinTolerance(reference, new BowyerWatsonDelaunay(), seed, c.Get("tolerance").AsNumber, keep);
+            Assert.That(result.Indices, Is.EqualTo(Ints(c.Get("indices"))));
+            Assert.That(result.Rounds, Is.EqualTo((int)c.Get("rounds").AsNumber));
+            Assert.That(result.StopReason, Is.EqualTo(c.Get("stop_reason").AsString));
+            Assert.That(result.MeanError, Is.EqualTo(c.Get("mean_error").AsNumber).Within(1e-9 * c.Get("mean_error").AsNumber));
+            Assert.That(keep.All(p => result.Indices.Contains(p)), Is.True, "a kept point was removed");
+        }
+
+        // ---- behaviour on cases known by hand -------------------------------------------------------------------------
+
+        private static ReferenceLighting Blobs(Grid.EvaluationGrid grid, out Vector3[] positions)
+        {
+            positions = QualityFixtures.Jittered(QualityFixtures.Positions(grid), 0.2f, 11);
+            return ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(4.5f, 2.5f, 2f), 0.8f));
+        }
+
+        [Test]
+        public void ACountKeepsExactlyThatManyOfTheSeedDeterministicallyAndBeatsTheSeedsOwnPrefix()
+        {
+            var grid = QualityFixtures.Box(6, 5, 4);
+            var reference = Blobs(grid, out _);
+            var order = new InsertionOrder(grid, reference, new BowyerWatsonDelaunay());
+            int[] seed = order.Prefix(24).Take(24).ToArray();
+            var first = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), seed, 12);
+            var again = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), (int[])seed.Clone(), 12);
+            Assert.That(first.Indices.Length, Is.EqualTo(12));
+            Assert.That(first.StopReason, Is.EqualTo(BatchedRefinementResult.StoppedAtCount));
+            Assert.That(first.Indices, Is.Ordered.And.Unique);
+            Assert.That(first.Indices.All(seed.Contains), Is.True);
+            Assert.That(again.Indices, Is.EqualTo(first.Indices));
+            var evaluator = new PlacementEvaluator(reference, new BowyerWatsonDelaunay());
+            Assert.That(first.MeanError, Is.EqualTo(evaluator.MeanError(first.Indices)).Within(1e-12));
+            // What it is for: the refined 12 interpolate better than insertion's own first 12.
+            Assert.That(first.MeanError, Is.LessThan(evaluator.MeanError(order.Prefix(12).Take(12).ToArray())));
+        }
+
+        [Test]
+        public void OnAffineLightingATolerancePrunesAFullLatticeToAHandful()
+        {
+            var grid = QualityFixtures.Box(5, 4, 4);
+            var positions = QualityFixtures.Positions(grid);  // a box: its 8 corners span the hull of every point
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.LinearField(positions, new Vector3(-1, -1, -1)));
+            var result = BatchedRefinement.WithinTolerance(reference, new BowyerWatsonDelaunay(), Enumerable.Range(0, grid.Count).ToArray(), 1e-6);
+            Assert.That(result.MeanError, Is.LessThanOrEqualTo(1e-6));
+            Assert.That(result.Indices.Length, Is.LessThanOrEqualTo(16), "affine lighting is reproduced inside any tetrahedra: only the box's hull needs probes");
+            Assert.That(BatchedRefinement.IsFlat(reference, result.Indices), Is.False);
+        }
+
+        [Test]
+        public void AThinSlabIsNeverPrunedIntoOnePlane()
+        {
+            var grid = QualityFixtures.Box(6, 5, 2);
+            var positions = QualityFixtures.Positions(grid);
+            var random = new Random(5);
+            var sh = new float[27 * grid.Count];
+            for (int i = 0; i < sh.Length; i++) sh[i] = 0.2f + 0.8f * (float)random.NextDouble();
+            var reference = ReferenceLighting.Create(positions, sh);
+            int[] all = Enumerable.Range(0, grid.Count).ToArray();
+            var loose = BatchedRefinement.WithinTolerance(reference, new BowyerWatsonDelaunay(), all, 0.99);
+            var fewest = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), all, 4);
+            foreach (var result in new[] { loose, fewest })
+            {
+                Assert.That(result.Indices.Length, Is.GreaterThanOrEqualTo(4));
+                Assert.That(BatchedRefinement.IsFlat(reference, result.Indices), Is.False);
+            }
+        }
+
+        [Test]
+        public void ASeedAlreadyAboveTheToleranceComesBackUnrefined()
+        {
+            var grid = QualityFixtures.Box(6, 5, 4);
+            var reference = Blobs(grid, out _);
+            int[] seed = new InsertionOrder(grid, reference, new BowyerWatsonDelaunay()).Prefix(6).Take(6).ToArray();
+            double error = new PlacementEvaluator(reference, new BowyerWatsonDelaunay()).MeanError(seed);
+            var result = BatchedRefinement.WithinTolerance(reference, new BowyerWatsonDelaunay(), seed, error / 2);
+            Assert.That(result.StopReason, Is.EqualTo(BatchedRefinementResult.SeedAboveTolerance));
+            Assert.That(result.Rounds, Is.EqualTo(0));
+            Assert.That(result.Indices, Is.EqualTo(seed.OrderBy(p => p)));
+        }
+
+        [Test]
+        public void KeptPointsAreNeverRemoved()
+        {
+            var grid = QualityFixtures.Box(6, 5, 4);
+            var reference = Blobs(grid, out _);
+            int[] all = Enumerable.Range(0, grid.Count).ToArray();
+            int[] keep = { 0, 5, 30, 119 };
+            var result = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), all, 10, keep);
+            Assert.That(result.Indices.Length, Is.EqualTo(10));
+            Assert.That(keep.All(result.Indices.Contains), Is.True);
+        }
+
+        [Test]
+        public void BadArgumentsAreRefusedByName()
+        {
+            var grid = QualityFixtures.Box(4, 4, 3);
+            var reference = Blobs(grid, out _);
+            int[] all = Enumerable.Range(0, grid.Count).ToArray();
+            var tet = new BowyerWatsonDelaunay();
+            StringAssert.Contains("commit fraction 1.5", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.ToCount(reference, tet, all, 8, fraction: 1.5)).Message);
+            StringAssert.Contains("commit fraction NaN", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.ToCount(reference, tet, all, 8, fraction: double.NaN)).Message);
+            StringAssert.Contains("tolerance -0.1", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.WithinTolerance(reference, tet, all, -0.1)).Message);
+            StringAssert.Contains("at least 1, got 0", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.ToCount(reference, tet, all, 0)).Message);
+            StringAssert.Contains("kept point 999", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.ToCount(reference, tet, all, 8, new[] { 999 })).Message);
+            StringAssert.Contains("3 probe(s)", Assert.Throws<PlacementErrorException>(() => BatchedRefinement.ToCount(reference, tet, new[] { 0, 1, 2 }, 4)).Message);
+        }
+
+        // ---- refined insertion: what a Unity volume's Apply does with the insertion methods ----------------------------
+
+        /// <summary>A box grid (with its box, so the bounds corners are known) lit by two blobs; positions on the lattice.</summary>
+        private static PlacementEvaluator LitBox(out Grid.EvaluationGrid grid)
+        {
+            grid = QualityFixtures.Box(7, 5, 4);
+            var positions = QualityFixtures.Positions(grid);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(4.5f, 2.5f, 2f), 0.8f));
+            return new PlacementEvaluator(reference, new BowyerWatsonDelaunay());
+        }
+
+        [Test]
+        public void ABudgetIsRefinedFromTwiceItsCountOfTheRankingDownToItsCount()
+        {
+            var evaluator = LitBox(out var grid);
+            var order = new InsertionOrder(grid, evaluator.Reference, evaluator.Tetrahedralizer);
+            var settings = SelectionSettings.Budget(20);
+            var selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, null);
+            var refined = RefinedSelection.Refine(grid, selection, k => order.Prefix(k), order.Count, settings, evaluator);
+            Assert.That(RefinedSelection.SeedCount(20, grid.Count), Is.EqualTo(64), "the minimum seed");
+            int[] seed = order.Prefix(64).Take(64).ToArray();
+            Assert.That(refined.Indices, Is.EqualTo(BatchedRefinement.ToCount(evaluator.Reference, evaluator.Tetrahedralizer, seed, 20).Indices));
+            Assert.That(refined.Indices.Length, Is.EqualTo(20));
+            Assert.That(refined.UnrefinedCount, Is.EqualTo(20));
+            Assert.That(evaluator.MeanError(refined.Indices), Is.LessThan(evaluator.MeanError(selection.Indices)));
+        }
+
+        [Test]
+        public void AToleranceKeepsFewerProbesWithinItAndTheBoundsCorners()
+        {
+            var evaluator = LitBox(out var grid);
+            var order = new InsertionOrder(grid, evaluator.Reference, evaluator.Tetrahedralizer);
+            var settings = SelectionSettings.Tolerance(0.03, keepCorners: true);
+            var selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, evaluator);
+            var refined = RefinedSelection.Refine(grid, selection, k => order.Prefix(k), order.Count, settings, evaluator);
+            Assert.That(refined.Indices.Length, Is.LessThan(selection.Indices.Length));
+            Assert.That(refined.UnrefinedCount, Is.EqualTo(selection.Indices.Length));
+            Assert.That(evaluator.MeanError(refined.Indices), Is.LessThanOrEqualTo(0.03));
+            Assert.That(ProbeSelector.BoundsCorners(grid, null).All(refined.Indices.Contains), Is.True, "a bounds corner was removed");
+            Assert.That(refined.Tolerance, Is.SameAs(selection.Tolerance), "the search that found the seed's count is kept");
+        }
+
+        [Test]
+        public void TheThresholdPolicyHasNoPrefixToRefine()
+        {
+            var evaluator = LitBox(out var grid);
+            var selection = new SelectionResult(Enumerable.Range(0, 10).ToArray(), 0, 0);
+            Assert.Throws<SelectionException>(() => RefinedSelection.Refine(grid, selection, k => Enumerable.Range(0, grid.Count).ToArray(), grid.Count,
+                SelectionSettings.Threshold(0.5), evaluator));
+        }
+
+        [Test]
+        public void CancellationStopsBetweenRounds()
+        {
+            var grid = QualityFixtures.Box(5, 4, 4);
+            var reference = Blobs(grid, out _);
+            using (var source = new System.Threading.CancellationTokenSource())
+            {
+                var reported = new List<long>();
+                Assert.Throws<OperationCanceledException>(() => BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(),
+                    Enumerable.Range(0, grid.Count).ToArray(), 8, progress: (stage, done, total) =>
+                    {
+                        reported.Add(done);
+                        source.Cancel();
+                    }, cancel: source.Token));
+                Assert.That(reported.Count, Is.EqualTo(1), "one round finished, then the cancel was honoured");
+            }
+        }
+    }
+}

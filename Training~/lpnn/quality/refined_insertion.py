@@ -1,0 +1,88 @@
+"""Refined insertion: the insertion order's answer, refined by batched_refinement (quality.md §5.3).
+
+    refined_insertion(field, grid, budget=0.2)             # K = round(f N) probes
+    refined_insertion(field, grid, tolerance=0.05)         # the fewest probes found within tau
+    refined_insertion(field, grid, budget=0.2, guide=w)    # seeded by guided insertion (the LPNN tier)
+
+- budget f: K = round(f N); seed = the insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points
+  (+ tetrahedron guarantee), decimated in batches down to K.
+- tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
+  its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the
+  answer is the refinement's set if it has fewer than K0 probes, else the search's (never worse than insertion).
+F = RECOMMENDED_REFINE (2), the refine tier's factor. The C# core runs the same steps (BatchedRefinement.cs) with
+Unity's tetrahedralisation: what an LPNN volume does by default.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..core.grid import EvaluationGrid
+from .batched_refinement import batched_refinement
+from .insertion import InsertionOrder
+from .metric import PRIMARY_METRIC, MetricError, ReferenceField
+from .policies import budget_count, place_tolerance
+
+RECOMMENDED_REFINE = 2.0  # the seed holds this many times the wanted count (the refine tier's factor)
+MINIMUM_SEED = 64  # a seed of 2K points cannot reach a sparse answer at tiny K (lpnn_placement.MINIMUM_SEED)
+
+
+@dataclass(frozen=True)
+class RefinedPlacement:
+    indices: np.ndarray  # (K,) int64 point indices, sorted
+    requested: int  # the budget's count, or the count the tolerance answer kept
+    seed_count: int  # points the refinement started from
+    mean_error: float  # irradiance mean error of `indices`
+    selection_seconds: float  # insertion rounds and the tolerance search
+    refinement_seconds: float  # the seed's further rounds and the batched refinement
+    rounds: int  # batched refinement rounds
+
+
+def seed_count(refine: float, count: int, point_count: int) -> int:
+    """min(N, max(round(F K), MINIMUM_SEED)), halves up."""
+    return min(point_count, max(int(math.floor(refine * count + 0.5)), MINIMUM_SEED))
+
+
+def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: float | None = None,
+                      tolerance: float | None = None, refine: float = RECOMMENDED_REFINE,
+                      guide: np.ndarray | None = None,
+                      insertion_progress: Callable[[int, int], None] | None = None,
+                      refinement_progress: Callable[[int, int], None] | None = None) -> RefinedPlacement:
+    """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
+    from guided insertion. The progress callbacks get (points ranked, points asked for) during the insertion rounds
+    and (probes removed, probes to remove at most) during the refinement."""
+    if (budget is None) == (tolerance is None):
+        raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
+    factor = float(refine)
+    if not (math.isfinite(factor) and factor > 1.0):
+        raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
+                          f"{RECOMMENDED_REFINE:g} is recommended)")
+    n = field.point_count
+    start = time.perf_counter()
+    select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress).selection()
+    found = None
+    if tolerance is None:
+        target = budget_count(budget, n)  # type: ignore[arg-type]
+    else:
+        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC)
+        target = int(found.indices.shape[0])
+    selection_seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    seed = select(seed_count(factor, target, n))
+    if tolerance is None:
+        refined = batched_refinement(field, seed, count=target, progress=refinement_progress)
+        indices, error = refined.indices, refined.mean_error
+    else:
+        refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress)
+        assert found is not None
+        better = refined.mean_error <= tolerance and refined.indices.shape[0] < target
+        indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
+    return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
+                            seed_count=int(seed.shape[0]), mean_error=float(error),
+                            selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
+                            rounds=refined.rounds)
