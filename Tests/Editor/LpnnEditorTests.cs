@@ -77,8 +77,8 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void TheInsertionMethodsRunSkipsScoringAndPlacesProbes()
         {
-            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.GuidedInsertion), "a new volume places by guided insertion");
-            _room.Volume.SetMethod(PlacementMethod.Insertion);
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion), "a new volume places by insertion");
+            Assert.That(_room.Volume.RefineInBatches, Is.True, "and refines in batches on Apply");
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step),
                 Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Placement }));

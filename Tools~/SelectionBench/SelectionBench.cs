@@ -14,6 +14,7 @@ using Lpnn.Probes.Core.Tests.Support;
 /// typical tetrahedron, and one round given a mesh (the Freudenthal–Kuhn tetrahedra of the stride-4 sub-lattice as the
 /// probes' mesh). The whole ranking tetrahedralises the probes every round with Unity's tetrahedraliser; the tests' own
 /// Delaunay is O(n²) per call, so the whole ranking's time can only be measured in Unity.
+/// Last, one round of the batched refinement (Quality.BatchedRefinement), whose Unity-independent part is linear in the points.
 /// Usage: mono SelectionBench.exe [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points).</summary>
 public static class SelectionBench
 {
@@ -72,7 +73,26 @@ public static class SelectionBench
         Console.WriteLine();
         Console.WriteLine("points | reference lighting s | typical tetrahedron s | one insertion round given the mesh s (probes, tetrahedra, batch)");
         foreach (int n in sizes) InsertionParts(n);
+        Console.WriteLine();
+        Console.WriteLine("points | one batched refinement round s (3 evaluations: the set, the trial, the commit; 125 lattice probes, the tests' Delaunay) | candidates");
+        foreach (int n in sizes) BatchedRound(n);
         return 0;
+    }
+
+    /// <summary>One round of Quality.BatchedRefinement from the 5 × 5 × 5 sub-lattice: ToCount(seed, |seed| − 1) runs exactly
+    /// one round (its first commit reaches the count). Its cost besides the tetrahedralisations is three interpolations of
+    /// every point, the Delaunay graph and the sorts; with 125 probes the tests' O(P²) Delaunay is negligible, so this times
+    /// the part that grows with the points.</summary>
+    private static void BatchedRound(int n)
+    {
+        var grid = Lattice(n);
+        var reference = ReferenceLighting.FromGrid(grid, SyntheticSh(grid));
+        int[] seed = QualityFixtures.LatticeProbes(grid, Math.Max(1, (n - 1) / 4));
+        var watch = Stopwatch.StartNew();
+        var result = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), seed, seed.Length - 1);
+        double seconds = watch.Elapsed.TotalSeconds;
+        if (result.Rounds != 1) throw new InvalidOperationException("expected one round, got " + result.Rounds);
+        Console.WriteLine(string.Format(System.Globalization.CultureInfo.InvariantCulture, "{0:N0} | {1:F2} | {2}", grid.Count, seconds, seed.Length));
     }
 
     /// <summary>The n³ lattice at cell 0.5, in grid order.</summary>

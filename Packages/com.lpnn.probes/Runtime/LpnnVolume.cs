@@ -71,10 +71,11 @@ namespace Lpnn.Probes
         [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
         [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
 
-        [Tooltip("What ranks the points. Guided insertion (default) inserts probes where interpolating the sampled lighting is worst, " +
-                 "taking in each of Unity's tetrahedra the badly interpolated point the network rates highest: the best method measured " +
-                 "(Documentation~/benchmarks.md §10), about a second per 1,000 points, after the Features and Scoring steps. Insertion does " +
-                 "the same without the network (no model needed). Network ranks by the model's scores alone: milliseconds, measured worse.")]
+        [Tooltip("What ranks the points. Insertion (default) inserts probes where interpolating the sampled lighting is worst, " +
+                 "and with Refine in batches Apply then removes the ones the lighting does not need: the best method measured " +
+                 "(Documentation~/benchmarks.md §11), no model needed. Guided insertion does the same, taking in each of Unity's " +
+                 "tetrahedra the badly interpolated point the network rates highest (after the Features and Scoring steps; measured " +
+                 "equal once refined). Network ranks by the model's scores alone: milliseconds, measured worse.")]
         [SerializeField] private PlacementMethod placementMethod = PlacementMethods.Default;
 
         [Tooltip("How scores become probes. Tolerance (default) keeps as few spread-ranked probes as the placement error allows; " +

@@ -3,10 +3,10 @@
   lpnn demo --model M.onnx --out DIR [--pak PAK] [--level oa_dm1] [--tolerance 0.05]
 
 Imports a level the model never saw, scores it, keeps the fewest probes whose mean error is within the
-tolerance by LPNN-guided insertion refined in batches (the package's default with a model) and by LPNN's other
-tiers, compares with the reference, insertion, a uniform grid and the heuristic, prints a table and writes
-DIR/probes.json (the default's probes; Unity: LPNN volume > Import .probes.json…), probes-guided.json,
-probes-spread.json, probes-refined.json, demo.png, table.txt and summary.json.
+tolerance by insertion refined in batches (the package's default) and by LPNN's tiers, compares with the reference,
+insertion, a uniform grid and the heuristic, prints a table and writes DIR/probes.json (the default's probes; Unity:
+LPNN volume > Import .probes.json…), probes-batched.json, probes-guided.json, probes-spread.json, probes-refined.json,
+demo.png, table.txt and summary.json.
 """
 
 from __future__ import annotations

@@ -4,21 +4,23 @@
                       | --method fast|insertion|insertion-refined|uniform|heuristic|apv|random]
              [--guided | --refine F [--batched] | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
-Without --model, --scores or --method it places by insertion (DEFAULT_METHOD): the best method measured
-without a model where the capture's dense lighting is available, which `lpnn place` always has
-(benchmarks.md §7.1: 1.63x the reference's probes at tau = 0.05 against the shipped network's 2.06x; lower
-error at every budget from 5 %). With a model, --guided is better still (benchmarks.md §10) and is what a
-new Unity volume does by default; the network's spread ranking is the fast tier (milliseconds instead of
-about a second per 1,000 points).
+Without --model, --scores or --method it places by insertion refined in batches (DEFAULT_METHOD,
+quality.md §5.3): the best method measured where the capture's dense lighting is available, which `lpnn place`
+always has, and what a new Unity volume does (benchmarks.md §11: 1.05x the reference's probes at tau = 0.05 on
+the validation crops, where insertion alone keeps 1.66x and the network's guide, refined the same way, 1.07x). With
+a model, --refine 2 (the exact refinement) is closer still to the reference (1.00x) at minutes on large levels; the
+network's spread ranking is the fast tier (milliseconds instead of about a second per 1,000 points).
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
 --topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K points of
-the guided insertion and decimates down to K; --guided ranks by insertion guided by the scores (quality.md §5.2: the
-best method measured with a model at hand, benchmarks.md §10; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score). Non-learned methods (quality.md): the fast
-reference, insertion (coarse-to-fine error-driven, the best non-learned method measured), the uniform
-lattice, the curvature heuristic, an APV-style geometry density, random.
+the guided insertion and decimates down to K, and with --batched refines them in batches instead (quality.md §5.3:
+seconds on a whole level where the exact greedy takes minutes); --guided ranks by insertion guided by the scores
+(quality.md §5.2; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score).
+Non-learned methods (quality.md): the fast reference, insertion (coarse-to-fine error-driven), insertion refined in
+batches (the best non-learned method measured, the default), the uniform lattice, the curvature heuristic, an
+APV-style geometry density, random.
 Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
 evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
 """
@@ -37,7 +39,7 @@ if TYPE_CHECKING:
     from ..quality.metric import PlacementQuality
 
 PLACE_METHODS = ("fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random")
-DEFAULT_METHOD = "insertion"  # module text; with a model the Unity volume's default is guided insertion (= --model M --guided)
+DEFAULT_METHOD = "insertion-refined"  # module text; the Unity volume's default too (Insertion, Refine in batches)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -50,8 +52,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     source.add_argument("--model", metavar="M.onnx", help="score the points with this model (and its card)")
     source.add_argument("--scores", metavar="SCORES.csv", help="scores from `lpnn score` (index,i,j,k,score)")
     source.add_argument("--method", choices=PLACE_METHODS,
-                        help="fast reference, insertion (the default without --model/--scores), insertion refined in "
-                             "batches (quality.md §5.3: fewer probes for the same error, seconds more), uniform lattice, curvature-weighted farthest-point heuristic, APV-style geometry density, or random (seeded)")
+                        help="fast reference, insertion, insertion refined in batches (the default without --model/--scores; "
+                             "quality.md §5.3: about a third fewer probes than insertion for the same error), uniform lattice, curvature-weighted farthest-point heuristic, APV-style geometry density, or random (seeded)")
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
     parser.add_argument("--refine", type=refine_factor, metavar="F",

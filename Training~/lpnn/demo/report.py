@@ -14,10 +14,10 @@ from ..quality.plots import pyplot, save_png
 from ..quality.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
-LABELS = {"lpnn-batched": "LPNN-guided + batched", "lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",
+LABELS = {"insertion-refined": "insertion + batched", "lpnn-batched": "LPNN-guided + batched", "lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",
           "fast-reference": "fast reference", "uniform": "uniform grid", "heuristic": "heuristic",
           "insertion": "insertion (non-learned)"}
-STYLE = {"lpnn-batched": ("tab:pink", "-"), "lpnn-guided": ("tab:purple", "-"), "lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"),
+STYLE = {"insertion-refined": ("olive", "-"), "lpnn-batched": ("tab:pink", "-"), "lpnn-guided": ("tab:purple", "-"), "lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"),
          "fast-reference": ("tab:green", "-"), "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"),
          "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
@@ -36,7 +36,8 @@ def table(result: DemoResult) -> str:
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
-    for name in ("lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "heuristic", "uniform"):
+    for name in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
+                 "heuristic", "uniform"):
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
         lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
@@ -48,7 +49,7 @@ def table(result: DemoResult) -> str:
     others = ", ".join(f"{LABELS[name].split(' (')[0]} {same[name].irradiance.mean:.4f} "
                        f"(default x{guarded_ratio(primary_error, same[name].irradiance.mean):.2f})"
                        for name in ("fast-reference", "lpnn-guided", "insertion", "lpnn", "uniform", "heuristic"))
-    lines += ["", f"At the default's {count} probes (guided insertion refined in batches): mean error {primary_error:.4f}; "
+    lines += ["", f"At the default's {count} probes (insertion refined in batches): mean error {primary_error:.4f}; "
               f"the rankings' first {count} probes: {others}"]
     return "\n".join(lines) + "\n"
 
@@ -94,14 +95,14 @@ def plot(result: DemoResult, path: Path) -> Path:
 
 
 def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, Path]:
-    """probes.json (LPNN-guided insertion refined in batches, the main result: the package's default with a model),
-    probes-guided.json (guided insertion alone), probes-spread.json (LPNN's milliseconds tier), probes-refined.json
+    """probes.json (insertion refined in batches, the main result: the package's default), probes-batched.json (the
+    same seeded by LPNN-guided insertion), probes-guided.json (guided insertion alone), probes-spread.json (LPNN's milliseconds tier), probes-refined.json
     (exact refinement), demo.png, summary.json, table.txt."""
     out.mkdir(parents=True, exist_ok=True)
     capture = result.capture
     files: dict[str, Path] = {}
-    for name, file in ((PRIMARY, "probes.json"), ("lpnn-guided", "probes-guided.json"), ("lpnn", "probes-spread.json"),
-                       ("lpnn-refine", "probes-refined.json")):
+    for name, file in ((PRIMARY, "probes.json"), ("lpnn-batched", "probes-batched.json"), ("lpnn-guided", "probes-guided.json"),
+                       ("lpnn", "probes-spread.json"), ("lpnn-refine", "probes-refined.json")):
         method = result.methods[name]
         files[name] = write_probes_json(
             out / file, capture.positions[method.indices], capture.units,

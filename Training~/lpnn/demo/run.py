@@ -3,9 +3,10 @@ and compared with the reference and the baselines (Documentation~/benchmarks.md 
 
 Steps, each timed: import (BSP, grid, solid test, light grid SH, features — what Unity's steps 1–4 do),
 inference (onnxruntime, after one warm-up run, as a Unity worker is created once per model), selection:
-LPNN-guided insertion refined in batches (the package's default with a model, quality.md §5.3: its insertion rounds
-and tolerance search timed as selection, the batched refinement as refinement), LPNN-guided insertion alone
-(quality.md §5.2), the spread ranking (LPNN's milliseconds tier) and LPNN + refine ×2 (its seeded exact decimation).
+insertion refined in batches (the package's default, quality.md §5.3: its insertion rounds and tolerance search timed
+as selection, the batched refinement as refinement), LPNN-guided insertion refined the same way, LPNN-guided insertion
+alone (quality.md §5.2), the spread ranking (LPNN's milliseconds tier) and LPNN + refine ×2 (its seeded exact
+decimation).
 The fast reference and the baselines run afterwards, for comparison only.
 """
 
@@ -27,9 +28,10 @@ from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_pla
 from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
 from ..quality.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.reference_fast import fast_decimation
+from ..quality.refined_insertion import refined_insertion
 
 Log = Callable[[str], None]
-PRIMARY = "lpnn-batched"  # the package's default with a model (Unity: Guided insertion, Refine in batches): probes.json
+PRIMARY = "insertion-refined"  # the package's default (Unity: Method = Insertion, Refine in batches): probes.json
 
 
 @dataclass(frozen=True)
@@ -104,7 +106,12 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     inference = time.perf_counter() - start
     result = DemoResult(level, capture, held_out, import_seconds, scores, tolerance)
 
-    log(f"placing: LPNN-guided insertion refined in batches (the package's default), tolerance {tolerance:g}")
+    log(f"placing: insertion refined in batches (the package's default), tolerance {tolerance:g}")
+    refined_plain = refined_insertion(field_, grid, tolerance=tolerance)
+    result.methods["insertion-refined"] = MethodResult(
+        "insertion-refined", refined_plain.indices, evaluate_placement(field_, refined_plain.indices),
+        {"selection": refined_plain.selection_seconds, "refinement": refined_plain.refinement_seconds})
+    log(f"placing: LPNN-guided insertion refined in batches, tolerance {tolerance:g}")
     batched = lpnn_placement(capture, scores=scores, tolerance=tolerance, refine=RECOMMENDED_REFINE, batched=True,
                              reference=field_, name=level)
     result.methods["lpnn-batched"] = _lpnn("lpnn-batched", batched, inference)

@@ -74,11 +74,13 @@ def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, m
     assert "kept" in printed and "mean error" in printed
 
 
-def test_place_without_a_source_places_by_insertion(capture_files: list[Path], tmp_path: Path) -> None:
-    """The default method is the best one measured with the dense lighting (benchmarks.md §7.1): insertion."""
-    default, explicit = tmp_path / "default.probes.json", tmp_path / "insertion.probes.json"
+def test_place_without_a_source_places_by_refined_insertion(capture_files: list[Path], tmp_path: Path) -> None:
+    """The default method is the best one measured with the dense lighting (benchmarks.md §11): insertion refined in
+    batches."""
+    default, explicit = tmp_path / "default.probes.json", tmp_path / "refined.probes.json"
     assert main(["place", str(capture_files[1]), "--budget", "0.25", "--out", str(default)]) == 0
-    assert main(["place", str(capture_files[1]), "--method", "insertion", "--budget", "0.25", "--out", str(explicit)]) == 0
+    assert main(["place", str(capture_files[1]), "--method", "insertion-refined", "--budget", "0.25",
+                 "--out", str(explicit)]) == 0
     assert json.loads(default.read_text(encoding="utf-8"))["positions"] == json.loads(explicit.read_text(encoding="utf-8"))["positions"]
     assert main(["place", str(capture_files[1]), "--topk", "--budget", "0.25", "--out", str(default)]) == 1
 

@@ -85,20 +85,23 @@ def test_demo_places_within_tolerance_on_a_held_out_level(quick_run: tuple[Path,
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
     assert summary["held_out"] is True and summary["tolerance"] == 0.08
     probes = json.loads((out / "probes.json").read_text(encoding="utf-8"))
-    assert summary["primary"] == "lpnn-batched"
-    lpnn = summary["methods"]["lpnn-batched"]  # probes.json: the package's default with a model
-    assert probes["count"] == lpnn["probes"] == len(probes["positions"]) and probes["space"] == "world"
+    assert summary["primary"] == "insertion-refined"
+    default = summary["methods"]["insertion-refined"]  # probes.json: the package's default
+    assert summary["methods"]["insertion-refined"]["probes"] <= summary["methods"]["insertion"]["probes"]
+    batched = json.loads((out / "probes-batched.json").read_text(encoding="utf-8"))
+    assert batched["count"] == summary["methods"]["lpnn-batched"]["probes"]
+    assert probes["count"] == default["probes"] == len(probes["positions"]) and probes["space"] == "world"
     spread = json.loads((out / "probes-spread.json").read_text(encoding="utf-8"))
     assert spread["count"] == summary["methods"]["lpnn"]["probes"]
     guided = json.loads((out / "probes-guided.json").read_text(encoding="utf-8"))
     assert guided["count"] == summary["methods"]["lpnn-guided"]["probes"]
     # The refinement keeps the guided insertion's answer at worst (refined_insertion.py).
-    assert lpnn["probes"] <= summary["methods"]["lpnn-guided"]["probes"]
-    for method in ("lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion", "uniform",
-                   "heuristic"):
+    assert summary["methods"]["lpnn-batched"]["probes"] <= summary["methods"]["lpnn-guided"]["probes"]
+    for method in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
+                   "uniform", "heuristic"):
         assert summary["methods"][method]["mean_error"] <= 0.08, method
         assert 4 <= summary["methods"][method]["probes"] <= summary["points"]
-    assert f"{lpnn['probes']:>8}" in printed  # the table shows the written count
+    assert f"{default['probes']:>8}" in printed  # the table shows the written count
     assert (out / "demo.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

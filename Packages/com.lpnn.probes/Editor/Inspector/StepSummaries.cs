@@ -50,9 +50,11 @@ namespace Lpnn.Probes.Editor
             if (selection.CornersAdded > 0) text += ", " + selection.CornersAdded + " box corners";
             if (selection.AddedForTetrahedron > 0) text += ", " + selection.AddedForTetrahedron + " added to form a tetrahedron";
             string extras = text.Length == 0 ? "" : " (incl." + text.Substring(1) + ")";
+            if (selection.RefinedFrom > 0) extras += "; refined in batches from " + InvariantFormat.Count(selection.RefinedFrom) + " probes";
             if (selection.Tolerance != null)
-                extras += "; mean error " + InvariantFormat.Number(Math.Round(selection.Tolerance.MeanError, 4)) + " after " +
-                          selection.Tolerance.Evaluated.Count + " evaluations";
+                extras += (selection.RefinedFrom > 0 ? " (the tolerance search kept " + InvariantFormat.Count(selection.Tolerance.Count) + " at mean error " : "; mean error ") +
+                          InvariantFormat.Number(Math.Round(selection.Tolerance.MeanError, 4)) + " after " +
+                          selection.Tolerance.Evaluated.Count + " evaluations" + (selection.RefinedFrom > 0 ? ")" : "");
             return extras;
         }
 

@@ -52,11 +52,11 @@ namespace Lpnn.Probes.Core.Quality
             if (settings.Policy != SelectionPolicy.Tolerance)
             {
                 var counted = BatchedRefinement.ToCount(evaluator.Reference, tetrahedralizer, seedPoints, target, keep, progress, cancel);
-                return new SelectionResult(counted.Indices, selection.CornersAdded, 0, null, target);
+                return new SelectionResult(counted.Indices, selection.CornersAdded, 0, null, seedPoints.Length);
             }
             var refined = BatchedRefinement.WithinTolerance(evaluator.Reference, tetrahedralizer, seedPoints, settings.Value, keep, progress, cancel);
             bool better = refined.MeanError <= settings.Value && refined.Indices.Length < target;
-            return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, target) : selection;
+            return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, seedPoints.Length) : selection;
         }
 
         /// <summary>min(N, max(round(F K), <see cref="MinimumSeed"/>)), halves up.</summary>

@@ -20,12 +20,14 @@ namespace Lpnn.Probes.Core.Selection
     /// <summary>The default method and what each one needs.</summary>
     public static class PlacementMethods
     {
-        /// <summary>The best method measured with the dense lighting and a model — both always there in the Unity pipeline,
-        /// whose Lighting step samples SH at every evaluation point and whose volumes come with the shipped model: on the
-        /// validation crops of Documentation~/benchmarks.md §10 (the choice) guided insertion needs 1.60× the reference's
-        /// probes at τ = 0.05 against plain insertion's 1.66× and the network's 1.99×, with lower error at 10, 20 and 30 %
-        /// budgets (1.40× the reference's at 20 % against 1.47× and 1.87×; a tie at 1 % and 5 %).</summary>
-        public const PlacementMethod Default = PlacementMethod.GuidedInsertion;
+        /// <summary>The best method measured with the dense lighting, which the Unity pipeline always has (its Lighting step
+        /// samples SH at every evaluation point), once Apply refines in batches (LpnnVolume.RefineInBatches, on by default;
+        /// Documentation~/quality.md §5.3): on the 10 validation crops (Documentation~/benchmarks.md §11, the choice) insertion
+        /// refined in batches keeps 1.05× the reference's probes at τ = 0.05 against 1.07× for guided insertion refined the
+        /// same way, and 1.03/1.11/1.08/1.08/1.10× the reference's error at 1/5/10/20/30 % against 1.07/1.10/1.07/1.08/1.10×:
+        /// the network's guide adds nothing measurable after the refinement, and plain insertion needs neither the Features
+        /// nor the Scoring step. (Before the refinement, guided insertion was the default: 1.60× against 1.66× at τ.)</summary>
+        public const PlacementMethod Default = PlacementMethod.Insertion;
 
         /// <summary>True when the method reads the network's scores (the Features and Scoring steps must run first): the
         /// network's ranking, or guided insertion's guide.</summary>

@@ -16,20 +16,20 @@ namespace Lpnn.Probes.Core.Selection
         /// the other policies.</summary>
         public ToleranceSearchResult Tolerance { get; }
 
-        /// <summary>How many probes the policy's own selection held before a batched refinement removed some
-        /// (Quality.RefinedSelection); 0 when the selection was not refined.</summary>
-        public int UnrefinedCount { get; }
+        /// <summary>How many probes the seed of a batched refinement held (Quality.RefinedSelection: about twice the policy's
+        /// count); 0 when the selection was not refined.</summary>
+        public int RefinedFrom { get; }
 
         public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron)
             : this(indices, cornersAdded, addedForTetrahedron, null) { }
 
-        public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron, ToleranceSearchResult tolerance, int unrefinedCount = 0)
+        public SelectionResult(int[] indices, int cornersAdded, int addedForTetrahedron, ToleranceSearchResult tolerance, int refinedFrom = 0)
         {
             Indices = indices;
             CornersAdded = cornersAdded;
             AddedForTetrahedron = addedForTetrahedron;
             Tolerance = tolerance;
-            UnrefinedCount = unrefinedCount;
+            RefinedFrom = refinedFrom;
         }
     }
 
