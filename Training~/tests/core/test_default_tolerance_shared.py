@@ -25,15 +25,15 @@ def test_unity_volume_takes_its_defaults_from_core() -> None:
     assert "private float tolerance = (float)SelectionSettings.DefaultTolerance;" in source
 
 
-def test_the_default_placement_method_is_guided_insertion_in_the_volume_and_insertion_in_the_cli() -> None:
-    """benchmarks.md §10: with the dense lighting and a model (both always there in the Unity pipeline, whose volumes
-    come with the shipped model) guided insertion is the best method measured, so a new volume defaults to it; `lpnn
-    place` has no model unless given one (`--model M --guided` is the same method), so without one it places by plain
-    insertion, the best method measured without a model (§7.1)."""
+def test_the_default_placement_is_insertion_refined_in_batches_in_the_volume_and_the_cli() -> None:
+    """benchmarks.md §11: with the dense lighting (always there in the Unity pipeline and in a capture) insertion refined
+    in batches is the best method measured on the validation crops (the network's guide ties once refined), so a new
+    volume places by insertion and refines on Apply, and `lpnn place` without a source does the same."""
     from lpnn.cli.place_cmd import DEFAULT_METHOD
 
     core = (PACKAGE / "Core" / "Selection" / "PlacementMethod.cs").read_text(encoding="utf-8")
-    assert "public const PlacementMethod Default = PlacementMethod.GuidedInsertion;" in core
-    assert DEFAULT_METHOD == "insertion"
+    assert "public const PlacementMethod Default = PlacementMethod.Insertion;" in core
+    assert DEFAULT_METHOD == "insertion-refined"
+    assert "private bool refineInBatches = true;" in (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
     volume = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
     assert "private PlacementMethod placementMethod = PlacementMethods.Default;" in volume

@@ -161,3 +161,26 @@ def test_a_seed_with_fewer_than_four_points_is_refused(small_field: ReferenceFie
         batched_refinement(small_field, np.arange(3), count=4)
     with pytest.raises(MetricError):
         batched_refinement(small_field, np.arange(10), count=5, fraction=-1)
+
+
+def test_uniform_lighting_is_pruned_to_one_tetrahedron() -> None:
+    positions = box_grid(6, 5, 4, 0.5)
+    field = ReferenceField.from_sh(positions, np.full((positions.shape[0], 27), 0.7))
+    refined = batched_refinement(field, np.arange(field.point_count), tolerance=1e-9)
+    assert refined.indices.shape[0] == MINIMUM_PROBES and refined.mean_error <= 1e-9
+    assert refined.stop_reason == "minimum count" and flatness(field.local[refined.indices]) is None
+
+
+def test_far_from_the_origin_with_hdr_lighting_the_tolerance_holds() -> None:
+    positions = box_grid(6, 5, 4, 0.5) + 1e6
+    field = ReferenceField.from_sh(positions, np.random.default_rng(1).uniform(1e-6, 1e6, (positions.shape[0], 27)))
+    refined = batched_refinement(field, np.arange(field.point_count), tolerance=0.3)
+    assert refined.mean_error <= 0.3 and refined.indices.shape[0] < field.point_count
+    assert point_errors(field, refined.indices).mean() == pytest.approx(refined.mean_error, rel=1e-12)
+
+
+def test_a_flat_seed_is_refused_naming_the_plane() -> None:
+    positions = box_grid(6, 5, 4, 0.5)
+    field = ReferenceField.from_sh(positions, linear_sh(positions))
+    with pytest.raises(Exception, match="lie in one plane"):
+        batched_refinement(field, np.arange(10), count=5)  # the first 10 points: one row of the lowest layer
