@@ -107,6 +107,7 @@ namespace Lpnn.Probes.Editor.Tests
         public void PlainInsertionPlacesFromTheLightingAloneWithUnitysTetrahedra()
         {
             _room.Volume.SetMethod(PlacementMethod.Insertion);
+            _room.Volume.SetRefineInBatches(false);  // the policy's own selection (the refinement: the test below)
             LpnnPipeline.BuildGrid(_room.Volume, _session);
             using (var lighting = _room.AnalyticLighting())
                 LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
@@ -127,9 +128,31 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
+        public void RefineInBatchesAppliesFewerProbesWithinTheToleranceAndKeepsTheBoundsCorners()
+        {
+            // The default volume: Insertion, Refine in batches (quality.md §5.3), Tolerance with the bounds corners kept.
+            Assert.That(_room.Volume.RefineInBatches, Is.True);
+            LpnnPipeline.BuildGrid(_room.Volume, _session);
+            using (var lighting = _room.AnalyticLighting())
+                LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
+            _room.Volume.SetSelection(SelectionSettings.Tolerance(SelectionSettings.DefaultTolerance, true));
+            var grid = _session.Grid;
+            var placed = LpnnPipeline.Apply(_room.Volume, _session, null, CancellationToken.None);
+            var measure = PlacementInputs.Evaluator(_session, grid);
+            var unrefined = ProbeSelector.SelectFromRanking(grid, PlacementInputs.RankByInsertion(_session, grid, null, CancellationToken.None),
+                _room.Volume.GetSelectionSettings(), measure, PlacementInputs.ValidPoints(_session, grid));
+            Assert.That(placed.Selection.Indices.Length, Is.LessThanOrEqualTo(unrefined.Indices.Length));
+            Assert.That(measure.MeanError(placed.Selection.Indices), Is.LessThanOrEqualTo(SelectionSettings.DefaultTolerance));
+            Assert.That(_room.Volume.TargetGroup.probePositions.Length, Is.EqualTo(placed.Selection.Indices.Length));
+            foreach (int corner in ProbeSelector.BoundsCorners(grid, PlacementInputs.ValidPoints(_session, grid)))
+                Assert.That(placed.Selection.Indices, Has.Member(corner), "bounds corner " + corner);
+        }
+
+        [Test]
         public void GuidedInsertionRunsScoringAndRanksByTheLightingGuidedByTheStoredScores()
         {
             _room.Volume.SetMethod(PlacementMethod.GuidedInsertion);
+            _room.Volume.SetRefineInBatches(false);  // the ranking's own prefix
             _room.Volume.SetSelection(SelectionSettings.Budget(24));
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step), Is.EqualTo(new[]
