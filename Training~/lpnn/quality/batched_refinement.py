@@ -17,16 +17,18 @@ are additive over I, so any subset of I can be committed with a known error. (Re
 the projection of points outside the hull; that part is not attributed, and the committed state is evaluated anew.)
 
 A round, from the probe set P (its tetrahedralisation, stencils and errors e):
-1. Candidates: the greedy independent set of P's Delaunay graph in order of each probe's last measured cost
-   (never measured: first), ties to the lower index, locked probes (`keep`, and those brought back in step 4)
-   left out; at most |P| - 4 of them. If the rest is flat, only the first; if that is still flat, stop.
+1. Candidates: the greedy independent set of P's Delaunay graph in order of each probe's measured cost, probes
+   whose cost is not fresh (never measured, or a neighbour removed since) first, ties to the lower index, locked
+   probes (`keep`, and those brought back in step 4) left out; at most |P| - 4 of them. If the rest is flat, only the
+   first; if that is still flat, stop. (Stale costs first, as the exact greedy recomputes them at once: on the
+   validation crops 0.7 % fewer probes at tau, on oa_bases7 3 % and on ctf_compromise 8 %, for 1.5-1.8x the rounds.)
 2. Trial: tetrahedralise P minus the candidates; each candidate's cost = sum of (new - old error) over the points
    whose stencil held it with a weight > 0, plus its own new error. These costs replace the candidates' old ones.
 3. Commit: the candidates whose cost is at most the COMMIT_FRACTION quantile (the lower one, no interpolation) of
    all measured costs of P, cheapest first (ties: lower index), at least the cheapest candidate; with a count, no
    more than |P| - K; with a tolerance, the longest prefix keeping sum(e) + its costs (summed in that order)
    <= tau x N. If none fits the tolerance: stop when every unlocked probe's cost is fresh (measured since its
-   neighbourhood last changed), else forget the stale costs (measured first next round) and go on.
+   neighbourhood last changed), else go on (the stale ones are measured next round).
 4. Remove them; their Delaunay neighbours' costs become stale. The new set is evaluated afresh; with a tolerance,
    if its error exceeds tau (the unattributed hull effect), the dearest removed probes come back one by one until it
    does not, and are locked.
@@ -187,7 +189,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
             stop_reason = "count" if count is not None else "minimum count"
             break
         movable = probes[~locked[probes]]
-        rank = _ranks(movable, cost, n)
+        rank = _ranks(movable, np.where(fresh, cost, UNMEASURED), n)  # stale and unmeasured costs first
         candidates = greedy_independent_set(movable, state.edges, rank)[:probes.shape[0] - MINIMUM_PROBES]
         if candidates.shape[0] == 0:  # every probe left was brought back after an overshoot
             stop_reason = "tolerance"
@@ -220,12 +222,10 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
                    "measured": measured, "threshold": threshold, "error_sum": state.error_sum, "eligible": eligible,
                    "commit": commit})
         if tau is not None and commit.shape[0] == 0:
-            stale = probes[~fresh[probes] & ~locked[probes]]
-            if stale.shape[0] == 0:
+            if np.all(fresh[probes] | locked[probes]):
                 stop_reason = "tolerance"
                 break
-            cost[stale] = UNMEASURED  # measured first next round
-            continue
+            continue  # the stale costs are candidates first next round
         removed = np.zeros(n, dtype=bool)
         removed[commit] = True
         fresh[state.edges[removed[state.edges[:, 0]], 1]] = False

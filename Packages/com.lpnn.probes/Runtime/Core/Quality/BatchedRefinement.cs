@@ -15,12 +15,11 @@ namespace Lpnn.Probes.Core.Quality
     /// lpnn/quality/batched_refinement.py (the same rounds, irradiance metric); parity pinned by
     /// Tests/Data/batched_refinement_golden.json.
     ///
-    /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by last measured
-    /// cost (never measured first; ties: lower index), locked probes left out, at most |P| − 4, only the first if the
-    /// rest is flat; (2) one trial without them gives each its cost; (3) commit those within the
+    /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by measured cost
+    /// (costs not fresh — never measured, or a neighbour removed since — first; ties: lower index), locked probes left
+    /// out, at most |P| − 4, only the first if the rest is flat; (2) one trial without them gives each its cost; (3) commit those within the
     /// <see cref="CommitFraction"/> quantile of all measured costs, cheapest first (at least one), capped by the count,
-    /// or the longest prefix that keeps the error sum within τ·N (none fits: stop once every cost is fresh, else forget
-    /// the stale ones); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
+    /// or the longest prefix that keeps the error sum within τ·N (none fits: stop once every cost is fresh, else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
     /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
     /// Each round: two tetrahedralisations of the probes and two interpolations of every point.</summary>
     public static class BatchedRefinement
@@ -102,7 +101,7 @@ namespace Lpnn.Probes.Core.Quality
                     stop = byTolerance ? BatchedRefinementResult.StoppedAtMinimum : BatchedRefinementResult.StoppedAtCount;
                     break;
                 }
-                int[] candidates = Candidates(state, cost, locked, current.Length - ProbeIndices.Minimum);
+                int[] candidates = Candidates(state, cost, fresh, locked, current.Length - ProbeIndices.Minimum);
                 if (candidates.Length == 0)
                 {
                     stop = BatchedRefinementResult.StoppedAtTolerance;  // every probe left is locked
@@ -134,18 +133,13 @@ namespace Lpnn.Probes.Core.Quality
                     if (commit.Count == 0)
                     {
                         bool anyStale = false;
-                        foreach (int p in current)
-                            if (!fresh[p] && !locked[p])
-                            {
-                                cost[p] = double.NegativeInfinity;  // measured first next round
-                                anyStale = true;
-                            }
+                        foreach (int p in current) anyStale |= !fresh[p] && !locked[p];
                         if (!anyStale)
                         {
                             stop = BatchedRefinementResult.StoppedAtTolerance;
                             break;
                         }
-                        continue;
+                        continue;  // the stale costs are candidates first next round
                     }
                 }
                 MarkNeighboursStale(state, commit, fresh, n);
@@ -163,17 +157,19 @@ namespace Lpnn.Probes.Core.Quality
             return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, rounds, stop);
         }
 
-        /// <summary>The greedy independent set by (cost, index) among the unlocked probes, in that order; at most
-        /// <paramref name="limit"/>.</summary>
-        private static int[] Candidates(MeshState state, double[] cost, bool[] locked, int limit)
+        /// <summary>The greedy independent set by (cost, index) among the unlocked probes, costs that are not fresh (never
+        /// measured, or a neighbour removed since) counting as −∞, in that order; at most <paramref name="limit"/>.</summary>
+        private static int[] Candidates(MeshState state, double[] cost, bool[] fresh, bool[] locked, int limit)
         {
             int[] probes = state.Probes;
             var order = new List<int>(probes.Length);  // positions in probes
             for (int k = 0; k < probes.Length; k++)
                 if (!locked[probes[k]]) order.Add(k);
+            var key = new double[probes.Length];
+            for (int k = 0; k < probes.Length; k++) key[k] = fresh[probes[k]] ? cost[probes[k]] : double.NegativeInfinity;
             order.Sort((a, b) =>
             {
-                int byCost = cost[probes[a]].CompareTo(cost[probes[b]]);
+                int byCost = key[a].CompareTo(key[b]);
                 return byCost != 0 ? byCost : probes[a].CompareTo(probes[b]);
             });
             var blocked = new bool[probes.Length];
