@@ -17,9 +17,11 @@ namespace Lpnn.Probes.Core.Quality
     ///
     /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by measured cost
     /// (costs not fresh — never measured, or a neighbour removed since — first; ties: lower index), locked probes left
-    /// out, at most |P| − 4, only the first if the rest is flat; (2) one trial without them gives each its cost; (3) commit those within the
-    /// <see cref="CommitFraction"/> quantile of all measured costs, cheapest first (at least one), capped by the count,
-    /// or the longest prefix that keeps the error sum within τ·N (none fits: stop once every cost is fresh, else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
+    /// out, at most |P| − 4; if the rest is flat, only the first unlocked probe whose removal alone leaves a solid set; (2) one trial
+    /// without them gives each its cost; (3) commit those within the
+    /// <see cref="CommitFraction"/> quantile of all measured costs, cheapest first (none: the cheapest candidate once
+    /// every cost is fresh), capped by the count, or the longest prefix that keeps the error sum within τ·N (nothing
+    /// committed: with a tolerance and every cost fresh, stop; else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
     /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
     /// Each round: two tetrahedralisations of the probes and two interpolations of every point.</summary>
     public static class BatchedRefinement
@@ -110,19 +112,29 @@ namespace Lpnn.Probes.Core.Quality
                 int[] remaining = Without(current, candidates, n);
                 if (IsFlat(reference, remaining))
                 {
-                    candidates = new[] { candidates[0] };
-                    remaining = Without(current, candidates, n);
-                    if (IsFlat(reference, remaining))
+                    // Near the end only: the first unlocked probe in the candidates' order whose removal alone leaves a solid
+                    // set. A probe whose removal flattens the set flattens every subset too: it is locked for good.
+                    int solid = -1;
+                    foreach (int c in Candidates(state, cost, fresh, locked, int.MaxValue, independent: false))
+                    {
+                        if (!IsFlat(reference, Without(current, new[] { c }, n))) { solid = c; break; }
+                        locked[c] = true;
+                    }
+                    if (solid < 0)
                     {
                         stop = BatchedRefinementResult.StoppedFlat;
                         break;
                     }
+                    candidates = new[] { solid };
+                    remaining = Without(current, candidates, n);
                 }
                 rounds++;
                 var trial = Evaluate(reference, tetrahedralizer, remaining);
                 RemovalCosts(state, trial, candidates, cost, n);
                 foreach (int c in candidates) fresh[c] = true;
-                var commit = Commit(candidates, cost, current, fraction);
+                bool settled = true;  // every unlocked probe's cost is fresh
+                foreach (int p in current) settled &= fresh[p] || locked[p];
+                var commit = Commit(candidates, cost, current, fraction, settled);
                 if (!byTolerance && commit.Count > current.Length - goal) commit.RemoveRange(current.Length - goal, commit.Count - (current.Length - goal));
                 if (byTolerance)
                 {
@@ -130,17 +142,15 @@ namespace Lpnn.Probes.Core.Quality
                     int fits = 0;
                     while (fits < commit.Count && sum + cost[commit[fits]] <= limit) sum += cost[commit[fits++]];
                     commit.RemoveRange(fits, commit.Count - fits);
-                    if (commit.Count == 0)
+                }
+                if (commit.Count == 0)
+                {
+                    if (byTolerance && settled)
                     {
-                        bool anyStale = false;
-                        foreach (int p in current) anyStale |= !fresh[p] && !locked[p];
-                        if (!anyStale)
-                        {
-                            stop = BatchedRefinementResult.StoppedAtTolerance;
-                            break;
-                        }
-                        continue;  // the stale costs are candidates first next round
+                        stop = BatchedRefinementResult.StoppedAtTolerance;
+                        break;
                     }
+                    continue;  // the stale costs are candidates first next round
                 }
                 MarkNeighboursStale(state, commit, fresh, n);
                 var following = Evaluate(reference, tetrahedralizer, Without(current, commit.ToArray(), n));
@@ -159,7 +169,8 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>The greedy independent set by (cost, index) among the unlocked probes, costs that are not fresh (never
         /// measured, or a neighbour removed since) counting as −∞, in that order; at most <paramref name="limit"/>.</summary>
-        private static int[] Candidates(MeshState state, double[] cost, bool[] fresh, bool[] locked, int limit)
+        /// <param name="independent">False: every unlocked probe in that order (no neighbour is skipped).</param>
+        private static int[] Candidates(MeshState state, double[] cost, bool[] fresh, bool[] locked, int limit, bool independent = true)
         {
             int[] probes = state.Probes;
             var order = new List<int>(probes.Length);  // positions in probes
@@ -177,7 +188,7 @@ namespace Lpnn.Probes.Core.Quality
             var chosen = new List<int>();
             foreach (int k in order)
             {
-                if (blocked[k]) continue;
+                if (blocked[k] && independent) continue;
                 chosen.Add(probes[k]);
                 for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++)
                     if (position.TryGetValue(state.EdgeTarget[e], out int j)) blocked[j] = true;
@@ -209,8 +220,9 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
-        /// costs of <paramref name="probes"/>, cheapest first (ties: lower index); at least the cheapest candidate.</summary>
-        private static List<int> Commit(int[] candidates, double[] cost, int[] probes, double fraction)
+        /// costs of <paramref name="probes"/>, cheapest first (ties: lower index); when none is and every cost is fresh
+        /// (<paramref name="settled"/>), the cheapest candidate.</summary>
+        private static List<int> Commit(int[] candidates, double[] cost, int[] probes, double fraction, bool settled)
         {
             var measured = new List<double>(probes.Length);
             foreach (int p in probes)
@@ -226,7 +238,7 @@ namespace Lpnn.Probes.Core.Quality
             var commit = new List<int>();
             foreach (int c in ordered)
                 if (cost[c] <= threshold) commit.Add(c);
-            if (commit.Count == 0) commit.Add(ordered[0]);
+            if (commit.Count == 0 && settled) commit.Add(ordered[0]);
             return commit;
         }
 
