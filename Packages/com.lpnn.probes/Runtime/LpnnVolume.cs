@@ -100,7 +100,7 @@ namespace Lpnn.Probes
 
         [Tooltip("Insertion methods: Apply then removes, in batches, the probes the sampled lighting does not need (batched " +
                  "refinement, Documentation~/quality.md §5.3): within about 1.05x of the reference's probe count where insertion " +
-                 "alone needs about 1.7x, for seconds to a minute more on large volumes.")]
+                 "alone needs about 1.7x, for seconds more on rooms and minutes more on large volumes.")]
         [SerializeField] private bool refineInBatches = true;
 
         [Tooltip("The LightProbeGroup that Apply writes the chosen probes to.")]

@@ -44,7 +44,7 @@ namespace Lpnn.Probes.Editor
             "No lighting yet: the insertion method ranks points by the Lighting data step's SH (or import a .probes.json).";
         public const string RefinedOnApply =
             "Refine in batches is on: Apply removes the probes the sampled lighting does not need (Documentation~/quality.md §5.3; " +
-            "about a third fewer at the same error on the validation volumes), which takes seconds to a minute.";
+            "about a third fewer at the same error on the validation volumes), which takes seconds on rooms, minutes on large volumes.";
         public const string InsertionNotRankedYet =
             "The insertion method ranks the points once (about a second per 1,000 points): press 'Rank by insertion' " +
             "(Apply and Find probes also rank first).";
