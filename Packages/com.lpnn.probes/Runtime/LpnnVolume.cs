@@ -99,7 +99,7 @@ namespace Lpnn.Probes
         [SerializeField] private bool keepBoundsCorners = true;
 
         [Tooltip("Insertion methods: Apply then removes, in batches, the probes the sampled lighting does not need (batched " +
-                 "refinement, Documentation~/quality.md §5.3): within about 1.05x of the reference's probe count where insertion " +
+                 "refinement, Documentation~/quality.md §5.3): within a few per cent of the reference's probe count where insertion " +
                  "alone needs about 1.7x, for seconds more on rooms and minutes more on large volumes.")]
         [SerializeField] private bool refineInBatches = true;
 

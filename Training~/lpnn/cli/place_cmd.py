@@ -6,8 +6,8 @@
 
 Without --model, --scores or --method it places by insertion refined in batches (DEFAULT_METHOD,
 quality.md §5.3): the best method measured where the capture's dense lighting is available, which `lpnn place`
-always has, and what a new Unity volume does (benchmarks.md §11: 1.05x the reference's probes at tau = 0.05 on
-the validation crops, where insertion alone keeps 1.66x and the network's guide, refined the same way, 1.07x). With
+always has, and what a new Unity volume does (benchmarks.md §11: 1.01x the reference's probes at tau = 0.05 on
+the validation crops, where insertion alone keeps 1.66x and the network's guide, refined the same way, 1.04x). With
 a model, --refine 2 (the exact refinement) is closer still to the reference (1.00x) at minutes on large levels; the
 network's spread ranking is the fast tier (milliseconds instead of about a second per 1,000 points).
 
