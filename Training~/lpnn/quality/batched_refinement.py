@@ -59,7 +59,7 @@ from .policies import checked_tolerance
 from .triangulation import flatness
 
 COMMIT_FRACTION = 0.05  # commit candidates within this quantile of the measured costs (module text)
-UNMEASURED = -math.inf  # the cost key of a probe never measured (or forgotten): candidates first
+UNMEASURED = -math.inf  # the cost of a probe never measured, and the key of any cost not fresh: candidates first
 
 
 @dataclass(frozen=True)
@@ -75,17 +75,14 @@ class BatchedRefinement:
 @dataclass(frozen=True)
 class _MeshState:
     """One probe set evaluated: its probes (sorted), the global ids each other point is interpolated from (-1 where the
-    weight is 0), the per-point errors (N,) and the Delaunay graph's edges (both directions, global ids)."""
+    weight is 0), the per-point errors (N,), their sum, and the Delaunay graph's edges (both directions, global ids)."""
 
     probes: np.ndarray
     others: np.ndarray
     owners: np.ndarray  # (M, 4)
     errors: np.ndarray
+    error_sum: float  # errors.sum(), read several times a round
     edges: np.ndarray  # (E, 2)
-
-    @property
-    def error_sum(self) -> float:
-        return float(self.errors.sum())
 
 
 def _evaluate(field: ReferenceField, probes: np.ndarray) -> _MeshState:
@@ -95,7 +92,8 @@ def _evaluate(field: ReferenceField, probes: np.ndarray) -> _MeshState:
     pairs = np.concatenate([tri.tets[:, [a, b]] for a in range(4) for b in range(a + 1, 4)])
     pairs = np.unique(np.sort(pairs, axis=1), axis=0)
     edges = indices[np.concatenate([pairs, pairs[:, ::-1]])]
-    return _MeshState(probes=indices, others=others, owners=owners, errors=errors, edges=edges)
+    return _MeshState(probes=indices, others=others, owners=owners, errors=errors, error_sum=float(errors.sum()),
+                      edges=edges)
 
 
 def greedy_independent_set(vertices: np.ndarray, edges: np.ndarray, rank: np.ndarray) -> np.ndarray:

@@ -275,6 +275,26 @@ def _with_target(row: BenchRow, target: Placement) -> BenchRow:
     return row
 
 
+def _policies(config: BenchConfig, yardstick: _Yardstick) -> list[tuple[str, float, dict[str, float]]]:
+    """(policy, parameter, keyword arguments) of every row a placement method gets: each budget, and the tolerance when
+    the yardstick has a tolerance answer."""
+    policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
+    if yardstick.target is not None:
+        policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
+    return policies
+
+
+def _policy_row(name: str, field_: ReferenceField, method: str, policy: str, parameter: float,
+                quality: PlacementQuality, timing: _Timing, yardstick: _Yardstick) -> BenchRow:
+    """One placement's row against the yardstick: its error at the same count (budget), or its answer's (tolerance)."""
+    if policy == "budget":
+        return _row(name, field_, method, policy, parameter, quality, timing,
+                    yardstick.error_at(max(quality.probes, MINIMUM_PROBES)), yardstick.name)
+    assert yardstick.target is not None
+    return _with_target(_row(name, field_, method, policy, parameter, quality, timing, yardstick.target.mean_error,
+                             yardstick.name), yardstick.target)
+
+
 def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: BenchConfig,
                   yardstick: _Yardstick) -> list[BenchRow]:
     rows = []
@@ -285,10 +305,9 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
         indices, selection_seconds = timed(lambda count=count: method.select(count), repeats)  # lazy: a fresh order
         timing = _Timing(method.seconds + (0.0 if precomputed else selection_seconds),
                          selection=None if precomputed else selection_seconds)
-        rows.append(_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices), timing,
-                         yardstick.error_at(max(indices.shape[0], MINIMUM_PROBES)), yardstick.name))
-    target = yardstick.target
-    if target is not None:
+        rows.append(_policy_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices),
+                                timing, yardstick))
+    if yardstick.target is not None:
         start = time.perf_counter()
         if method.decimation is not None:
             placement = reference_tolerance(method.decimation, config.tolerance)
@@ -298,11 +317,10 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
             select = method.fresh() if method.fresh is not None else method.select
             placement = place_tolerance(field_, select, config.tolerance, PRIMARY_METRIC)
         search_seconds = 0.0 if precomputed else time.perf_counter() - start
-        rows.append(_with_target(_row(name, field_, method.name, "tolerance", config.tolerance,
-                                      evaluate_placement(field_, placement.indices),
-                                      _Timing(method.seconds + search_seconds,
-                                              selection=None if precomputed else search_seconds),
-                                      target.mean_error, yardstick.name), target))
+        rows.append(_policy_row(name, field_, method.name, "tolerance", config.tolerance,
+                                evaluate_placement(field_, placement.indices),
+                                _Timing(method.seconds + search_seconds, selection=None if precomputed else search_seconds),
+                                yardstick))
     return rows
 
 
@@ -317,10 +335,7 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     tiers = [("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats)]
     if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit:
         tiers.append(("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
-    target = yardstick.target
-    policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
-    if target is not None:
-        policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
+    policies = _policies(config, yardstick)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     rows = _guided_tier_rows(name, "lpnn-guided", scores, inference, features, failures, insertion_rows,
                              lambda guide: _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_, grid,
@@ -344,14 +359,7 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
             refine = float(statistics.median(r.timing.refinement for r in runs)) if "refine" in options else None
             timing = _Timing((features or 0.0) + inference + selection + (refine or 0.0), features, inference,
                              selection, refine)
-            placement = runs[-1]
-            if policy == "budget":
-                rows.append(_row(name, field_, method, policy, parameter, placement.quality, timing,
-                                 yardstick.error_at(max(placement.quality.probes, MINIMUM_PROBES)), yardstick.name))
-            else:
-                assert target is not None
-                rows.append(_with_target(_row(name, field_, method, policy, parameter, placement.quality, timing,
-                                              target.mean_error, yardstick.name), target))
+            rows.append(_policy_row(name, field_, method, policy, parameter, runs[-1].quality, timing, yardstick))
         if log is not None:
             log(f"{name}: {method} done")
     return rows
@@ -380,22 +388,14 @@ def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, confi
                   method: str = "insertion-refined", guide: np.ndarray | None = None) -> list[BenchRow]:
     """Insertion refined in batches (refined_insertion.py; guided by `guide` when given) at every budget and the
     tolerance: each row places afresh, so its time is what that placement costs (selection + refinement)."""
-    policies: list[tuple[str, float, dict[str, float]]] = [("budget", f, {"budget": f}) for f in config.budgets]
-    if yardstick.target is not None:
-        policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
+    policies = _policies(config, yardstick)
     rows = []
     for policy, parameter, chosen in policies:
         placed = refined_insertion(field_, grid, refine=config.refine, guide=guide, **chosen)  # minutes on a level: once
         timing = _Timing(placed.selection_seconds + placed.refinement_seconds, selection=placed.selection_seconds,
                          refine=placed.refinement_seconds)
-        quality = evaluate_placement(field_, placed.indices)
-        if policy == "budget":
-            rows.append(_row(name, field_, method, policy, parameter, quality, timing,
-                             yardstick.error_at(max(quality.probes, MINIMUM_PROBES)), yardstick.name))
-        else:
-            assert yardstick.target is not None
-            rows.append(_with_target(_row(name, field_, method, policy, parameter, quality, timing,
-                                          yardstick.target.mean_error, yardstick.name), yardstick.target))
+        rows.append(_policy_row(name, field_, method, policy, parameter, evaluate_placement(field_, placed.indices),
+                                timing, yardstick))
     return rows
 
 

@@ -152,7 +152,7 @@ namespace Lpnn.Probes.Core.Quality
                     }
                     continue;  // the stale costs are candidates first next round
                 }
-                MarkNeighboursStale(state, commit, fresh, n);
+                MarkNeighboursStale(state, commit, fresh);
                 var following = Evaluate(reference, tetrahedralizer, Without(current, commit.ToArray(), n));
                 int back = commit.Count;
                 while (byTolerance && following.ErrorSum > limit && back > 0)  // an unattributed hull effect
@@ -184,14 +184,13 @@ namespace Lpnn.Probes.Core.Quality
                 return byCost != 0 ? byCost : probes[a].CompareTo(probes[b]);
             });
             var blocked = new bool[probes.Length];
-            var position = PositionOf(probes);
             var chosen = new List<int>();
             foreach (int k in order)
             {
                 if (blocked[k] && independent) continue;
                 chosen.Add(probes[k]);
                 for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++)
-                    if (position.TryGetValue(state.EdgeTarget[e], out int j)) blocked[j] = true;
+                    blocked[Array.BinarySearch(probes, state.EdgeTarget[e])] = true;  // every neighbour is a probe
                 blocked[k] = true;
                 if (chosen.Count == limit) break;
             }
@@ -204,8 +203,7 @@ namespace Lpnn.Probes.Core.Quality
         {
             var isCandidate = new bool[n];
             foreach (int c in candidates) isCandidate[c] = true;
-            var total = new Dictionary<int, double>(candidates.Length);
-            foreach (int c in candidates) total[c] = 0.0;
+            foreach (int c in candidates) cost[c] = 0.0;
             for (int p = 0; p < n; p++)
             {
                 int owner = isCandidate[p] ? p : -1;
@@ -214,9 +212,8 @@ namespace Lpnn.Probes.Core.Quality
                     int o = state.Owners[4 * p + k];
                     if (o >= 0 && isCandidate[o]) owner = o;
                 }
-                if (owner >= 0) total[owner] += trial.Errors[p] - state.Errors[p];
+                if (owner >= 0) cost[owner] += trial.Errors[p] - state.Errors[p];
             }
-            foreach (int c in candidates) cost[c] = total[c];
         }
 
         /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
@@ -242,21 +239,13 @@ namespace Lpnn.Probes.Core.Quality
             return commit;
         }
 
-        private static void MarkNeighboursStale(MeshState state, List<int> removed, bool[] fresh, int n)
+        private static void MarkNeighboursStale(MeshState state, List<int> removed, bool[] fresh)
         {
-            var position = PositionOf(state.Probes);
             foreach (int r in removed)
             {
-                int k = position[r];
+                int k = Array.BinarySearch(state.Probes, r);  // the probes are sorted
                 for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++) fresh[state.EdgeTarget[e]] = false;
             }
-        }
-
-        private static Dictionary<int, int> PositionOf(int[] probes)
-        {
-            var position = new Dictionary<int, int>(probes.Length);
-            for (int k = 0; k < probes.Length; k++) position[probes[k]] = k;
-            return position;
         }
 
         private static int[] Without(int[] probes, int[] removed, int n)
