@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Times the C# core's selection paths under Mono on synthetic lattices of ~10^4, 10^5 and 10^6 points
-# and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md §7.4). Usage: bash Tools~/csharp-selection-bench.sh [n ...]  (n^3 points each)
+# and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md §7.4). Usage: bash Tools~/csharp-selection-bench.sh [--batched] [n ...]  (n^3 points each)
 source "$(dirname "$0")/lib.sh"
 cd "$REPO_ROOT"
 bash "Tools~/build-csharp.sh" > /dev/null

@@ -15,7 +15,8 @@ using Lpnn.Probes.Core.Tests.Support;
 /// probes' mesh). The whole ranking tetrahedralises the probes every round with Unity's tetrahedraliser; the tests' own
 /// Delaunay is O(n²) per call, so the whole ranking's time can only be measured in Unity.
 /// Last, one round of the batched refinement (Quality.BatchedRefinement), whose Unity-independent part is linear in the points.
-/// Usage: mono SelectionBench.exe [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points).</summary>
+/// Usage: mono SelectionBench.exe [--batched] [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points; --batched: only
+/// the batched refinement round).</summary>
 public static class SelectionBench
 {
     /// <summary>Stands in for the placement error: τ·(K/count), so the search settles on K = 5 % of the points after
@@ -32,8 +33,18 @@ public static class SelectionBench
     public static int Main(string[] args)
     {
         var sizes = new List<int>();
-        foreach (var a in args) sizes.Add(int.Parse(a, System.Globalization.CultureInfo.InvariantCulture));
+        bool batchedOnly = false;
+        foreach (var a in args)
+        {
+            if (a == "--batched") batchedOnly = true;
+            else sizes.Add(int.Parse(a, System.Globalization.CultureInfo.InvariantCulture));
+        }
         if (sizes.Count == 0) sizes.AddRange(new[] { 22, 46, 100 });
+        if (batchedOnly)
+        {
+            BatchedRounds(sizes);
+            return 0;
+        }
         Console.WriteLine("points | build grid s | score ranking s | spread 5 % s | spread all s | tetrahedron (flat prefix) s | tolerance search s (evaluations)");
         foreach (int n in sizes)
         {
@@ -74,15 +85,22 @@ public static class SelectionBench
         Console.WriteLine("points | reference lighting s | typical tetrahedron s | one insertion round given the mesh s (probes, tetrahedra, batch)");
         foreach (int n in sizes) InsertionParts(n);
         Console.WriteLine();
-        Console.WriteLine("points | one batched refinement round s (3 evaluations: the set, the trial, the commit; 125 lattice probes, the tests' Delaunay) | candidates");
-        foreach (int n in sizes) BatchedRound(n);
+        BatchedRounds(sizes);
         return 0;
     }
 
+    private static void BatchedRounds(List<int> sizes)
+    {
+        Console.WriteLine("points | one batched refinement round s (the seed evaluated at every point, the trial at the candidates' points, " +
+                          "the commit at its probe's; the tests' Delaunay) | seed probes");
+        foreach (int n in sizes) BatchedRound(n);
+    }
+
     /// <summary>One round of Quality.BatchedRefinement from the 5 × 5 × 5 sub-lattice: ToCount(seed, |seed| − 1) runs exactly
-    /// one round (its first commit reaches the count). Its cost besides the tetrahedralisations is three interpolations of
-    /// every point, the Delaunay graph and the sorts; with 125 probes the tests' O(P²) Delaunay is negligible, so this times
-    /// the part that grows with the points.</summary>
+    /// one round (its first commit reaches the count). Its cost besides the tetrahedralisations is the seed's interpolation
+    /// of every point, the trial's at the points whose stencil weighs a candidate, the commit's at the points whose stencil
+    /// touched the removed probe, the Delaunay graph and the sorts; with 125 probes the tests' O(P²) Delaunay is negligible,
+    /// so this times the part that grows with the points.</summary>
     private static void BatchedRound(int n)
     {
         var grid = Lattice(n);

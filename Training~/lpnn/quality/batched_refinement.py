@@ -13,8 +13,9 @@ Why it is nearly exact. Two probes that share no Delaunay edge share no tetrahed
 and removing one changes only the tetrahedra of its own star (triangulation.py: the tie-broken triangulation is
 unique). Removing a whole independent set I at once and tetrahedralising once therefore gives, for every v in I, its
 exact removal cost: the sum of the error changes at the points whose stencil used v, plus v's own new error. Costs
-are additive over I, so any subset of I can be committed with a known error. (Removing a hull vertex can also move
-the projection of points outside the hull; that part is not attributed, and the committed state is evaluated anew.)
+are additive over I, so any subset of I can be committed with a known error. (Points whose stencil held a candidate only
+with weight 0 — on the face or hull edge opposite it — are not attributed; the committed state re-evaluates them: step
+4.)
 
 A round, from the probe set P (its tetrahedralisation, stencils and errors e):
 1. Candidates: the greedy independent set of P's Delaunay graph in order of each probe's measured cost, probes
@@ -32,7 +33,11 @@ A round, from the probe set P (its tetrahedralisation, stencils and errors e):
    a tolerance and every cost fresh, stop; else go on (the stale costs are the next candidates). (Forcing the
    cheapest candidate of a round of stale costs instead took the validation crops from 1.00x to 1.08x the
    reference's error at 1 % and from 1.01x to 1.05x its probes at tau.)
-4. Remove them; their Delaunay neighbours' costs become stale. The new set is evaluated afresh; with a tolerance,
+4. Remove them; their Delaunay neighbours' costs become stale. The new set is evaluated at the points whose stencil
+   touched a removed probe (any weight, zero included) and at the removed ones; every other point keeps its stencil
+   and error (the tie-broken Delaunay is unique, so every tetrahedron outside the removed stars survives; a point
+   outside the hull keeps its nearest hull point unless that point's triangle had a removed vertex, as the new hull lies
+   inside the old one and keeps every other triangle). With a tolerance,
    if its error exceeds tau (the unattributed hull effect), the dearest removed probes come back one by one until it
    does not, and are locked.
 Stops at K probes, at the tolerance, at 4 probes, or when the rest would lie in one plane.
@@ -41,7 +46,10 @@ COMMIT_FRACTION = 0.05 was chosen on the 10 validation crops and whole validatio
 with insertion's first 2 K0 points: at tau = 0.05 fractions 0.2/0.1/0.05 kept 1.10/1.08/1.05x the reference's
 probes on the crops (geometric mean; exact refinement 1.005x, insertion 1.66x), and 1,745/-/1,697 on oa_bases7
 (20,222 points; reference 1,605); on ctf_compromise (136,512 points; reference 652) 0.1/0.03 kept 802/788.
-Each round costs two tetrahedralisations of the probes and two locations of every point (~0.3 s at 137k points).
+Each round costs two tetrahedralisations of the probes, the trial's location of the points whose stencil weighs a
+candidate (~40 % of them) and the commit's of the points its removed probes touched (a few %): on whole levels 1.3-1.6x
+faster than locating every point twice (ctf_compromise, 136,512 points: 60 s -> 44 s of refinement, the same counts
+on the validation crops; benchmarks.md §11.2).
 """
 
 from __future__ import annotations
@@ -74,26 +82,62 @@ class BatchedRefinement:
 
 @dataclass(frozen=True)
 class _MeshState:
-    """One probe set evaluated: its probes (sorted), the global ids each other point is interpolated from (-1 where the
-    weight is 0), the per-point errors (N,), their sum, and the Delaunay graph's edges (both directions, global ids)."""
+    """One probe set evaluated, per point (N rows): the global ids its stencil weighs > 0 (`owners`, -1 elsewhere and
+    at the probes), every global id of its stencil, zero weights included (`touched`), its error; the error sum; the
+    probes (sorted) and the Delaunay graph's edges (both directions, global ids)."""
 
     probes: np.ndarray
-    others: np.ndarray
-    owners: np.ndarray  # (M, 4)
-    errors: np.ndarray
+    owners: np.ndarray  # (N, 4)
+    touched: np.ndarray  # (N, 4)
+    errors: np.ndarray  # (N,)
     error_sum: float  # errors.sum(), read several times a round
     edges: np.ndarray  # (E, 2)
 
 
-def _evaluate(field: ReferenceField, probes: np.ndarray) -> _MeshState:
-    indices, others, tri, stencil = probe_mesh(field, np.sort(probes), coherent=True)
+def _located(field: ReferenceField, probes: np.ndarray, points: np.ndarray | None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The sorted probes' tetrahedralisation and, at `points` (every other point when None): the points, their
+    errors (N,) (0 elsewhere), owners and touched ids (M, 4); plus the Delaunay edges."""
+    indices, others, tri, stencil = probe_mesh(field, np.sort(probes), coherent=True, points=points)
     errors = stencil_point_errors(field, indices, others, stencil)
-    owners = np.where(stencil.weights > 0.0, indices[stencil.vertices], -1)
-    pairs = np.concatenate([tri.tets[:, [a, b]] for a in range(4) for b in range(a + 1, 4)])
-    pairs = np.unique(np.sort(pairs, axis=1), axis=0)
+    touched = indices[stencil.vertices]
+    owners = np.where(stencil.weights > 0.0, touched, -1)
+    pairs = np.sort(np.concatenate([tri.tets[:, [a, b]] for a in range(4) for b in range(a + 1, 4)]), axis=1)
+    keys = np.unique(pairs[:, 0] * indices.shape[0] + pairs[:, 1])  # one key per edge (a row-wise unique is ~20x slower)
+    pairs = np.stack([keys // indices.shape[0], keys % indices.shape[0]], axis=1)
     edges = indices[np.concatenate([pairs, pairs[:, ::-1]])]
-    return _MeshState(probes=indices, others=others, owners=owners, errors=errors, error_sum=float(errors.sum()),
-                      edges=edges)
+    return others, errors, owners, touched, edges
+
+
+def _evaluate(field: ReferenceField, probes: np.ndarray) -> _MeshState:
+    """Every point evaluated (the seed)."""
+    n = field.point_count
+    others, errors, owners_at, touched_at, edges = _located(field, probes, None)
+    owners = np.full((n, 4), -1, dtype=np.int64)
+    touched = np.full((n, 4), -1, dtype=np.int64)
+    owners[others], touched[others] = owners_at, touched_at
+    return _MeshState(probes=np.setdiff1d(np.arange(n), others), owners=owners, touched=touched, errors=errors,
+                      error_sum=float(errors.sum()), edges=edges)
+
+
+def _stencils_using(state: _MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Points (ascending) whose `ids` rows (state.owners or state.touched) hold a removed probe, and the removed."""
+    gone = np.zeros(state.errors.shape[0], dtype=bool)
+    gone[removed] = True
+    return np.flatnonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).any(axis=1) | gone)
+
+
+def _without(field: ReferenceField, state: _MeshState, removed: np.ndarray) -> _MeshState:
+    """The state of state.probes minus `removed`, re-evaluating only the points whose stencil touched a removed probe
+    (and the removed themselves). Exact: the tie-broken Delaunay is unique, so every tetrahedron outside the removed
+    probes' stars survives, and a point outside the hull keeps its nearest hull point unless that point's triangle had
+    a removed vertex (the new hull lies inside the old one and keeps every triangle without a removed vertex)."""
+    affected = _stencils_using(state, removed, state.touched)
+    points, errors_at, owners_at, touched_at, edges = _located(field, np.setdiff1d(state.probes, removed), affected)
+    errors, owners, touched = state.errors.copy(), state.owners.copy(), state.touched.copy()
+    errors[points], owners[points], touched[points] = errors_at[points], owners_at, touched_at
+    return _MeshState(probes=np.setdiff1d(state.probes, removed), owners=owners, touched=touched, errors=errors,
+                      error_sum=float(errors.sum()), edges=edges)
 
 
 def greedy_independent_set(vertices: np.ndarray, edges: np.ndarray, rank: np.ndarray) -> np.ndarray:
@@ -125,19 +169,19 @@ def _ranks(probes: np.ndarray, cost: np.ndarray, size: int) -> np.ndarray:
     return rank
 
 
-def removal_costs(state: _MeshState, trial: _MeshState, candidates: np.ndarray) -> np.ndarray:
+def removal_costs(field: ReferenceField, state: _MeshState, candidates: np.ndarray) -> np.ndarray:
     """Each candidate's exact removal cost (module text, step 2): summed error change at the points its stencil
-    weight reached, plus its own new error. `candidates` must be independent in the state's Delaunay graph."""
+    weight reached, plus its own new error. `candidates` must be independent in the state's Delaunay graph. The trial
+    (state.probes without the candidates) is evaluated at those points only."""
     n = state.errors.shape[0]
+    attributed = _stencils_using(state, candidates, state.owners)
     is_candidate = np.zeros(n, dtype=bool)
     is_candidate[candidates] = True
-    hits = (state.owners >= 0) & is_candidate[np.maximum(state.owners, 0)]
-    rows = np.flatnonzero(hits.any(axis=1))
-    owner = np.full(n, -1, dtype=np.int64)
-    owner[state.others[rows]] = state.owners[rows, np.argmax(hits[rows], axis=1)]  # one candidate per stencil
-    owner[candidates] = candidates
-    attributed = np.flatnonzero(owner >= 0)
-    total = np.bincount(owner[attributed], trial.errors[attributed] - state.errors[attributed], minlength=n)
+    rows = state.owners[attributed]
+    hits = (rows >= 0) & is_candidate[np.maximum(rows, 0)]
+    owner = np.where(is_candidate[attributed], attributed, rows[np.arange(attributed.shape[0]), np.argmax(hits, axis=1)])
+    trial = _located(field, np.setdiff1d(state.probes, candidates), attributed)[1]
+    total = np.bincount(owner, trial[attributed] - state.errors[attributed], minlength=n)  # one candidate per stencil
     return total[candidates]
 
 
@@ -211,8 +255,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
             candidates = np.asarray(solid, dtype=np.int64)
             remaining = np.setdiff1d(probes, candidates)
         rounds += 1
-        trial = _evaluate(field, remaining)
-        cost[candidates] = removal_costs(state, trial, candidates)
+        cost[candidates] = removal_costs(field, state, candidates)
         fresh[candidates] = True
         measured = cost[probes][np.isfinite(cost[probes])]
         threshold = _commit_threshold(measured, fraction)
@@ -239,12 +282,12 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         removed = np.zeros(n, dtype=bool)
         removed[commit] = True
         fresh[state.edges[removed[state.edges[:, 0]], 1]] = False
-        following = _evaluate(field, np.setdiff1d(probes, commit))
+        following = _without(field, state, commit)
         back = commit.shape[0]
         while tau is not None and following.error_sum > limit and back > 0:  # an unattributed hull effect
             back -= 1
             locked[commit[back]] = True
-            following = _evaluate(field, np.setdiff1d(probes, commit[:back]))
+            following = _without(field, state, commit[:back])
         if trace is not None:
             trace({"following": following.probes, "following_sum": following.error_sum})
         state = following

@@ -169,14 +169,19 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     return indices
 
 
-def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False
+def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False, points: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
-    """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices)."""
+    """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices).
+    `points` (ascending point indices, none a probe): locate only those instead of every other point (batched
+    refinement re-evaluates only the points whose stencil changed)."""
     indices = checked_probes(field, probes)
     tri = tetrahedralize(field.world[indices], field.frame)
-    is_probe = np.zeros(field.point_count, dtype=bool)
-    is_probe[indices] = True
-    others = np.flatnonzero(~is_probe)
+    if points is None:
+        is_probe = np.zeros(field.point_count, dtype=bool)
+        is_probe[indices] = True
+        others = np.flatnonzero(~is_probe)
+    else:
+        others = np.asarray(points, dtype=np.int64)
     return indices, others, tri, locate_local(tri, field.local[others], coherent)
 
 

@@ -23,7 +23,9 @@ namespace Lpnn.Probes.Core.Quality
     /// every cost is fresh), capped by the count, or the longest prefix that keeps the error sum within τ·N (nothing
     /// committed: with a tolerance and every cost fresh, stop; else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
     /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
-    /// Each round: two tetrahedralisations of the probes and two interpolations of every point.</summary>
+    /// Each round: two tetrahedralisations of the probes; only the points whose stencil held a removed probe are interpolated
+    /// again (the tie-broken Delaunay is unique: every other tetrahedron survives a removal, and a point outside the hull
+    /// keeps its nearest hull point unless that point's triangle had a removed vertex).</summary>
     public static class BatchedRefinement
     {
         /// <summary>Commit the candidates within this quantile of the measured costs (chosen on validation crops and levels,
@@ -60,6 +62,7 @@ namespace Lpnn.Probes.Core.Quality
             public int[] Probes;      // sorted evaluation point indices
             public double[] Errors;   // per point, 0 at the probes
             public int[] Owners;      // 4 per point: the probes (point indices) its stencil weighs > 0, else -1
+            public int[] Touched;     // 4 per point: every probe (point index) of its stencil, zero weights included; -1 at probes
             public int[] EdgeStart;   // CSR over Probes' positions: neighbours of Probes[k] in EdgeStart[k]..EdgeStart[k+1]
             public int[] EdgeTarget;  // neighbour point indices
             public double ErrorSum;
@@ -129,8 +132,7 @@ namespace Lpnn.Probes.Core.Quality
                     remaining = Without(current, candidates, n);
                 }
                 rounds++;
-                var trial = Evaluate(reference, tetrahedralizer, remaining);
-                RemovalCosts(state, trial, candidates, cost, n);
+                RemovalCosts(reference, tetrahedralizer, state, remaining, candidates, cost);
                 foreach (int c in candidates) fresh[c] = true;
                 bool settled = true;  // every unlocked probe's cost is fresh
                 foreach (int p in current) settled &= fresh[p] || locked[p];
@@ -153,13 +155,13 @@ namespace Lpnn.Probes.Core.Quality
                     continue;  // the stale costs are candidates first next round
                 }
                 MarkNeighboursStale(state, commit, fresh);
-                var following = Evaluate(reference, tetrahedralizer, Without(current, commit.ToArray(), n));
+                var following = WithoutProbes(reference, tetrahedralizer, state, commit.ToArray());
                 int back = commit.Count;
                 while (byTolerance && following.ErrorSum > limit && back > 0)  // an unattributed hull effect
                 {
                     back--;
                     locked[commit[back]] = true;
-                    following = Evaluate(reference, tetrahedralizer, Without(current, commit.GetRange(0, back).ToArray(), n));
+                    following = WithoutProbes(reference, tetrahedralizer, state, commit.GetRange(0, back).ToArray());
                 }
                 state = following;
                 progress?.Invoke(Stage, seeded - state.Probes.Length, seeded - goal);
@@ -198,22 +200,31 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>Each candidate's removal cost: the summed error change (ascending point order) at the points whose
-        /// stencil weighed it, plus its own new error.</summary>
-        private static void RemovalCosts(MeshState state, MeshState trial, int[] candidates, double[] cost, int n)
+        /// stencil weighed it, plus its own new error. The trial (<paramref name="remaining"/>: the probes without the
+        /// candidates) is interpolated at those points only.</summary>
+        private static void RemovalCosts(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] remaining,
+            int[] candidates, double[] cost)
         {
+            int n = reference.Count;
             var isCandidate = new bool[n];
             foreach (int c in candidates) isCandidate[c] = true;
             foreach (int c in candidates) cost[c] = 0.0;
+            var owner = new int[n];
+            var attributed = new List<int>();
             for (int p = 0; p < n; p++)
             {
-                int owner = isCandidate[p] ? p : -1;
-                for (int k = 0; k < 4 && owner < 0; k++)
+                owner[p] = isCandidate[p] ? p : -1;
+                for (int k = 0; k < 4 && owner[p] < 0; k++)
                 {
                     int o = state.Owners[4 * p + k];
-                    if (o >= 0 && isCandidate[o]) owner = o;
+                    if (o >= 0 && isCandidate[o]) owner[p] = o;
                 }
-                if (owner >= 0) cost[owner] += trial.Errors[p] - state.Errors[p];
+                if (owner[p] >= 0) attributed.Add(p);
             }
+            var trialErrors = new double[n];
+            PlacementError.InterpolatePoints(reference, remaining, Tetrahedralize(reference, tetrahedralizer, remaining), attributed.ToArray(),
+                (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated));
+            foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - state.Errors[p];
         }
 
         /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
@@ -258,28 +269,78 @@ namespace Lpnn.Probes.Core.Quality
             return kept.ToArray();
         }
 
+        /// <summary>Every point of <paramref name="probes"/> (sorted) evaluated: the seed.</summary>
         private static MeshState Evaluate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
         {
             int n = reference.Count;
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
-            int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
-            var errors = new double[n];
-            var owners = new int[4 * n];
-            for (int i = 0; i < owners.Length; i++) owners[i] = -1;
-            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int p, ref Stencil stencil, double[] interpolated) =>
+            var state = new MeshState { Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n] };
+            for (int i = 0; i < 4 * n; i++) state.Owners[i] = state.Touched[i] = -1;
+            Relocate(reference, tetrahedralizer, state, null);
+            return state;
+        }
+
+        /// <summary>The state of <paramref name="state"/>'s probes without <paramref name="removed"/>: only the points whose
+        /// stencil touched a removed probe (and the removed themselves) are interpolated again (class text).</summary>
+        private static MeshState WithoutProbes(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] removed)
+        {
+            int n = reference.Count;
+            var gone = new bool[n];
+            foreach (int r in removed) gone[r] = true;
+            var affected = new List<int>();
+            for (int p = 0; p < n; p++)
             {
-                errors[p] = PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale);
-                if (stencil.Weight0 > 0) owners[4 * p] = probes[stencil.Probe0];
-                if (stencil.Weight1 > 0) owners[4 * p + 1] = probes[stencil.Probe1];
-                if (stencil.Weight2 > 0) owners[4 * p + 2] = probes[stencil.Probe2];
-                if (stencil.Weight3 > 0) owners[4 * p + 3] = probes[stencil.Probe3];
+                bool touched = gone[p];
+                for (int k = 0; k < 4 && !touched; k++)
+                {
+                    int o = state.Touched[4 * p + k];
+                    touched = o >= 0 && gone[o];
+                }
+                if (touched) affected.Add(p);
+            }
+            var next = new MeshState
+            {
+                Probes = Without(state.Probes, removed, n), Errors = (double[])state.Errors.Clone(),
+                Owners = (int[])state.Owners.Clone(), Touched = (int[])state.Touched.Clone()
+            };
+            Relocate(reference, tetrahedralizer, next, affected.ToArray());
+            return next;
+        }
+
+        /// <summary>Tetrahedralises the state's probes and interpolates <paramref name="points"/> (ascending, none a probe;
+        /// null: every point that is not a probe) into its errors, owners and touched probes; then its edges and error sum.</summary>
+        private static void Relocate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] points)
+        {
+            int[] probes = state.Probes;
+            int[] tetrahedra = Tetrahedralize(reference, tetrahedralizer, probes);
+            double[] errors = state.Errors;
+            int[] owners = state.Owners, touched = state.Touched;
+            PlacementError.InterpolatePoints(reference, probes, tetrahedra, points, (int p, ref Stencil stencil, double[] interpolated) =>
+            {
+                errors[p] = PointError(reference, p, interpolated);
+                touched[4 * p] = probes[stencil.Probe0];
+                touched[4 * p + 1] = probes[stencil.Probe1];
+                touched[4 * p + 2] = probes[stencil.Probe2];
+                touched[4 * p + 3] = probes[stencil.Probe3];
+                owners[4 * p] = stencil.Weight0 > 0 ? touched[4 * p] : -1;
+                owners[4 * p + 1] = stencil.Weight1 > 0 ? touched[4 * p + 1] : -1;
+                owners[4 * p + 2] = stencil.Weight2 > 0 ? touched[4 * p + 2] : -1;
+                owners[4 * p + 3] = stencil.Weight3 > 0 ? touched[4 * p + 3] : -1;
             });
             double sum = 0;
             foreach (double e in errors) sum += e;
-            Edges(tetrahedra, probes, out int[] start, out int[] target);
-            return new MeshState { Probes = probes, Errors = errors, Owners = owners, EdgeStart = start, EdgeTarget = target, ErrorSum = sum };
+            state.ErrorSum = sum;
+            Edges(tetrahedra, probes, out state.EdgeStart, out state.EdgeTarget);
         }
+
+        private static int[] Tetrahedralize(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
+        {
+            var positions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
+            return tetrahedralizer.Tetrahedralize(positions);
+        }
+
+        private static double PointError(ReferenceLighting reference, int p, double[] interpolated) =>
+            PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale);
 
         /// <summary>The Delaunay graph as CSR over the probe list: each tetrahedron's 6 edges, both ways, without repeats.</summary>
         private static void Edges(int[] tetrahedra, int[] probes, out int[] start, out int[] target)

@@ -36,19 +36,35 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Interpolates every evaluation point that is not a probe, in ascending index order, through the given
         /// tetrahedra (inside: its tetrahedron; outside: the nearest hull point). Shared by the error and the insertion
         /// ranking, so both read the same stencils.</summary>
-        internal static void InterpolateOthers(ReferenceLighting reference, int[] probes, int[] tetrahedra, PointVisitor visit)
+        internal static void InterpolateOthers(ReferenceLighting reference, int[] probes, int[] tetrahedra, PointVisitor visit) =>
+            InterpolatePoints(reference, probes, tetrahedra, null, visit);
+
+        /// <summary>As <see cref="InterpolateOthers"/>, but only at <paramref name="points"/> (evaluation point indices, none
+        /// of them a probe; null: every point that is not a probe): batched refinement re-evaluates only the points whose
+        /// stencil changed. A point's stencil does not depend on which other points are asked for.</summary>
+        internal static void InterpolatePoints(ReferenceLighting reference, int[] probes, int[] tetrahedra, int[] points, PointVisitor visit)
         {
             ProbeIndices.Check(probes, reference.Count);
             var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
             var locator = new TetrahedronLocator(mesh);
             var hull = new HullProjector(mesh.Points, mesh.HullFaces);
 
-            int count = reference.Count;
-            var isProbe = new bool[count];
-            foreach (int p in probes) isProbe[p] = true;
             var interpolated = new double[ReferenceLighting.LightValues];
             var weights = new double[4];
             var stencil = new Stencil();
+            if (points != null)
+            {
+                foreach (int n in points)
+                {
+                    Locate(mesh, locator, hull, reference.Local, n, weights, ref stencil);
+                    Interpolate(reference.Light, probes, ref stencil, interpolated);
+                    visit(n, ref stencil, interpolated);
+                }
+                return;
+            }
+            int count = reference.Count;
+            var isProbe = new bool[count];
+            foreach (int p in probes) isProbe[p] = true;
             for (int n = 0; n < count; n++)
             {
                 if (isProbe[n]) continue;
