@@ -33,7 +33,7 @@ from ..core.capture import Capture
 from ..core.features import D14, scene_scale
 from .location import Stencil, locate_local
 from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
-from .triangulation import Frame, Tetrahedralization, checked_positions, tetrahedralize
+from .triangulation import Frame, Tetrahedralization, assembled, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
 LIGHT_VALUES = D14.shape[0] * 3
@@ -169,13 +169,15 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     return indices
 
 
-def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False, points: np.ndarray | None = None
-               ) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
+def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False, points: np.ndarray | None = None,
+               tets: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
     """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices).
     `points` (ascending point indices, none a probe): locate only those instead of every other point (batched
-    refinement re-evaluates only the points whose stencil changed)."""
+    refinement re-evaluates only the points whose stencil changed). `tets` (T, 4), positions in `probes`: the
+    tetrahedralisation when it is already known (derived by batched refinement), instead of tetrahedralising again."""
     indices = checked_probes(field, probes)
-    tri = tetrahedralize(field.world[indices], field.frame)
+    tri = (tetrahedralize(field.world[indices], field.frame) if tets is None
+           else assembled(field.world[indices], field.frame, tets))
     if points is None:
         is_probe = np.zeros(field.point_count, dtype=bool)
         is_probe[indices] = True

@@ -257,7 +257,19 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedral
         missing = int(np.flatnonzero(~used)[0])
         raise GeometryError(f"probe {missing} at {positions[missing].tolist()} was dropped by the tetrahedralisation "
                             f"({int(np.count_nonzero(~used))} probes dropped); it is (nearly) a duplicate of another probe")
-    neighbours, hull_faces, hull_face_tets = _adjacency(tets, count)
+    return _assembled(used_frame, positions, local, tets)
+
+
+def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedralization:
+    """The Tetrahedralization of probe positions (K, 3) whose positively oriented tetrahedra (T, 4) are already known,
+    e.g. derived from two others by local changes (batched_refinement.py): adjacency, hull and barycentric transforms as
+    tetrahedralize computes them. Raises GeometryError when the tetrahedra do not form a manifold."""
+    positions = checked_positions(world, "probe positions")
+    return _assembled(frame, positions, frame.to_local(positions), np.asarray(tets, dtype=np.int64).reshape(-1, 4))
+
+
+def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray) -> Tetrahedralization:
+    neighbours, hull_faces, hull_face_tets = _adjacency(tets, positions.shape[0])
     inverse, _ = barycentric_inverse(local, tets)
-    return Tetrahedralization(frame=used_frame, world=positions, points=local, tets=tets, neighbours=neighbours,
+    return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,
                               inverse=inverse, hull_faces=hull_faces, hull_face_tets=hull_face_tets)

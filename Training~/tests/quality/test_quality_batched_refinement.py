@@ -7,8 +7,8 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.batched_refinement import (_evaluate, _without, batched_refinement, greedy_independent_set,
-                                             removal_costs)
+from lpnn.quality.batched_refinement import (_evaluate, _refilled, _trial, _without, batched_refinement,
+                                             greedy_independent_set, removal_costs)
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.insertion import InsertionOrder
 from lpnn.quality.metric import MetricError, ReferenceField, point_errors
@@ -77,22 +77,28 @@ def test_costs_of_an_independent_set_are_each_removals_exact_error_change(medium
 @pytest.mark.parametrize("hull_vertices", [False, True])
 def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_fresh_evaluation(
         medium_capture: Capture, hull_vertices: bool) -> None:
-    """_without re-locates only the points whose stencil touched a removed probe (module text); every point's error,
-    owners and stencil must still be those of evaluating the smaller set from scratch, hull vertices removed or not."""
+    """_without re-locates only the points whose stencil touched a removed probe, and takes the tetrahedralisation
+    from the state's and the trial's (module text); every point's error and the Delaunay graph must still be those of
+    evaluating the smaller set from scratch, hull vertices removed or not."""
     field = _field(medium_capture)
     state = _evaluate(field, _insertion(medium_capture, field)(150))
     corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
     rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
     order = state.probes[np.argsort(~corner[state.probes] if hull_vertices else corner[state.probes], kind="stable")]
     rank[order] = np.arange(order.shape[0])
-    removed = greedy_independent_set(state.probes, state.edges, rank)[:12]
+    candidates = greedy_independent_set(state.probes, state.edges, rank)
+    removed = candidates[:12]
     assert removed.shape[0] == 12 and (np.any(corner[removed]) == hull_vertices)
-    updated = _without(field, state, removed)
+    trial = _trial(field, state, candidates)
     fresh = _evaluate(field, np.setdiff1d(state.probes, removed))
-    np.testing.assert_array_equal(updated.probes, fresh.probes)
-    np.testing.assert_allclose(updated.errors, fresh.errors, rtol=0, atol=1e-12)
-    assert updated.error_sum == pytest.approx(fresh.error_sum, rel=1e-13)
-    np.testing.assert_array_equal(np.sort(updated.edges, axis=0), np.sort(fresh.edges, axis=0))
+    # The derived tetrahedra are Qhull's, as sets of vertex quadruples.
+    derived = np.sort(np.sort(_refilled(field, state, trial, removed), axis=1), axis=0)
+    assert derived.tolist() == np.sort(np.sort(fresh.tets, axis=1), axis=0).tolist()
+    for updated in (_without(field, state, removed), _without(field, state, removed, trial)):
+        np.testing.assert_array_equal(updated.probes, fresh.probes)
+        np.testing.assert_allclose(updated.errors, fresh.errors, rtol=0, atol=1e-12)
+        assert updated.error_sum == pytest.approx(fresh.error_sum, rel=1e-13)
+        np.testing.assert_array_equal(np.sort(updated.edges, axis=0), np.sort(fresh.edges, axis=0))
     # Stencils are not compared: a point on a face or edge shared by several tetrahedra may take any of them (the
     # same error; a weight exactly 0 in one may be 1e-17 in another).
 
