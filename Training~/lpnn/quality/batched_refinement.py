@@ -51,7 +51,7 @@ a candidate (~40 % of them; no other point enters a cost) and the commit's of th
 few %). The committed set's tetrahedra are not computed again: they are the state's outside the removed stars and the
 trial's inside them (_refilled; the C# core, with Unity's native tetrahedraliser, calls it twice). Against two Qhull
 calls and two locations of every point per round: 2.0-2.3x less CPU on whole validation levels (oa_bases7 53 -> 23 s,
-ctf_compromise 52 -> 26 s; the same counts on the validation crops; benchmarks.md §11.2).
+ctf_compromise 52 -> 26 s; the same tau counts on the validation crops; benchmarks.md §11.2).
 """
 
 from __future__ import annotations
