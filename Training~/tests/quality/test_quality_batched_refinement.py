@@ -7,8 +7,8 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.batched_refinement import (_evaluate, _refilled, _trial, _without, batched_refinement,
-                                             greedy_independent_set, removal_costs)
+from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.batched_state import evaluate, refilled, removal_costs, trial_of, without
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.insertion import InsertionOrder
 from lpnn.quality.metric import MetricError, ReferenceField, point_errors
@@ -60,7 +60,7 @@ def test_costs_of_an_independent_set_are_each_removals_exact_error_change(medium
     """Disjoint stars: one trial without the whole set gives every member's own removal cost (module text)."""
     field = _field(medium_capture)
     probes = _insertion(medium_capture, field)(120)
-    state = _evaluate(field, probes)
+    state = evaluate(field, probes)
     rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
     rank[state.probes] = np.arange(state.probes.shape[0])
     candidates = greedy_independent_set(state.probes, state.edges, rank)
@@ -77,11 +77,11 @@ def test_costs_of_an_independent_set_are_each_removals_exact_error_change(medium
 @pytest.mark.parametrize("hull_vertices", [False, True])
 def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_fresh_evaluation(
         medium_capture: Capture, hull_vertices: bool) -> None:
-    """_without re-locates only the points whose stencil touched a removed probe, and takes the tetrahedralisation
+    """without() re-locates only the points whose stencil touched a removed probe, and takes the tetrahedralisation
     from the state's and the trial's (module text); every point's error and the Delaunay graph must still be those of
     evaluating the smaller set from scratch, hull vertices removed or not."""
     field = _field(medium_capture)
-    state = _evaluate(field, _insertion(medium_capture, field)(150))
+    state = evaluate(field, _insertion(medium_capture, field)(150))
     corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
     rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
     order = state.probes[np.argsort(~corner[state.probes] if hull_vertices else corner[state.probes], kind="stable")]
@@ -89,12 +89,12 @@ def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_f
     candidates = greedy_independent_set(state.probes, state.edges, rank)
     removed = candidates[:12]
     assert removed.shape[0] == 12 and (np.any(corner[removed]) == hull_vertices)
-    trial = _trial(field, state, candidates)
-    fresh = _evaluate(field, np.setdiff1d(state.probes, removed))
+    trial = trial_of(field, state, candidates)
+    fresh = evaluate(field, np.setdiff1d(state.probes, removed))
     # The derived tetrahedra are Qhull's, as sets of vertex quadruples.
-    derived = np.sort(np.sort(_refilled(field, state, trial, removed), axis=1), axis=0)
+    derived = np.sort(np.sort(refilled(field, state, trial, removed), axis=1), axis=0)
     assert derived.tolist() == np.sort(np.sort(fresh.tets, axis=1), axis=0).tolist()
-    for updated in (_without(field, state, removed), _without(field, state, removed, trial)):
+    for updated in (without(field, state, removed), without(field, state, removed, trial)):
         np.testing.assert_array_equal(updated.probes, fresh.probes)
         np.testing.assert_allclose(updated.errors, fresh.errors, rtol=0, atol=1e-12)
         assert updated.error_sum == pytest.approx(fresh.error_sum, rel=1e-13)
