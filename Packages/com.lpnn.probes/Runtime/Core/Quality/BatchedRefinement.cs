@@ -1,6 +1,5 @@
 using System;
 using System.Collections.Generic;
-using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Numerics;
@@ -57,17 +56,6 @@ namespace Lpnn.Probes.Core.Quality
             return Run(reference, tetrahedralizer, seed, ProbeIndices.Minimum, tolerance, keep, progress, cancel, fraction);
         }
 
-        private sealed class MeshState
-        {
-            public int[] Probes;      // sorted evaluation point indices
-            public double[] Errors;   // per point, 0 at the probes
-            public int[] Owners;      // 4 per point: the probes (point indices) its stencil weighs > 0, else -1
-            public int[] Touched;     // 4 per point: every probe (point index) of its stencil, zero weights included; -1 at probes
-            public int[] EdgeStart;   // CSR over Probes' positions: neighbours of Probes[k] in EdgeStart[k]..EdgeStart[k+1]
-            public int[] EdgeTarget;  // neighbour point indices
-            public double ErrorSum;
-        }
-
         private static BatchedRefinementResult Run(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int goal, double tolerance,
             int[] keep, ProgressCallback progress, CancellationToken cancel, double fraction)
         {
@@ -89,7 +77,7 @@ namespace Lpnn.Probes.Core.Quality
                 }
             var probes = (int[])seed.Clone();
             Array.Sort(probes);
-            var state = Evaluate(reference, tetrahedralizer, probes);
+            var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, probes);
             if (byTolerance && state.ErrorSum > limit)
                 return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, 0, BatchedRefinementResult.SeedAboveTolerance);
             var cost = new double[n];
@@ -112,7 +100,7 @@ namespace Lpnn.Probes.Core.Quality
                     stop = BatchedRefinementResult.StoppedAtTolerance;  // every probe left is locked
                     break;
                 }
-                int[] remaining = Without(current, candidates, n);
+                int[] remaining = BatchedRefinementState.ProbesWithout(current, candidates, n);
                 if (IsFlat(reference, remaining))
                 {
                     // Near the end only: the first unlocked probe in the candidates' order whose removal alone leaves a solid
@@ -120,7 +108,7 @@ namespace Lpnn.Probes.Core.Quality
                     int solid = -1;
                     foreach (int c in Candidates(state, cost, fresh, locked, int.MaxValue, independent: false))
                     {
-                        if (!IsFlat(reference, Without(current, new[] { c }, n))) { solid = c; break; }
+                        if (!IsFlat(reference, BatchedRefinementState.ProbesWithout(current, new[] { c }, n))) { solid = c; break; }
                         locked[c] = true;
                     }
                     if (solid < 0)
@@ -129,10 +117,10 @@ namespace Lpnn.Probes.Core.Quality
                         break;
                     }
                     candidates = new[] { solid };
-                    remaining = Without(current, candidates, n);
+                    remaining = BatchedRefinementState.ProbesWithout(current, candidates, n);
                 }
                 rounds++;
-                RemovalCosts(reference, tetrahedralizer, state, remaining, candidates, cost);
+                state.RemovalCosts(reference, tetrahedralizer, remaining, candidates, cost);
                 foreach (int c in candidates) fresh[c] = true;
                 bool settled = true;  // every unlocked probe's cost is fresh
                 foreach (int p in current) settled &= fresh[p] || locked[p];
@@ -155,13 +143,13 @@ namespace Lpnn.Probes.Core.Quality
                     continue;  // the stale costs are candidates first next round
                 }
                 MarkNeighboursStale(state, commit, fresh);
-                var following = WithoutProbes(reference, tetrahedralizer, state, commit.ToArray());
+                var following = state.Without(reference, tetrahedralizer, commit.ToArray());
                 int back = commit.Count;
                 while (byTolerance && following.ErrorSum > limit && back > 0)  // an unattributed hull effect
                 {
                     back--;
                     locked[commit[back]] = true;
-                    following = WithoutProbes(reference, tetrahedralizer, state, commit.GetRange(0, back).ToArray());
+                    following = state.Without(reference, tetrahedralizer, commit.GetRange(0, back).ToArray());
                 }
                 state = following;
                 progress?.Invoke(Stage, seeded - state.Probes.Length, seeded - goal);
@@ -172,7 +160,7 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>The greedy independent set by (cost, index) among the unlocked probes, costs that are not fresh (never
         /// measured, or a neighbour removed since) counting as −∞, in that order; at most <paramref name="limit"/>.</summary>
         /// <param name="independent">False: every unlocked probe in that order (no neighbour is skipped).</param>
-        private static int[] Candidates(MeshState state, double[] cost, bool[] fresh, bool[] locked, int limit, bool independent = true)
+        private static int[] Candidates(BatchedRefinementState state, double[] cost, bool[] fresh, bool[] locked, int limit, bool independent = true)
         {
             int[] probes = state.Probes;
             var order = new List<int>(probes.Length);  // positions in probes
@@ -199,34 +187,6 @@ namespace Lpnn.Probes.Core.Quality
             return chosen.ToArray();
         }
 
-        /// <summary>Each candidate's removal cost: the summed error change (ascending point order) at the points whose
-        /// stencil weighed it, plus its own new error. The trial (<paramref name="remaining"/>: the probes without the
-        /// candidates) is interpolated at those points only.</summary>
-        private static void RemovalCosts(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] remaining,
-            int[] candidates, double[] cost)
-        {
-            int n = reference.Count;
-            var isCandidate = new bool[n];
-            foreach (int c in candidates) isCandidate[c] = true;
-            foreach (int c in candidates) cost[c] = 0.0;
-            var owner = new int[n];
-            var attributed = new List<int>();
-            for (int p = 0; p < n; p++)
-            {
-                owner[p] = isCandidate[p] ? p : -1;
-                for (int k = 0; k < 4 && owner[p] < 0; k++)
-                {
-                    int o = state.Owners[4 * p + k];
-                    if (o >= 0 && isCandidate[o]) owner[p] = o;
-                }
-                if (owner[p] >= 0) attributed.Add(p);
-            }
-            var trialErrors = new double[n];
-            PlacementError.InterpolatePoints(reference, remaining, Tetrahedralize(reference, tetrahedralizer, remaining), attributed.ToArray(),
-                (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated));
-            foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - state.Errors[p];
-        }
-
         /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
         /// costs of <paramref name="probes"/>, cheapest first (ties: lower index); when none is and every cost is fresh
         /// (<paramref name="settled"/>), the cheapest candidate.</summary>
@@ -250,120 +210,13 @@ namespace Lpnn.Probes.Core.Quality
             return commit;
         }
 
-        private static void MarkNeighboursStale(MeshState state, List<int> removed, bool[] fresh)
+        private static void MarkNeighboursStale(BatchedRefinementState state, List<int> removed, bool[] fresh)
         {
             foreach (int r in removed)
             {
                 int k = Array.BinarySearch(state.Probes, r);  // the probes are sorted
                 for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++) fresh[state.EdgeTarget[e]] = false;
             }
-        }
-
-        private static int[] Without(int[] probes, int[] removed, int n)
-        {
-            var gone = new bool[n];
-            foreach (int r in removed) gone[r] = true;
-            var kept = new List<int>(probes.Length);
-            foreach (int p in probes)
-                if (!gone[p]) kept.Add(p);
-            return kept.ToArray();
-        }
-
-        /// <summary>Every point of <paramref name="probes"/> (sorted) evaluated: the seed.</summary>
-        private static MeshState Evaluate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
-        {
-            int n = reference.Count;
-            var state = new MeshState { Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n] };
-            for (int i = 0; i < 4 * n; i++) state.Owners[i] = state.Touched[i] = -1;
-            Relocate(reference, tetrahedralizer, state, null);
-            return state;
-        }
-
-        /// <summary>The state of <paramref name="state"/>'s probes without <paramref name="removed"/>: only the points whose
-        /// stencil touched a removed probe (and the removed themselves) are interpolated again (class text).</summary>
-        private static MeshState WithoutProbes(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] removed)
-        {
-            int n = reference.Count;
-            var gone = new bool[n];
-            foreach (int r in removed) gone[r] = true;
-            var affected = new List<int>();
-            for (int p = 0; p < n; p++)
-            {
-                bool touched = gone[p];
-                for (int k = 0; k < 4 && !touched; k++)
-                {
-                    int o = state.Touched[4 * p + k];
-                    touched = o >= 0 && gone[o];
-                }
-                if (touched) affected.Add(p);
-            }
-            var next = new MeshState
-            {
-                Probes = Without(state.Probes, removed, n), Errors = (double[])state.Errors.Clone(),
-                Owners = (int[])state.Owners.Clone(), Touched = (int[])state.Touched.Clone()
-            };
-            Relocate(reference, tetrahedralizer, next, affected.ToArray());
-            return next;
-        }
-
-        /// <summary>Tetrahedralises the state's probes and interpolates <paramref name="points"/> (ascending, none a probe;
-        /// null: every point that is not a probe) into its errors, owners and touched probes; then its edges and error sum.</summary>
-        private static void Relocate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, MeshState state, int[] points)
-        {
-            int[] probes = state.Probes;
-            int[] tetrahedra = Tetrahedralize(reference, tetrahedralizer, probes);
-            double[] errors = state.Errors;
-            int[] owners = state.Owners, touched = state.Touched;
-            PlacementError.InterpolatePoints(reference, probes, tetrahedra, points, (int p, ref Stencil stencil, double[] interpolated) =>
-            {
-                errors[p] = PointError(reference, p, interpolated);
-                touched[4 * p] = probes[stencil.Probe0];
-                touched[4 * p + 1] = probes[stencil.Probe1];
-                touched[4 * p + 2] = probes[stencil.Probe2];
-                touched[4 * p + 3] = probes[stencil.Probe3];
-                owners[4 * p] = stencil.Weight0 > 0 ? touched[4 * p] : -1;
-                owners[4 * p + 1] = stencil.Weight1 > 0 ? touched[4 * p + 1] : -1;
-                owners[4 * p + 2] = stencil.Weight2 > 0 ? touched[4 * p + 2] : -1;
-                owners[4 * p + 3] = stencil.Weight3 > 0 ? touched[4 * p + 3] : -1;
-            });
-            double sum = 0;
-            foreach (double e in errors) sum += e;
-            state.ErrorSum = sum;
-            Edges(tetrahedra, probes, out state.EdgeStart, out state.EdgeTarget);
-        }
-
-        private static int[] Tetrahedralize(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
-        {
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
-            return tetrahedralizer.Tetrahedralize(positions);
-        }
-
-        private static double PointError(ReferenceLighting reference, int p, double[] interpolated) =>
-            PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale);
-
-        /// <summary>The Delaunay graph as CSR over the probe list: each tetrahedron's 6 edges, both ways, without repeats.</summary>
-        private static void Edges(int[] tetrahedra, int[] probes, out int[] start, out int[] target)
-        {
-            int count = probes.Length;
-            var keys = new List<long>(tetrahedra.Length * 3);
-            for (int t = 0; t + 3 < tetrahedra.Length; t += 4)
-                for (int a = 0; a < 4; a++)
-                    for (int b = 0; b < 4; b++)
-                        if (a != b) keys.Add((long)tetrahedra[t + a] * count + tetrahedra[t + b]);
-            keys.Sort();
-            start = new int[count + 1];
-            var targets = new List<int>(keys.Count / 2);
-            long previous = -1;
-            foreach (long key in keys)
-            {
-                if (key == previous) continue;
-                previous = key;
-                start[(int)(key / count) + 1]++;
-                targets.Add(probes[(int)(key % count)]);
-            }
-            for (int k = 0; k < count; k++) start[k + 1] += start[k];
-            target = targets.ToArray();
         }
 
         /// <summary>Whether the points lie (within <see cref="FlatTolerance"/> of their extent) on one line or in one plane:
