@@ -109,7 +109,7 @@ class Trial:
 
 
 def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) -> Trial:
-    """Module text, step 2: each candidate's exact removal cost, the summed error change at the points its stencil
+    """batched_refinement.py's step 2: each candidate's exact removal cost, the summed error change at the points its stencil
     weight reached plus its own new error; the trial is evaluated at those points only (no other point enters a
     cost). `candidates` must be independent in the state's Delaunay graph."""
     n = state.errors.shape[0]
@@ -122,11 +122,6 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     trial = evaluated_at(field, np.setdiff1d(state.probes, candidates), attributed)
     total = np.bincount(owner, trial.errors[attributed] - state.errors[attributed], minlength=n)  # one per stencil
     return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets])
-
-
-def removal_costs(field: ReferenceField, state: MeshState, candidates: np.ndarray) -> np.ndarray:
-    """Each candidate's exact removal cost (module text, step 2)."""
-    return trial_of(field, state, candidates).costs
 
 
 def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:
@@ -173,10 +168,11 @@ def refilled(field: ReferenceField, state: MeshState, trial: Trial, removed: np.
     tetrahedralising: the state's tetrahedra outside the removed probes' stars, and the trial's tetrahedra that fill
     those stars. Removing a probe retriangulates its own star and nothing else (the tie-broken Delaunay is unique) and
     the candidates' stars are disjoint, so each new tetrahedron of the trial lies in exactly one candidate's star."""
-    fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(state.tets, state.probes))]
+    before = state.tets
+    fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(before, state.probes))]
     gone = np.zeros(field.point_count, dtype=bool)
     gone[removed] = True
-    kept = state.tets[~gone[state.tets].any(axis=1)]
+    kept = before[~gone[before].any(axis=1)]
     return np.concatenate([kept, fills[gone[stars(field, state, trial, fills)]]])
 
 
@@ -197,7 +193,6 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
         if tets is None:
             raise
         located = evaluated_at(field, probes, affected)  # a derived mesh that is not a manifold: Qhull decides
-
     errors, owners, touched = state.errors.copy(), state.owners.copy(), state.touched.copy()
     errors[affected], owners[affected], touched[affected] = located.errors[affected], located.owners, located.touched
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=errors,

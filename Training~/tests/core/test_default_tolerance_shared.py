@@ -34,6 +34,6 @@ def test_the_default_placement_is_insertion_refined_in_batches_in_the_volume_and
     core = (PACKAGE / "Core" / "Selection" / "PlacementMethod.cs").read_text(encoding="utf-8")
     assert "public const PlacementMethod Default = PlacementMethod.Insertion;" in core
     assert DEFAULT_METHOD == "insertion-refined"
-    assert "private bool refineInBatches = true;" in (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
     volume = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
+    assert "private bool refineInBatches = true;" in volume
     assert "private PlacementMethod placementMethod = PlacementMethods.Default;" in volume

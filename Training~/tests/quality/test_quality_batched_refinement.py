@@ -8,7 +8,7 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
-from lpnn.quality.batched_state import evaluate, refilled, removal_costs, trial_of, without
+from lpnn.quality.batched_state import evaluate, refilled, trial_of, without
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.insertion import InsertionOrder
 from lpnn.quality.metric import MetricError, ReferenceField, point_errors
@@ -65,7 +65,7 @@ def test_costs_of_an_independent_set_are_each_removals_exact_error_change(medium
     rank[state.probes] = np.arange(state.probes.shape[0])
     candidates = greedy_independent_set(state.probes, state.edges, rank)
     assert candidates.shape[0] >= 10
-    costs = removal_costs(field, state, candidates)
+    costs = trial_of(field, state, candidates).costs
     base = point_errors(field, state.probes).sum()
     alone = np.asarray([point_errors(field, np.setdiff1d(state.probes, [v])).sum() - base for v in candidates])
     # Removing a hull vertex can also move the projection of outside points onto other hull triangles, which the
