@@ -1,0 +1,90 @@
+using System;
+using System.Collections.Generic;
+using System.Numerics;
+using Lpnn.Probes.Core.Features;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Light leaking through walls (Documentation~/leaks.md): an evaluation point leaks when a probe of weight
+    /// above <see cref="MinimumWeight"/> in its stencil is not visible from it, so its lighting blends the other side of a
+    /// wall. Python's lpnn.quality.leaks decides exactly alike (Tests/Data/leaks_golden.json).</summary>
+    internal static class LeakCheck
+    {
+        /// <summary>Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of
+        /// zero), not light.</summary>
+        public const double MinimumWeight = 1e-6;
+
+        /// <summary>Points per batch of segment casts: at most 4 segments each, so the buffers stay a few MB at 10^6 points.</summary>
+        private const int PointsPerBatch = 65536;
+
+        /// <summary>Which evaluation points of <paramref name="reference"/> leak under the placement (<paramref name="probes"/>:
+        /// evaluation point indices; <paramref name="tetrahedra"/>: 4 indices into them per tetrahedron, as Unity's
+        /// tetrahedralisation returns them). Probes never leak.</summary>
+        public static bool[] Find(ReferenceLighting reference, int[] probes, int[] tetrahedra, IRaycaster raycaster)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            var points = new List<int>();
+            var stencils = new List<Stencil>();
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+            {
+                points.Add(n);
+                stencils.Add(stencil);
+            });
+            var probePositions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) probePositions[k] = reference.GetPosition(probes[k]);
+            var leaking = new bool[reference.Count];
+            for (int start = 0; start < points.Count; start += PointsPerBatch)
+            {
+                int count = Math.Min(PointsPerBatch, points.Count - start);
+                var positions = new Vector3[count];
+                var batch = new Stencil[count];
+                for (int b = 0; b < count; b++)
+                {
+                    positions[b] = reference.GetPosition(points[start + b]);
+                    batch[b] = stencils[start + b];
+                }
+                var leaks = StencilLeaks(positions, probePositions, batch, raycaster);
+                for (int b = 0; b < count; b++) leaking[points[start + b]] = leaks[b];
+            }
+            return leaking;
+        }
+
+        /// <summary>For each point, whether a probe of its stencil (indices into <paramref name="probePositions"/>) with weight
+        /// above <see cref="MinimumWeight"/> is hidden from it; one batched cast for every weighing pair.</summary>
+        public static bool[] StencilLeaks(Vector3[] points, Vector3[] probePositions, Stencil[] stencils, IRaycaster raycaster)
+        {
+            if (points == null) throw new ArgumentNullException(nameof(points));
+            if (probePositions == null) throw new ArgumentNullException(nameof(probePositions));
+            if (stencils == null) throw new ArgumentNullException(nameof(stencils));
+            if (stencils.Length != points.Length)
+                throw new ArgumentException("points (" + points.Length + ") and stencils (" + stencils.Length + ") differ in length");
+            var owners = new List<int>();
+            var starts = new List<Vector3>();
+            var ends = new List<Vector3>();
+            for (int n = 0; n < points.Length; n++)
+            {
+                var s = stencils[n];
+                AddPair(n, points[n], probePositions, s.Probe0, s.Weight0, owners, starts, ends);
+                AddPair(n, points[n], probePositions, s.Probe1, s.Weight1, owners, starts, ends);
+                AddPair(n, points[n], probePositions, s.Probe2, s.Weight2, owners, starts, ends);
+                AddPair(n, points[n], probePositions, s.Probe3, s.Weight3, owners, starts, ends);
+            }
+            var free = SegmentTest.Free(raycaster, starts.ToArray(), ends.ToArray());
+            var leaking = new bool[points.Length];
+            for (int pair = 0; pair < free.Length; pair++)
+                if (!free[pair]) leaking[owners[pair]] = true;
+            return leaking;
+        }
+
+        private static void AddPair(int point, Vector3 position, Vector3[] probePositions, int probe, double weight, List<int> owners,
+            List<Vector3> starts, List<Vector3> ends)
+        {
+            if (!(weight > MinimumWeight)) return;
+            if ((uint)probe >= (uint)probePositions.Length)
+                throw new ArgumentOutOfRangeException(nameof(probe), probe, "stencil probe index must be in 0.." + (probePositions.Length - 1));
+            owners.Add(point);
+            starts.Add(position);
+            ends.Add(probePositions[probe]);
+        }
+    }
+}
