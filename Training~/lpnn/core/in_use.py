@@ -93,7 +93,8 @@ def _cast(raycaster: Raycaster, origins: np.ndarray, directions: np.ndarray, max
     normals = np.empty((count, 3), dtype=np.float64)
     for start in range(0, count, RAYS_PER_CAST):
         stop = min(start + RAYS_PER_CAST, count)
-        d, n = raycaster.cast(origins[start:stop], directions[start:stop], max_distance)
+        d, n = raycaster.cast(np.ascontiguousarray(origins[start:stop]), np.ascontiguousarray(directions[start:stop]),
+                              max_distance)
         distances[start:stop], normals[start:stop] = _checked_hits(d, n, stop - start)
         if progress is not None:
             progress(stage, stop, count)
@@ -245,11 +246,7 @@ def _horizontal_moves(grid: EvaluationGrid, raycaster: Raycaster, parameters: In
     profile = np.empty((first.shape[0], intervals + 1), dtype=np.float64)
     profile[:, 0], profile[:, intervals] = floor[first], floor[second]
     if intervals > 1:
-        fractions = np.arange(1, intervals, dtype=np.float64) / intervals
-        start, step = positions[first], positions[second] - positions[first]
-        samples = (start[:, None, :] + fractions[None, :, None] * step[:, None, :]).reshape(-1, 3)
-        profile[:, 1:intervals] = _floor_heights(samples, raycaster, parameters, "in use: floor profile rays",
-                                                 progress).reshape(first.shape[0], intervals - 1)
+        _sample_profiles(positions[first], positions[second], raycaster, parameters, profile, progress)
     rises = np.diff(profile, axis=1)  # NaN where an interior sample has no walkable floor: every test below fails
     forward = np.all(rises <= rise_limit, axis=1)
     backward = np.all(-rises <= rise_limit, axis=1)
@@ -258,6 +255,25 @@ def _horizontal_moves(grid: EvaluationGrid, raycaster: Raycaster, parameters: In
     sources, targets, free = _both_ways(grid, raycaster, first, second, "in use: horizontal move rays", progress)
     allowed = free & np.concatenate([forward, backward])
     return sources[allowed], targets[allowed]
+
+
+def _sample_profiles(starts: np.ndarray, ends: np.ndarray, raycaster: Raycaster, parameters: InUseParameters,
+                     profile: np.ndarray, progress: Progress | None) -> None:
+    """Fills profile[:, 1:M] with the floor heights of the interior samples x_i = p + (i/M)(q - p), in batches of
+    pairs so that at most RAYS_PER_CAST samples are held at once (M - 1 of them per pair)."""
+    intervals = profile.shape[1] - 1
+    fractions = np.arange(1, intervals, dtype=np.float64) / intervals
+    pairs_per_batch = max(1, RAYS_PER_CAST // (intervals - 1))
+    total = starts.shape[0] * (intervals - 1)
+    stage = "in use: floor profile rays"
+    for first in range(0, starts.shape[0], pairs_per_batch):
+        last = min(first + pairs_per_batch, starts.shape[0])
+        start, step = starts[first:last], ends[first:last] - starts[first:last]
+        samples = (start[:, None, :] + fractions[None, :, None] * step[:, None, :]).reshape(-1, 3)
+        heights = _floor_heights(samples, raycaster, parameters, stage, None)
+        profile[first:last, 1:intervals] = heights.reshape(last - first, intervals - 1)
+        if progress is not None:
+            progress(stage, last * (intervals - 1), total)
 
 
 # ------------------------------------------------------------------------------------------------- walk
