@@ -1,7 +1,10 @@
 using System;
 using System.Collections.Generic;
 using System.Numerics;
+using System.Threading;
 using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.InUse;
+using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Quality
 {
@@ -59,8 +62,8 @@ namespace Lpnn.Probes.Core.Quality
             if (stencils.Length != points.Length)
                 throw new ArgumentException("points (" + points.Length + ") and stencils (" + stencils.Length + ") differ in length");
             var owners = new List<int>();
-            var starts = new List<Vector3>();
-            var ends = new List<Vector3>();
+            var starts = new List<Double3>();
+            var ends = new List<Double3>();
             for (int n = 0; n < points.Length; n++)
             {
                 var s = stencils[n];
@@ -69,7 +72,8 @@ namespace Lpnn.Probes.Core.Quality
                 AddPair(n, points[n], probePositions, s.Probe2, s.Weight2, owners, starts, ends);
                 AddPair(n, points[n], probePositions, s.Probe3, s.Weight3, owners, starts, ends);
             }
-            var free = SegmentTest.Free(raycaster, starts.ToArray(), ends.ToArray());
+            // The segment test of in-use.md "Definitions" 2, the one the in-use rule casts.
+            var free = InUseRays.SegmentsFree(starts.ToArray(), ends.ToArray(), raycaster, "leaks: segment rays", null, CancellationToken.None);
             var leaking = new bool[points.Length];
             for (int pair = 0; pair < free.Length; pair++)
                 if (!free[pair]) leaking[owners[pair]] = true;
@@ -77,14 +81,14 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         private static void AddPair(int point, Vector3 position, Vector3[] probePositions, int probe, double weight, List<int> owners,
-            List<Vector3> starts, List<Vector3> ends)
+            List<Double3> starts, List<Double3> ends)
         {
             if (!(weight > MinimumWeight)) return;
             if ((uint)probe >= (uint)probePositions.Length)
                 throw new ArgumentOutOfRangeException(nameof(probe), probe, "stencil probe index must be in 0.." + (probePositions.Length - 1));
             owners.Add(point);
-            starts.Add(position);
-            ends.Add(probePositions[probe]);
+            starts.Add(Double3.FromVector3(position));
+            ends.Add(Double3.FromVector3(probePositions[probe]));
         }
     }
 }
