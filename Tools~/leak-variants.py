@@ -11,7 +11,6 @@ the share of points that leak (leaks.md) and their mean error, and the time. Var
   weight4          refined_insertion(..., leaks=raycaster, leak_weight=4, repair_rounds=0): weighting only
   aware2/4/8/16    refined_insertion(..., leaks=raycaster, leak_weight=2/4/8/16): repaired seed + weighted refinement
   aware8-r1/-r3    aware8 with 1 or 3 repair rounds instead of REPAIR_ROUNDS
-  aware8-cap25/50  aware8 with leak_cap=0.25/0.5: at most 1.25/1.5 x the default's probes
 
   PYTHONPATH=Training~ python Tools~/leak-variants.py LEVEL [LEVEL ...] [--pak PAK] [--tolerance 0.05]
                                                       [--variants default,aware4]
@@ -49,11 +48,10 @@ UNIMPORTABLE = ("oa_ctf2",)  # ships without a light grid (benchmarks.md §1)
 Placer = Callable[[ReferenceField, EvaluationGrid, Raycaster, float], np.ndarray]
 
 
-def _aware(weight: float, rounds: int | None = None, cap: float | None = None) -> Placer:
+def _aware(weight: float, rounds: int | None = None) -> Placer:
     def place(field: ReferenceField, grid: EvaluationGrid, raycaster: Raycaster, tau: float) -> np.ndarray:
         options = {} if rounds is None else {"repair_rounds": rounds}
-        return refined_insertion(field, grid, tolerance=tau, leaks=raycaster, leak_weight=weight, leak_cap=cap,
-                                 **options).indices
+        return refined_insertion(field, grid, tolerance=tau, leaks=raycaster, leak_weight=weight, **options).indices
     return place
 
 
@@ -69,8 +67,6 @@ VARIANTS: dict[str, Placer] = {
     "aware16": _aware(16.0),
     "aware8-r1": _aware(8.0, rounds=1),
     "aware8-r3": _aware(8.0, rounds=3),
-    "aware8-cap25": _aware(8.0, cap=0.25),
-    "aware8-cap50": _aware(8.0, cap=0.5),
 }
 
 

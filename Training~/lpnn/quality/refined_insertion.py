@@ -14,10 +14,7 @@ F = RECOMMENDED_REFINE (2), the refine tier's factor.
 - leaks (the scene's raycaster; leak_aware.py, benchmarks.md "Light leaks"): the seed gets leak repair rounds
   (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
   with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
-  K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
-  leak_cap c (a fraction; None: no cap) also runs the default's refinement and bounds the answer to (1 + c) x its
-  probes: a larger leak-aware answer is refined on, weighted, down to that count and kept if its plain error is
-  within tau, else the default's answer is. The C# core runs the same steps (BatchedRefinement.cs) with
+  K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error. The C# core runs the same steps (BatchedRefinement.cs) with
 Unity's tetrahedralisation: what an LPNN volume does by default.
 """
 
@@ -33,7 +30,6 @@ import numpy as np
 from ..core.features import Raycaster
 from ..core.grid import EvaluationGrid
 from .batched_refinement import batched_refinement
-from .decimation import MINIMUM_PROBES
 from .insertion import InsertionOrder
 from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
 from .metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
@@ -65,12 +61,11 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
                       insertion_progress: Callable[[int, int], None] | None = None,
                       refinement_progress: Callable[[int, int], None] | None = None,
                       leaks: Raycaster | None = None, leak_weight: float = LEAK_WEIGHT,
-                      repair_rounds: int = REPAIR_ROUNDS, leak_cap: float | None = None) -> RefinedPlacement:
+                      repair_rounds: int = REPAIR_ROUNDS) -> RefinedPlacement:
     """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
     from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
-    `repair_rounds` tune it; `leak_cap`, with a tolerance, bounds the probes it adds). The progress callbacks get
-    (points ranked, points asked for) during the insertion rounds and (probes removed, probes to remove at most) during
-    the refinement."""
+    `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
+    and (probes removed, probes to remove at most) during the refinement."""
     if (budget is None) == (tolerance is None):
         raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
     factor = float(refine)
@@ -78,8 +73,6 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
         raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
                           f"{RECOMMENDED_REFINE:g} is recommended)")
     weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
-    if leak_cap is not None and not (math.isfinite(float(leak_cap)) and float(leak_cap) >= 0.0):
-        raise MetricError(f"leak cap {leak_cap!r} must be a fraction >= 0 of the default's probes (e.g. 0.5)")
     n = field.point_count
     start = time.perf_counter()
     select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress).selection()
@@ -92,45 +85,20 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()
     seed = select(seed_count(factor, target, n))
-    if tolerance is None:
-        if weighting is not None:
-            seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
-        refined = batched_refinement(field, seed, count=target, progress=refinement_progress, leaks=weighting)
-        indices, error, rounds = refined.indices, refined.mean_error, refined.rounds
-    else:
-        assert found is not None
-        indices, error, rounds = found.indices, found.mean_error, 0
-        if weighting is None or leak_cap is not None:  # the default's answer: the result, or the cap's measure
-            refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress)
-            if refined.mean_error <= tolerance and refined.indices.shape[0] < target:  # never more than insertion
-                indices, error, rounds = refined.indices, refined.mean_error, refined.rounds
-        if weighting is not None:
-            seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
-            indices, more = _leak_aware_answer(field, seed, tolerance, weighting, indices, leak_cap,
-                                               refinement_progress)
-            rounds += more
     if weighting is not None:
-        error = mean_placement_error(field, indices)  # the refinement's mean is the weighted one, not the metric's
+        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
+    if tolerance is None:
+        refined = batched_refinement(field, seed, count=target, progress=refinement_progress, leaks=weighting)
+        indices, error = refined.indices, refined.mean_error
+    else:
+        refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress, leaks=weighting)
+        assert found is not None
+        # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
+        better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
+        indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
+    if weighting is not None and (tolerance is None or better):
+        error = mean_placement_error(field, indices)  # the weighted mean is the refinement's, not the metric's
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
-                            rounds=rounds)
-
-
-def _leak_aware_answer(field: ReferenceField, seed: np.ndarray, tolerance: float, weighting: LeakWeighting,
-                       default: np.ndarray, cap: float | None,
-                       progress: Callable[[int, int], None] | None) -> tuple[np.ndarray, int]:
-    """The repaired seed refined within the weighted tolerance, and the rounds it took. `default`: the answer when the
-    weighted tolerance cannot be met (insertion's tolerance answer; without a cap nothing else was computed) — with a
-    cap, the default placement's answer, and a leak-aware answer of more than (1 + cap) x its probes is refined on
-    (weighted) down to that count, kept if its plain error is still within tau, else `default` again."""
-    refined = batched_refinement(field, seed, tolerance=tolerance, progress=progress, leaks=weighting)
-    if refined.mean_error > tolerance:  # the repaired seed's weighted error is beyond tau already
-        return default, refined.rounds
-    indices, rounds = refined.indices, refined.rounds
-    limit = None if cap is None else max(MINIMUM_PROBES, int(math.floor((1.0 + cap) * default.shape[0])))
-    if limit is not None and indices.shape[0] > limit:
-        capped = batched_refinement(field, indices, count=limit, leaks=weighting)
-        rounds += capped.rounds
-        indices = capped.indices if mean_placement_error(field, capped.indices) <= tolerance else default
-    return indices, rounds
+                            rounds=refined.rounds)

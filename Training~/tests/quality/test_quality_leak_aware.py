@@ -24,15 +24,15 @@ WALLED = AnalyticBoxRaycaster(obstacles=(AxisBox(min=[WALL_FROM, -10.0, -10.0], 
 OPEN = AnalyticBoxRaycaster()
 
 
-def _two_rooms(dim_ratio: float = 0.5) -> tuple[ReferenceField, EvaluationGrid]:
-    """A warm room (x < the wall) and a cool one `dim_ratio` as bright, each varying smoothly: a tetrahedron across the
-    wall blends the two, so a leak is an error, yet one small enough that today's default keeps some leaks at tau."""
+def _two_rooms() -> tuple[ReferenceField, EvaluationGrid]:
+    """A warm room (x < the wall) and a cool one half as bright, each varying smoothly: a tetrahedron across the wall
+    blends the two, so a leak is an error, yet one small enough that today's default keeps some leaks at tau."""
     grid = build_grid((Box.axis_aligned(np.array([-4.0, 0.0, 0.0]), np.array([4.0, 2.5, 2.5])),), 0.5, 100_000)
     positions = grid.positions.astype(np.float64)
     lit = positions[:, 0] < WALL_FROM
     x, z = positions[:, 0], positions[:, 2]
     bright = shmath.ambient(np.array([1.0, 0.9, 0.7]))[None, :] * (1.0 + 0.3 * np.sin(x) * np.cos(z))[:, None]
-    dim = shmath.ambient(dim_ratio * np.array([0.7, 0.8, 1.0]))[None, :] * (1.0 + 0.2 * np.cos(x) * np.sin(z))[:, None]
+    dim = shmath.ambient(np.array([0.35, 0.4, 0.5]))[None, :] * (1.0 + 0.2 * np.cos(x) * np.sin(z))[:, None]
     sh = np.where(lit[:, None], bright, dim)
     return ReferenceField.from_sh(positions, sh), grid
 
@@ -128,19 +128,3 @@ def test_the_option_is_off_by_default_and_refinement_without_it_is_unchanged(roo
     budget = refined_insertion(field, grid, budget=0.1, leaks=WALLED)
     assert budget.indices.shape[0] == round(0.1 * field.point_count)  # a count stays a count
     assert budget.mean_error == pytest.approx(mean_placement_error(field, budget.indices))
-
-
-def test_a_cap_bounds_the_probes_added_and_keeps_the_tolerance() -> None:
-    field, grid = _two_rooms(dim_ratio=0.7)  # closer rooms: the default leaks more, the leak-aware answer adds probes
-    plain = refined_insertion(field, grid, tolerance=TOLERANCE)
-    uncapped = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=WALLED)
-    assert uncapped.indices.shape[0] > plain.indices.shape[0]  # the cap has something to bound here
-    for cap in (0.0, 0.5):
-        capped = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=WALLED, leak_cap=cap)
-        assert capped.indices.shape[0] <= int((1.0 + cap) * plain.indices.shape[0])
-        assert capped.mean_error == pytest.approx(mean_placement_error(field, capped.indices))
-        assert capped.mean_error <= TOLERANCE
-    generous = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=WALLED, leak_cap=100.0)
-    assert np.array_equal(generous.indices, uncapped.indices)  # a cap never reached changes nothing
-    with pytest.raises(MetricError, match="leak cap"):
-        refined_insertion(field, grid, tolerance=TOLERANCE, leaks=WALLED, leak_cap=-0.1)
