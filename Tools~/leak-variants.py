@@ -11,6 +11,7 @@ the share of points that leak (leaks.md) and their mean error, and the time. Var
   weight4          refined_insertion(..., leaks=raycaster, leak_weight=4, repair_rounds=0): weighting only
   aware2/4/8/16    refined_insertion(..., leaks=raycaster, leak_weight=2/4/8/16): repaired seed + weighted refinement
   aware8-r1/-r3    aware8 with 1 or 3 repair rounds instead of REPAIR_ROUNDS
+  count-of-aware8  refined_insertion(field, grid, budget=K/N) with K = aware8's probes (the control: the count alone)
 
   PYTHONPATH=Training~ python Tools~/leak-variants.py LEVEL [LEVEL ...] [--pak PAK] [--tolerance 0.05]
                                                       [--variants default,aware4]
@@ -55,6 +56,15 @@ def _aware(weight: float, rounds: int | None = None) -> Placer:
     return place
 
 
+def _plain_at_the_count_of(leak_aware: Placer) -> Placer:
+    """The default's refinement with a budget of exactly the leak-aware answer's probes: are leaks gone by the count
+    alone? (K = floor(f N + 0.5) with f = K / N gives K back.)"""
+    def place(field: ReferenceField, grid: EvaluationGrid, raycaster: Raycaster, tau: float) -> np.ndarray:
+        count = leak_aware(field, grid, raycaster, tau).shape[0]
+        return refined_insertion(field, grid, budget=count / field.point_count).indices
+    return place
+
+
 VARIANTS: dict[str, Placer] = {
     "default": lambda field, grid, raycaster, tau: refined_insertion(field, grid, tolerance=tau).indices,
     "repair3": lambda field, grid, raycaster, tau: leak_repaired(
@@ -67,6 +77,7 @@ VARIANTS: dict[str, Placer] = {
     "aware16": _aware(16.0),
     "aware8-r1": _aware(8.0, rounds=1),
     "aware8-r3": _aware(8.0, rounds=3),
+    "count-of-aware8": _plain_at_the_count_of(_aware(8.0)),
 }
 
 
