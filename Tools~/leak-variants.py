@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Leak-aware variants of the default placement on real levels (benchmarks.md "Light leaks", leaks.md).
+"""Leak-aware variants of the default placement on real levels (benchmarks.md §12 "Light leaks", leaks.md).
 
 Per level (imported at the default cell, `lpnn scene import` defaults) and variant at tau: probes, probes added over
 the default, mean irradiance error over all points and over the points within one cell of geometry (near_surface_mask),
