@@ -2,6 +2,7 @@
 
     batched_refinement(field, seed, count=K)          # down to K probes
     batched_refinement(field, seed, tolerance=tau)    # the fewest probes it finds within tau
+    batched_refinement(field, seed, tolerance=tau, leaks=LeakWeighting(raycaster))   # leaking points weigh more
 
 Why it exists. The exact refinement (reference_fast, seeded) is within 1.02-1.06x of the reference, but it needs
 local Delaunay removal with hole filling and hull handling (~1,900 lines) and takes ~0.2 s per removal on a
@@ -65,6 +66,7 @@ import numpy as np
 
 from .batched_state import evaluate, trial_of, without
 from .decimation import MINIMUM_PROBES, initial_mask
+from .leak_aware import LeakWeighting
 from .metric import MetricError, ReferenceField
 from .policies import checked_tolerance
 from .triangulation import flatness
@@ -76,7 +78,7 @@ UNMEASURED = -math.inf  # the cost of a probe never measured, and the key of any
 @dataclass(frozen=True)
 class BatchedRefinement:
     indices: np.ndarray  # (K,) int64 point indices, sorted
-    mean_error: float  # the irradiance mean error of `indices`
+    mean_error: float  # the irradiance mean error of `indices` (with `leaks`: leaking points' errors weighted)
     rounds: int
     stop_reason: str  # "count", "tolerance", "minimum count", "the rest would lie in one plane" or
     # "the seed exceeds the tolerance" (then `indices` is the seed, unrefined)
@@ -128,12 +130,14 @@ def _checked_fraction(fraction: float) -> float:
 def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | None = None,
                        tolerance: float | None = None, fraction: float = COMMIT_FRACTION,
                        keep: np.ndarray | None = None, progress: Callable[[int, int], None] | None = None,
-                       trace: Callable[[dict[str, Any]], None] | None = None) -> BatchedRefinement:
+                       trace: Callable[[dict[str, Any]], None] | None = None,
+                       leaks: LeakWeighting | None = None) -> BatchedRefinement:
     """Decimate `seed` (point indices or a mask, >= 4 points not in one plane) by the rounds of the module text: down
     to `count` probes, or (with `tolerance`) as far as the mean irradiance error stays <= tolerance; exactly one of
     the two. A seed whose error already exceeds the tolerance is returned as it is (stop_reason says so). `keep`:
     point indices never removed (e.g. the bounds corners a Unity volume keeps). `trace` gets every round's inputs and
-    decisions (the golden file's generator certifies them: Tools~/golden/make_batched_refinement_golden.py). `progress` gets (probes removed, probes the seed has beyond the goal) after every round."""
+    decisions (the golden file's generator certifies them: Tools~/golden/make_batched_refinement_golden.py). `progress` gets (probes removed, probes the seed has beyond the goal) after every round.
+    `leaks` (leak_aware.py): every error summed — costs, tolerance, mean_error — is the leak-weighted one."""
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
@@ -144,7 +148,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     goal = max(MINIMUM_PROBES, int(count)) if count is not None else MINIMUM_PROBES
     limit = math.inf if tau is None else tau * n  # the error sum allowed
     start = time.perf_counter()
-    state = evaluate(field, np.flatnonzero(mask))
+    state = evaluate(field, np.flatnonzero(mask), leaks)
     if tau is not None and state.error_sum > limit:  # nothing within the tolerance to start from: the caller's answer
         return BatchedRefinement(indices=state.probes.copy(), mean_error=state.error_sum / n, rounds=0,
                                  stop_reason="the seed exceeds the tolerance", seconds=time.perf_counter() - start)

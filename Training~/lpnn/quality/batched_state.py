@@ -6,6 +6,9 @@ where it can change.
     trial = trial_of(field, state, candidates)       # costs; located only where a candidate's weight reached
     state = without(field, state, removed, trial)    # located only where a removed probe was touched; no Qhull
 
+With a LeakWeighting (evaluate(field, probes, weighting)) every error the state holds, sums and compares is the weighted
+one (leak_aware.py): a leaking point's error counts several times, in the costs and in the tolerance alike.
+
 Why only there. Removing a probe retriangulates its own star and nothing else (triangulation.py: the tie-broken
 Delaunay is unique), and the convex hull only shrinks, so a point outside it keeps its nearest hull point unless that
 point's triangle had a removed vertex. A point whose stencil touched no removed probe (at any weight, zero included)
@@ -20,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .leak_aware import LeakWeighting
 from .location import locate_local
 from .metric import ReferenceField, probe_mesh, stencil_point_errors
 from .triangulation import GeometryError, Tetrahedralization
@@ -38,6 +42,7 @@ class MeshState:
     error_sum: float  # errors.sum(), read several times a round
     edges: np.ndarray  # (E, 2)
     mesh: Tetrahedralization  # vertices are positions in `probes`
+    weighting: LeakWeighting | None = None  # errors weighted by leaks (leak_aware.py), kept by trials and removals
 
     @property
     def tets(self) -> np.ndarray:
@@ -58,13 +63,15 @@ class Located:
 
 
 def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray | None,
-                 tets: np.ndarray | None = None) -> Located:
+                 tets: np.ndarray | None = None, weighting: LeakWeighting | None = None) -> Located:
     """The sorted probes' tetrahedralisation (given by `tets`, global ids, when known) and, at `points` (every other
-    point when None), their errors, owners and touched ids."""
+    point when None), their errors (weighted by leaks with a `weighting`), owners and touched ids."""
     ordered = np.sort(probes)
     local_tets = None if tets is None else np.searchsorted(ordered, tets)
     indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets)
     errors = stencil_point_errors(field, indices, others, stencil)
+    if weighting is not None:
+        errors = weighting.weighted(field, indices, others, stencil, errors)
     touched = indices[stencil.vertices]
     owners = np.where(stencil.weights > 0.0, touched, -1)
     return Located(points=others, errors=errors, owners=owners, touched=touched, probes=indices, mesh=tri)
@@ -80,15 +87,16 @@ def graph_edges(located: Located) -> np.ndarray:
     return located.probes[np.concatenate([pairs, pairs[:, ::-1]])]
 
 
-def evaluate(field: ReferenceField, probes: np.ndarray) -> MeshState:
-    """Every point evaluated (the seed)."""
+def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None) -> MeshState:
+    """Every point evaluated (the seed); with a `weighting`, leaking points' errors weighted from now on."""
     n = field.point_count
-    located = evaluated_at(field, probes, None)
+    located = evaluated_at(field, probes, None, weighting=weighting)
     owners = np.full((n, 4), -1, dtype=np.int64)
     touched = np.full((n, 4), -1, dtype=np.int64)
     owners[located.points], touched[located.points] = located.owners, located.touched
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=located.errors,
-                     error_sum=float(located.errors.sum()), edges=graph_edges(located), mesh=located.mesh)
+                     error_sum=float(located.errors.sum()), edges=graph_edges(located), mesh=located.mesh,
+                     weighting=weighting)
 
 
 def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -119,7 +127,7 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     rows = state.owners[attributed]
     hits = (rows >= 0) & is_candidate[np.maximum(rows, 0)]
     owner = np.where(is_candidate[attributed], attributed, rows[np.arange(attributed.shape[0]), np.argmax(hits, axis=1)])
-    trial = evaluated_at(field, np.setdiff1d(state.probes, candidates), attributed)
+    trial = evaluated_at(field, np.setdiff1d(state.probes, candidates), attributed, weighting=state.weighting)
     total = np.bincount(owner, trial.errors[attributed] - state.errors[attributed], minlength=n)  # one per stencil
     return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets])
 
@@ -188,12 +196,13 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     if tets is not None and np.unique(tets).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
     try:
-        located = evaluated_at(field, probes, affected, tets)
+        located = evaluated_at(field, probes, affected, tets, state.weighting)
     except GeometryError:
         if tets is None:
             raise
-        located = evaluated_at(field, probes, affected)  # a derived mesh that is not a manifold: Qhull decides
+        located = evaluated_at(field, probes, affected, weighting=state.weighting)  # not a manifold: Qhull decides
     errors, owners, touched = state.errors.copy(), state.owners.copy(), state.touched.copy()
     errors[affected], owners[affected], touched[affected] = located.errors[affected], located.owners, located.touched
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=errors,
-                     error_sum=float(errors.sum()), edges=graph_edges(located), mesh=located.mesh)
+                     error_sum=float(errors.sum()), edges=graph_edges(located), mesh=located.mesh,
+                     weighting=state.weighting)

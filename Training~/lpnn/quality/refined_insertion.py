@@ -3,14 +3,19 @@
     refined_insertion(field, grid, budget=0.2)             # K = round(f N) probes
     refined_insertion(field, grid, tolerance=0.05)         # the fewest probes found within tau
     refined_insertion(field, grid, budget=0.2, guide=w)    # seeded by guided insertion (the LPNN tier)
+    refined_insertion(field, grid, tolerance=0.05, leaks=raycaster)   # leak-aware (off by default for now)
 
 - budget f: K = round(f N); seed = the insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points
   (+ tetrahedron guarantee), decimated in batches down to K.
 - tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
   its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the
   answer is the refinement's set if it has fewer than K0 probes, else the search's (never worse than insertion).
+- leaks (the scene's raycaster; leak_aware.py, benchmarks.md §12 "Light leaks"): the seed gets leak repair rounds
+  (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
+  with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
+  K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
 F = RECOMMENDED_REFINE (2), the refine tier's factor. The C# core runs the same steps (BatchedRefinement.cs) with
-Unity's tetrahedralisation: what an LPNN volume does by default.
+Unity's tetrahedralisation: what an LPNN volume does by default (without the leak option, Python only for now).
 """
 
 from __future__ import annotations
@@ -22,10 +27,12 @@ from typing import Callable
 
 import numpy as np
 
+from ..core.features import Raycaster
 from ..core.grid import EvaluationGrid
 from .batched_refinement import batched_refinement
 from .insertion import InsertionOrder
-from .metric import PRIMARY_METRIC, MetricError, ReferenceField
+from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
+from .metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
 from .policies import budget_count, place_tolerance
 
 RECOMMENDED_REFINE = 2.0  # the seed holds this many times the wanted count (the refine tier's factor)
@@ -52,9 +59,12 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
                       tolerance: float | None = None, refine: float = RECOMMENDED_REFINE,
                       guide: np.ndarray | None = None,
                       insertion_progress: Callable[[int, int], None] | None = None,
-                      refinement_progress: Callable[[int, int], None] | None = None) -> RefinedPlacement:
+                      refinement_progress: Callable[[int, int], None] | None = None,
+                      leaks: Raycaster | None = None, leak_weight: float = LEAK_WEIGHT,
+                      repair_rounds: int = REPAIR_ROUNDS) -> RefinedPlacement:
     """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
-    from guided insertion. The progress callbacks get (points ranked, points asked for) during the insertion rounds
+    from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
+    `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
     and (probes removed, probes to remove at most) during the refinement."""
     if (budget is None) == (tolerance is None):
         raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
@@ -62,6 +72,7 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     if not (math.isfinite(factor) and factor > 1.0):
         raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
                           f"{RECOMMENDED_REFINE:g} is recommended)")
+    weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
     n = field.point_count
     start = time.perf_counter()
     select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress).selection()
@@ -74,14 +85,19 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()
     seed = select(seed_count(factor, target, n))
+    if weighting is not None:
+        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
     if tolerance is None:
-        refined = batched_refinement(field, seed, count=target, progress=refinement_progress)
+        refined = batched_refinement(field, seed, count=target, progress=refinement_progress, leaks=weighting)
         indices, error = refined.indices, refined.mean_error
     else:
-        refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress)
+        refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress, leaks=weighting)
         assert found is not None
-        better = refined.mean_error <= tolerance and refined.indices.shape[0] < target
+        # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
+        better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
         indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
+    if weighting is not None and (tolerance is None or better):
+        error = mean_placement_error(field, indices)  # the weighted mean is the refinement's, not the metric's
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
