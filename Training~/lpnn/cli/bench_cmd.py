@@ -56,6 +56,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..core.capture_file import dataset_files, read_capture, safe_file_stem
+    from ..core.in_use_section import in_use_text
     from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
     from .errors import user_errors
     from ..quality.plots import error_plot, time_plot
@@ -112,7 +113,8 @@ def run(args: argparse.Namespace) -> int:
             versus = (f"probes x ref {row.probes_ratio:.2f}" if row.probes_ratio is not None
                       else f"error x ref {row.error_ratio:.2f}")
             print(f"  {row.method:>18} {row.policy:>9} {row.parameter:<6g} probes {row.probes:>6,} "
-                  f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  {versus}")
+                  f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  "
+                  f"in use {in_use_text(row.in_use_error)}  {versus}")
         for failure in result.failures:
             print(f"  FAILED {failure.method} on {failure.capture}: {failure.reason}", flush=True)
     print(f"wrote {out / 'bench.csv'} ({len(rows)} rows) and figures to {out}")

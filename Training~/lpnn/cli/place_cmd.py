@@ -224,6 +224,7 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
            added: int, what: str, extra_source: dict, extra_text: str, searched_error: float | None = None) -> None:
     """Write the probe file (source: capture, method, policy, errors) and print one summary line.
     quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any."""
+    from ..core.in_use_section import capture_rule, in_use_text
     from ..quality.probes_file import write_probes_json
 
     n = capture.point_count
@@ -231,8 +232,11 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
     source = {"capture": Path(args.capture).name, "method": what, "policy": policy}
     if quality is not None:
         source.update(mean_error=round(quality.irradiance.mean, 6), p95_error=round(quality.irradiance.p95, 6))
+        if quality.in_use_error == quality.in_use_error:  # NaN: the capture cannot say which points are in use
+            source.update(in_use_error=round(quality.in_use_error, 6))
         errors = (f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
-                  f"(SMAPE mean {quality.smape.mean:.4g})")
+                  f"(SMAPE mean {quality.smape.mean:.4g}); in use ({capture_rule(capture)}): mean error "
+                  f"{in_use_text(quality.in_use_error)}")
     elif searched_error is not None:
         source.update(mean_error=round(searched_error, 6))
         errors = f"mean error {searched_error:.4g} (no report)"

@@ -18,9 +18,9 @@ import numpy as np
 from ..errors import InvalidInputError
 from .features import Raycaster
 from .grid import ID_BOUND, EvaluationGrid
+from .in_use_defaults import BAND_HEIGHT, RULES, SLOPE_LIMIT_DEGREES, STEP_HEIGHT
 from .segments import RAYS_PER_CAST, Progress, cast_in_batches, segments_free
 
-RULES = ("reachable", "band", "all")
 SEED_REACH_CELLS = 2.0  # a seed attaches to in-band points within 2h
 PROFILE_INTERVAL = 0.25  # metres per floor-profile interval: M = ceil(h / 0.25) ...
 MAX_PROFILE_INTERVALS = 64  # ... at most 64 (and at least 1)
@@ -53,17 +53,17 @@ def _parameter(name: str, value: float, low: float, high: float, low_open: bool,
 class InUseParameters:
     """H, theta and s of in-use.md "Parameters" (metres and degrees)."""
 
-    band_height: float = 3.0
-    slope_limit_degrees: float = 45.0
-    step_height: float = 0.5
+    band_height: float = BAND_HEIGHT
+    slope_limit_degrees: float = SLOPE_LIMIT_DEGREES
+    step_height: float = STEP_HEIGHT
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "band_height", _parameter("band_height", self.band_height, 0.0, BAND_HEIGHT_MAX,
-                                                           True, False, "metres", 3.0))
+                                                           True, False, "metres", BAND_HEIGHT))
         object.__setattr__(self, "slope_limit_degrees", _parameter(
-            "slope_limit_degrees", self.slope_limit_degrees, 0.0, SLOPE_LIMIT_MAX, False, True, "degrees", 45.0))
+            "slope_limit_degrees", self.slope_limit_degrees, 0.0, SLOPE_LIMIT_MAX, False, True, "degrees", SLOPE_LIMIT_DEGREES))
         object.__setattr__(self, "step_height", _parameter("step_height", self.step_height, 0.0, STEP_HEIGHT_MAX,
-                                                           False, False, "metres", 0.5))
+                                                           False, False, "metres", STEP_HEIGHT))
 
     @property
     def walkable_cosine(self) -> float:

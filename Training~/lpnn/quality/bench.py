@@ -28,6 +28,7 @@ row's time includes its error evaluations (the search needs them).
 
 from __future__ import annotations
 
+import math
 import statistics
 import time
 from dataclasses import asdict, dataclass, field, replace
@@ -57,7 +58,7 @@ from .reference_fast import fast_decimation
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
-    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick",
+    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error",
 )
 T = TypeVar("T")
 
@@ -99,6 +100,7 @@ class BenchRow:
     reference_probes: int | None = None  # tolerance rows: the yardstick's smallest count within tau
     probes_ratio: float | None = None
     yardstick: str = "fast-reference"  # or "blockwise-reference" (module text)
+    in_use_error: float = math.nan  # mean error at the points in use (in-use.md); NaN when the capture cannot say
 
 
 @dataclass(frozen=True)
@@ -265,7 +267,8 @@ def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter:
         inference_seconds=timing.inference, selection_seconds=timing.selection, refine_seconds=timing.refine,
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
-        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error), yardstick=yardstick)
+        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error), yardstick=yardstick,
+        in_use_error=quality.in_use_error)
 
 
 def _with_target(row: BenchRow, target: Placement) -> BenchRow:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Callable
 
@@ -30,6 +30,7 @@ import numpy as np
 from ..errors import InvalidInputError
 from ..core import sh as shmath
 from ..core.capture import Capture
+from ..core.in_use_section import in_use_points
 from ..core.features import D14, scene_scale
 from .location import Stencil, locate_local
 from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
@@ -56,6 +57,7 @@ class ReferenceField:
     light: np.ndarray  # (N, 42) float64 E(p, d) over D14, direction-major RGB
     scale: float  # scene scale S
     frame: Frame
+    in_use: np.ndarray | None = None  # (N,) bool points where dynamic objects go (in-use.md); None: not known
 
     @property
     def point_count(self) -> int:
@@ -100,7 +102,8 @@ class ReferenceField:
 
     @staticmethod
     def from_capture(capture: Capture) -> "ReferenceField":
-        return ReferenceField.from_sh(capture.positions, capture.sh, capture.lighting_scale)
+        field_ = ReferenceField.from_sh(capture.positions, capture.sh, capture.lighting_scale)
+        return replace(field_, in_use=in_use_points(capture))
 
 
 def checked_metric(metric: str) -> str:
@@ -226,11 +229,20 @@ class PlacementQuality:
     probes: int
     irradiance: ErrorSummary
     smape: ErrorSummary
+    in_use_error: float = math.nan  # mean irradiance error at the points in use (NaN: not known, or none)
+
+
+def in_use_mean(field: ReferenceField, per_point: np.ndarray) -> float:
+    """Mean of per-point errors over the field's points in use (in-use.md); NaN when not known or empty."""
+    if field.in_use is None or not field.in_use.any():
+        return math.nan
+    return float(np.mean(np.asarray(per_point)[field.in_use]))
 
 
 def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQuality:
     """Both metrics for one placement (one tetrahedralisation)."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
-    return PlacementQuality(probes=int(indices.shape[0]),
-                            irradiance=summarize(stencil_point_errors(field, indices, others, stencil, "irradiance")),
-                            smape=summarize(stencil_point_errors(field, indices, others, stencil, "smape")))
+    irradiance = summarize(stencil_point_errors(field, indices, others, stencil, "irradiance"))
+    return PlacementQuality(probes=int(indices.shape[0]), irradiance=irradiance,
+                            smape=summarize(stencil_point_errors(field, indices, others, stencil, "smape")),
+                            in_use_error=in_use_mean(field, irradiance.per_point))

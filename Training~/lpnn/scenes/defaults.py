@@ -5,3 +5,4 @@ METRES_PER_UNIT = 0.0254  # one Quake unit is one inch
 DEFAULT_CELL_UNITS = 64
 DEFAULT_CELL = DEFAULT_CELL_UNITS * METRES_PER_UNIT  # 1.6256 m
 DEFAULT_POINT_LIMIT = 2_000_000  # the grid's own default (grid.md)
+

@@ -22,6 +22,9 @@ from ..core.features import extract_features
 from ..core.grid import EvaluationGrid, GridError
 from ..core.grid_box import Box
 from ..core.grid_builder import build_grid
+from ..core.in_use import RULES as IN_USE_RULES
+from ..core.in_use import InUseError, InUseParameters, in_use_mask
+from ..core.in_use_section import IN_USE_SECTION
 from ..core.schema import LPNN_V1
 from ..core.validity import back_face_fractions, invalid
 from .coords import quake_to_unity, unity_to_quake
@@ -31,6 +34,7 @@ from .levels import Level, load_level
 from .lightgrid import LightGrid
 from .patches import PATCH_LEVEL
 from .raycast import EmbreeRaycaster
+from .seeds import seed_positions
 from .solid import SolidTester
 from .surfaces import ray_geometry
 
@@ -61,6 +65,7 @@ class ImportResult:
     removed_invalid: int  # by the ray rule, beyond those (validity "rays" or "both")
     unlit_points: int  # points in the capture where every light grid corner is zero: black SH
     removed_unlit: int  # unlit points dropped (drop_unlit)
+    points_before_in_use: int  # valid points before the in-use rule kept its own (all of them for `all`)
     lattice_points: int
     rays: int
     triangles: int
@@ -80,7 +85,8 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
                  point_limit: int = DEFAULT_POINT_LIMIT, bounds_label: str = "auto",
                  drop_unlit: bool = False, timings_in_source: bool = True,
                  progress: Progress | None = None, validity: str = DEFAULT_VALIDITY,
-                 lighting: ProbeLighting | None = None) -> ImportResult:
+                 lighting: ProbeLighting | None = None, in_use: str = "all",
+                 in_use_parameters: InUseParameters | None = None) -> ImportResult:
     """Import one level. boxes=None: the light grid's extent. Points in solid or outside the map
     are removed in every case (they cannot hold a probe). `point_limit` bounds the points kept.
 
@@ -91,11 +97,18 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     timings_in_source=False leaves `feature_seconds` out of the capture, so the same level and cell
     give byte-identical files. `lighting`: None = the light grid; a rig = the probe baker's SH
     (lights/relight.py; "unlit" then means no light, ambient or bounce reaches the point).
+
+    `in_use` (Documentation~/in-use.md): "band" or "reachable" (seeded by the level's spawns and items, seeds.py) keep
+    only the points where dynamic objects go, before the light grid and the features are sampled (most of the time on
+    large levels); "all" keeps every point and adds the section `in_use`, the mask of "reachable" (or "band" on a
+    level without seeds), so reports can show the error where objects go.
     """
     if point_limit < 1:
         raise ValueError(f"point_limit {point_limit} must be at least 1")
     if validity not in VALIDITY_MODES:
         raise ValueError(f"validity {validity!r} must be one of {', '.join(VALIDITY_MODES)}")
+    if in_use not in IN_USE_RULES:
+        raise ValueError(f"in_use {in_use!r} must be one of {', '.join(IN_USE_RULES)}")
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     level = load_level(source) if isinstance(source, str) else source
@@ -111,6 +124,17 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
                                                                 seconds, progress)
 
     clock = time.perf_counter()
+    parameters = in_use_parameters if in_use_parameters is not None else InUseParameters()
+    seeds = seed_positions(level.bsp.entities, level.location)
+    points_before_in_use = grid.point_count
+    if in_use != "all":
+        try:
+            grid = grid.subset(in_use_mask(in_use, grid, raycaster, parameters, seeds, progress))
+        except InUseError as exc:
+            raise BspError(f"{level.location}: {exc}") from exc
+    seconds["in_use"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
     grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, lighting, grid, drop_unlit, progress)
     positions = grid.positions
     seconds["sh"] = time.perf_counter() - clock
@@ -124,16 +148,46 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
 
     source_info = _source_info(level, bounds_label, rays, validity, removed, removed_invalid, unlit, removed_unlit)
     source_info.update({"lighting": "grid"} if lighting is None else lighting.source_fields())
+    source_info.update(_in_use_fields(in_use, parameters, seeds.shape[0], points_before_in_use))
+    extra_sections: dict[str, np.ndarray] = {}
+    if in_use == "all":
+        clock = time.perf_counter()
+        report_rule, mask = _report_mask(grid, raycaster, parameters, seeds)
+        seconds["in_use"] += time.perf_counter() - clock
+        if mask is not None:
+            source_info["in_use_report_rule"] = report_rule
+            extra_sections[IN_USE_SECTION] = mask.astype(np.uint8)
     if timings_in_source:
         source_info["feature_seconds"] = round(seconds["features"], 3)
     capture = Capture(
         ids=grid.ids, positions=positions, sh=sh, features=features, schema=LPNN_V1.id,
         feature_names=list(LPNN_V1.names), cell_size=float(cell_size), lighting_scale=float(scale), units="m",
-        source=source_info,
+        source=source_info, extra_sections=extra_sections,
     )
     return ImportResult(capture=capture, level=level, removed_solid=removed, removed_invalid=removed_invalid, unlit_points=unlit,
-                        removed_unlit=removed_unlit, lattice_points=lattice_points, rays=rays,
-                        triangles=soup.triangle_count, seconds=seconds)
+                        removed_unlit=removed_unlit, points_before_in_use=points_before_in_use,
+                        lattice_points=lattice_points, rays=rays, triangles=soup.triangle_count, seconds=seconds)
+
+
+def _in_use_fields(rule: str, parameters: InUseParameters, seeds: int, points_before: int) -> dict[str, str | int | float]:
+    """The capture's record of the in-use rule (in-use.md "What placement does with the mask")."""
+    return {"in_use": rule, "in_use_band_height": parameters.band_height,
+            "in_use_slope_limit": parameters.slope_limit_degrees, "in_use_step_height": parameters.step_height,
+            "in_use_seeds": seeds, "points_before_in_use": points_before}
+
+
+def _report_mask(grid: EvaluationGrid, raycaster: EmbreeRaycaster, parameters: InUseParameters,
+                 seeds: np.ndarray) -> tuple[str, np.ndarray | None]:
+    """An `all` capture's report mask: "reachable", else (no seeds, or none attaching) "band", else none at all
+    (no walkable floor under any point: the report says "n/a")."""
+    for rule in ("reachable", "band"):
+        if rule == "reachable" and seeds.shape[0] == 0:
+            continue
+        try:
+            return rule, in_use_mask(rule, grid, raycaster, parameters, seeds)
+        except InUseError:
+            continue
+    return "none", None
 
 
 def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_limit: int, validity: str,
