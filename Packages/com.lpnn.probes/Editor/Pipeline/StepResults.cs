@@ -17,7 +17,10 @@ namespace Lpnn.Probes.Editor
     {
         public override PipelineStep Step => PipelineStep.Grid;
         public EvaluationGrid Grid { get; }
+        /// <summary>The in-use rule's outcome (null when the grid was built without it).</summary>
+        internal InUsePoints InUse { get; }
         public GridResult(EvaluationGrid grid) { Grid = grid; }
+        internal GridResult(EvaluationGrid grid, InUsePoints inUse) : this(grid) { InUse = inUse; }
     }
 
     public sealed class LightingResult : StepResult
