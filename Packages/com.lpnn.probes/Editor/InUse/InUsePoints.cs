@@ -2,7 +2,6 @@ using System;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Numerics;
-using Lpnn.Probes.Core.Quality;
 
 namespace Lpnn.Probes.Editor
 {
@@ -69,14 +68,5 @@ namespace Lpnn.Probes.Editor
                    (Filters ? "" : "; rule all keeps every point");
         }
 
-        /// <summary>The irradiance error at the points in use of a placement on the session's grid: over the whole grid for Band
-        /// and Reachable (it holds only them), over the mask for All; null when the mask is unknown.</summary>
-        public ErrorSummary? ErrorAtInUse(PlacementErrorResult result)
-        {
-            if (result == null) throw new ArgumentNullException(nameof(result));
-            if (Filters) return result.Irradiance;
-            if (!Known) return null;
-            return ErrorSummary.Of(result.PointIrradiance, InUseOfAll);
-        }
     }
 }

@@ -27,7 +27,8 @@ namespace Lpnn.Probes.Editor
                 return InvariantFormat.Count(scoring.Outcome.Scores.Length) + " scores on " + scoring.Outcome.DeviceName + InvalidNote(scoring.InvalidCount) +
                        (scoring.Outcome.Fallback.Length > 0 ? " (after: " + scoring.Outcome.Fallback + ")" : "");
             if (result is PlacementResult placement)
-                return placement.Positions.Length + " probes placed" + Extras(placement.Selection);
+                return placement.Positions.Length + " probes placed" + Extras(placement.Selection) + "; " +
+                       (placement.InUseError != null ? placement.InUseError.Describe() : placement.InUseUnknown);
             throw new ArgumentException("no summary for " + (result == null ? "null" : result.GetType().Name), nameof(result));
         }
 

@@ -222,7 +222,37 @@ namespace Lpnn.Probes.Editor
             var grid = PlacementGrid(volume, session);
             var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
-            return new PlacementResult(positions, selection);
+            string unknown;
+            var inUseError = ErrorAtInUse(session, grid, selection, out unknown);
+            return new PlacementResult(positions, selection, inUseError, unknown);
+        }
+
+        /// <summary>The placed probes' error at the points in use (one evaluation with Unity's tetrahedralisation against the
+        /// Lighting step's SH): for Band and Reachable over the grid, which holds only them; for All over the session's mask.
+        /// Null with the reason when there is no lighting for this grid or the points in use are unknown.</summary>
+        private static InUseError ErrorAtInUse(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
+        {
+            if (session.Sh == null || session.Grid != grid)
+            {
+                unknown = "error at the points in use: n/a (no lighting for this grid: run the Lighting data step)";
+                return null;
+            }
+            if (session.InUse == null || !session.InUse.Known)
+            {
+                unknown = InUseError.Unknown(session.InUse);
+                return null;
+            }
+            try
+            {
+                unknown = "";
+                return InUseError.Of(PlacementInputs.Evaluator(session, grid).Evaluate(selection.Indices), session.InUse);
+            }
+            catch (LpnnException e)
+            {
+                // The probes are written already; a set Unity cannot tetrahedralise (e.g. fewer than 4) has no error to show.
+                unknown = "error at the points in use: n/a (" + e.Message + ")";
+                return null;
+            }
         }
 
         private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)

@@ -63,6 +63,17 @@ namespace Lpnn.Probes.Editor
         /// <summary>World positions of the probes written into the target group.</summary>
         public NumericsVector3[] Positions { get; }
         public SelectionResult Selection { get; }
+        /// <summary>The placed probes' error at the points in use; null when unknown (no lighting, or the points in use unknown:
+        /// <see cref="InUseUnknown"/> says why).</summary>
+        internal InUseError InUseError { get; }
+        internal string InUseUnknown { get; } = "";
         public PlacementResult(NumericsVector3[] positions, SelectionResult selection) { Positions = positions; Selection = selection; }
+
+        internal PlacementResult(NumericsVector3[] positions, SelectionResult selection, InUseError inUseError, string inUseUnknown)
+            : this(positions, selection)
+        {
+            InUseError = inUseError;
+            InUseUnknown = inUseUnknown ?? "";
+        }
     }
 }
