@@ -235,7 +235,7 @@ namespace Lpnn.Probes.Editor.Tests
         public void ReachableWithoutSeedsAndABandThatHoldsNothingAreRefusedWithTheFix()
         {
             var noSeeds = Assert.Throws<LpnnException>(() => LpnnPipeline.BuildGrid(_volume, _session));
-            StringAssert.Contains("In-use seeds", noSeeds.Message);
+            StringAssert.Contains("In Use Seeds", noSeeds.Message);
             StringAssert.Contains("Band", noSeeds.Message);
             Assert.That(_session.Grid, Is.Null, "a refused grid leaves the session as it was");
 
@@ -251,7 +251,7 @@ namespace Lpnn.Probes.Editor.Tests
             _volume.SetInUseRule(InUseRule.Reachable);
             _volume.SetInUseParameters(3, 45, 0.5f);
             _volume.SetInUseSeeds(_seed, null);
-            StringAssert.Contains("entry 1 of the In-use seeds", Assert.Throws<LpnnException>(() => LpnnPipeline.BuildGrid(_volume, _session)).Message);
+            StringAssert.Contains("entry 1 of the In Use Seeds", Assert.Throws<LpnnException>(() => LpnnPipeline.BuildGrid(_volume, _session)).Message);
         }
 
         [Test]

@@ -195,7 +195,7 @@ namespace Lpnn.Probes
             for (int s = 0; s < seeds.Count; s++)
             {
                 if (seeds[s] == null)
-                    throw new LpnnException("entry " + s + " of the In-use seeds of volume '" + name + "' is empty (its object was deleted?): " +
+                    throw new LpnnException("entry " + s + " of the In Use Seeds of volume '" + name + "' is empty (its object was deleted?): " +
                                             "assign a transform or remove the entry");
                 positions[s] = seeds[s].position.ToNumerics();
             }

@@ -24,8 +24,8 @@ namespace Lpnn.Probes.Editor
             var seeds = rule == InUseRule.Band ? new System.Numerics.Vector3[0] : volume.GetInUseSeedPositions();
             if (rule == InUseRule.Reachable && seeds.Length == 0)
                 throw new LpnnException("volume '" + volume.name + "' uses the in-use rule Reachable, which walks from seed points, and its " +
-                                        "In-use seeds list is empty: add the scene's spawn points (or any transform on walkable ground " +
-                                        "where characters start) to In-use seeds, or set In-use rule to Band (or All)");
+                                        "In Use Seeds list is empty: add the scene's spawn points (or any transform on walkable ground " +
+                                        "where characters start) to In Use Seeds, or set In Use Rule to Band (or All)");
             // All reports the error at the reachable points, or at the band points where there are no seeds (in-use.md).
             var maskRule = rule != InUseRule.All ? rule : seeds.Length > 0 ? InUseRule.Reachable : InUseRule.Band;
             using (new RaycastScope(volume, volume.AddTemporaryColliders))
@@ -64,6 +64,6 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The core's message, with where the settings are in the inspector.</summary>
         private static LpnnException InVolume(LpnnVolume volume, InUseException e) =>
-            new LpnnException("volume '" + volume.name + "': " + e.Message + " (the In-use settings are in the inspector's Volume section)");
+            new LpnnException("volume '" + volume.name + "': " + e.Message + " (the In Use settings are in the inspector's Volume section)");
     }
 }

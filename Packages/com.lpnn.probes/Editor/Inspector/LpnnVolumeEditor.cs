@@ -81,7 +81,7 @@ namespace Lpnn.Probes.Editor
             InspectorLayout.Field(_properties.InUseBandHeight);
             InspectorLayout.Field(_properties.InUseSlopeLimit);
             // The edited value (applied to the volume at the end of the section): the enum is declared in value order, so its
-            // index is its value (UnityCsReference Editor/Mono/SerializedProperty.bindings.cs enumValueIndex).
+            // index is its value (UnityCsReference Editor/Mono/SerializedProperty.bindings.cs enumValueIndex; arraySize below, same file).
             var rule = (Core.InUse.InUseRule)_properties.InUseRule.enumValueIndex;
             if (rule != Core.InUse.InUseRule.Band)
             {
