@@ -169,10 +169,10 @@ namespace Lpnn.Probes.Editor.Tests
             Assert.That(placed.Positions.Length, Is.GreaterThanOrEqualTo(4));
             foreach (var position in placed.Positions)
                 Assert.That(position.Y < 2.9f || AboveBlock(position), Is.True, "probe at " + position + " lies outside the band");
-            Assert.That(placed.InUseError, Is.Not.Null);
-            Assert.That(placed.InUseError.Points, Is.EqualTo(grid.Count));
+            Assert.That(placed.ErrorAtPointsInUse, Is.Not.Null);
+            Assert.That(placed.ErrorAtPointsInUse.Points, Is.EqualTo(grid.Count));
             var direct = PlacementInputs.Evaluator(_session, grid).Evaluate(placed.Selection.Indices).Irradiance.Mean;
-            Assert.That(placed.InUseError.Summary.Mean, Is.EqualTo(direct), "Band's grid holds only the points in use");
+            Assert.That(placed.ErrorAtPointsInUse.Summary.Mean, Is.EqualTo(direct), "Band's grid holds only the points in use");
             StringAssert.Contains("error at the " + grid.Count.ToString("N0", System.Globalization.CultureInfo.InvariantCulture) + " points in use",
                 StepSummaries.Describe(placed));
         }
@@ -196,8 +196,8 @@ namespace Lpnn.Probes.Editor.Tests
             int count = 0;
             for (int n = 0; n < errors.Length; n++)
                 if (mask[n]) { sum += errors[n]; count++; }
-            Assert.That(placed.InUseError.Points, Is.EqualTo(count));
-            Assert.That(placed.InUseError.Summary.Mean, Is.EqualTo(sum / count).Within(1e-12));
+            Assert.That(placed.ErrorAtPointsInUse.Points, Is.EqualTo(count));
+            Assert.That(placed.ErrorAtPointsInUse.Summary.Mean, Is.EqualTo(sum / count).Within(1e-12));
 
             string path = CaptureExport.Save(_volume, _session, Path.Combine(_folder, "all"), out string _);
             var capture = CaptureFile.Read(path);

@@ -28,7 +28,7 @@ namespace Lpnn.Probes.Editor
                        (scoring.Outcome.Fallback.Length > 0 ? " (after: " + scoring.Outcome.Fallback + ")" : "");
             if (result is PlacementResult placement)
                 return placement.Positions.Length + " probes placed" + Extras(placement.Selection) + "; " +
-                       (placement.InUseError != null ? placement.InUseError.Describe() : placement.InUseUnknown);
+                       (placement.ErrorAtPointsInUse != null ? placement.ErrorAtPointsInUse.Describe() : placement.ErrorAtPointsInUseUnavailable);
             throw new ArgumentException("no summary for " + (result == null ? "null" : result.GetType().Name), nameof(result));
         }
 

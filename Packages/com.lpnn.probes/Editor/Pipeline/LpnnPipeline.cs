@@ -223,14 +223,14 @@ namespace Lpnn.Probes.Editor
             var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             string unknown;
-            var inUseError = ErrorAtInUse(session, grid, selection, out unknown);
-            return new PlacementResult(positions, selection, inUseError, unknown);
+            var errorAtPointsInUse = ErrorAtPointsInUseOf(session, grid, selection, out unknown);
+            return new PlacementResult(positions, selection, errorAtPointsInUse, unknown);
         }
 
         /// <summary>The placed probes' error at the points in use (one evaluation with Unity's tetrahedralisation against the
         /// Lighting step's SH): for Band and Reachable over the grid, which holds only them; for All over the session's mask.
         /// Null with the reason when there is no lighting for this grid or the points in use are unknown.</summary>
-        private static InUseError ErrorAtInUse(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
+        private static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
         {
             if (session.Sh == null || session.Grid != grid)
             {
@@ -239,13 +239,13 @@ namespace Lpnn.Probes.Editor
             }
             if (session.InUse == null || !session.InUse.Known)
             {
-                unknown = InUseError.Unknown(session.InUse);
+                unknown = ErrorAtPointsInUse.Unknown(session.InUse);
                 return null;
             }
             try
             {
                 unknown = "";
-                return InUseError.Of(PlacementInputs.Evaluator(session, grid).Evaluate(selection.Indices), session.InUse);
+                return ErrorAtPointsInUse.Of(PlacementInputs.Evaluator(session, grid).Evaluate(selection.Indices), session.InUse);
             }
             catch (LpnnException e)
             {

@@ -64,16 +64,16 @@ namespace Lpnn.Probes.Editor
         public NumericsVector3[] Positions { get; }
         public SelectionResult Selection { get; }
         /// <summary>The placed probes' error at the points in use; null when unknown (no lighting, or the points in use unknown:
-        /// <see cref="InUseUnknown"/> says why).</summary>
-        internal InUseError InUseError { get; }
-        internal string InUseUnknown { get; } = "";
+        /// <see cref="ErrorAtPointsInUseUnavailable"/> says why).</summary>
+        internal ErrorAtPointsInUse ErrorAtPointsInUse { get; }
+        internal string ErrorAtPointsInUseUnavailable { get; } = "";
         public PlacementResult(NumericsVector3[] positions, SelectionResult selection) { Positions = positions; Selection = selection; }
 
-        internal PlacementResult(NumericsVector3[] positions, SelectionResult selection, InUseError inUseError, string inUseUnknown)
+        internal PlacementResult(NumericsVector3[] positions, SelectionResult selection, ErrorAtPointsInUse errorAtPointsInUse, string unavailable)
             : this(positions, selection)
         {
-            InUseError = inUseError;
-            InUseUnknown = inUseUnknown ?? "";
+            ErrorAtPointsInUse = errorAtPointsInUse;
+            ErrorAtPointsInUseUnavailable = unavailable ?? "";
         }
     }
 }

@@ -64,8 +64,8 @@ namespace Lpnn.Probes.Editor
         /// not known.</summary>
         public static string DescribeInUse(PlacementErrorResult result, InUsePoints inUse)
         {
-            var error = InUseError.Of(result, inUse);
-            string text = error == null ? InUseError.Unknown(inUse) : error.Describe();
+            var error = ErrorAtPointsInUse.Of(result, inUse);
+            string text = error == null ? ErrorAtPointsInUse.Unknown(inUse) : error.Describe();
             return "Estimated " + text + ".";
         }
 
