@@ -55,7 +55,7 @@ namespace Lpnn.Probes.Editor
         /// (null when unknown); null for Band and Reachable, whose grid holds the in-use points only (all of them count).</summary>
         public bool[] GridMask => Filters ? null : InUseOfAll;
 
-        /// <summary>"1,234 of 5,678 points in use (reachable from 3 seeds, floors by physics rays)".</summary>
+        /// <summary>"1,234 of 5,678 points in use (reachable from 3 seeds, floors from physics rays)".</summary>
         public string Describe()
         {
             if (!Known) return "in use: n/a (" + Unavailable + ")";
@@ -67,6 +67,5 @@ namespace Lpnn.Probes.Editor
             return InvariantFormat.Count(InUseCount) + " of " + InvariantFormat.Count(PointsBefore) + " points in use (" + how + ")" +
                    (Filters ? "" : "; rule all keeps every point");
         }
-
     }
 }
