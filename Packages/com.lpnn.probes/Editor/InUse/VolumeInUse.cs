@@ -46,8 +46,19 @@ namespace Lpnn.Probes.Editor
                     mask = null;
                     unavailable = e.Message;
                 }
-                return new InUsePoints(rule, maskRule, parameters, seeds.Length, floorSource, all, mask, unavailable);
+                return new InUsePoints(rule, maskRule, parameters, seeds.Length, floorSource, Kept(all, rule), mask, unavailable);
             }
+        }
+
+        /// <summary>The points before the rule as the session keeps them (for the gizmos and the reports): for All the grid itself
+        /// (it is the session's grid); for Band and Reachable a copy without the id lookup the rule's walk built on it (a
+        /// dictionary of every point, tens of MB at 10^6 points, which nothing needs afterwards).</summary>
+        private static EvaluationGrid Kept(EvaluationGrid all, InUseRule rule)
+        {
+            if (rule == InUseRule.All) return all;
+            var every = new bool[all.Count];
+            for (int p = 0; p < every.Length; p++) every[p] = true;
+            return all.Subset(every);
         }
 
         private static InUseParameters Checked(LpnnVolume volume, System.Func<InUseParameters> parameters)

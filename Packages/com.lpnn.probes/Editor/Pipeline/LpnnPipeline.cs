@@ -79,7 +79,7 @@ namespace Lpnn.Probes.Editor
         {
             var all = GridBuilder.Build(volume.GetWorldBoxes(), volume.CellSize, volume.PointLimit);
             var inUse = VolumeInUse.Compute(volume, all, progress, cancel);
-            var grid = inUse.Filters ? all.Subset(inUse.InUseOfAll) : all;
+            var grid = inUse.Filters ? inUse.AllPoints.Subset(inUse.InUseOfAll) : all;
             session.SetGrid(grid, GridSignature.Of(volume), inUse);
             return new GridResult(grid, inUse);
         }
