@@ -64,6 +64,15 @@ namespace Lpnn.Probes.Editor.Tests
                 Assert.That((float)field.GetValue(volume), Is.EqualTo(values.Get(name).AsNumber).Within(1e-6), name);
             }
 
+            // Settings added after 0.1.0 load with their defaults (the in-use rule, Documentation~/in-use.md).
+            Assert.That(volume.InUseRule, Is.EqualTo(Core.InUse.InUseRules.Default));
+            Assert.That(volume.InUseBandHeight, Is.EqualTo((float)Core.InUse.InUseParameters.DefaultBandHeight));
+            Assert.That(volume.InUseSlopeLimit, Is.EqualTo((float)Core.InUse.InUseParameters.DefaultSlopeLimitDegrees));
+            Assert.That(volume.InUseStepHeight, Is.EqualTo((float)Core.InUse.InUseParameters.DefaultStepHeight));
+            Assert.That(volume.InUseSeeds, Is.Empty);
+            Assert.That(volume.UseNavMesh, Is.True);
+            Assert.That(volume.LastScores.GridSignature, Is.EqualTo(""));
+
             var record = values.Get("lastScores");
             Assert.That(volume.LastScores.Ids, Is.EqualTo(record.Get("ids").Items.Select(v => (int)v.AsNumber).ToArray()));
             Assert.That(volume.LastScores.Scores, Is.EqualTo(record.Get("scores").Items.Select(v => (float)v.AsNumber).ToArray()));

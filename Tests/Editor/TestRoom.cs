@@ -40,6 +40,9 @@ namespace Lpnn.Probes.Editor.Tests
             room.Volume.SetCellSize(0.5f);
             room.Volume.SetBackend(Core.Scoring.ScoringBackendPreference.Cpu);
             room.Volume.SetGroundTruth(truth);
+            // Every point, the volume's behaviour before the in-use rule: these tests are about the other steps (a block inside
+            // the room is tested for its interior points, which no character reaches). InUseEditorTests test the rule.
+            room.Volume.SetInUseRule(Core.InUse.InUseRule.All);
             return room;
         }
 

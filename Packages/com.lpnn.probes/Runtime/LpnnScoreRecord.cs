@@ -15,6 +15,8 @@ namespace Lpnn.Probes
         [SerializeField] private string backend = "";
         [SerializeField] private string model = "";
         [SerializeField] private bool[] valid = new bool[0];
+        // Added after 0.1.0 (the in-use rule): a record saved before it has "" (unknown).
+        [SerializeField] private string gridSignature = "";
 
         /// <summary>Lattice ids i,j,k per point, in grid order (Documentation~/grid.md).</summary>
         public int[] Ids => ids;
@@ -41,6 +43,12 @@ namespace Lpnn.Probes
         }
         public bool IsEmpty => scores.Length == 0;
 
+        /// <summary>The editor's key of the volume settings the scored grid was built with (boxes, cell size, in-use rule and
+        /// its settings), so that the scored points can be found again after a script reload; "" when unknown.</summary>
+        public string GridSignature => gridSignature ?? "";
+
+        public void SetGridSignature(string signature) => gridSignature = signature ?? "";
+
         /// <param name="validPoints">One flag per point (false: inside geometry), or null when unknown.</param>
         public void Set(int[] pointIds, float[] pointScores, double cell, string backendUsed, string modelName, bool[] validPoints)
         {
@@ -56,6 +64,10 @@ namespace Lpnn.Probes
             valid = validPoints ?? new bool[0];
         }
 
-        public void Clear() => Set(new int[0], new float[0], 0, "", "", null);
+        public void Clear()
+        {
+            Set(new int[0], new float[0], 0, "", "", null);
+            gridSignature = "";
+        }
     }
 }

@@ -1,5 +1,7 @@
 using System.Collections.Generic;
+using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Scoring;
 using Lpnn.Probes.Core.Selection;
 using UnityEngine;
@@ -41,6 +43,12 @@ namespace Lpnn.Probes
             public const string GroundTruthGroup = nameof(groundTruthGroup);
             public const string DatasetFolder = nameof(datasetFolder);
             public const string ShowGizmos = nameof(showGizmos);
+            public const string InUseRule = nameof(inUseRule);
+            public const string InUseBandHeight = nameof(inUseBandHeight);
+            public const string InUseSlopeLimit = nameof(inUseSlopeLimit);
+            public const string InUseStepHeight = nameof(inUseStepHeight);
+            public const string InUseSeeds = nameof(inUseSeeds);
+            public const string UseNavMesh = nameof(useNavMesh);
         }
 
         public const float MinimumCellSize = 0.001f;
@@ -114,6 +122,36 @@ namespace Lpnn.Probes
 
         [SerializeField] private bool showGizmos = true;
 
+        // The in-use rule (Documentation~/in-use.md). Fields added after 0.1.0: a volume saved before them loads with these
+        // defaults (Unity keeps a field's initial value when the saved data lacks it).
+        [Tooltip("Which evaluation points placement uses and measures its error at (Documentation~/in-use.md). Reachable (default): " +
+                 "the points within the band height above walkable floors that characters walk to from the seeds. Band: every point " +
+                 "within the band height above a walkable floor. All: every point, for scenes whose dynamic objects fly (the error at " +
+                 "the reachable points, or band points without seeds, is still reported). Band and Reachable drop the other points " +
+                 "before lighting, features and placement.")]
+        [SerializeField] private InUseRule inUseRule = InUseRules.Default;
+
+        [Tooltip("Metres above a walkable floor that dynamic objects occupy (default 3.0: a 2 m character, Unity's NavMesh agentHeight " +
+                 "default, jumping about 1 m, Quake III's jump: 270^2 / (2 x 800) units = 1.16 m).")]
+        [SerializeField] private float inUseBandHeight = (float)InUseParameters.DefaultBandHeight;
+
+        [Tooltip("Steepest walkable floor, in degrees from horizontal (default 45: Unity's NavMesh agentSlope default; Quake III walks " +
+                 "on normals with up component >= 0.7, 45.6 degrees). In [0, 90).")]
+        [SerializeField] private float inUseSlopeLimit = (float)InUseParameters.DefaultSlopeLimitDegrees;
+
+        [Tooltip("Highest step a character climbs between neighbouring points, in metres (default 0.5: above Quake III's STEPSIZE, " +
+                 "18 units = 0.457 m, and Unity's NavMesh agentClimb default, 0.4 m). Reachable only.")]
+        [SerializeField] private float inUseStepHeight = (float)InUseParameters.DefaultStepHeight;
+
+        [Tooltip("Where characters start: the scene's spawn points, items, any transform on walkable ground. The Reachable rule walks " +
+                 "from the points within two cells of them; All reports the error at the points reachable from them.")]
+        [SerializeField] private Transform[] inUseSeeds = new Transform[0];
+
+        [Tooltip("When the scene has a baked NavMesh, take the walkable floors from its triangles (NavMesh.CalculateTriangulation) " +
+                 "instead of physics rays against the colliders; walls still block the walk through physics rays. The NavMesh " +
+                 "keeps an agent radius from walls, so points within it of a wall have no floor below them.")]
+        [SerializeField] private bool useNavMesh = true;
+
         [SerializeField, HideInInspector] private LpnnScoreRecord lastScores = new LpnnScoreRecord();
 
         public IReadOnlyList<LpnnBox> Boxes => boxes ?? new LpnnBox[0];
@@ -135,6 +173,34 @@ namespace Lpnn.Probes
         /// <summary>Whether Apply refines an insertion method's selection in batches (Core.Quality.RefinedSelection).</summary>
         public bool RefineInBatches => refineInBatches;
         public LpnnScoreRecord LastScores => lastScores ?? (lastScores = new LpnnScoreRecord());
+
+        /// <summary>Which evaluation points are in use (<see cref="InUseRules.Default"/> for a new volume).</summary>
+        public InUseRule InUseRule => inUseRule;
+        public float InUseBandHeight => inUseBandHeight;
+        public float InUseSlopeLimit => inUseSlopeLimit;
+        public float InUseStepHeight => inUseStepHeight;
+        /// <summary>The seed transforms as assigned (entries may be empty: <see cref="GetInUseSeedPositions"/> refuses them).</summary>
+        public IReadOnlyList<Transform> InUseSeeds => inUseSeeds ?? new Transform[0];
+        /// <summary>Whether floors come from the scene's baked NavMesh when there is one.</summary>
+        public bool UseNavMesh => useNavMesh;
+
+        /// <summary>The band height, slope limit and step height, checked by the core (an error names a value out of range).</summary>
+        internal InUseParameters GetInUseParameters() => new InUseParameters(inUseBandHeight, inUseSlopeLimit, inUseStepHeight);
+
+        /// <summary>The seeds' world positions; an error naming an empty entry (a deleted object) and what to do.</summary>
+        public System.Numerics.Vector3[] GetInUseSeedPositions()
+        {
+            var seeds = InUseSeeds;
+            var positions = new System.Numerics.Vector3[seeds.Count];
+            for (int s = 0; s < seeds.Count; s++)
+            {
+                if (seeds[s] == null)
+                    throw new LpnnException("entry " + s + " of the In Use Seeds of volume '" + name + "' is empty (its object was deleted?): " +
+                                            "assign a transform or remove the entry");
+                positions[s] = seeds[s].position.ToNumerics();
+            }
+            return positions;
+        }
 
         /// <summary>The selection settings in the core's terms.</summary>
         public SelectionSettings GetSelectionSettings()
@@ -190,6 +256,17 @@ namespace Lpnn.Probes
         public void SetBackend(ScoringBackendPreference preference) => backend = preference;
         public void SetScoringPointLimit(int limit) => scoringPointLimit = Mathf.Max(1, limit);
         public void SetGroundTruth(LightProbeGroup group) => groundTruthGroup = group;
+        public void SetInUseRule(InUseRule rule) => inUseRule = rule;
+        public void SetUseNavMesh(bool use) => useNavMesh = use;
+        public void SetInUseSeeds(params Transform[] seeds) => inUseSeeds = seeds ?? new Transform[0];
+
+        /// <summary>Band height and step height in metres, slope limit in degrees (checked when the grid is built).</summary>
+        public void SetInUseParameters(float bandHeight, float slopeLimitDegrees, float stepHeight)
+        {
+            inUseBandHeight = bandHeight;
+            inUseSlopeLimit = slopeLimitDegrees;
+            inUseStepHeight = stepHeight;
+        }
 
         private void OnValidate()
         {

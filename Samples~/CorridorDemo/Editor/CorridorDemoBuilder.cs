@@ -7,8 +7,8 @@ using UnityEngine.SceneManagement;
 namespace Lpnn.Probes.Samples
 {
     /// <summary>Builds the thesis' Corridor scene from code: a 24 m corridor with coloured wall panels, baked coloured
-    /// point lights, static geometry with colliders, and an LPNN volume covering the walkable space, ready for
-    /// "Run all steps" in its inspector.</summary>
+    /// point lights, static geometry with colliders, a spawn point (the in-use rule's seed), and an LPNN volume covering
+    /// the walkable space, ready for "Run all steps" in its inspector.</summary>
     public static class CorridorDemoBuilder
     {
         public const string MenuPath = "Tools/LPNN Probes/Build Corridor Demo Scene";
@@ -58,6 +58,10 @@ namespace Lpnn.Probes.Samples
             volume.transform.position = new Vector3(0, Height / 2, 0);
             volume.SetBoxes(new LpnnBox(Vector3.zero, new Vector3(Width - 0.2f, Height - 0.2f, Length - 0.2f), Vector3.zero));
             volume.SetCellSize(0.5f);
+            // Where a character starts: the default in-use rule (Reachable) walks from here over the corridor's floor.
+            var spawn = new GameObject("Spawn point").transform;
+            spawn.position = new Vector3(0, 0, -Length / 2 + 1.5f);
+            volume.SetInUseSeeds(spawn);
             EditorSceneManager.SaveScene(scene, scenePath);
             return volume;
         }

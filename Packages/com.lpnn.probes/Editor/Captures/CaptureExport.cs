@@ -8,7 +8,8 @@ using UnityEngine;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>Exports a volume's grid, lighting and features as a capture (Documentation~/file-formats.md) for retraining,
-    /// with labels from the ground-truth LightProbeGroup when one is assigned. Files are written atomically by the core:
+    /// with labels from the ground-truth LightProbeGroup when one is assigned, and the in-use rule it was built with
+    /// (<see cref="InUseCaptureSource"/>). Files are written atomically by the core:
     /// Save replaces one named file, Append always creates a new file and never alters existing captures.</summary>
     public static class CaptureExport
     {
@@ -23,7 +24,8 @@ namespace Lpnn.Probes.Editor
             source.Set("scene", JsonValue.From(volume.gameObject.scene.path));
             source.Set("volume", JsonValue.From(volume.name));
             source.Set("lighting", JsonValue.From(session.LightingDescription));
-            var capture = Capture.FromGrid(session.Grid, session.Sh, session.Features, source);
+            // The in-use rule's keys go into the same source object; All adds the in_use section (Documentation~/in-use.md).
+            var capture = InUseCaptureSource.Record(Capture.FromGrid(session.Grid, session.Sh, session.Features, source), source, session.InUse);
             var truth = volume.GroundTruthGroup;
             if (truth == null)
             {

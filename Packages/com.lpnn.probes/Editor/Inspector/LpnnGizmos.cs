@@ -6,15 +6,27 @@ using UnityEngine;
 namespace Lpnn.Probes.Editor
 {
     /// <summary>Scene-view drawing of a volume (DrawGizmo: UnityCsReference Editor/Mono/DrawGizmo.cs; Gizmos:
-    /// Runtime/Export/Gizmos/Gizmos.bindings.cs): the boxes always, and when selected the scored evaluation points
-    /// coloured by remapped score (blue low, red high) and the probes of the target group.</summary>
+    /// Runtime/Export/Gizmos/Gizmos.bindings.cs): the boxes always, and when selected the points the in-use rule left out
+    /// (small grey cubes) and the points in use (green until scored), the scored evaluation points coloured by remapped
+    /// score (blue low, red high) and the probes of the target group.</summary>
     internal static class LpnnGizmos
     {
         /// <summary>Gizmos are immediate mode; beyond this many points only every n-th is drawn.</summary>
         private const int MaxDrawnPoints = 20000;
         private static readonly Color BoxColor = new Color(1f, 0.75f, 0.2f, 0.9f);
         private static readonly Color ProbeColor = new Color(1f, 0.95f, 0.3f, 1f);
+        private static readonly Color InUseColor = new Color(0.2f, 0.9f, 0.35f, 0.8f);
+        private static readonly Color NotInUseColor = new Color(0.55f, 0.55f, 0.55f, 0.3f);
         private static readonly Dictionary<ObjectKey, ScoreCloud> Clouds = new Dictionary<ObjectKey, ScoreCloud>();
+        private static readonly Dictionary<ObjectKey, InUseCloud> InUseClouds = new Dictionary<ObjectKey, InUseCloud>();
+
+        /// <summary>The session's points before the in-use rule, split into in use and not, at most MaxDrawnPoints of them.</summary>
+        private sealed class InUseCloud
+        {
+            public InUsePoints Source;
+            public Vector3[] InUse;
+            public Vector3[] Other;
+        }
 
         private sealed class ScoreCloud
         {
@@ -30,6 +42,7 @@ namespace Lpnn.Probes.Editor
             bool selected = (type & (GizmoType.Selected | GizmoType.Active)) != 0;
             DrawBoxes(volume, selected);
             if (!selected) return;
+            DrawInUse(volume);
             DrawScores(volume);
             DrawProbes(volume.TargetGroup, volume.CellSize);
         }
@@ -57,6 +70,37 @@ namespace Lpnn.Probes.Editor
                 Gizmos.color = cloud.Colors[p];
                 Gizmos.DrawCube(cloud.Positions[p], size);
             }
+        }
+
+        /// <summary>The points the in-use rule left out, and the points in use until scores colour them.</summary>
+        private static void DrawInUse(LpnnVolume volume)
+        {
+            var inUse = LpnnSession.For(volume).InUse;
+            if (inUse == null || !inUse.Known) return;
+            var cloud = InUseCloudOf(volume, inUse);
+            float cell = (float)inUse.AllPoints.CellSize;
+            Gizmos.color = NotInUseColor;
+            var small = Vector3.one * (cell * 0.06f);
+            foreach (var position in cloud.Other) Gizmos.DrawCube(position, small);
+            if (!volume.LastScores.IsEmpty) return;
+            Gizmos.color = InUseColor;
+            var size = Vector3.one * (cell * 0.12f);
+            foreach (var position in cloud.InUse) Gizmos.DrawCube(position, size);
+        }
+
+        /// <summary>Recomputed only when the Grid step replaces the session's in-use outcome.</summary>
+        private static InUseCloud InUseCloudOf(LpnnVolume volume, InUsePoints inUse)
+        {
+            var key = ObjectKey.Of(volume);
+            if (InUseClouds.TryGetValue(key, out var cloud) && cloud.Source == inUse) return cloud;
+            var all = inUse.AllPoints;
+            int stride = Mathf.Max(1, Mathf.CeilToInt(all.Count / (float)MaxDrawnPoints));
+            var inside = new List<Vector3>();
+            var other = new List<Vector3>();
+            for (int p = 0; p < all.Count; p += stride) (inUse.InUseOfAll[p] ? inside : other).Add(all.GetPosition(p).ToUnity());
+            cloud = new InUseCloud { Source = inUse, InUse = inside.ToArray(), Other = other.ToArray() };
+            InUseClouds[key] = cloud;
+            return cloud;
         }
 
         /// <summary>Positions and colours are recomputed only when the scores array changes.</summary>

@@ -63,12 +63,34 @@ namespace Lpnn.Probes.Editor
             InspectorLayout.Field(_properties.CellSize);
             InspectorLayout.Field(_properties.PointLimit);
             InspectorLayout.Field(_properties.ShowGizmos);
+            InUseFields();
             serializedObject.ApplyModifiedProperties();
             _pointCount.Update(Volume, Session);
             EditorGUILayout.HelpBox(_pointCount.Text, _pointCount.Type);
             if (GUILayout.Button(LpnnVolumeStyles.BuildGrid) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid"))
-                RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
+                RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session, progress, cancel));
             InspectorLayout.Status(Steps[PipelineStep.Grid]);
+            if (Session.InUse != null && Steps[PipelineStep.Grid].Done)
+                EditorGUILayout.HelpBox(Session.InUse.Describe(), Session.InUse.Known ? MessageType.Info : MessageType.Warning);
+        }
+
+        /// <summary>The in-use rule's settings (Documentation~/in-use.md); the seeds and step height only where the rule reads them.</summary>
+        private void InUseFields()
+        {
+            InspectorLayout.Field(_properties.InUseRule);
+            InspectorLayout.Field(_properties.InUseBandHeight);
+            InspectorLayout.Field(_properties.InUseSlopeLimit);
+            // The edited value (applied to the volume at the end of the section): the enum is declared in value order, so its
+            // index is its value (UnityCsReference Editor/Mono/SerializedProperty.bindings.cs enumValueIndex; arraySize below, same file).
+            var rule = (Core.InUse.InUseRule)_properties.InUseRule.enumValueIndex;
+            if (rule != Core.InUse.InUseRule.Band)
+            {
+                InspectorLayout.Field(_properties.InUseStepHeight);
+                InspectorLayout.Field(_properties.InUseSeeds);
+            }
+            InspectorLayout.Field(_properties.UseNavMesh);
+            if (rule == Core.InUse.InUseRule.Reachable && _properties.InUseSeeds.arraySize == 0)
+                EditorGUILayout.HelpBox(LpnnVolumeStyles.ReachableNeedsSeeds, MessageType.Warning);
         }
 
         private void LightingSection()

@@ -27,6 +27,12 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty RefineInBatches { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
+        public SerializedProperty InUseRule { get; }
+        public SerializedProperty InUseBandHeight { get; }
+        public SerializedProperty InUseSlopeLimit { get; }
+        public SerializedProperty InUseStepHeight { get; }
+        public SerializedProperty InUseSeeds { get; }
+        public SerializedProperty UseNavMesh { get; }
 
         public LpnnVolumeProperties(SerializedObject volume)
         {
@@ -51,6 +57,12 @@ namespace Lpnn.Probes.Editor
             RefineInBatches = volume.FindProperty(LpnnVolume.Fields.RefineInBatches);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);
+            InUseRule = volume.FindProperty(LpnnVolume.Fields.InUseRule);
+            InUseBandHeight = volume.FindProperty(LpnnVolume.Fields.InUseBandHeight);
+            InUseSlopeLimit = volume.FindProperty(LpnnVolume.Fields.InUseSlopeLimit);
+            InUseStepHeight = volume.FindProperty(LpnnVolume.Fields.InUseStepHeight);
+            InUseSeeds = volume.FindProperty(LpnnVolume.Fields.InUseSeeds);
+            UseNavMesh = volume.FindProperty(LpnnVolume.Fields.UseNavMesh);
         }
     }
 }

@@ -20,6 +20,10 @@ namespace Lpnn.Probes.Editor
         public const string PlacementHeader = "5. Placement";
         public const string ExportHeader = "6. Capture export (retraining)";
 
+        public const string ReachableNeedsSeeds =
+            "The Reachable rule walks from seed points: add the scene's spawn points (or any transform on walkable ground) to " +
+            "In Use Seeds, or choose Band.";
+
         public const string CollidersAdded = "Temporary mesh colliders will be added while rays are cast and removed afterwards.";
         public const string CollidersMissing = "Add colliders, or enable 'Add Temporary Colliders'.";
         public const string StoredScores = "Stored scores";

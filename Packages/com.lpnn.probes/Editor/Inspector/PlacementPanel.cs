@@ -141,7 +141,8 @@ namespace Lpnn.Probes.Editor
             }
             string count = (byInsertion && volume.RefineInBatches ? "Before refinement, Apply would place " : "Apply would place ") +
                            InvariantFormat.Count(result.Indices.Length) + " of " +
-                           InvariantFormat.Count(grid.Count) + " points" + StepSummaries.Extras(result) + "." +
+                           InvariantFormat.Count(grid.Count) + (session.InUse != null && session.InUse.Filters ? " points in use" : " points") +
+                           StepSummaries.Extras(result) + "." +
                            (byInsertion && volume.RefineInBatches ? "\n" + LpnnVolumeStyles.RefinedOnApply : "") +
                            (byInsertion ? InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)) : ValidityLine(record));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);

@@ -28,7 +28,8 @@ namespace Lpnn.Probes.Editor
             try
             {
                 boxes = volume.GetWorldBoxes();
-                signature = GridSignature.Of(boxes, volume.CellSize) + "|" + volume.PointLimit;
+                // The session's signature too: the note on a stale grid follows a rebuild and an in-use setting change.
+                signature = GridSignature.Of(volume) + "|" + volume.PointLimit + "|" + session.GridSignature;
             }
             catch (LpnnException e)
             {
@@ -52,8 +53,8 @@ namespace Lpnn.Probes.Editor
                     text += " That is a large grid: lighting and features will take a while (you will be asked before they run).";
                     type = MessageType.Warning;
                 }
-                if (session.Grid != null && session.GridSignature != GridSignature.Of(boxes, volume.CellSize))
-                    text += "\nThe volume changed since the grid was built: build it again.";
+                if (session.Grid != null && session.GridSignature != GridSignature.Of(volume))
+                    text += "\nThe volume or its in-use settings changed since the grid was built: build it again.";
                 Show(text, type);
             }
             catch (LpnnException e)

@@ -16,7 +16,8 @@ namespace Lpnn.Probes.Editor
             // (if-chains, not a switch on types: the Mono compiler that checks this code has no switch type patterns)
             if (result is GridResult grid)
                 return InvariantFormat.Count(grid.Grid.Count) + " evaluation points, about " +
-                       Megabytes(EvaluationGrid.EstimateBytes(grid.Grid.Count, FeatureExtractor.Schema.Count)) + " through the pipeline";
+                       Megabytes(EvaluationGrid.EstimateBytes(grid.Grid.Count, FeatureExtractor.Schema.Count)) + " through the pipeline" +
+                       (grid.InUse == null ? "" : "; " + grid.InUse.Describe());
             if (result is LightingResult lighting)
                 return "SH at " + InvariantFormat.Count(lighting.PointCount) + " points, " + lighting.Source;
             if (result is FeaturesResult features)
@@ -26,13 +27,17 @@ namespace Lpnn.Probes.Editor
                 return InvariantFormat.Count(scoring.Outcome.Scores.Length) + " scores on " + scoring.Outcome.DeviceName + InvalidNote(scoring.InvalidCount) +
                        (scoring.Outcome.Fallback.Length > 0 ? " (after: " + scoring.Outcome.Fallback + ")" : "");
             if (result is PlacementResult placement)
-                return placement.Positions.Length + " probes placed" + Extras(placement.Selection);
+                return placement.Positions.Length + " probes placed" + Extras(placement.Selection) + "; " +
+                       (placement.ErrorAtPointsInUse != null ? placement.ErrorAtPointsInUse.Describe() : placement.ErrorAtPointsInUseUnavailable);
             throw new ArgumentException("no summary for " + (result == null ? "null" : result.GetType().Name), nameof(result));
         }
 
         /// <summary>A caveat about a successful result ("" when there is none).</summary>
         public static string Warning(StepResult result)
         {
+            var grid = result as GridResult;
+            if (grid != null && grid.InUse != null && !grid.InUse.Known)
+                return "the error at the points in use cannot be reported: " + grid.InUse.Unavailable;
             var features = result as FeaturesResult;
             if (features == null || features.RenderersWithoutColliders.Count == 0) return "";
             return features.RenderersWithoutColliders.Count + " static renderers have no collider (e.g. '" + features.RenderersWithoutColliders[0] +

@@ -4,6 +4,7 @@ using System.Threading;
 using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
@@ -53,7 +54,7 @@ namespace Lpnn.Probes.Editor
             switch (step)
             {
                 case PipelineStep.Grid:
-                    return BuildGrid(volume, session);
+                    return BuildGrid(volume, session, progress, cancel);
                 case PipelineStep.Lighting:
                     using (var lighting = createLighting(volume))
                         return SampleLighting(volume, session, lighting, progress, cancel);
@@ -68,12 +69,19 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        public static GridResult BuildGrid(LpnnVolume volume, LpnnSession session)
+        public static GridResult BuildGrid(LpnnVolume volume, LpnnSession session) => BuildGrid(volume, session, null, CancellationToken.None);
+
+        /// <summary>The grid of the volume's boxes with the in-use rule applied (Documentation~/in-use.md): for Band and
+        /// Reachable only the points in use are kept, so lighting, features, scoring and every placement method work on them
+        /// alone; for All every point is kept and the session remembers which are in use, for the reports. The rule's rays
+        /// report progress and cancel between batches.</summary>
+        public static GridResult BuildGrid(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
-            var boxes = volume.GetWorldBoxes();
-            var grid = GridBuilder.Build(boxes, volume.CellSize, volume.PointLimit);
-            session.SetGrid(grid, GridSignature.Of(boxes, volume.CellSize));
-            return new GridResult(grid);
+            var all = GridBuilder.Build(volume.GetWorldBoxes(), volume.CellSize, volume.PointLimit);
+            var inUse = VolumeInUse.Compute(volume, all, progress, cancel);
+            var grid = inUse.Filters ? inUse.AllPoints.Subset(inUse.InUseOfAll) : all;
+            session.SetGrid(grid, GridSignature.Of(volume), inUse);
+            return new GridResult(grid, inUse);
         }
 
         public static LightingResult SampleLighting(LpnnVolume volume, LpnnSession session, bool sceneBakeAllowed, ProgressCallback progress,
@@ -124,6 +132,7 @@ namespace Lpnn.Probes.Editor
             // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
             Undo.RecordObject(volume, "Score LPNN evaluation points");
             volume.LastScores.Set(grid.CopyIds(), scores, grid.CellSize, outcome.DeviceName, model, valid);
+            volume.LastScores.SetGridSignature(session.GridSignature);
             // On a prefab instance a direct field write is lost at the next prefab reload unless recorded as an override
             // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
             PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
@@ -213,7 +222,37 @@ namespace Lpnn.Probes.Editor
             var grid = PlacementGrid(volume, session);
             var positions = PositionsOf(grid, selection);
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
-            return new PlacementResult(positions, selection);
+            string unknown;
+            var errorAtPointsInUse = ErrorAtPointsInUseOf(session, grid, selection, out unknown);
+            return new PlacementResult(positions, selection, errorAtPointsInUse, unknown);
+        }
+
+        /// <summary>The placed probes' error at the points in use (one evaluation with Unity's tetrahedralisation against the
+        /// Lighting step's SH): for Band and Reachable over the grid, which holds only them; for All over the session's mask.
+        /// Null with the reason when there is no lighting for this grid or the points in use are unknown.</summary>
+        private static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
+        {
+            if (session.Sh == null || session.Grid != grid)
+            {
+                unknown = "error at the points in use: n/a (no lighting for this grid: run the Lighting data step)";
+                return null;
+            }
+            if (session.InUse == null || !session.InUse.Known)
+            {
+                unknown = ErrorAtPointsInUse.Unknown(session.InUse);
+                return null;
+            }
+            try
+            {
+                unknown = "";
+                return ErrorAtPointsInUse.Of(PlacementInputs.Evaluator(session, grid).Evaluate(selection.Indices), session.InUse);
+            }
+            catch (LpnnException e)
+            {
+                // The probes are written already; a set Unity cannot tetrahedralise (e.g. fewer than 4) has no error to show.
+                unknown = "error at the points in use: n/a (" + e.Message + ")";
+                return null;
+            }
         }
 
         private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)
@@ -228,7 +267,7 @@ namespace Lpnn.Probes.Editor
         {
             if (session.Grid == null) throw new LpnnException("there is no evaluation grid yet; run the Volume step (Build grid) first");
             if (session.GridSignature != GridSignature.Of(volume))
-                throw new LpnnException("the boxes, the transform or the cell size changed since the grid was built; build the grid again");
+                throw new LpnnException("the boxes, the transform, the cell size or the in-use settings changed since the grid was built; build the grid again");
             return session.Grid;
         }
 
@@ -259,18 +298,47 @@ namespace Lpnn.Probes.Editor
         {
             var record = volume.LastScores;
             if (record.IsEmpty) throw new LpnnException("the volume has no scores yet; run the Scoring step first");
-            var grid = session.Grid != null && session.GridSignature == GridSignature.Of(volume) ? session.Grid : null;
+            string signature = GridSignature.Of(volume);
+            var grid = session.Grid != null && session.GridSignature == signature ? session.Grid : null;
             if (grid == null)
             {
-                var boxes = volume.GetWorldBoxes();
-                grid = GridBuilder.Build(boxes, volume.CellSize, volume.PointLimit);
-                session.SetGrid(grid, GridSignature.Of(boxes, volume.CellSize));
+                if (record.GridSignature.Length > 0 && record.GridSignature != signature) throw ScoredOnAnotherGrid(record);
+                grid = RebuildScoredGrid(volume, session, record, signature);
             }
             if (session.ScoresVerifiedForGrid == record.Scores) return grid;
-            if (!SameIds(grid, record.Ids))
-                throw new LpnnException("the stored scores belong to another grid (" + InvariantFormat.Count(record.Count) + " points at cell size " +
-                                        InvariantFormat.Number(record.CellSize) + "); the volume changed since scoring: run Lighting, Features and Scoring again");
+            if (!SameIds(grid, record.Ids)) throw ScoredOnAnotherGrid(record);
             session.ScoresVerifiedForGrid = record.Scores;
+            return grid;
+        }
+
+        private static LpnnException ScoredOnAnotherGrid(LpnnScoreRecord record) =>
+            new LpnnException("the stored scores belong to another grid (" + InvariantFormat.Count(record.Count) + " points at cell size " +
+                              InvariantFormat.Number(record.CellSize) + "); the volume changed since scoring: build the grid and run Lighting, " +
+                              "Features and Scoring again");
+
+        /// <summary>The scored grid without its session (after a script reload): every point of the current boxes (All), or
+        /// those of them the scores were stored for (Band, Reachable: the in-use points when scored, found again without
+        /// casting the rule's rays; the stored signature says the settings are the same). All's report mask is not kept
+        /// across a reload: the error at the points in use shows again once the grid is built again.</summary>
+        private static EvaluationGrid RebuildScoredGrid(LpnnVolume volume, LpnnSession session, LpnnScoreRecord record, string signature)
+        {
+            var all = GridBuilder.Build(volume.GetWorldBoxes(), volume.CellSize, volume.PointLimit);
+            var grid = all;
+            InUsePoints inUse = null;
+            if (volume.InUseRule != InUseRule.All)
+            {
+                var scored = new bool[all.Count];
+                var ids = record.Ids;
+                for (int n = 0; n < record.Count; n++)
+                {
+                    int index = all.IndexOf(new LatticeId(ids[3 * n], ids[3 * n + 1], ids[3 * n + 2]));
+                    if (index < 0) throw ScoredOnAnotherGrid(record);
+                    scored[index] = true;
+                }
+                grid = all.Subset(scored);
+                inUse = new InUsePoints(volume.InUseRule, volume.InUseRule, null, 0, "the stored scores", all, scored, "");
+            }
+            session.SetGrid(grid, signature, inUse);
             return grid;
         }
 

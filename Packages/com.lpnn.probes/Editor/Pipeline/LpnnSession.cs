@@ -28,6 +28,8 @@ namespace Lpnn.Probes.Editor
         public float[] Sh { get; private set; }
         public string LightingDescription { get; private set; } = "";
         public FeatureSet Features { get; private set; }
+        /// <summary>What the in-use rule decided when the grid was built (null for a grid set without it).</summary>
+        internal InUsePoints InUse { get; private set; }
 
         /// <summary>The stored scores already matched against <see cref="Grid"/> (so the inspector's live preview does not
         /// compare every id on every repaint).</summary>
@@ -55,9 +57,14 @@ namespace Lpnn.Probes.Editor
             Sessions.Remove(key);
         }
 
-        public void SetGrid(EvaluationGrid grid, string signature)
+        public void SetGrid(EvaluationGrid grid, string signature) => SetGrid(grid, signature, null);
+
+        /// <summary>A new grid with the in-use rule's outcome (Band and Reachable: <paramref name="grid"/> holds the in-use points
+        /// of <see cref="InUsePoints.AllPoints"/>).</summary>
+        internal void SetGrid(EvaluationGrid grid, string signature, InUsePoints inUse)
         {
             Grid = grid;
+            InUse = inUse;
             GridSignature = signature ?? "";
             ScoresVerifiedForGrid = null;
             Sh = null;

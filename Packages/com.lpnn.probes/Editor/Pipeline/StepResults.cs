@@ -17,7 +17,10 @@ namespace Lpnn.Probes.Editor
     {
         public override PipelineStep Step => PipelineStep.Grid;
         public EvaluationGrid Grid { get; }
+        /// <summary>The in-use rule's outcome (null when the grid was built without it).</summary>
+        internal InUsePoints InUse { get; }
         public GridResult(EvaluationGrid grid) { Grid = grid; }
+        internal GridResult(EvaluationGrid grid, InUsePoints inUse) : this(grid) { InUse = inUse; }
     }
 
     public sealed class LightingResult : StepResult
@@ -60,6 +63,17 @@ namespace Lpnn.Probes.Editor
         /// <summary>World positions of the probes written into the target group.</summary>
         public NumericsVector3[] Positions { get; }
         public SelectionResult Selection { get; }
+        /// <summary>The placed probes' error at the points in use; null when unknown (no lighting, or the points in use unknown:
+        /// <see cref="ErrorAtPointsInUseUnavailable"/> says why).</summary>
+        internal ErrorAtPointsInUse ErrorAtPointsInUse { get; }
+        internal string ErrorAtPointsInUseUnavailable { get; } = "";
         public PlacementResult(NumericsVector3[] positions, SelectionResult selection) { Positions = positions; Selection = selection; }
+
+        internal PlacementResult(NumericsVector3[] positions, SelectionResult selection, ErrorAtPointsInUse errorAtPointsInUse, string unavailable)
+            : this(positions, selection)
+        {
+            ErrorAtPointsInUse = errorAtPointsInUse;
+            ErrorAtPointsInUseUnavailable = unavailable ?? "";
+        }
     }
 }

@@ -38,7 +38,7 @@ namespace Lpnn.Probes.Editor
                 try
                 {
                     var result = PlacementInputs.Evaluator(session, grid).Evaluate(selection.Indices);
-                    _text = Describe(result);
+                    _text = Describe(result) + "\n" + DescribeInUse(result, session.InUse);
                     _failed = false;
                 }
                 catch (LpnnException e)
@@ -58,6 +58,15 @@ namespace Lpnn.Probes.Editor
                           " at the 95th percentile (YCoCg SMAPE " + Round(result.Smape.Mean) + ")";
             if (result.OutsidePoints > 0) text += "; " + InvariantFormat.Count(result.OutsidePoints) + " points outside the probes take their nearest hull point";
             return text + ".";
+        }
+
+        /// <summary>"Estimated error at the 1,234 points in use (reachable): …" (the figure `lpnn place` reports), or why it is
+        /// not known.</summary>
+        public static string DescribeInUse(PlacementErrorResult result, InUsePoints inUse)
+        {
+            var error = ErrorAtPointsInUse.Of(result, inUse);
+            string text = error == null ? ErrorAtPointsInUse.Unknown(inUse) : error.Describe();
+            return "Estimated " + text + ".";
         }
 
         private static string Round(double value) => InvariantFormat.Number(Math.Round(value, 4));

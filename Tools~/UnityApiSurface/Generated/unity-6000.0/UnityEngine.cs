@@ -712,6 +712,25 @@ namespace UnityEngine
     }
 }
 
+namespace UnityEngine.AI
+{
+    using System;
+    // Modules/AI/NavMesh/NavMesh.bindings.cs:175
+    public static partial class NavMesh
+    {
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:244
+        public static NavMeshTriangulation CalculateTriangulation() { throw null; }
+    }
+    // Modules/AI/NavMesh/NavMesh.bindings.cs:43
+    public partial struct NavMeshTriangulation
+    {
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:45
+        public Vector3[] vertices;
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:46
+        public int[] indices;
+    }
+}
+
 namespace UnityEngine.Rendering
 {
     using System;

@@ -737,6 +737,25 @@ namespace UnityEngine
     }
 }
 
+namespace UnityEngine.AI
+{
+    using System;
+    // Modules/AI/NavMesh/NavMesh.bindings.cs:176
+    public static partial class NavMesh
+    {
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:246
+        public static NavMeshTriangulation CalculateTriangulation() { throw null; }
+    }
+    // Modules/AI/NavMesh/NavMesh.bindings.cs:44
+    public partial struct NavMeshTriangulation
+    {
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:46
+        public Vector3[] vertices;
+        // Modules/AI/NavMesh/NavMesh.bindings.cs:47
+        public int[] indices;
+    }
+}
+
 namespace UnityEngine.LightTransport
 {
     using System;

@@ -99,6 +99,15 @@ namespace Lpnn.Probes.Core.Captures
             new Capture(Ids, Positions, Sh, Features, Schema, FeatureNames, CellSize, Units, LightingScale, labels, labelSource,
                 Source, ExtraSections, ExtraHeader);
 
+        /// <summary>The same capture with one more per-point section (e.g. "in_use", Documentation~/in-use.md).</summary>
+        public Capture WithSection(CaptureSection section)
+        {
+            if (section == null) throw new ArgumentNullException(nameof(section));
+            var sections = new List<CaptureSection>(ExtraSections) { section };
+            return new Capture(Ids, Positions, Sh, Features, Schema, FeatureNames, CellSize, Units, LightingScale, Labels, LabelSource,
+                Source, sections, ExtraHeader);
+        }
+
         /// <summary>Rebuilds the evaluation grid from the stored ids.</summary>
         public EvaluationGrid ToGrid()
         {

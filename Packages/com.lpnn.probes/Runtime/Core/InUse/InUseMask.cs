@@ -16,7 +16,14 @@ namespace Lpnn.Probes.Core.InUse
         /// reachable rule has no seed, or when its seeds attach to no in-band point. <paramref name="seeds"/> (metres) are
         /// read by <see cref="InUseRule.Reachable"/> only. Progress per batch of rays; cancel between batches.</summary>
         public static bool[] Compute(EvaluationGrid grid, IRaycaster raycaster, InUseParameters parameters, InUseRule rule,
-            Vector3[] seeds, ProgressCallback progress, CancellationToken cancel = default)
+            Vector3[] seeds, ProgressCallback progress, CancellationToken cancel = default) =>
+            Compute(grid, raycaster, raycaster, parameters, rule, seeds, progress, cancel);
+
+        /// <summary>As above, with the floor rays (definitions 1 and 4's floor profile) cast through
+        /// <paramref name="floorRaycaster"/> and the segment rays (definitions 2–4) through <paramref name="segmentRaycaster"/>:
+        /// e.g. floors from a navigation mesh, walls from the scene's colliders (the Unity volume with a baked NavMesh).</summary>
+        public static bool[] Compute(EvaluationGrid grid, IRaycaster floorRaycaster, IRaycaster segmentRaycaster, InUseParameters parameters,
+            InUseRule rule, Vector3[] seeds, ProgressCallback progress, CancellationToken cancel = default)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (parameters == null) throw new ArgumentNullException(nameof(parameters));
@@ -28,8 +35,8 @@ namespace Lpnn.Probes.Core.InUse
                 return all;
             }
             var mask = rule == InUseRule.Band
-                ? Band(grid, raycaster, parameters, progress, cancel).InBand
-                : Reachable(grid, raycaster, parameters, seeds, null, progress, cancel);
+                ? Band(grid, floorRaycaster, parameters, progress, cancel).InBand
+                : Reachable(grid, floorRaycaster, segmentRaycaster, parameters, seeds, null, progress, cancel);
             if (Array.IndexOf(mask, true) < 0) throw NoPointInUse(name, grid, parameters);
             return mask;
         }
@@ -50,18 +57,24 @@ namespace Lpnn.Probes.Core.InUse
         /// <summary>Definitions 3–5: the in-band points the moves reach from the seeds' start points. <paramref name="band"/>:
         /// what <see cref="Band"/> returned, or null to cast the floor rays here.</summary>
         public static bool[] Reachable(EvaluationGrid grid, IRaycaster raycaster, InUseParameters parameters, Vector3[] seeds,
-            InUseBand band, ProgressCallback progress, CancellationToken cancel = default)
+            InUseBand band, ProgressCallback progress, CancellationToken cancel = default) =>
+            Reachable(grid, raycaster, raycaster, parameters, seeds, band, progress, cancel);
+
+        /// <summary>As above, floor rays through <paramref name="floorRaycaster"/>, segment rays through
+        /// <paramref name="segmentRaycaster"/>.</summary>
+        public static bool[] Reachable(EvaluationGrid grid, IRaycaster floorRaycaster, IRaycaster segmentRaycaster, InUseParameters parameters,
+            Vector3[] seeds, InUseBand band, ProgressCallback progress, CancellationToken cancel = default)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (parameters == null) throw new ArgumentNullException(nameof(parameters));
             var checkedSeeds = SeedAttachment.Checked(seeds);
-            band = band ?? Band(grid, raycaster, parameters, progress, cancel);
+            band = band ?? Band(grid, floorRaycaster, parameters, progress, cancel);
             if (band.InBand.Length != grid.Count || band.FloorHeights.Length != grid.Count)
                 throw new InUseException("the band has " + band.InBand.Length + " entries for a grid of " + InvariantFormat.Count(grid.Count) +
                                          " points: pass what Band returned for this grid");
             int inBand = band.Count;
             if (inBand == 0) throw NoPointInUse(InUseRules.Name(InUseRule.Reachable), grid, parameters);
-            var starts = SeedAttachment.Starts(grid, raycaster, band.InBand, checkedSeeds, progress, cancel);
+            var starts = SeedAttachment.Starts(grid, segmentRaycaster, band.InBand, checkedSeeds, progress, cancel);
             if (starts.Length == 0)
                 throw new InUseException(
                     "none of the " + InvariantFormat.Count(checkedSeeds.Length) + " seeds attaches to an in-band point (one within " +
@@ -70,7 +83,7 @@ namespace Lpnn.Probes.Core.InUse
                     "into the volume near walkable floors, add seeds, or use the rule 'band'");
             var sources = new List<int>();
             var targets = new List<int>();
-            InUseMoves.Collect(grid, raycaster, parameters, band, sources, targets, progress, cancel);
+            InUseMoves.Collect(grid, floorRaycaster, segmentRaycaster, parameters, band, sources, targets, progress, cancel);
             return ReachableWalk.Reach(grid.Count, starts, sources, targets);
         }
 

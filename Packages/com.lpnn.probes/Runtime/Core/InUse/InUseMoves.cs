@@ -11,8 +11,9 @@ namespace Lpnn.Probes.Core.InUse
     /// ones when the segment is free, horizontal ones when it is free and the floor profile is walkable that way.</summary>
     internal static class InUseMoves
     {
-        /// <summary>Every allowed move, as parallel source and target point indices.</summary>
-        public static void Collect(EvaluationGrid grid, IRaycaster raycaster, InUseParameters parameters, InUseBand band,
+        /// <summary>Every allowed move, as parallel source and target point indices: floor profiles through
+        /// <paramref name="floorRaycaster"/>, segments through <paramref name="segmentRaycaster"/>.</summary>
+        public static void Collect(EvaluationGrid grid, IRaycaster floorRaycaster, IRaycaster segmentRaycaster, InUseParameters parameters, InUseBand band,
             List<int> sources, List<int> targets, ProgressCallback progress, CancellationToken cancel)
         {
             var lower = new List<int>();
@@ -20,7 +21,7 @@ namespace Lpnn.Probes.Core.InUse
             Pairs(grid, band.InBand, 1, lower, upper);
             var both = new bool[lower.Count];
             for (int p = 0; p < both.Length; p++) both[p] = true;
-            AddFreeMoves(grid, raycaster, lower, upper, both, both, sources, targets, "in use: vertical move rays", progress, cancel);
+            AddFreeMoves(grid, segmentRaycaster, lower, upper, both, both, sources, targets, "in use: vertical move rays", progress, cancel);
 
             var first = new List<int>();
             var second = new List<int>();
@@ -28,8 +29,8 @@ namespace Lpnn.Probes.Core.InUse
             Pairs(grid, band.InBand, 2, first, second);
             var forward = new bool[first.Count];
             var backward = new bool[first.Count];
-            Profiles(grid, raycaster, parameters, band.FloorHeights, first, second, forward, backward, progress, cancel);
-            AddFreeMoves(grid, raycaster, first, second, forward, backward, sources, targets, "in use: horizontal move rays", progress, cancel);
+            Profiles(grid, floorRaycaster, parameters, band.FloorHeights, first, second, forward, backward, progress, cancel);
+            AddFreeMoves(grid, segmentRaycaster, first, second, forward, backward, sources, targets, "in use: horizontal move rays", progress, cancel);
         }
 
         /// <summary>The pairs (p, p + 1 along axis) with both points in band.</summary>

@@ -21,6 +21,22 @@ namespace Lpnn.Probes.Core.Quality
             return new ErrorSummary { Mean = CompensatedSum(values) / values.Length, P95 = Percentile(sorted, PercentileRank) };
         }
 
+        /// <summary>The summary over the points where <paramref name="mask"/> is true (e.g. the points in use,
+        /// Documentation~/in-use.md), as <see cref="Of(double[])"/> of those values in their order.</summary>
+        public static ErrorSummary Of(double[] values, bool[] mask)
+        {
+            if (values == null) throw new ArgumentNullException(nameof(values));
+            if (mask == null) throw new ArgumentNullException(nameof(mask));
+            if (mask.Length != values.Length)
+                throw new ArgumentException("the mask has " + mask.Length + " flags for " + values.Length + " values; give one per point", nameof(mask));
+            int kept = 0;
+            foreach (bool flag in mask) if (flag) kept++;
+            if (kept == 0) throw new PlacementErrorException("no point is selected by the mask (0 of " + values.Length + "): the error over no points is undefined");
+            var selected = new double[kept];
+            for (int p = 0, s = 0; p < values.Length; p++) if (mask[p]) selected[s++] = values[p];
+            return Of(selected);
+        }
+
         /// <summary>numpy.percentile(values, q) with its default linear interpolation, step for step (numpy 2.x: virtual
         /// index (n − 1)·q/100, then _lerp), so both languages agree to the last bit on equal inputs.</summary>
         public static double Percentile(double[] sorted, double percent)
