@@ -18,6 +18,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    from ..core import in_use_defaults as in_use
     from ..demo import DEMO_LEVEL
     from ..quality.policy_rules import DEFAULT_TOLERANCE
     from .arguments import tolerance
@@ -30,6 +31,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--level", default=DEMO_LEVEL, help=f"level name in the pak (default {DEMO_LEVEL}, held out)")
     parser.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE, metavar="TAU",
                         help=f"mean irradiance error allowed (default {DEFAULT_TOLERANCE:g})")
+    parser.add_argument("--in-use", choices=in_use.RULES, default=in_use.DEFAULT_RULE,
+                        help="which points the placement serves (Documentation~/in-use.md; default "
+                             f"{in_use.DEFAULT_RULE}); unless 'all', the default placement on every point is shown too")
     parser.set_defaults(handler=_run)
 
 
@@ -50,10 +54,15 @@ def _run(args: argparse.Namespace) -> int:
     with level_user_errors():
         start = time.perf_counter()
         level = load_pak_member(pak, f"maps/{args.level}.bsp")
-        imported = import_level(level, cell_size=DEFAULT_CELL, drop_unlit=True, timings_in_source=True)
+        imported = import_level(level, cell_size=DEFAULT_CELL, drop_unlit=True, timings_in_source=True,
+                                in_use=args.in_use)
+        seconds = {"import (grid, solid, in use, SH, features)": time.perf_counter() - start}
+        # The old behaviour beside it, so the dilution by the air stays visible (in-use.md): every point kept.
+        every_point = (None if args.in_use == "all" else
+                       import_level(level, cell_size=DEFAULT_CELL, drop_unlit=True, timings_in_source=True).capture)
     with user_errors(args.level):
-        seconds = {"import (grid, solid, SH, features)": time.perf_counter() - start}
-        result = run_demo(imported.capture, args.level, scorer, seconds, held_out, args.tolerance, log)
+        result = run_demo(imported.capture, args.level, scorer, seconds, held_out, args.tolerance, log,
+                          every_point=every_point)
     files = write_outputs(result, Path(args.out), Path(args.model).name)
     sys.stdout.write(table(result))
     print("\nwrote " + ", ".join(str(path) for path in files.values()))

@@ -52,9 +52,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     imp.add_argument("--lighting", default="grid", metavar="grid|rig:RIG.json",
                      help="the SH of the capture: 'grid' samples the level's light grid (default); 'rig:RIG.json' bakes "
                           "them from a rig of lpnn scene lights (direct light, shadows and one bounce, lights.md §8)")
-    imp.add_argument("--in-use", choices=in_use.RULES, default=in_use.DEFAULT_RULE,
-                     help="which points count (Documentation~/in-use.md): 'reachable' (default) the points within the "
-                          "band above walkable floors that a player walks to from the level's spawns and items; "
+    imp.add_argument("--in-use", choices=in_use.RULES, default=None,
+                     help="which points count (Documentation~/in-use.md): 'reachable' (default; 'band' on a level "
+                          "without spawns or items) the points within the band above walkable floors that a player "
+                          "walks to from the level's spawns and items; "
                           "'band' every point within the band above a walkable floor; 'all' every point (for objects "
                           "that fly; the capture then marks the reachable points so reports show the error there)")
     imp.add_argument("--band-height", type=float, default=in_use.BAND_HEIGHT, metavar="METRES",
@@ -105,8 +106,9 @@ def _info(args: argparse.Namespace) -> None:
 
 def _import(args: argparse.Namespace) -> None:
     from ..core.capture_file import append_capture, write_capture
-    from ..core.in_use import InUseParameters
+    from ..core.in_use import InUseError, InUseParameters
     from ..lights.relight import parse_lighting
+    from ..scenes.levels import load_level
     from ..scenes.importer import import_level
 
     _check_settings(args.cell, args.point_limit)
@@ -114,10 +116,22 @@ def _import(args: argparse.Namespace) -> None:
     parameters = InUseParameters(band_height=args.band_height, slope_limit_degrees=args.slope_limit,
                                  step_height=args.step_height)
     with level_user_errors(), _progress_bars(enabled=not args.quiet) as progress:
-        result = import_level(args.level, args.cell, boxes=boxes, point_limit=args.point_limit, bounds_label=label,
-                              drop_unlit=args.drop_unlit, timings_in_source=not args.reproducible,
-                              progress=progress, validity=args.validity, lighting=parse_lighting(args.lighting),
-                              in_use=args.in_use, in_use_parameters=parameters)
+        level = load_level(args.level)
+
+        def imported(rule: str) -> Any:
+            return import_level(level, args.cell, boxes=boxes, point_limit=args.point_limit, bounds_label=label,
+                                drop_unlit=args.drop_unlit, timings_in_source=not args.reproducible,
+                                progress=progress, validity=args.validity, lighting=parse_lighting(args.lighting),
+                                in_use=rule, in_use_parameters=parameters)
+
+        if args.in_use is not None:
+            result = imported(args.in_use)
+        else:  # the default: reachable where the level's spawns and items lead somewhere, else the band
+            try:
+                args.in_use, result = in_use.DEFAULT_RULE, imported(in_use.DEFAULT_RULE)
+            except InUseError as exc:
+                print(f"{exc}; the points in use are the band's instead (--in-use band)")
+                args.in_use, result = "band", imported("band")
     clock = time.perf_counter()
     if args.out is not None:
         path = write_capture(args.out, result.capture)
@@ -135,12 +149,12 @@ def _import(args: argparse.Namespace) -> None:
           f"{result.unlit_points:,} unlit kept), cell {args.cell:g} m, "
           f"{result.triangles:,} ray triangles")
     section = result.capture.extra_sections.get("in_use")
-    in_use = (f"{result.capture.point_count:,} of {result.points_before_in_use:,} points in use ({args.in_use})"
+    in_use_summary = (f"{result.capture.point_count:,} of {result.points_before_in_use:,} points in use ({args.in_use})"
               if args.in_use != "all" else
               f"all {result.capture.point_count:,} points kept; "
               + (f"{int(section.sum()):,} in use ({result.capture.source['in_use_report_rule']}, reported)"
                  if section is not None else "no walkable floor under any point: in use n/a"))
-    print(f"in use: {in_use}; {result.capture.source['in_use_seeds']} seeds (spawns and items)")
+    print(f"in use: {in_use_summary}; {result.capture.source['in_use_seeds']} seeds (spawns and items)")
     print("seconds: " + ", ".join(f"{k} {v:.2f}" for k, v in seconds.items()) + f"; total {total:.2f}")
     print(f"rays: {result.rays:,} ({ray_rate:,.0f} rays/s inside the raycaster)")
 

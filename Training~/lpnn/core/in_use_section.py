@@ -27,5 +27,5 @@ def in_use_points(capture: Capture) -> np.ndarray | None:
 
 
 def in_use_text(error: float) -> str:
-    """An error at the points in use as reports print it: 4 significant digits, "n/a" when not known."""
-    return "n/a" if error != error else f"{error:.4g}"  # NaN: the capture cannot say which points are in use
+    """An error at the points in use as reports print it: 4 decimals, "n/a" when not known."""
+    return "n/a" if error != error else f"{error:.4f}"  # NaN: the capture cannot say which points are in use

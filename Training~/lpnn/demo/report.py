@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import write_text_atomic
+from ..core.in_use_section import capture_rule, in_use_text
 from ..quality.metric import guarded_ratio
 from ..quality.plots import pyplot, save_png
 from ..quality.probes_file import write_probes_json
@@ -32,17 +33,20 @@ def table(result: DemoResult) -> str:
     uniform = result.methods["uniform"]
     seconds = result.import_seconds
     lines = [f"{result.level}: {n:,} evaluation points at {result.capture.cell_size:g} m ({held})",
+             in_use_line(result),
              "import: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()),
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
-             f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}  time per stage"]
+             f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
+             f"{'in use':>8}  time per stage"]
     for name in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
                  "heuristic", "uniform"):
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
         lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
                      f"{guarded_ratio(m.probes, reference.probes):>7.2f}{guarded_ratio(m.probes, uniform.probes):>7.2f}"
-                     f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}  {stages}")
+                     f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}"
+                     f"{in_use_text(m.quality.in_use_error):>8}  {stages}")
     count = result.methods[PRIMARY].probes
     same = result.same_count
     primary_error = same[PRIMARY].irradiance.mean
@@ -51,7 +55,30 @@ def table(result: DemoResult) -> str:
                        for name in ("fast-reference", "lpnn-guided", "insertion", "lpnn", "uniform", "heuristic"))
     lines += ["", f"At the default's {count} probes (insertion refined in batches): mean error {primary_error:.4f}; "
               f"the rankings' first {count} probes: {others}"]
+    whole = result.every_point_default
+    if whole is not None:
+        total = sum(whole.seconds.values())
+        lines += ["", f"The default on every point instead (rule all, {result.every_point.point_count:,} points, the "
+                  f"old behaviour): {whole.probes} probes, mean error {whole.quality.irradiance.mean:.4f} over all "
+                  f"points but {in_use_text(whole.quality.in_use_error)} at the points in use; placement {total:.2f} s "
+                  f"(in use: {sum(result.methods[PRIMARY].seconds.values()):.2f} s)"]
     return "\n".join(lines) + "\n"
+
+
+def _number(value: float) -> float | None:
+    """JSON has no NaN: an error the capture cannot give is null."""
+    return None if value != value else value
+
+
+def in_use_line(result: DemoResult) -> str:
+    """Which points the demo places on (in-use.md)."""
+    source = result.capture.source
+    rule = capture_rule(result.capture)
+    if rule == "all":
+        return "points in use: all (every point of the volume)"
+    return (f"points in use: {rule} ({result.capture.point_count:,} of {source.get('points_before_in_use', 0):,} "
+            f"points within {source.get('in_use_band_height', 0):g} m above walkable floors"
+            + (f", reached from the level's {source.get('in_use_seeds', 0)} spawns and items)" if rule == "reachable" else ")"))
 
 
 def plot(result: DemoResult, path: Path) -> Path:
@@ -114,11 +141,17 @@ def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, P
     files["table"] = write_text_atomic(out / "table.txt", text)
     summary = {"level": result.level, "points": capture.point_count, "cell_size": capture.cell_size,
                "held_out": result.held_out, "tolerance": result.tolerance, "model": model_name,
-               "import_seconds": result.import_seconds,
+               "import_seconds": result.import_seconds, "in_use": capture_rule(capture),
+               "points_before_in_use": capture.source.get("points_before_in_use", capture.point_count),
                "methods": {name: {"probes": m.probes, "mean_error": m.quality.irradiance.mean,
                                   "p95_error": m.quality.irradiance.p95, "smape_mean": m.quality.smape.mean,
                                   "seconds": m.seconds} for name, m in result.methods.items()},
                "primary": PRIMARY,
                "at_primary_count": {name: q.irradiance.mean for name, q in result.same_count.items()}}
+    whole = result.every_point_default
+    if whole is not None:
+        summary["every_point_default"] = {"points": result.every_point.point_count, "probes": whole.probes,
+                                          "mean_error": whole.quality.irradiance.mean,
+                                          "in_use_error": _number(whole.quality.in_use_error), "seconds": whole.seconds}
     files["summary"] = write_text_atomic(out / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
     return files

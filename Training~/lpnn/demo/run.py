@@ -58,6 +58,11 @@ class DemoResult:
     reference: Decimation | None = None
     same_count: dict[str, PlacementQuality] = field(default_factory=dict)  # every method at the PRIMARY method's count
     curves: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # method -> (counts, errors)
+    # The default placed on every point of the volume (rule `all`, the old behaviour) when the demo's capture holds the
+    # points in use only: its capture (with the `in_use` section) and its answer, whose error at those points shows
+    # the dilution by the air.
+    every_point: Capture | None = None
+    every_point_default: MethodResult | None = None
 
 
 def held_out_in_card(card: Any, level: str) -> bool | None:
@@ -78,6 +83,16 @@ def _lpnn(name: str, placement: LpnnPlacement, inference: float) -> MethodResult
     return MethodResult(name, placement.indices, placement.quality, seconds)
 
 
+def _default_placement(capture: Capture, tolerance: float, field_: ReferenceField | None = None,
+                       grid: EvaluationGrid | None = None) -> MethodResult:
+    """The package's default on a capture: insertion refined in batches at the tolerance, timed."""
+    field_ = ReferenceField.from_capture(capture) if field_ is None else field_
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids) if grid is None else grid
+    placed = refined_insertion(field_, grid, tolerance=tolerance)
+    return MethodResult("insertion-refined", placed.indices, evaluate_placement(field_, placed.indices),
+                        {"selection": placed.selection_seconds, "refinement": placed.refinement_seconds})
+
+
 def _searched(name: str, field_: ReferenceField, select: SelectionForCount, tolerance: float,
               ranking_seconds: float) -> MethodResult:
     start = time.perf_counter()
@@ -95,7 +110,7 @@ def curve_counts(point_count: int, samples: int = 24) -> np.ndarray:
 
 
 def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str, float], held_out: bool | None,
-             tolerance: float = DEFAULT_TOLERANCE, log: Log = print) -> DemoResult:
+             tolerance: float = DEFAULT_TOLERANCE, log: Log = print, every_point: Capture | None = None) -> DemoResult:
     field_ = ReferenceField.from_capture(capture)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = capture.point_count
@@ -107,10 +122,11 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     result = DemoResult(level, capture, held_out, import_seconds, scores, tolerance)
 
     log(f"placing: insertion refined in batches (the package's default), tolerance {tolerance:g}")
-    refined_plain = refined_insertion(field_, grid, tolerance=tolerance)
-    result.methods["insertion-refined"] = MethodResult(
-        "insertion-refined", refined_plain.indices, evaluate_placement(field_, refined_plain.indices),
-        {"selection": refined_plain.selection_seconds, "refinement": refined_plain.refinement_seconds})
+    result.methods["insertion-refined"] = _default_placement(capture, tolerance, field_, grid)
+    if every_point is not None:
+        log(f"placing: the default on every point of the volume (rule all, {every_point.point_count:,} points)")
+        result.every_point = every_point
+        result.every_point_default = _default_placement(every_point, tolerance)
     log(f"placing: LPNN-guided insertion refined in batches, tolerance {tolerance:g}")
     batched = lpnn_placement(capture, scores=scores, tolerance=tolerance, refine=RECOMMENDED_REFINE, batched=True,
                              reference=field_, name=level)

@@ -131,7 +131,7 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
         try:
             grid = grid.subset(in_use_mask(in_use, grid, raycaster, parameters, seeds, progress))
         except InUseError as exc:
-            raise BspError(f"{level.location}: {exc}") from exc
+            raise InUseError(f"{level.location}: {exc}") from exc
     seconds["in_use"] = time.perf_counter() - clock
 
     clock = time.perf_counter()

@@ -46,8 +46,12 @@ def test_import_removes_solid_and_samples_the_grid(bsp_path: Path) -> None:
     assert capture.source == {
         "backend": "openarena", "level": "synthetic", "bsp_sha256": level.sha256, "importer": "lpnn 0.1.0",
         "bounds": "auto", "patch_level": 8, "rays": 67 * 26, "validity": "bsp", "removed_solid": REMOVED,
-        "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0, "lighting": "grid",
+        "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0, "lighting": "grid", "in_use": "all",
+        "in_use_band_height": 3.0, "in_use_slope_limit": 45.0, "in_use_step_height": 0.5, "in_use_seeds": 1,
+        "points_before_in_use": 67, "in_use_report_rule": "band",
     }
+    # The level's one spawn attaches to no point within the band (reachable fails), so the report mask is the band's.
+    assert capture.extra_sections["in_use"].dtype == np.uint8 and 0 < capture.extra_sections["in_use"].sum() < 67
     assert result.rays == 67 * 26
 
 
@@ -91,10 +95,18 @@ def test_user_bounds_and_their_errors(bsp_path: Path) -> None:
 
 def test_cli_import_info_and_errors(bsp_path: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "room.lpnncap"
+    assert main(["scene", "import", str(bsp_path), "--out", str(out), "--quiet", "--reproducible", "--in-use", "all"]) == 0
+    printed = capsys.readouterr().out
+    assert "67 points of 125 (58 in solid or outside removed, 0 unlit removed, 0 unlit kept)" in printed
+    assert read_capture(out).point_count == 67
+    # The default on a level without spawns or items: the band rule, said so; fewer points than all of them.
     assert main(["scene", "import", str(bsp_path), "--out", str(out), "--quiet", "--reproducible"]) == 0
     printed = capsys.readouterr().out
-    assert "67 points of 125 (58 in solid or outside removed, 0 unlit removed, 0 unlit kept)" in printed and "rays: 1,742" in printed
-    assert read_capture(out).point_count == 67
+    band = read_capture(out)
+    assert "the points in use are the band's instead" in printed and band.source["in_use"] == "band"
+    assert 0 < band.point_count < 67 and band.source["points_before_in_use"] == 67
+    assert main(["scene", "import", str(bsp_path), "--out", str(out), "--quiet", "--in-use", "reachable"]) == 1
+    assert "seed" in capsys.readouterr().err
 
     folder = tmp_path / "dataset"
     for _ in range(2):
