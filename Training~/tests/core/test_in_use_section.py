@@ -1,0 +1,51 @@
+"""Which points of a capture are in use (in-use.md "What placement does with the mask"), and the error reports read
+there (quality.metric.evaluate_placement's in_use_error, lpnn bench's in_use_error column)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from lpnn.core.analytic_scene import AnalyticScene
+from lpnn.core.in_use_section import IN_USE_SECTION, capture_rule, in_use_points, in_use_text
+from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture, rows_csv
+from lpnn.quality.metric import ReferenceField, evaluate_placement, point_errors
+
+
+def _room():
+    return AnalyticScene.random(5, cell_size=0.5, room_size=(2.5, 1.5, 2.0)).capture(name="room")
+
+
+def test_old_captures_say_nothing_filtered_ones_are_all_in_use_and_all_captures_read_their_section():
+    old = _room()
+    assert capture_rule(old) == "all" and in_use_points(old) is None
+    band = replace(old, source={**old.source, "in_use": "band"})
+    assert in_use_points(band).all()
+    mask = (np.arange(old.point_count) % 3 == 0).astype(np.uint8)
+    marked = replace(old, source={**old.source, "in_use": "all"}, extra_sections={IN_USE_SECTION: mask})
+    assert in_use_points(marked).tolist() == (mask == 1).tolist()
+    assert in_use_text(math.nan) == "n/a" and in_use_text(0.123456) == "0.1235"
+
+
+def test_the_error_at_the_points_in_use_is_the_mean_over_them():
+    old = _room()
+    mask = (np.arange(old.point_count) % 3 == 0).astype(np.uint8)
+    marked = replace(old, extra_sections={IN_USE_SECTION: mask})
+    field = ReferenceField.from_capture(marked)
+    probes = np.arange(0, old.point_count, 5)
+    quality = evaluate_placement(field, probes)
+    errors = point_errors(field, probes)
+    assert math.isclose(quality.in_use_error, float(errors[mask == 1].mean()))
+    assert quality.in_use_error != quality.irradiance.mean  # the air is not averaged in
+    assert math.isnan(evaluate_placement(ReferenceField.from_capture(old), probes).in_use_error)
+
+
+def test_every_bench_row_carries_the_error_at_the_points_in_use():
+    old = _room()
+    mask = (np.arange(old.point_count) % 2 == 0).astype(np.uint8)
+    marked = replace(old, extra_sections={IN_USE_SECTION: mask})
+    result = bench_capture("room", marked, BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
+    assert result.rows and all(0.0 <= row.in_use_error <= 1.0 for row in result.rows)
+    assert "in_use_error" in CSV_COLUMNS and rows_csv(result.rows).splitlines()[0].endswith("in_use_error")
