@@ -26,6 +26,9 @@ class RecipeConfig:
     crop_half_cells: tuple[int, int] = (3, 10)  # crop box half-size, in cells, drawn per axis
     crop_attempts: int = 40
     label_budget: float = 0.2  # positive = kept by the fast reference at this fraction of the points
+    # Which points of a crop are imported, labelled and trained on (Documentation~/in-use.md): "all" (what the shipped
+    # model was trained on) or "band" / "reachable" (the points where players go; crops without any are redrawn).
+    in_use: str = "all"
     workers: int = 2  # processes for importing and labelling
     # Relit variants (lights.md §9): this many re-lit captures of every *training* crop, from seeded
     # perturbations of the level's recovered rig (never for validation or held-out levels); 0 = none.

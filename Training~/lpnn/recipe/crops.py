@@ -21,6 +21,7 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.grid import GridError
 from ..core.grid_box import Box
+from ..core.in_use import InUseError
 from ..scenes.bsp import BspError
 from ..scenes.importer import import_level
 from ..scenes.levels import Level
@@ -68,9 +69,9 @@ def crops_of_level(level: Level, cell_size: float, config: RecipeConfig) -> list
         box = Box.axis_aligned(centre - half, centre + half)
         try:
             result = import_level(level, cell_size=cell_size, boxes=[box], bounds_label="crop", drop_unlit=True,
-                                  timings_in_source=True, point_limit=high)
-        except (BspError, GridError):
-            continue  # all in solid, or more than `high` points: draw another box
+                                  timings_in_source=True, point_limit=high, in_use=config.in_use)
+        except (BspError, GridError, InUseError):
+            continue  # all in solid, more than `high` points, or none in use: draw another box
         if result.capture.point_count < low:
             continue
         capture = result.capture
