@@ -57,6 +57,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..core.capture_file import dataset_files, read_capture, safe_file_stem
     from ..core.in_use_section import in_use_text
+    from ..scenes.capture_geometry import capture_raycaster
     from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
     from .errors import user_errors
     from ..quality.plots import error_plot, time_plot
@@ -94,7 +95,8 @@ def run(args: argparse.Namespace) -> int:
                     scorer.check_capture(capture, str(path))
                 result = bench_capture(path.stem, capture, config, scorer,
                                        log=lambda message: print(message, flush=True),
-                                       partial=lambda done: _write_results(out, rows + done, failures))
+                                       partial=lambda done: _write_results(out, rows + done, failures),
+                                       geometry=capture_raycaster(capture)[0])
         except Exception as error:  # reported, and the run goes on (user_errors words the known ones)
             failures.append(BenchFailure(path.stem, "*", failure_reason(error)))
             print(f"  FAILED {path.stem}: {failures[-1].reason}", flush=True)
@@ -114,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
                       else f"error x ref {row.error_ratio:.2f}")
             print(f"  {row.method:>18} {row.policy:>9} {row.parameter:<6g} probes {row.probes:>6,} "
                   f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  "
-                  f"in use {in_use_text(row.in_use_error)}  {versus}")
+                  f"in use {in_use_text(row.in_use_error)}  leaking {in_use_text(row.leaking)}  {versus}")
         for failure in result.failures:
             print(f"  FAILED {failure.method} on {failure.capture}: {failure.reason}", flush=True)
     print(f"wrote {out / 'bench.csv'} ({len(rows)} rows) and figures to {out}")

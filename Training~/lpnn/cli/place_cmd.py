@@ -159,13 +159,14 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
     from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.insertion import InsertionOrder
-    from ..quality.metric import ReferenceField, evaluate_placement
+    from ..quality.leaks import field_with_geometry
+    from ..quality.metric import evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
     from ..quality.reference import run_reference
     from .progress import progress_bar
 
-    field = ReferenceField.from_capture(capture)
+    field = field_with_geometry(capture)  # with the level's surfaces when known: the report names leaks
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = field.point_count
     if args.method == "fast":
@@ -234,9 +235,11 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
         source.update(mean_error=round(quality.irradiance.mean, 6), p95_error=round(quality.irradiance.p95, 6))
         if quality.in_use_error == quality.in_use_error:  # NaN: the capture cannot say which points are in use
             source.update(in_use_error=round(quality.in_use_error, 6))
+        if quality.leaking == quality.leaking:  # NaN: the capture's geometry is not known here
+            source.update(leaking=round(quality.leaking, 6))
         errors = (f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
                   f"(SMAPE mean {quality.smape.mean:.4g}); in use ({capture_rule(capture)}): mean error "
-                  f"{in_use_text(quality.in_use_error)}")
+                  f"{in_use_text(quality.in_use_error)}, leaking points {in_use_text(quality.leaking)}")
     elif searched_error is not None:
         source.update(mean_error=round(searched_error, 6))
         errors = f"mean error {searched_error:.4g} (no report)"

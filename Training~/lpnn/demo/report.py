@@ -38,7 +38,7 @@ def table(result: DemoResult) -> str:
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
-             f"{'in use':>8}  time per stage"]
+             f"{'in use':>8}{'leaks':>8}  time per stage"]
     for name in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
                  "heuristic", "uniform"):
         m = result.methods[name]
@@ -46,7 +46,7 @@ def table(result: DemoResult) -> str:
         lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
                      f"{guarded_ratio(m.probes, reference.probes):>7.2f}{guarded_ratio(m.probes, uniform.probes):>7.2f}"
                      f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}"
-                     f"{in_use_text(m.quality.in_use_error):>8}  {stages}")
+                     f"{in_use_text(m.quality.in_use_error):>8}{percent_text(m.quality.leaking):>8}  {stages}")
     count = result.methods[PRIMARY].probes
     same = result.same_count
     primary_error = same[PRIMARY].irradiance.mean
@@ -60,9 +60,15 @@ def table(result: DemoResult) -> str:
         total = sum(whole.seconds.values())
         lines += ["", f"The default on every point instead (rule all, {result.every_point.point_count:,} points, the "
                   f"old behaviour): {whole.probes} probes, mean error {whole.quality.irradiance.mean:.4f} over all "
-                  f"points but {in_use_text(whole.quality.in_use_error)} at the points in use; placement {total:.2f} s "
+                  f"points but {in_use_text(whole.quality.in_use_error)} at the points in use, where "
+                  f"{percent_text(whole.quality.leaking)} leak; placement {total:.2f} s "
                   f"(in use: {sum(result.methods[PRIMARY].seconds.values()):.2f} s)"]
     return "\n".join(lines) + "\n"
+
+
+def percent_text(share: float) -> str:
+    """A share as a percentage with one decimal; "n/a" when not known."""
+    return "n/a" if share != share else f"{100 * share:.1f}%"
 
 
 def _number(value: float) -> float | None:
@@ -144,6 +150,8 @@ def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, P
                "import_seconds": result.import_seconds, "in_use": capture_rule(capture),
                "points_before_in_use": capture.source.get("points_before_in_use", capture.point_count),
                "methods": {name: {"probes": m.probes, "mean_error": m.quality.irradiance.mean,
+                                  "in_use_error": _number(m.quality.in_use_error),
+                                  "leaking": _number(m.quality.leaking),
                                   "p95_error": m.quality.irradiance.p95, "smape_mean": m.quality.smape.mean,
                                   "seconds": m.seconds} for name, m in result.methods.items()},
                "primary": PRIMARY,
@@ -152,6 +160,7 @@ def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, P
     if whole is not None:
         summary["every_point_default"] = {"points": result.every_point.point_count, "probes": whole.probes,
                                           "mean_error": whole.quality.irradiance.mean,
-                                          "in_use_error": _number(whole.quality.in_use_error), "seconds": whole.seconds}
+                                          "in_use_error": _number(whole.quality.in_use_error),
+                                          "leaking": _number(whole.quality.leaking), "seconds": whole.seconds}
     files["summary"] = write_text_atomic(out / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
     return files

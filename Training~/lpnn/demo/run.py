@@ -22,6 +22,7 @@ from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
 from ..quality.policy_rules import DEFAULT_TOLERANCE
 from ..quality.baselines import heuristic_ranking, uniform_selector
+from ..quality.leaks import field_with_geometry
 from ..quality.insertion import guide_of, insertion_ranking
 from ..quality.decimation import Decimation
 from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
@@ -86,7 +87,7 @@ def _lpnn(name: str, placement: LpnnPlacement, inference: float) -> MethodResult
 def _default_placement(capture: Capture, tolerance: float, field_: ReferenceField | None = None,
                        grid: EvaluationGrid | None = None) -> MethodResult:
     """The package's default on a capture: insertion refined in batches at the tolerance, timed."""
-    field_ = ReferenceField.from_capture(capture) if field_ is None else field_
+    field_ = field_with_geometry(capture) if field_ is None else field_
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids) if grid is None else grid
     placed = refined_insertion(field_, grid, tolerance=tolerance)
     return MethodResult("insertion-refined", placed.indices, evaluate_placement(field_, placed.indices),
@@ -111,7 +112,7 @@ def curve_counts(point_count: int, samples: int = 24) -> np.ndarray:
 
 def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str, float], held_out: bool | None,
              tolerance: float = DEFAULT_TOLERANCE, log: Log = print, every_point: Capture | None = None) -> DemoResult:
-    field_ = ReferenceField.from_capture(capture)
+    field_ = field_with_geometry(capture)  # with the level's surfaces: every method's leaks are reported
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = capture.point_count
 

@@ -39,6 +39,7 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.capture_file import safe_file_stem
+from ..core.features import Raycaster
 from ..core.grid import EvaluationGrid
 from .policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
 from .apv import NEAREST_SURFACE, apv_ranking
@@ -58,7 +59,7 @@ from .reference_fast import fast_decimation
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
-    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error",
+    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error", "leaking",
 )
 T = TypeVar("T")
 
@@ -101,6 +102,7 @@ class BenchRow:
     probes_ratio: float | None = None
     yardstick: str = "fast-reference"  # or "blockwise-reference" (module text)
     in_use_error: float = math.nan  # mean error at the points in use (in-use.md); NaN when the capture cannot say
+    leaking: float = math.nan  # share of the points in use that leak (leaks.md); NaN without the scene's geometry
 
 
 @dataclass(frozen=True)
@@ -268,7 +270,7 @@ def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter:
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
         error_ratio=guarded_ratio(quality.irradiance.mean, reference_error), yardstick=yardstick,
-        in_use_error=quality.in_use_error)
+        in_use_error=quality.in_use_error, leaking=quality.leaking)
 
 
 def _with_target(row: BenchRow, target: Placement) -> BenchRow:
@@ -404,11 +406,13 @@ def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, confi
 
 def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any | None = None,
                   log: Callable[[str], None] | None = None, reference: Decimation | None = None,
-                  partial: Callable[[list[BenchRow]], None] | None = None) -> CaptureResult:
+                  partial: Callable[[list[BenchRow]], None] | None = None,
+                  geometry: Raycaster | None = None) -> CaptureResult:
     """Every method on one capture. `reference`: the capture's fast-reference decimation when already
     known (its time is then its own `seconds`, and the faithful reference is skipped). `partial` gets the rows so far
-    after every method (a whole level's methods take minutes each: the CLI writes them as they come)."""
-    field_ = ReferenceField.from_capture(capture)
+    after every method (a whole level's methods take minutes each: the CLI writes them as they come). `geometry`: the
+    capture's surfaces (scenes.capture_geometry), so every row reports its leaking share (leaks.md)."""
+    field_ = replace(ReferenceField.from_capture(capture), geometry=geometry)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     if reference is not None and reference.point_count != field_.point_count:
         raise ValueError(f"{name}: the given reference covers {reference.point_count:,} points, the capture {field_.point_count:,}")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.features import Raycaster
-from .leaks import stencil_leaks
+from .leak_rule import stencil_leaks
 from .location import Stencil
 from .metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
 

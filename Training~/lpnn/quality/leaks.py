@@ -9,34 +9,19 @@ exactly alike (Tests/Data/leaks_golden.json).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..core.capture import Capture
 from ..core.features import Raycaster
-from ..core.segments import segments_free
+from ..scenes.capture_geometry import capture_raycaster
+from .leak_rule import stencil_leaks
 from .metric import ReferenceField, probe_stencil, stencil_point_errors
 
-# Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of zero), not light.
-LEAK_MIN_WEIGHT = 1e-6
 # The `nearest_surface` feature is (nearest hit of the 26 rays) / (4 cells): at most 1/4 means within one cell.
 NEAR_SURFACE_FEATURE = "nearest_surface"
 NEAR_SURFACE_LIMIT = 0.25
-
-
-def stencil_leaks(points: np.ndarray, probe_positions: np.ndarray, vertices: np.ndarray, weights: np.ndarray,
-                  raycaster: Raycaster) -> np.ndarray:
-    """(M,) bool: the points (M, 3) whose stencil (vertices (M, 4) into probe_positions, weights (M, 4)) holds a
-    probe of weight > LEAK_MIN_WEIGHT that the point cannot see. One batched cast for every weighing pair."""
-    rows, columns = np.nonzero(np.asarray(weights) > LEAK_MIN_WEIGHT)
-    leaking = np.zeros(np.asarray(points).shape[0], dtype=bool)
-    if rows.shape[0] == 0:
-        return leaking
-    starts = np.asarray(points, dtype=np.float64)[rows]
-    ends = np.asarray(probe_positions, dtype=np.float64)[np.asarray(vertices)[rows, columns]]
-    blocked = ~segments_free(raycaster, starts, ends)
-    leaking[rows[blocked]] = True
-    return leaking
 
 
 @dataclass(frozen=True)
@@ -82,3 +67,9 @@ def near_surface_mask(feature_names: list[str], features: np.ndarray) -> np.ndar
     if NEAR_SURFACE_FEATURE not in feature_names:
         return None
     return np.asarray(features[:, feature_names.index(NEAR_SURFACE_FEATURE)], dtype=np.float64) <= NEAR_SURFACE_LIMIT
+
+
+def field_with_geometry(capture: Capture) -> ReferenceField:
+    """The capture's reference field with its scene's surfaces when the tools can load them (an OpenArena import:
+    scenes.capture_geometry), so every placement evaluated on it reports its leaking share; otherwise without."""
+    return replace(ReferenceField.from_capture(capture), geometry=capture_raycaster(capture)[0])

@@ -31,7 +31,8 @@ from ..errors import InvalidInputError
 from ..core import sh as shmath
 from ..core.capture import Capture
 from ..core.in_use_section import in_use_points
-from ..core.features import D14, scene_scale
+from ..core.features import D14, Raycaster, scene_scale
+from .leak_rule import stencil_leaks
 from .location import Stencil, locate_local
 from .metric_kernel import IRRADIANCE, SMAPE, stencil_errors
 from .triangulation import Frame, Tetrahedralization, assembled, checked_positions, tetrahedralize
@@ -58,6 +59,7 @@ class ReferenceField:
     scale: float  # scene scale S
     frame: Frame
     in_use: np.ndarray | None = None  # (N,) bool points where dynamic objects go (in-use.md); None: not known
+    geometry: Raycaster | None = None  # the scene's surfaces, when known: placements then report leaks (leaks.md)
 
     @property
     def point_count(self) -> int:
@@ -230,6 +232,7 @@ class PlacementQuality:
     irradiance: ErrorSummary
     smape: ErrorSummary
     in_use_error: float = math.nan  # mean irradiance error at the points in use (NaN: not known, or none)
+    leaking: float = math.nan  # share of the points in use (else of all) that leak (leaks.md); NaN: no geometry
 
 
 def in_use_mean(field: ReferenceField, per_point: np.ndarray) -> float:
@@ -245,4 +248,17 @@ def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQu
     irradiance = summarize(stencil_point_errors(field, indices, others, stencil, "irradiance"))
     return PlacementQuality(probes=int(indices.shape[0]), irradiance=irradiance,
                             smape=summarize(stencil_point_errors(field, indices, others, stencil, "smape")),
-                            in_use_error=in_use_mean(field, irradiance.per_point))
+                            in_use_error=in_use_mean(field, irradiance.per_point),
+                            leaking=_leaking_share(field, indices, others, stencil))
+
+
+def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil) -> float:
+    """The share of the points in use (all points when not known) that leak under this stencil (leaks.md); NaN
+    without the scene's geometry. Probes never leak."""
+    if field.geometry is None:
+        return math.nan
+    leaking = np.zeros(field.point_count, dtype=bool)
+    leaking[others] = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
+                                    field.geometry)
+    counted = field.in_use if field.in_use is not None and field.in_use.any() else np.ones_like(leaking)
+    return float(np.count_nonzero(leaking & counted)) / float(np.count_nonzero(counted))
