@@ -19,6 +19,7 @@ from ..core.capture import Capture, CaptureError
 from ..core.capture_encoder import encode_capture
 from ..core.capture_file import append_capture, dataset_files, read_capture, safe_file_stem, validate_capture
 from ..core.capture_format import EXTENSION
+from ..core.in_use_section import capture_rule, in_use_points
 from ..core.legacy import LegacyFormatError, legacy_to_capture
 from ..errors import UserError
 
@@ -59,6 +60,19 @@ def _files(paths: list[str]) -> list[Path]:
     return files
 
 
+def in_use_summary(capture: Capture) -> str:
+    """The capture's in-use rule and counts (in-use.md), as `dataset info` prints them."""
+    rule = capture_rule(capture)
+    mask = in_use_points(capture)
+    if rule != "all":
+        before = capture.source.get("points_before_in_use")
+        return f"{rule}: all {capture.point_count:,}" + (f" (of {before:,} valid points)" if isinstance(before, int) else "")
+    if mask is None:
+        return "all points kept; which are in use is not recorded (imported before the rule)"
+    return (f"all points kept; {int(mask.sum()):,} in use by the {capture.source.get('in_use_report_rule', '?')} rule "
+            f"(section in_use)")
+
+
 def _describe(path: Path, capture: Capture) -> list[str]:
     lines = [str(path),
              f"  points: {capture.point_count:,}   features: {capture.feature_count} ({capture.schema})",
@@ -69,6 +83,7 @@ def _describe(path: Path, capture: Capture) -> list[str]:
         positive = int(capture.labels.sum())
         lines.append(f"  labels: {positive:,} positive of {capture.point_count:,} "
                      f"({100.0 * positive / capture.point_count:.2f} %) from {capture.label_source}")
+    lines.append(f"  points in use: {in_use_summary(capture)}")
     provenance = ", ".join(f"{key}={value}" for key, value in capture.source.items()) or "(none)"
     lines.append(f"  source: {provenance}")
     if capture.extra_sections:

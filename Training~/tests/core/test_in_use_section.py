@@ -49,3 +49,17 @@ def test_every_bench_row_carries_the_error_at_the_points_in_use():
     result = bench_capture("room", marked, BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
     assert result.rows and all(0.0 <= row.in_use_error <= 1.0 for row in result.rows)
     assert "in_use_error" in CSV_COLUMNS and rows_csv(result.rows).splitlines()[0].endswith("in_use_error")
+
+
+def test_dataset_info_names_the_rule_and_its_counts():
+    from lpnn.cli.dataset_cmd import in_use_summary
+
+    old = _room()
+    assert "not recorded" in in_use_summary(old)
+    reachable = replace(old, source={**old.source, "in_use": "reachable", "points_before_in_use": 5000})
+    assert in_use_summary(reachable) == f"reachable: all {old.point_count:,} (of 5,000 valid points)"
+    mask = np.zeros(old.point_count, dtype=np.uint8)
+    mask[:7] = 1
+    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
+                     extra_sections={IN_USE_SECTION: mask})
+    assert in_use_summary(marked) == "all points kept; 7 in use by the band rule (section in_use)"
