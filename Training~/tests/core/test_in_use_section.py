@@ -46,9 +46,12 @@ def test_every_bench_row_carries_the_error_at_the_points_in_use():
     old = _room()
     mask = (np.arange(old.point_count) % 2 == 0).astype(np.uint8)
     marked = replace(old, extra_sections={IN_USE_SECTION: mask})
-    result = bench_capture("room", marked, BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
-    assert result.rows and all(0.0 <= row.in_use_error <= 1.0 for row in result.rows)
-    assert "in_use_error" in CSV_COLUMNS and rows_csv(result.rows).splitlines()[0].endswith("in_use_error")
+    geometry = AnalyticScene.random(5, cell_size=0.5, room_size=(2.5, 1.5, 2.0)).raycaster
+    result = bench_capture("room", marked, BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0), geometry=geometry)
+    assert result.rows and all(0.0 <= row.in_use_error <= 1.0 and 0.0 <= row.leaking <= 1.0 for row in result.rows)
+    assert "in_use_error" in CSV_COLUMNS and rows_csv(result.rows).splitlines()[0].endswith("in_use_error,leaking")
+    without = bench_capture("room", marked, BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
+    assert all(math.isnan(row.leaking) for row in without.rows)  # no geometry: leaks not known
 
 
 def test_dataset_info_names_the_rule_and_its_counts():
