@@ -14,7 +14,7 @@ the share of points that leak (leaks.md) and their mean error, and the time. Var
   count-of-aware8  refined_insertion(field, grid, budget=K/N) with K = aware8's probes (the control: the count alone)
 
   PYTHONPATH=Training~ python Tools~/leak-variants.py LEVEL [LEVEL ...] [--pak PAK] [--tolerance 0.05]
-                                                      [--variants default,aware4]
+                                                      [--variants default,aware4] [--in-use all|band|reachable]
 
 Prints one JSON line per level x variant as it goes, then a markdown table. Levels are chosen on training/validation
 levels only (lpnn.recipe.levels); held-out levels report (the role column says which).
@@ -128,6 +128,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pak", type=Path, default=None, help="openarena-081-maps pak (default: the installed one)")
     parser.add_argument("--tolerance", type=float, default=TOLERANCE)
     parser.add_argument("--variants", default=",".join(VARIANTS))
+    parser.add_argument("--in-use", default="all", choices=("all", "band", "reachable"),
+                        help="the points imported and placed on (in-use.md; default all, as §12's first table)")
     args = parser.parse_args(argv)
     variants = [v for v in args.variants.split(",") if v]
     unknown = [v for v in variants if v not in VARIANTS]
@@ -140,7 +142,8 @@ def main(argv: list[str] | None = None) -> int:
     roles = level_roles(pak)
     rows: list[dict] = []
     for level in args.levels:
-        capture = import_level(load_pak_member(pak, f"maps/{level}.bsp"), timings_in_source=False).capture
+        capture = import_level(load_pak_member(pak, f"maps/{level}.bsp"), timings_in_source=False,
+                               in_use=args.in_use).capture
         raycaster, why = capture_raycaster(capture, pak)
         if raycaster is None:
             raise SystemExit(f"{level}: no ray geometry ({why})")
