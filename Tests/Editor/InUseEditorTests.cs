@@ -232,12 +232,12 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
-        public void ReachableWithoutSeedsAndABandThatHoldsNothingAreRefusedWithTheFix()
+        public void ReachableWithoutSeedsKeepsTheBandAndABandThatHoldsNothingIsRefusedWithTheFix()
         {
-            var noSeeds = Assert.Throws<LpnnException>(() => LpnnPipeline.BuildGrid(_volume, _session));
-            StringAssert.Contains("In Use Seeds", noSeeds.Message);
-            StringAssert.Contains("Band", noSeeds.Message);
-            Assert.That(_session.Grid, Is.Null, "a refused grid leaves the session as it was");
+            // A new volume (Reachable, no seeds) keeps the band's points and says why in the grid summary.
+            LpnnPipeline.BuildGrid(_volume, _session);
+            Assert.That(_session.InUse.Rule, Is.EqualTo(InUseRule.Band));
+            StringAssert.Contains("no In Use Seeds", _session.InUse.FloorSource);
 
             _volume.SetInUseRule(InUseRule.Band);
             _volume.SetInUseParameters(0.125f, 45, 0.5f);

@@ -22,10 +22,14 @@ namespace Lpnn.Probes.Editor
             var parameters = Checked(volume, volume.GetInUseParameters);
             // Band reads no seed (an empty entry in the list does not matter to it).
             var seeds = rule == InUseRule.Band ? new System.Numerics.Vector3[0] : volume.GetInUseSeedPositions();
+            // Reachable walks from seeds; a volume without any (a new one) keeps the band, as `lpnn scene import` does on a
+            // level without spawns, and says so in the grid summary (FloorSource) rather than stopping the first Build grid.
+            string fallback = "";
             if (rule == InUseRule.Reachable && seeds.Length == 0)
-                throw new LpnnException("volume '" + volume.name + "' uses the in-use rule Reachable, which walks from seed points, and its " +
-                                        "In Use Seeds list is empty: add the scene's spawn points (or any transform on walkable ground " +
-                                        "where characters start) to In Use Seeds, or set In Use Rule to Band (or All)");
+            {
+                rule = InUseRule.Band;
+                fallback = "; Band: no In Use Seeds to walk from (add the scene's spawn points for Reachable)";
+            }
             // All reports the error at the reachable points, or at the band points where there are no seeds (in-use.md).
             var maskRule = rule != InUseRule.All ? rule : seeds.Length > 0 ? InUseRule.Reachable : InUseRule.Band;
             using (new RaycastScope(volume, volume.AddTemporaryColliders))
@@ -33,7 +37,8 @@ namespace Lpnn.Probes.Editor
                 var walls = new PhysicsRaycaster();
                 var navMesh = volume.UseNavMesh ? NavMeshFloor.Baked() : null;
                 IRaycaster floors = navMesh ?? (IRaycaster)walls;
-                string floorSource = navMesh == null ? "physics rays" : "the NavMesh (" + InvariantFormat.Count(navMesh.TriangleCount) + " triangles)";
+                string floorSource = (navMesh == null ? "physics rays" : "the NavMesh (" + InvariantFormat.Count(navMesh.TriangleCount) + " triangles)") +
+                                     fallback;
                 bool[] mask;
                 string unavailable = "";
                 try
