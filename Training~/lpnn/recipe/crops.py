@@ -80,6 +80,7 @@ def crops_of_level(level: Level, cell_size: float, config: RecipeConfig) -> list
                        "crop_half_size": [round(float(v), 6) for v in half]})
         capture = Capture(ids=capture.ids, positions=capture.positions, sh=capture.sh, features=capture.features,
                           schema=capture.schema, feature_names=capture.feature_names, cell_size=capture.cell_size,
-                          lighting_scale=capture.lighting_scale, units=capture.units, source=source)
+                          lighting_scale=capture.lighting_scale, units=capture.units, source=source,
+                          extra_sections=capture.extra_sections)
         crops.append(Crop(level=level.name, cell_size=cell_size, number=len(crops), box=box, capture=capture))
     return crops

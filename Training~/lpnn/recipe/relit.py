@@ -18,6 +18,7 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.grid import GridError
 from ..core.grid_box import Box
+from ..core.in_use import InUseError
 from ..lights.relight import RigLighting
 from ..lights.rig import Rig, read_rig, write_rig
 from ..lights.variants import relit_variant
@@ -79,8 +80,8 @@ def variants_of_crop(level: Level, crop_name: str, crop: Capture, rig: Rig, role
         lighting = RigLighting.of_rig(relit_variant(rig, variant_seed(config, crop_name, number), is_open), name)
         try:
             result = import_level(level, cell_size=crop.cell_size, boxes=[box], bounds_label="crop", drop_unlit=True,
-                                  point_limit=2 * high, lighting=lighting)
-        except (BspError, GridError):
+                                  point_limit=2 * high, lighting=lighting, in_use=config.in_use)
+        except (BspError, GridError, InUseError):
             continue
         if result.capture.point_count < low:
             continue
@@ -92,5 +93,5 @@ def variants_of_crop(level: Level, crop_name: str, crop: Capture, rig: Rig, role
                                        features=captured.features, schema=captured.schema,
                                        feature_names=captured.feature_names, cell_size=captured.cell_size,
                                        lighting_scale=captured.lighting_scale, units=captured.units,
-                                       source=captured_source)))
+                                       source=captured_source, extra_sections=captured.extra_sections)))
     return variants
