@@ -132,10 +132,11 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
             grid = grid.subset(in_use_mask(in_use, grid, raycaster, parameters, seeds, progress))
         except InUseError as exc:
             raise InUseError(f"{level.location}: {exc}") from exc
+    report_rule, report_mask = _report_mask(grid, raycaster, parameters, seeds) if in_use == "all" else ("", None)
     seconds["in_use"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    grid, sh, unlit, removed_unlit = _sampled_sh(level, light_grid, lighting, grid, drop_unlit, progress)
+    grid, sh, unlit, removed_unlit, kept = _sampled_sh(level, light_grid, lighting, grid, drop_unlit, progress)
     positions = grid.positions
     seconds["sh"] = time.perf_counter() - clock
 
@@ -150,13 +151,9 @@ def import_level(source: str | Level, cell_size: float = DEFAULT_CELL, boxes: li
     source_info.update({"lighting": "grid"} if lighting is None else lighting.source_fields())
     source_info.update(_in_use_fields(in_use, parameters, seeds.shape[0], points_before_in_use))
     extra_sections: dict[str, np.ndarray] = {}
-    if in_use == "all":
-        clock = time.perf_counter()
-        report_rule, mask = _report_mask(grid, raycaster, parameters, seeds)
-        seconds["in_use"] += time.perf_counter() - clock
-        if mask is not None:
-            source_info["in_use_report_rule"] = report_rule
-            extra_sections[IN_USE_SECTION] = mask.astype(np.uint8)
+    if report_mask is not None:  # computed on every valid point, as band and reachable are; unlit ones dropped after
+        source_info["in_use_report_rule"] = report_rule
+        extra_sections[IN_USE_SECTION] = report_mask[kept].astype(np.uint8)
     if timings_in_source:
         source_info["feature_seconds"] = round(seconds["features"], 3)
     capture = Capture(
@@ -233,9 +230,10 @@ def _open_grid(level: Level, boxes: list[Box] | None, cell_size: float, point_li
 
 
 def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: ProbeLighting | None, grid: EvaluationGrid,
-                drop_unlit: bool, progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int]:
+                drop_unlit: bool, progress: Progress | None) -> tuple[EvaluationGrid, np.ndarray, int, int, np.ndarray]:
     """SH of the light grid (or baked from the rig) at every point, as the capture stores it (float32):
-    (grid, sh, unlit points kept, unlit points removed); drop_unlit removes the unlit ones."""
+    (grid, sh, unlit points kept, unlit points removed, which points of `grid` were kept); drop_unlit removes the
+    unlit ones."""
     step = "light grid" if lighting is None else "rig bake"
     step_progress = None if progress is None else (lambda done, total: progress(step, done, total))
     if lighting is None:
@@ -244,12 +242,13 @@ def _sampled_sh(level: Level, light_grid: LightGrid | None, lighting: ProbeLight
         sh, lit = lighting.sh_at(level, grid.positions, step_progress)
     unlit = int(np.count_nonzero(~lit))
     removed_unlit = 0
+    kept = np.ones(grid.point_count, dtype=bool)
     if drop_unlit and unlit:
         if unlit == grid.point_count:
             raise BspError(f"{level.location}: all {unlit:,} evaluation points left are unlit (every light grid "
                            f"corner is zero); import without dropping unlit points to keep them with black SH")
-        grid, sh, removed_unlit, unlit = grid.subset(lit), sh[lit], unlit, 0
-    return grid, sh.astype(np.float32), unlit, removed_unlit  # features are computed from exactly these values
+        grid, sh, removed_unlit, unlit, kept = grid.subset(lit), sh[lit], unlit, 0, lit
+    return grid, sh.astype(np.float32), unlit, removed_unlit, kept  # features are computed from exactly these values
 
 
 def _source_info(level: Level, bounds_label: str, rays: int, validity: str, removed: int, removed_invalid: int,

@@ -30,6 +30,11 @@ def test_default_cell_is_64_units() -> None:
     assert DEFAULT_CELL == pytest.approx(1.6256)
 
 
+# 26 feature rays per point, and the in-use report rule's floor rays: reachable's (its one seed attaches to nothing),
+# then band's, one per point each.
+RAYS = 67 * 26 + 2 * 67
+
+
 def test_import_removes_solid_and_samples_the_grid(bsp_path: Path) -> None:
     result = import_level(str(bsp_path), timings_in_source=False)
     capture = result.capture
@@ -45,14 +50,14 @@ def test_import_removes_solid_and_samples_the_grid(bsp_path: Path) -> None:
     assert capture.features.shape == (67, 19) and np.isfinite(capture.features).all()
     assert capture.source == {
         "backend": "openarena", "level": "synthetic", "bsp_sha256": level.sha256, "importer": "lpnn 0.1.0",
-        "bounds": "auto", "patch_level": 8, "rays": 67 * 26, "validity": "bsp", "removed_solid": REMOVED,
+        "bounds": "auto", "patch_level": 8, "rays": RAYS, "validity": "bsp", "removed_solid": REMOVED,
         "removed_invalid": 0, "unlit_points": 0, "removed_unlit": 0, "lighting": "grid", "in_use": "all",
         "in_use_band_height": 3.0, "in_use_slope_limit": 45.0, "in_use_step_height": 0.5, "in_use_seeds": 1,
         "points_before_in_use": 67, "in_use_report_rule": "band",
     }
     # The level's one spawn attaches to no point within the band (reachable fails), so the report mask is the band's.
     assert capture.extra_sections["in_use"].dtype == np.uint8 and 0 < capture.extra_sections["in_use"].sum() < 67
-    assert result.rays == 67 * 26
+    assert result.rays == RAYS
 
 
 def test_same_level_and_cell_give_identical_bytes(bsp_path: Path) -> None:
