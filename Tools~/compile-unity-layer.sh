@@ -101,15 +101,15 @@ configure 6000.0 inference-engine-2.2.2
 configure 6000.0 inference-engine-2.4.0
 configure 6000.3 inference-engine-2.3.0
 configure 6000.3 inference-engine-2.4.0
-configure 6000.5 inference-engine-2.4.0
-configure 6000.7 inference-engine-2.4.0
+configure 6000.5 inference-engine-2.2.2
+configure 6000.7 inference-engine-2.2.2
 
 log "compile-unity-layer: $compiled assemblies compiled in $configurations configurations against the generated surfaces ($GENERATED/SOURCES.txt); obsolete-member use is an error (-warnaserror); compilation only, nothing ran in Unity"
 
 # The check can fail: a use of a member that Unity 6000.5 marks [Obsolete(..., true)] must be refused.
 canary="$OUT/obsolete-canary.cs"
 printf 'class ObsoleteCanary { int Id(UnityEngine.Object o) { return o.GetInstanceID(); } }\n' > "$canary"
-if "${BASE[@]}" "${STRICT[@]}" -out:"$OUT/obsolete-canary.dll" -r:"$OUT/unity6000.5-inference-engine-2.4.0/UnityEngine.dll" "$canary" > "$OUT/obsolete-canary.log" 2>&1 \
+if "${BASE[@]}" "${STRICT[@]}" -out:"$OUT/obsolete-canary.dll" -r:"$OUT/unity6000.5-inference-engine-2.2.2/UnityEngine.dll" "$canary" > "$OUT/obsolete-canary.log" 2>&1 \
    || ! grep -q "CS0619" "$OUT/obsolete-canary.log"; then
   die "the 6000.5 surface accepted Object.GetInstanceID() (expected error CS0619): the generated surface lost its [Obsolete] attributes"
 fi

@@ -49,8 +49,18 @@ namespace Lpnn.Probes.Core.Scoring
         public const string InferenceEngineName = "com.unity.ai.inference";
         /// <summary>The Sentis the Unity layer is compiled against (Unity 2022.3; needle-mirror/com.unity.sentis 2.1.3).</summary>
         public const string SentisVersion = "2.1.3";
-        /// <summary>The newest com.unity.ai.inference the Unity layer is compiled against (Unity 6000.x).</summary>
+        /// <summary>The com.unity.ai.inference installed on Unity 6000.0–6000.4: the newest the Unity layer is compiled against.</summary>
         public const string InferenceEngineVersion = "2.4.0";
+        /// <summary>The com.unity.ai.inference installed on Unity 6000.5 and later. 2.3.0 and 2.4.0 call
+        /// <c>EditorUtility.InstanceIDToObject(int)</c> (needle-mirror/com.unity.ai.inference 2.4.0,
+        /// Editor/Visualizer/Editor/ModelAssetOpenHandler.cs:13), which UnityCsReference 6000.5, 6000.6 and 6000.7 mark
+        /// <c>[Obsolete(..., true)]</c> (Editor/Mono/EditorUtility.bindings.cs:60; only a warning up to 6000.4), so the
+        /// package does not compile there and Unity stops loading new assemblies. 2.2.2 is the newest release whose sources
+        /// use no member obsolete as an error in 6000.5 or 6000.7 (Tools~/UnityApiSurface/Generated/obsolete-error-uses.txt,
+        /// checked by InferencePackageCompatibilityTests).</summary>
+        public const string InferenceEngineVersionForEntityIdUnity = "2.2.2";
+        /// <summary>The first Unity 6000 minor version where InstanceIDToObject(int) is an error (see above).</summary>
+        public const int EntityIdOnlyFirstMinor = 5;
         /// <summary>The first Unity major version of com.unity.ai.inference (its package.json: "unity": "6000.0").</summary>
         public const int InferenceEngineFirstUnityMajor = 6000;
 
@@ -62,8 +72,11 @@ namespace Lpnn.Probes.Core.Scoring
             int unityMajor = UnityMajor(unityVersion);
             installed.TryGetValue(SentisName, out string sentis);
             installed.TryGetValue(InferenceEngineName, out string engine);
+            bool entityIdOnly = IsEntityIdOnly(unityVersion);
+            string engineVersion = entityIdOnly ? InferenceEngineVersionForEntityIdUnity : InferenceEngineVersion;
+            string engineRange = entityIdOnly ? "[2.2, 2.3)" : "[2.2, 3.0)";
             string recommended = unityMajor >= InferenceEngineFirstUnityMajor
-                ? InferenceEngineName + "@" + InferenceEngineVersion
+                ? InferenceEngineName + "@" + engineVersion
                 : SentisName + "@" + SentisVersion;
 
             if (sentis != null && engine != null)
@@ -73,10 +86,15 @@ namespace Lpnn.Probes.Core.Scoring
                     "replaces it).");
             if (engine != null)
             {
-                if (InRange(engine, 2, 2)) return Ready(InferenceEngineName, engine);
-                return new InferencePackageDecision(InferencePackageAction.Add, InferenceEngineName + "@" + InferenceEngineVersion,
-                    InferenceEngineName + " " + engine + " is outside the supported range [2.2, 3.0). Install " +
-                    InferenceEngineVersion + ".");
+                if (InRange(engine, 2, 2) && !(entityIdOnly && !InRange(engine, 2, 2, 2)))
+                    return Ready(InferenceEngineName, engine);
+                string reason = entityIdOnly && InRange(engine, 2, 2)
+                    ? " on Unity " + unityVersion + ": 2.3.0 and 2.4.0 call EditorUtility.InstanceIDToObject(int), a compile error " +
+                      "from Unity 6000.5 on, which stops Unity loading new assemblies"
+                    : "";
+                return new InferencePackageDecision(InferencePackageAction.Add, InferenceEngineName + "@" + engineVersion,
+                    InferenceEngineName + " " + engine + " is outside the supported range " + engineRange + reason + ". Install " +
+                    engineVersion + ".");
             }
             if (sentis != null)
             {
@@ -101,6 +119,25 @@ namespace Lpnn.Probes.Core.Scoring
             if (dot <= 0 || !int.TryParse(text.Substring(0, dot), NumberStyles.None, CultureInfo.InvariantCulture, out int major))
                 throw new LpnnException("'" + text + "' is not a Unity version (expected e.g. 2022.3.11f1)");
             return major;
+        }
+
+        /// <summary>True for Unity 6000.5 and later (and any later major), where InstanceIDToObject(int) is an error.</summary>
+        public static bool IsEntityIdOnly(string unityVersion)
+        {
+            int major = UnityMajor(unityVersion);
+            if (major != InferenceEngineFirstUnityMajor) return major > InferenceEngineFirstUnityMajor;
+            string text = unityVersion.Substring(unityVersion.IndexOf('.') + 1);
+            int end = 0;
+            while (end < text.Length && char.IsDigit(text[end])) end++;
+            if (end == 0 || !int.TryParse(text.Substring(0, end), NumberStyles.None, CultureInfo.InvariantCulture, out int minor))
+                throw new LpnnException("'" + unityVersion + "' is not a Unity version (expected e.g. 6000.5.2f1)");
+            return minor >= EntityIdOnlyFirstMinor;
+        }
+
+        /// <summary>True for versions in [major.minMinor, major.maxMinor] (any patch, pre-releases included).</summary>
+        private static bool InRange(string version, int major, int minMinor, int maxMinor)
+        {
+            return InRange(version, major, minMinor) && int.Parse(version.Split('.', '-')[1], CultureInfo.InvariantCulture) <= maxMinor;
         }
 
         /// <summary>True for versions in [major.minMinor, major+1.0) — pre-releases of that range included ("2.2.0-pre.1").</summary>
