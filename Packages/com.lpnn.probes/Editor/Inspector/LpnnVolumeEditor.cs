@@ -1,4 +1,5 @@
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Placement;
 using Lpnn.Probes.Core.Scoring;
 using UnityEditor;
 using UnityEngine;
@@ -66,7 +67,7 @@ namespace Lpnn.Probes.Editor
             serializedObject.ApplyModifiedProperties();
             _pointCount.Update(Volume, Session);
             EditorGUILayout.HelpBox(_pointCount.Text, _pointCount.Type);
-            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid"))
+            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid", HeavyOperation.Grid))
                 RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
             InspectorLayout.Status(Steps[PipelineStep.Grid]);
         }
@@ -79,7 +80,7 @@ namespace Lpnn.Probes.Editor
             EditorGUILayout.HelpBox(EvaluationLighting.Explain(Volume), MessageType.Info);
             using (new EditorGUI.DisabledScope(Session.Grid == null))
             {
-                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting"))
+                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting", HeavyOperation.Lighting))
                 {
                     bool bake = !EvaluationLighting.RewritesSceneLighting(Volume) || LpnnDialogs.ConfirmSceneBake();
                     if (bake) RunStep(PipelineStep.Lighting, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
@@ -138,7 +139,7 @@ namespace Lpnn.Probes.Editor
 
         private void RunAll()
         {
-            if (!LpnnDialogs.ConfirmHeavy(_pointCount.Points, "run every step")) return;
+            if (!LpnnDialogs.ConfirmHeavy(_pointCount.Points, "run every step", HeavyOperations.RunAll(Volume))) return;
             if (EvaluationLighting.RewritesSceneLighting(Volume) && !LpnnDialogs.ConfirmSceneBake()) return;
             LpnnPipeline.Run(Volume, Session, PipelineStep.Placement, volume => EvaluationLighting.Create(volume, true), RunStep);
         }

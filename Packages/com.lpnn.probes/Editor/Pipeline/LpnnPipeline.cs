@@ -32,6 +32,9 @@ namespace Lpnn.Probes.Editor
         public static bool Run(LpnnVolume volume, LpnnSession session, PipelineStep until, Func<LpnnVolume, IEvaluationLighting> createLighting,
             StepExecutor execute)
         {
+            // No target group: fail the Placement step now, through the caller's error display, not after minutes of work.
+            if (until >= PipelineStep.Placement && volume.TargetGroup == null)
+                return execute(PipelineStep.Placement, (progress, cancel) => { ProbeGroupWriter.RequireTarget(volume.TargetGroup); return null; });
             for (var next = PipelineStep.Grid; next <= until; next++)
             {
                 var step = next;
@@ -202,6 +205,7 @@ namespace Lpnn.Probes.Editor
 
         public static PlacementResult Apply(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
+            ProbeGroupWriter.RequireTarget(volume.TargetGroup);  // before the ranking, search and refinement, not after them
             SelectedPositions(volume, session, progress, cancel, out var selection);
             return Apply(volume, session, selection);
         }
