@@ -206,14 +206,14 @@ namespace Lpnn.Probes.Editor
             var guide = LpnnPipeline.GuideScores(volume);
             var valid = PlacementInputs.ValidPoints(session, grid);
             int[] ranking = PlacementInputs.KnownInsertionRanking(session, grid, guide);
+            var measure = ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel);
             // The search reads the insertion order only up to the prefixes it evaluates, as Apply does, instead of ranking
             // every point first (issue 31: ~99 rounds over up to 10⁵ probes at 10⁵ points for an answer of a few thousand).
             var result = !PlacementMethods.RanksByInsertion(volume.Method)
-                ? _preview.Search(grid, volume.LastScores, settings, PlacementInputs.Evaluator(session, grid))
+                ? _preview.Search(grid, volume.LastScores, settings, measure)
                 : ranking != null
-                    ? _preview.SearchRanked(grid, ranking, valid, settings, PlacementInputs.Evaluator(session, grid))
-                    : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide), valid, settings,
-                        PlacementInputs.Evaluator(session, grid), progress, cancel);
+                    ? _preview.SearchRanked(grid, ranking, valid, settings, measure)
+                    : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide), valid, settings, measure, progress, cancel);
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
         }
 

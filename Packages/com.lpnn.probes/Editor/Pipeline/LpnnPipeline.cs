@@ -160,7 +160,10 @@ namespace Lpnn.Probes.Editor
         {
             var grid = PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
-            var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
+            // Each tolerance-search evaluation reports progress and honours cancel (Core.Selection.ReportingMeasure).
+            var measure = settings.Policy == SelectionPolicy.Tolerance
+                ? ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel)
+                : null;
             selection = PlacementMethods.RanksByInsertion(volume.Method)
                 ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
