@@ -179,6 +179,8 @@ namespace UnityEditor
         public delegate void CallbackFunction();
         // Editor/Mono/EditorApplication.cs:180
         public static CallbackFunction update;
+        // Editor/Mono/EditorApplication.cs:221
+        public static event Action hierarchyChanged { add { } remove { } }
     }
 }
 
@@ -675,6 +677,14 @@ namespace UnityEditor.SceneManagement
         public static bool SaveScene(Scene scene, string dstScenePath) { throw null; }
         // Editor/Mono/EditorSceneManager.cs:86
         public static bool SaveScene(Scene scene) { throw null; }
+    }
+    // Editor/Mono/SceneManagement/EditorSceneManager.cs:11
+    public sealed partial class EditorSceneManager
+    {
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:18
+        public delegate void SceneClosedCallback(Scene scene);
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:58
+        public static event SceneClosedCallback sceneClosed { add { } remove { } }
     }
     // Editor/Mono/EditorSceneManager.cs:15
     public enum NewSceneMode

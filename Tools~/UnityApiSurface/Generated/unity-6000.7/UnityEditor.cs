@@ -176,6 +176,8 @@ namespace UnityEditor
         public delegate void CallbackFunction();
         // Editor/Mono/EditorApplication.cs:198
         public static CallbackFunction update;
+        // Editor/Mono/EditorApplication.cs:242
+        public static event Action hierarchyChanged { add { } remove { } }
     }
 }
 
@@ -657,6 +659,14 @@ namespace UnityEditor.SceneManagement
         public static bool SaveScene(Scene scene, string dstScenePath) { throw null; }
         // Editor/Mono/EditorSceneManager.cs:88
         public static bool SaveScene(Scene scene) { throw null; }
+    }
+    // Editor/Mono/SceneManagement/EditorSceneManager.cs:12
+    public sealed partial class EditorSceneManager
+    {
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:19
+        public delegate void SceneClosedCallback(Scene scene);
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:59
+        public static event SceneClosedCallback sceneClosed { add { } remove { } }
     }
     // Editor/Mono/EditorSceneManager.cs:17
     public enum NewSceneMode
