@@ -43,12 +43,22 @@ namespace Lpnn.Probes.Core.Tests
             StringAssert.Contains("importer", decision.Message);
         }
 
+        [Test]
+        public void AnIndirectSentisBesideInferenceEngineIsLeftToTheUser()
+        {
+            var decision = InferencePackagePolicy.Decide("6000.0.23f1", Installed("com.unity.sentis", "2.1.3", "com.unity.ai.inference", "2.2.1"),
+                sentisIsDirect: false);
+            Assert.That(decision.Action, Is.EqualTo(InferencePackageAction.ResolveByHand));
+            Assert.That(decision.PackageToAdd, Is.EqualTo(""));
+            StringAssert.Contains("dependency of another package", decision.Message);
+        }
+
         [TestCase("2022.3.11f1", "com.unity.sentis", "2.1.3")]
         [TestCase("6000.0.23f1", "com.unity.sentis", "2.1.0")]
         [TestCase("6000.0.23f1", "com.unity.ai.inference", "2.2.0")]
         [TestCase("6000.3.2f1", "com.unity.ai.inference", "2.4.0")]
         [TestCase("6000.5.2f1", "com.unity.ai.inference", "2.2.2")]
-        [TestCase("6000.5.2f1", "com.unity.ai.inference", "2.2.0-pre.1")]
+        [TestCase("6000.5.2f1", "com.unity.ai.inference", "2.2.1-pre.1")]
         public void OneSupportedPackageIsLeftAlone(string unity, string name, string version)
         {
             var decision = InferencePackagePolicy.Decide(unity, Installed(name, version));
@@ -59,6 +69,9 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase("6000.0.23f1", "com.unity.sentis", "1.4.0", "com.unity.ai.inference@2.4.0")]
         [TestCase("6000.0.23f1", "com.unity.ai.inference", "3.0.0", "com.unity.ai.inference@2.4.0")]
         [TestCase("6000.0.23f1", "com.unity.ai.inference", "2.1.9", "com.unity.ai.inference@2.4.0")]
+        // Outside the asmdef's versionDefines range (a pre-release sorts below its release: UnityCsReference SemVersion.cs).
+        [TestCase("6000.0.23f1", "com.unity.ai.inference", "2.2.0-pre.1", "com.unity.ai.inference@2.4.0")]
+        [TestCase("2022.3.11f1", "com.unity.sentis", "2.1.0-exp.2", "com.unity.sentis@2.1.3")]
         public void AnUnsupportedVersionIsReplaced(string unity, string name, string version, string expected)
         {
             var decision = InferencePackagePolicy.Decide(unity, Installed(name, version));

@@ -588,6 +588,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:173
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:174
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:178

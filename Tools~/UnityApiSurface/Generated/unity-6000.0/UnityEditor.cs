@@ -564,6 +564,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:176
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:177
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:181

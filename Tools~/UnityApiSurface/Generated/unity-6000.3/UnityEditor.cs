@@ -570,6 +570,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:180
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:181
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:185

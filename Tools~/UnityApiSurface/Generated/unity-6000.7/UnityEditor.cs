@@ -569,6 +569,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:184
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:186
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:190

@@ -13,6 +13,9 @@ namespace Lpnn.Probes.Core.Scoring
         Add = 1,
         /// <summary>Both packages are installed, so both register an .onnx importer and Unity rejects both: remove Sentis.</summary>
         RemoveSentis = 2,
+        /// <summary>Both packages are installed but Sentis only as another package's dependency: Client.Remove cannot
+        /// remove it, so the user must remove or upgrade that package (the message says so).</summary>
+        ResolveByHand = 3,
     }
 
     /// <summary>The outcome of <see cref="InferencePackagePolicy.Decide"/>: the action, the package identifier for
@@ -65,8 +68,10 @@ namespace Lpnn.Probes.Core.Scoring
         public const int InferenceEngineFirstUnityMajor = 6000;
 
         /// <summary>Decides from the editor's version (Application.unityVersion, e.g. "2022.3.11f1" or "6000.0.23f1") and the
-        /// installed packages (name → version, e.g. from Client.List).</summary>
-        public static InferencePackageDecision Decide(string unityVersion, IReadOnlyDictionary<string, string> installed)
+        /// installed packages (name → version, e.g. from Client.List). <paramref name="sentisIsDirect"/>: whether Sentis is
+        /// in the project manifest (PackageInfo.isDirectDependency, UnityCsReference
+        /// Modules/PackageManager/Editor/Managed/PackageInfo.cs); Client.Remove removes only direct dependencies.</summary>
+        public static InferencePackageDecision Decide(string unityVersion, IReadOnlyDictionary<string, string> installed, bool sentisIsDirect = true)
         {
             if (installed == null) throw new ArgumentNullException(nameof(installed));
             int unityMajor = UnityMajor(unityVersion);
@@ -79,6 +84,11 @@ namespace Lpnn.Probes.Core.Scoring
                 ? InferenceEngineName + "@" + engineVersion
                 : SentisName + "@" + SentisVersion;
 
+            if (sentis != null && engine != null && !sentisIsDirect)
+                return new InferencePackageDecision(InferencePackageAction.ResolveByHand, "",
+                    "Both " + SentisName + " " + sentis + " and " + InferenceEngineName + " " + engine + " are installed, so Unity rejects " +
+                    "both .onnx importers, but " + SentisName + " comes in as a dependency of another package and cannot be removed " +
+                    "on its own. Remove or upgrade the package that depends on it (Window > Package Manager shows which).");
             if (sentis != null && engine != null)
                 return new InferencePackageDecision(InferencePackageAction.RemoveSentis, SentisName,
                     "Both " + SentisName + " " + sentis + " and " + InferenceEngineName + " " + engine + " are installed. Each registers an " +
@@ -137,17 +147,24 @@ namespace Lpnn.Probes.Core.Scoring
         /// <summary>True for versions in [major.minMinor, major.maxMinor] (any patch, pre-releases included).</summary>
         private static bool InRange(string version, int major, int minMinor, int maxMinor)
         {
-            return InRange(version, major, minMinor) && int.Parse(version.Split('.', '-')[1], CultureInfo.InvariantCulture) <= maxMinor;
+            return InRange(version, major, minMinor) && int.Parse(version.Split('.')[1], CultureInfo.InvariantCulture) <= maxMinor;
         }
 
-        /// <summary>True for versions in [major.minMinor, major+1.0) — pre-releases of that range included ("2.2.0-pre.1").</summary>
+        /// <summary>True for versions in [major.minMinor.0, major+1.0.0), as the Editor asmdef's versionDefines ranges
+        /// ("[2.2.0,3.0.0)", "[2.1.0,3.0.0)") decide whether LPNN_INFERENCE_ENGINE / LPNN_SENTIS is defined: a pre-release sorts
+        /// below its release (UnityCsReference Editor/Mono/Scripting/ScriptCompilation/SemVersion.cs, CompareExtension with
+        /// lower = true), so "2.2.0-pre.1" is outside [2.2.0, ...) while "2.2.1-pre.1" is inside.</summary>
         private static bool InRange(string version, int major, int minMinor)
         {
-            string[] parts = version.Split('.', '-');
-            if (parts.Length < 2) return false;
+            int dash = version.IndexOf('-');
+            string[] parts = (dash < 0 ? version : version.Substring(0, dash)).Split('.');
+            if (parts.Length < 3) return false;
             if (!int.TryParse(parts[0], NumberStyles.None, CultureInfo.InvariantCulture, out int vMajor)) return false;
             if (!int.TryParse(parts[1], NumberStyles.None, CultureInfo.InvariantCulture, out int vMinor)) return false;
-            return vMajor == major && vMinor >= minMinor;
+            if (!int.TryParse(parts[2], NumberStyles.None, CultureInfo.InvariantCulture, out int vPatch)) return false;
+            bool preRelease = dash >= 0;
+            if (vMajor != major || vMinor < minMinor) return false;
+            return !(preRelease && vMinor == minMinor && vPatch == 0);
         }
     }
 }
