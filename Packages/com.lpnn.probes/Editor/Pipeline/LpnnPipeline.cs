@@ -104,7 +104,7 @@ namespace Lpnn.Probes.Editor
             var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
             {
-                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(), progress, cancel);
+                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(volume.gameObject.scene), progress, cancel);
                 foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);
