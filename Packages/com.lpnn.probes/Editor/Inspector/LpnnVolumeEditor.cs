@@ -28,7 +28,7 @@ namespace Lpnn.Probes.Editor
         private void OnEnable()
         {
             _properties = new LpnnVolumeProperties(serializedObject);
-            _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+            _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
         }
 
         public override void OnInspectorGUI()
@@ -105,7 +105,7 @@ namespace Lpnn.Probes.Editor
                 if (GUILayout.Button(LpnnVolumeStyles.ExtractFeatures))
                 {
                     RunStep(PipelineStep.Features, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel));
-                    _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+                    _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Features]);

@@ -732,9 +732,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:10
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:38
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:43
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:48
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:85
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

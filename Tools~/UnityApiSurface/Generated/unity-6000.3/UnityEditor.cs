@@ -645,6 +645,8 @@ namespace UnityEditor.SceneManagement
         public static Scene OpenScene(string scenePath, OpenSceneMode mode) { throw null; }
         // Editor/Mono/EditorSceneManager.bindings.cs:94
         public static Scene NewScene(NewSceneSetup setup, NewSceneMode mode) { throw null; }
+        // Editor/Mono/EditorSceneManager.bindings.cs:134
+        public static bool IsPreviewScene(Scene scene) { throw null; }
     }
 }
 

@@ -869,9 +869,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:11
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:45
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:50
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:55
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:112
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

@@ -644,6 +644,8 @@ namespace UnityEditor.SceneManagement
         public static Scene OpenScene(string scenePath, OpenSceneMode mode) { throw null; }
         // Editor/Mono/EditorSceneManager.bindings.cs:92
         public static Scene NewScene(NewSceneSetup setup, NewSceneMode mode) { throw null; }
+        // Editor/Mono/EditorSceneManager.bindings.cs:136
+        public static bool IsPreviewScene(Scene scene) { throw null; }
     }
 }
 

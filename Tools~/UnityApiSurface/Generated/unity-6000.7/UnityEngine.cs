@@ -863,9 +863,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:12
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:48
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:53
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:58
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:115
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }
