@@ -36,7 +36,11 @@ namespace Lpnn.Probes.Editor
             serializedObject.Update();
             Steps.DropStale(Session, Volume);
             EditorGUILayout.HelpBox(LpnnVolumeStyles.Introduction, MessageType.None);
-            if (GUILayout.Button(LpnnVolumeStyles.RunAll)) RunAll();
+            if (GUILayout.Button(LpnnVolumeStyles.RunAll))
+            {
+                RunAll();
+                InspectorLayout.EndGuiAfterModal(serializedObject);  // after dialogs and progress bars, as ExportPanel does
+            }
             VolumeSection();
             LightingSection();
             FeaturesSection();
@@ -67,8 +71,12 @@ namespace Lpnn.Probes.Editor
             serializedObject.ApplyModifiedProperties();
             _pointCount.Update(Volume, Session);
             EditorGUILayout.HelpBox(_pointCount.Text, _pointCount.Type);
-            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid", HeavyOperation.Grid))
-                RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
+            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid))
+            {
+                if (LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid", HeavyOperation.Grid))
+                    RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session));
+                InspectorLayout.EndGuiAfterModal(serializedObject);
+            }
             InspectorLayout.Status(Steps[PipelineStep.Grid]);
         }
 
@@ -80,10 +88,12 @@ namespace Lpnn.Probes.Editor
             EditorGUILayout.HelpBox(EvaluationLighting.Explain(Volume), MessageType.Info);
             using (new EditorGUI.DisabledScope(Session.Grid == null))
             {
-                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting", HeavyOperation.Lighting))
+                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting))
                 {
-                    bool bake = !EvaluationLighting.RewritesSceneLighting(Volume) || LpnnDialogs.ConfirmSceneBake();
+                    bool bake = LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting", HeavyOperation.Lighting) &&
+                                (!EvaluationLighting.RewritesSceneLighting(Volume) || LpnnDialogs.ConfirmSceneBake());
                     if (bake) RunStep(PipelineStep.Lighting, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Lighting]);
@@ -106,6 +116,7 @@ namespace Lpnn.Probes.Editor
                 {
                     RunStep(PipelineStep.Features, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel));
                     _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Features]);
@@ -125,7 +136,10 @@ namespace Lpnn.Probes.Editor
             using (new EditorGUI.DisabledScope(Session.Features == null))
             {
                 if (GUILayout.Button(LpnnVolumeStyles.ScorePoints))
+                {
                     RunStep(PipelineStep.Scoring, (progress, cancel) => LpnnPipeline.Score(Volume, Session));
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
+                }
             }
             InspectorLayout.Status(Steps[PipelineStep.Scoring]);
             var record = Volume.LastScores;
