@@ -33,6 +33,15 @@ build() {  # build OUTPUT.dll "description" mcs-args... : compiles, counts, repo
   log "ok  $description"
 }
 
+# Mono 6.8's mcs reads a digit separator as a zero (250_000 compiles to 2500000; Unity's Roslyn reads 250000), so the
+# same literal would mean one thing in Unity and another in every Mono test: refuse them in our sources.
+if separators=$(grep -rnE '(^|[^A-Za-z0-9_"])[0-9]+(_[0-9]+)+([^A-Za-z0-9_]|$)' --include='*.cs' \
+    "$PKG/Runtime" "$PKG/Editor" "$REPO_ROOT/Tests" "$REPO_ROOT/Samples~" "$REPO_ROOT/Tools~/SelectionBench" "$REPO_ROOT/Tools~/golden" \
+    | grep -v '"[^"]*[0-9]_[0-9][^"]*"'); then
+  die "digit separators in numeric literals (mcs reads 250_000 as 2500000; write 250000):
+$separators"
+fi
+
 # The engine-agnostic core and its NUnit tests (configuration-independent).
 mapfile -t core < <(sources "$PKG/Runtime/Core")
 build "$OUT/Lpnn.Probes.Core.dll" "Runtime/Core (Lpnn.Probes.Core)" "${STRICT[@]}" "${core[@]}"
@@ -101,15 +110,15 @@ configure 6000.0 inference-engine-2.2.2
 configure 6000.0 inference-engine-2.4.0
 configure 6000.3 inference-engine-2.3.0
 configure 6000.3 inference-engine-2.4.0
-configure 6000.5 inference-engine-2.4.0
-configure 6000.7 inference-engine-2.4.0
+configure 6000.5 inference-engine-2.2.2
+configure 6000.7 inference-engine-2.2.2
 
 log "compile-unity-layer: $compiled assemblies compiled in $configurations configurations against the generated surfaces ($GENERATED/SOURCES.txt); obsolete-member use is an error (-warnaserror); compilation only, nothing ran in Unity"
 
 # The check can fail: a use of a member that Unity 6000.5 marks [Obsolete(..., true)] must be refused.
 canary="$OUT/obsolete-canary.cs"
 printf 'class ObsoleteCanary { int Id(UnityEngine.Object o) { return o.GetInstanceID(); } }\n' > "$canary"
-if "${BASE[@]}" "${STRICT[@]}" -out:"$OUT/obsolete-canary.dll" -r:"$OUT/unity6000.5-inference-engine-2.4.0/UnityEngine.dll" "$canary" > "$OUT/obsolete-canary.log" 2>&1 \
+if "${BASE[@]}" "${STRICT[@]}" -out:"$OUT/obsolete-canary.dll" -r:"$OUT/unity6000.5-inference-engine-2.2.2/UnityEngine.dll" "$canary" > "$OUT/obsolete-canary.log" 2>&1 \
    || ! grep -q "CS0619" "$OUT/obsolete-canary.log"; then
   die "the 6000.5 surface accepted Object.GetInstanceID() (expected error CS0619): the generated surface lost its [Obsolete] attributes"
 fi

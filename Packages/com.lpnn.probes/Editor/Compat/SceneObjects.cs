@@ -1,4 +1,7 @@
+using System.Collections.Generic;
+using UnityEditor.SceneManagement;
 using UnityEngine;
+using UnityEngine.SceneManagement;
 
 namespace Lpnn.Probes.Editor
 {
@@ -15,6 +18,19 @@ namespace Lpnn.Probes.Editor
 #else
             return Object.FindObjectsByType<T>(FindObjectsSortMode.None);
 #endif
+        }
+
+        /// <summary>The active objects of a type that share physics with <paramref name="scene"/>: those of a preview scene
+        /// (Prefab Mode's stage: UnityCsReference 6000.0 Editor/Mono/SceneManagement/StageManager/PrefabStage/PrefabStage.cs,
+        /// EditorSceneManager.NewPreviewScene), which FindObjectsByType does not search, read from its roots
+        /// (Runtime/Export/SceneManager/Scene.cs GetRootGameObjects; EditorSceneManager.bindings.cs IsPreviewScene); else
+        /// every loaded scene's, which share the default physics scene.</summary>
+        public static T[] SharingPhysicsWith<T>(Scene scene) where T : Component
+        {
+            if (!scene.IsValid() || !EditorSceneManager.IsPreviewScene(scene)) return FindAll<T>();
+            var found = new List<T>();
+            foreach (var root in scene.GetRootGameObjects()) found.AddRange(root.transform.GetComponentsInChildren<T>());
+            return found.ToArray();
         }
     }
 }

@@ -34,7 +34,7 @@ namespace Lpnn.Probes.Editor
             var maskRule = rule != InUseRule.All ? rule : seeds.Length > 0 ? InUseRule.Reachable : InUseRule.Band;
             using (new RaycastScope(volume, volume.AddTemporaryColliders))
             {
-                var walls = new PhysicsRaycaster();
+                var walls = new PhysicsRaycaster(volume.gameObject.scene);  // the volume's physics scene (Prefab Mode too)
                 var navMesh = volume.UseNavMesh ? NavMeshFloor.Baked() : null;
                 IRaycaster floors = navMesh ?? (IRaycaster)walls;
                 string floorSource = (navMesh == null ? "physics rays" : "the NavMesh (" + InvariantFormat.Count(navMesh.TriangleCount) + " triangles)") +

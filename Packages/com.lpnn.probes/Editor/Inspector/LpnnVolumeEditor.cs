@@ -1,4 +1,5 @@
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Placement;
 using Lpnn.Probes.Core.Scoring;
 using UnityEditor;
 using UnityEngine;
@@ -27,7 +28,7 @@ namespace Lpnn.Probes.Editor
         private void OnEnable()
         {
             _properties = new LpnnVolumeProperties(serializedObject);
-            _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+            _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
         }
 
         public override void OnInspectorGUI()
@@ -35,7 +36,11 @@ namespace Lpnn.Probes.Editor
             serializedObject.Update();
             Steps.DropStale(Session, Volume);
             EditorGUILayout.HelpBox(LpnnVolumeStyles.Introduction, MessageType.None);
-            if (GUILayout.Button(LpnnVolumeStyles.RunAll)) RunAll();
+            if (GUILayout.Button(LpnnVolumeStyles.RunAll))
+            {
+                RunAll();
+                InspectorLayout.EndGuiAfterModal(serializedObject);  // after dialogs and progress bars, as ExportPanel does
+            }
             VolumeSection();
             LightingSection();
             FeaturesSection();
@@ -67,8 +72,12 @@ namespace Lpnn.Probes.Editor
             serializedObject.ApplyModifiedProperties();
             _pointCount.Update(Volume, Session);
             EditorGUILayout.HelpBox(_pointCount.Text, _pointCount.Type);
-            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid"))
-                RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session, progress, cancel));
+            if (GUILayout.Button(LpnnVolumeStyles.BuildGrid))
+            {
+                if (LpnnDialogs.ConfirmHeavy(_pointCount.Points, "build the grid", HeavyOperation.Grid))
+                    RunStep(PipelineStep.Grid, (progress, cancel) => LpnnPipeline.BuildGrid(Volume, Session, progress, cancel));
+                InspectorLayout.EndGuiAfterModal(serializedObject);
+            }
             InspectorLayout.Status(Steps[PipelineStep.Grid]);
             if (Session.InUse != null && Steps[PipelineStep.Grid].Done)
                 EditorGUILayout.HelpBox(Session.InUse.Describe(), Session.InUse.Known ? MessageType.Info : MessageType.Warning);
@@ -101,10 +110,12 @@ namespace Lpnn.Probes.Editor
             EditorGUILayout.HelpBox(EvaluationLighting.Explain(Volume), MessageType.Info);
             using (new EditorGUI.DisabledScope(Session.Grid == null))
             {
-                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting) && LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting"))
+                if (GUILayout.Button(LpnnVolumeStyles.SampleLighting))
                 {
-                    bool bake = !EvaluationLighting.RewritesSceneLighting(Volume) || LpnnDialogs.ConfirmSceneBake();
+                    bool bake = LpnnDialogs.ConfirmHeavy(_pointCount.Points, "sample the lighting", HeavyOperation.Lighting) &&
+                                (!EvaluationLighting.RewritesSceneLighting(Volume) || LpnnDialogs.ConfirmSceneBake());
                     if (bake) RunStep(PipelineStep.Lighting, (progress, cancel) => LpnnPipeline.SampleLighting(Volume, Session, true, progress, cancel));
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Lighting]);
@@ -126,7 +137,8 @@ namespace Lpnn.Probes.Editor
                 if (GUILayout.Button(LpnnVolumeStyles.ExtractFeatures))
                 {
                     RunStep(PipelineStep.Features, (progress, cancel) => LpnnPipeline.ExtractFeatures(Volume, Session, progress, cancel));
-                    _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders().Count;
+                    _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Features]);
@@ -146,7 +158,10 @@ namespace Lpnn.Probes.Editor
             using (new EditorGUI.DisabledScope(Session.Features == null))
             {
                 if (GUILayout.Button(LpnnVolumeStyles.ScorePoints))
+                {
                     RunStep(PipelineStep.Scoring, (progress, cancel) => LpnnPipeline.Score(Volume, Session));
+                    InspectorLayout.EndGuiAfterModal(serializedObject);
+                }
             }
             InspectorLayout.Status(Steps[PipelineStep.Scoring]);
             var record = Volume.LastScores;
@@ -160,7 +175,7 @@ namespace Lpnn.Probes.Editor
 
         private void RunAll()
         {
-            if (!LpnnDialogs.ConfirmHeavy(_pointCount.Points, "run every step")) return;
+            if (!LpnnDialogs.ConfirmHeavy(_pointCount.Points, "run every step", HeavyOperations.RunAll(Volume))) return;
             if (EvaluationLighting.RewritesSceneLighting(Volume) && !LpnnDialogs.ConfirmSceneBake()) return;
             LpnnPipeline.Run(Volume, Session, PipelineStep.Placement, volume => EvaluationLighting.Create(volume, true), RunStep);
         }

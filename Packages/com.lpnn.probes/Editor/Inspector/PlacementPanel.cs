@@ -4,6 +4,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Placement;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEngine;
@@ -48,17 +49,33 @@ namespace Lpnn.Probes.Editor
             bool refines = byInsertion && volume.RefineInBatches;
             var preview = PreviewCount(volume, session);
             var placement = steps[PipelineStep.Placement];
+            long points = session.Grid != null ? session.Grid.Count : 0;
             using (new EditorGUILayout.HorizontalScope())
             {
                 using (new EditorGUI.DisabledScope((needsScores && volume.LastScores.IsEmpty) || (byInsertion && session.Sh == null)))
                 {
+                    // Each heavy button asks HeavyOperationPolicy first; after a dialog or a long step the GUI pass ends, since the
+                    // HorizontalScope's layout group is gone by then (InspectorLayout.EndGuiAfterModal, as ExportPanel does).
                     if (byInsertion && KnownInsertionRanking(volume, session) == null && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
-                        StepRunner.Run(volume, placement, (progress, cancel) => RankByInsertion(volume, session, progress, cancel));
+                    {
+                        if (LpnnDialogs.ConfirmHeavy(points, "rank every point by insertion", HeavyOperation.InsertionRanking))
+                            StepRunner.Run(volume, placement, (progress, cancel) => RankByInsertion(volume, session, progress, cancel));
+                        InspectorLayout.EndGuiAfterModal(edited);
+                    }
                     if (policy == SelectionPolicy.Tolerance && GUILayout.Button(LpnnVolumeStyles.FindProbes))
-                        StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
+                    {
+                        if (LpnnDialogs.ConfirmHeavy(points, "search the tolerance", HeavyOperations.Placement(volume, policy, true)))
+                            StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
+                        InspectorLayout.EndGuiAfterModal(edited);
+                    }
                     if (GUILayout.Button(LpnnVolumeStyles.Apply))
-                        runStep(PipelineStep.Placement, (progress, cancel) =>
-                            preview != null && !refines ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
+                    {
+                        bool known = preview != null && !refines;
+                        if (known || LpnnDialogs.ConfirmHeavy(points, "place the probes", HeavyOperations.Placement(volume, policy, false)))
+                            runStep(PipelineStep.Placement, (progress, cancel) =>
+                                known ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
+                        InspectorLayout.EndGuiAfterModal(edited);
+                    }
                 }
                 if (GUILayout.Button(LpnnVolumeStyles.Clear))
                     StepRunner.Run(volume, placement, (progress, cancel) => { ProbeGroupWriter.Clear(volume.TargetGroup); return "probes cleared"; });
@@ -124,7 +141,9 @@ namespace Lpnn.Probes.Editor
                     }
                     else
                     {
-                        result = null;
+                        // A tolerance search made over the order's prefixes (Find probes) is shown without the whole ranking.
+                        result = _preview.Kept(grid, PlacementInputs.KnownInsertionOrder(session, grid, LpnnPipeline.GuideScores(volume)),
+                            volume.GetSelectionSettings());
                         error = LpnnVolumeStyles.InsertionNotRankedYet;
                     }
                 }
@@ -185,10 +204,17 @@ namespace Lpnn.Probes.Editor
         {
             var grid = LpnnPipeline.PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
-            var result = PlacementMethods.RanksByInsertion(volume.Method)
-                ? _preview.SearchRanked(grid, PlacementInputs.RankByInsertion(session, grid, progress, cancel, LpnnPipeline.GuideScores(volume)),
-                    PlacementInputs.ValidPoints(session, grid), settings, PlacementInputs.Evaluator(session, grid))
-                : _preview.Search(grid, volume.LastScores, settings, PlacementInputs.Evaluator(session, grid));
+            var guide = LpnnPipeline.GuideScores(volume);
+            var valid = PlacementInputs.ValidPoints(session, grid);
+            int[] ranking = PlacementInputs.KnownInsertionRanking(session, grid, guide);
+            var measure = ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel);
+            // The search reads the insertion order only up to the prefixes it evaluates, as Apply does, instead of ranking
+            // every point first (issue 31: ~99 rounds over up to 10⁵ probes at 10⁵ points for an answer of a few thousand).
+            var result = !PlacementMethods.RanksByInsertion(volume.Method)
+                ? _preview.Search(grid, volume.LastScores, settings, measure)
+                : ranking != null
+                    ? _preview.SearchRanked(grid, ranking, valid, settings, measure)
+                    : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide), valid, settings, measure, progress, cancel);
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
         }
 

@@ -3,6 +3,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Placement;
 using UnityEditor;
 
 namespace Lpnn.Probes.Editor
@@ -12,7 +13,7 @@ namespace Lpnn.Probes.Editor
     internal sealed class PointCountEstimate
     {
         /// <summary>Points above which the inspector asks before running a heavy step.</summary>
-        public const int LargeGrid = 250_000;
+        public const long LargeGrid = HeavyOperationPolicy.LargeGrid;
 
         private string _signature;
 

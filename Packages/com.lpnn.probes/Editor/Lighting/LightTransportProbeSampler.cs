@@ -57,24 +57,32 @@ namespace Lpnn.Probes.Editor
 
         public float[] Sample(EvaluationGrid grid, ProgressCallback progress, CancellationToken cancel)
         {
-            Prepare();
+            Prepare(progress, cancel);
             return FeatureExtractor.SampleLighting(grid, this, progress, cancel);
         }
 
-        private void Prepare()
+        /// <summary>Extraction and PopulateWorld are single native calls (UnityCsReference 6000.0 Editor/Mono/GI/InputExtraction.cs)
+        /// that cannot be interrupted, so progress is named before each and cancel is honoured between them.</summary>
+        private void Prepare(ProgressCallback progress, CancellationToken cancel)
         {
             if (_prepared) return;
+            cancel.ThrowIfCancellationRequested();
+            progress?.Invoke("extracting the scene for the light baker", 0, 3);
             if (!InputExtraction.ExtractFromScene(out var input))
                 throw new LpnnException("Unity could not extract the scene for light baking (see the console); check that lights and " +
                                         "static renderers are set up for baked lighting, or use 'Interpolate Scene Probes'");
             if (!_context.Initialize())
                 throw new LpnnException("the GPU light baker (RadeonRays) could not start on this machine — for example in batch mode with " +
                                         "-nographics or without an OpenCL-capable GPU; run with a GPU or use 'Interpolate Scene Probes'");
+            cancel.ThrowIfCancellationRequested();
+            progress?.Invoke("preparing the scene for the light baker (PopulateWorld)", 1, 3);
             using (var worldProgress = new BakeProgressState())
             {
                 if (!InputExtraction.PopulateWorld(input, worldProgress, _context, _world))
                     throw new LpnnException("Unity could not prepare the scene for light baking (PopulateWorld failed; see the console)");
             }
+            cancel.ThrowIfCancellationRequested();
+            progress?.Invoke("starting the probe post-processing", 2, 3);
             if (!_postProcessor.Initialize(_context))
                 throw new LpnnException("Unity's probe post-processing could not start (see the console)");
             _prepared = true;

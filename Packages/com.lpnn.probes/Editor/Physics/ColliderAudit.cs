@@ -1,6 +1,7 @@
 using System.Collections.Generic;
 using UnityEditor;
 using UnityEngine;
+using UnityEngine.SceneManagement;
 
 namespace Lpnn.Probes.Editor
 {
@@ -8,10 +9,11 @@ namespace Lpnn.Probes.Editor
     /// but have no collider, so the occlusion features would see straight through them.</summary>
     internal static class ColliderAudit
     {
-        public static List<MeshFilter> StaticMeshesWithoutColliders()
+        /// <param name="scene">The volume's scene: in Prefab Mode only its stage's objects share the rays' physics scene.</param>
+        public static List<MeshFilter> StaticMeshesWithoutColliders(Scene scene)
         {
             var missing = new List<MeshFilter>();
-            foreach (var renderer in SceneObjects.FindAll<MeshRenderer>())
+            foreach (var renderer in SceneObjects.SharingPhysicsWith<MeshRenderer>(scene))
             {
                 if (!renderer.enabled || !renderer.gameObject.activeInHierarchy) continue;
                 // GameObjectUtility.GetStaticEditorFlags: Editor/Mono/GameObjectUtility.bindings.cs; flags: Editor/Mono/StaticEditorFlags.cs.

@@ -1,6 +1,7 @@
 using Lpnn.Probes.Core.Features;
 using Unity.Collections;
 using UnityEngine;
+using UnityEngine.SceneManagement;
 using NumericsVector3 = System.Numerics.Vector3;
 
 namespace Lpnn.Probes.Editor
@@ -15,6 +16,18 @@ namespace Lpnn.Probes.Editor
     internal sealed class PhysicsRaycaster : IRaycaster
     {
         private const int MinCommandsPerJob = 256;
+        private readonly PhysicsScene _physics;
+
+        /// <summary>Casts in the physics scene of <paramref name="scene"/> (the volume's). A Prefab Mode stage is a preview
+        /// scene with its own physics scene (UnityCsReference 6000.0 Editor/Mono/SceneManagement/StageManager/PrefabStage/
+        /// PrefabStage.cs: EditorSceneManager.NewPreviewScene), so the RaycastCommand constructor without a PhysicsScene,
+        /// which queries Physics.defaultPhysicsScene, would see none of the prefab's colliders there: every point valid,
+        /// every occlusion feature zero (issue 31). Scene.GetPhysicsScene and RaycastCommand(PhysicsScene, ...): 2022.3
+        /// Modules/Physics/ScriptBindings/Dynamics.bindings.cs, QueryCommand.bindings.cs; 6000.x PhysicsScene.bindings.cs.</summary>
+        public PhysicsRaycaster(Scene scene)
+        {
+            _physics = scene.GetPhysicsScene();
+        }
 
         public void Cast(NumericsVector3[] origins, NumericsVector3[] directions, float maxDistance, RayHit[] results)
         {
@@ -26,7 +39,7 @@ namespace Lpnn.Probes.Editor
             try
             {
                 for (int r = 0; r < count; r++)
-                    commands[r] = new RaycastCommand(origins[r].ToUnity(), directions[r].ToUnity(), query, maxDistance);
+                    commands[r] = new RaycastCommand(_physics, origins[r].ToUnity(), directions[r].ToUnity(), query, maxDistance);
                 RaycastCommand.ScheduleBatch(commands, hits, MinCommandsPerJob, 1).Complete();
                 for (int r = 0; r < count; r++)
                 {

@@ -26,7 +26,7 @@ namespace Lpnn.Probes.Editor
                     collider.enabled = false;
                     _disabled.Add(collider);
                 }
-                var missing = ColliderAudit.StaticMeshesWithoutColliders();
+                var missing = ColliderAudit.StaticMeshesWithoutColliders(volume.gameObject.scene);
                 if (addTemporaryColliders)
                 {
                     foreach (var filter in missing)

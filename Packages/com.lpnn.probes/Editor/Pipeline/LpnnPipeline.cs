@@ -33,6 +33,9 @@ namespace Lpnn.Probes.Editor
         public static bool Run(LpnnVolume volume, LpnnSession session, PipelineStep until, Func<LpnnVolume, IEvaluationLighting> createLighting,
             StepExecutor execute)
         {
+            // No target group: fail the Placement step now, through the caller's error display, not after minutes of work.
+            if (until >= PipelineStep.Placement && volume.TargetGroup == null)
+                return execute(PipelineStep.Placement, (progress, cancel) => { ProbeGroupWriter.RequireTarget(volume.TargetGroup); return null; });
             for (var next = PipelineStep.Grid; next <= until; next++)
             {
                 var step = next;
@@ -109,7 +112,7 @@ namespace Lpnn.Probes.Editor
             var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
             {
-                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(), progress, cancel);
+                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(volume.gameObject.scene), progress, cancel);
                 foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);
@@ -166,7 +169,10 @@ namespace Lpnn.Probes.Editor
         {
             var grid = PlacementGrid(volume, session);
             var settings = volume.GetSelectionSettings();
-            var measure = settings.Policy == SelectionPolicy.Tolerance ? PlacementInputs.Evaluator(session, grid) : null;
+            // Each tolerance-search evaluation reports progress and honours cancel (Core.Selection.ReportingMeasure).
+            var measure = settings.Policy == SelectionPolicy.Tolerance
+                ? ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel)
+                : null;
             selection = PlacementMethods.RanksByInsertion(volume.Method)
                 ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
@@ -211,6 +217,7 @@ namespace Lpnn.Probes.Editor
 
         public static PlacementResult Apply(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
+            ProbeGroupWriter.RequireTarget(volume.TargetGroup);  // before the ranking, search and refinement, not after them
             SelectedPositions(volume, session, progress, cancel, out var selection);
             return Apply(volume, session, selection);
         }

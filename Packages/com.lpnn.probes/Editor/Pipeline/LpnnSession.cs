@@ -3,6 +3,7 @@ using System.Collections.Generic;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using UnityEditor;
+using UnityEditor.SceneManagement;
 
 namespace Lpnn.Probes.Editor
 {
@@ -19,7 +20,17 @@ namespace Lpnn.Probes.Editor
             // The Sentis worker holds native/GPU memory: release it before scripts reload
             // (AssemblyReloadEvents: UnityCsReference Editor/Mono/AssemblyReloadEvents.cs).
             AssemblyReloadEvents.beforeAssemblyReload += DisposeAll;
+            // A closed scene or a deleted volume must not keep its grid, lighting, features, cached insertion orders (keyed by
+            // the session's SH) and worker until the next domain reload (~336 MB per 10⁶ points; issue 31). Both events
+            // come after the objects are destroyed, when Unity's == null is true for them (UnityCsReference
+            // Editor/Mono/SceneManagement/EditorSceneManager.cs sceneClosed, Editor/Mono/EditorApplication.cs hierarchyChanged,
+            // Runtime/Export/Scripting/UnityEngineObject.bindings.cs operator ==).
+            EditorSceneManager.sceneClosed += scene => ReleaseOrphans();
+            EditorApplication.hierarchyChanged += ReleaseOrphans;
         }
+
+        /// <summary>The volume this session belongs to (destroyed: == null), to release the session with it.</summary>
+        private LpnnVolume _volume;
 
         public EvaluationGrid Grid { get; private set; }
         /// <summary>The volume signature the grid was built for (GridSignature.Of).</summary>
@@ -43,7 +54,7 @@ namespace Lpnn.Probes.Editor
             var key = ObjectKey.Of(volume);
             if (!Sessions.TryGetValue(key, out var session))
             {
-                session = new LpnnSession();
+                session = new LpnnSession { _volume = volume };
                 Sessions[key] = session;
             }
             return session;
@@ -86,6 +97,23 @@ namespace Lpnn.Probes.Editor
             ModelRunner?.Dispose();
             ModelRunner = null;
         }
+
+        /// <summary>Disposes and drops the sessions whose volume was destroyed (its scene closed, or the component deleted).</summary>
+        internal static void ReleaseOrphans()
+        {
+            List<ObjectKey> orphans = null;
+            foreach (var entry in Sessions)
+                if (entry.Value._volume == null) (orphans ?? (orphans = new List<ObjectKey>())).Add(entry.Key);
+            if (orphans == null) return;
+            foreach (var key in orphans)
+            {
+                Sessions[key].Dispose();
+                Sessions.Remove(key);
+            }
+        }
+
+        /// <summary>How many volumes have a session (for tests of the release).</summary>
+        internal static int Count => Sessions.Count;
 
         private static void DisposeAll()
         {

@@ -14,7 +14,7 @@ namespace Lpnn.Probes.Editor
     internal sealed class PlacementErrorEstimate
     {
         /// <summary>Up to this many evaluation points the estimate follows the settings live.</summary>
-        public const int LivePointLimit = 50_000;
+        public const int LivePointLimit = 50000;
 
         private SelectionResult _selection;
         private float[] _sh;

@@ -112,6 +112,14 @@ namespace Lpnn.Probes.Editor
             return entry != null && entry.Matches(grid, features, guideScores) ? entry : null;
         }
 
+        /// <summary>The kept insertion order of these inputs, however far it was computed, or null (never computes).</summary>
+        public static Core.Quality.InsertionOrder KnownInsertionOrder(LpnnSession session, EvaluationGrid grid, float[] guideScores = null)
+        {
+            if (session.Sh == null || session.Grid != grid) return null;
+            var features = ValidPoints(session, grid) == null ? null : session.Features;
+            return KnownEntry(session, grid, features, guideScores)?.Order;
+        }
+
         /// <summary>The whole insertion ranking (guided by <paramref name="guideScores"/> when given) if it was already computed
         /// for this lighting, grid, validity and scores, else null (never computes: the inspector's repaint must stay fast).</summary>
         public static int[] KnownInsertionRanking(LpnnSession session, EvaluationGrid grid, float[] guideScores = null)

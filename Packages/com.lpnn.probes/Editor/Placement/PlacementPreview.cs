@@ -1,3 +1,4 @@
+using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Selection;
 
@@ -52,6 +53,16 @@ namespace Lpnn.Probes.Editor
         /// <summary>The tolerance search over a ranking that is not made of scores (the insertion ranking), valid points only.</summary>
         public SelectionResult SearchRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, IPlacementErrorMeasure measure) =>
             Keep(grid, ranking, settings, ProbeSelector.SelectFromRanking(grid, ranking, settings, measure, valid));
+
+        /// <summary>The tolerance search over an insertion order read only as far as the search's prefixes (as Apply does,
+        /// LpnnPipeline.SelectByInsertion), not the whole ranking; kept under the order for <see cref="Kept"/>.</summary>
+        public SelectionResult SearchPrefixes(EvaluationGrid grid, Core.Quality.InsertionOrder order, bool[] valid, SelectionSettings settings,
+            IPlacementErrorMeasure measure, ProgressCallback progress, System.Threading.CancellationToken cancel) =>
+            Keep(grid, order, settings, ProbeSelector.SelectFromPrefixes(grid, order.Count, count => order.Prefix(count, progress, cancel), settings, measure, valid));
+
+        /// <summary>The result kept for exactly these inputs, or null (never computes).</summary>
+        public SelectionResult Kept(EvaluationGrid grid, object source, SelectionSettings settings) =>
+            source != null && SameInputs(grid, source, settings) ? _result : null;
 
         private SelectionResult Keep(EvaluationGrid grid, object source, SelectionSettings settings, SelectionResult result)
         {

@@ -12,10 +12,18 @@ namespace Lpnn.Probes.Editor
     /// the group inspector converts with TransformPoint: Editor/Mono/Inspector/LightProbeGroupInspector.cs).</summary>
     public static class ProbeGroupWriter
     {
-        public static void Apply(LightProbeGroup group, IReadOnlyList<NumericsVector3> worldPositions, string undoName)
+        /// <summary>Throws, naming what to do, when there is no group to write to: a missing or destroyed component (Unity's
+        /// == null is true for both: UnityCsReference Runtime/Export/Scripting/UnityEngineObject.bindings.cs, operator ==).
+        /// Callers check before minutes of selection work, not only when writing.</summary>
+        public static void RequireTarget(LightProbeGroup group)
         {
             if (group == null)
                 throw new LpnnException("the volume has no target LightProbeGroup; assign one (GameObject > Light > LPNN Probes creates one)");
+        }
+
+        public static void Apply(LightProbeGroup group, IReadOnlyList<NumericsVector3> worldPositions, string undoName)
+        {
+            RequireTarget(group);
             var local = UnityCoreConversions.WorldToLocal(group.transform, worldPositions);
             // A complete copy for Undo, as Unity's own probe-group editor does for every probe edit (UnityCsReference
             // Editor/Mono/Inspector/LightProbeGroupInspector.cs: Undo.RegisterCompleteObjectUndo): the whole position array is

@@ -67,6 +67,13 @@ namespace Lpnn.Probes.Editor
             if (_worker != null && _device == device) return;
             DisposeWorker();
             EnsureModel();
+            // fp32 on both backends, kept by never quantizing: half precision turned 130,862 of 135,104 scores into ties on a
+            // whole level (issue 31). Neither package has a half-precision tensor type (needle-mirror/com.unity.ai.inference
+            // 2.4.0 Runtime/Core/Backends/CPU/NativeTensorArray.cs DataType: Float, Int, Short, Byte), fp16 ONNX constants are
+            // widened to Float on import (Editor/ONNX/ONNXConstantsLoader.cs:146; com.unity.sentis 2.1.3 :154), and weights
+            // become fp16 only through ModelQuantizer.QuantizeWeights(QuantizationType.Float16)
+            // (Runtime/Core/Quantization/ModelQuantizer.cs), which this package never calls. GPU and CPU still differ in the
+            // order of their fp32 reductions (up to 2.2e-3 on 135,104 points); ties are broken by grid index in ranking.
             _worker = new Worker(_model, device == ScoringDevice.GpuCompute ? BackendType.GPUCompute : BackendType.CPU);
             _device = device;
         }

@@ -73,16 +73,21 @@ namespace Lpnn.Probes.Editor
                 return;
             }
             var installed = new Dictionary<string, string>();
-            foreach (var package in request.Result) installed[package.name] = package.version;
-            Current = InferencePackagePolicy.Decide(Application.unityVersion, installed);
+            bool sentisIsDirect = true;
+            foreach (var package in request.Result)
+            {
+                installed[package.name] = package.version;
+                if (package.name == InferencePackagePolicy.SentisName) sentisIsDirect = package.isDirectDependency;
+            }
+            Current = InferencePackagePolicy.Decide(Application.unityVersion, installed, sentisIsDirect);
             if (Current.Action != InferencePackageAction.Ready) Offer(Current);
         }
 
         /// <summary>Asks once per editor session (SessionState survives domain reloads, not restarts); in batch mode, where
-        /// no dialog can be answered, it only logs what to do.</summary>
+        /// no dialog can be answered, or when no Package Manager call can fix it (an indirect Sentis), it only logs what to do.</summary>
         private static void Offer(InferencePackageDecision decision)
         {
-            if (Application.isBatchMode)
+            if (Application.isBatchMode || decision.Action == InferencePackageAction.ResolveByHand)
             {
                 Debug.LogWarning("[LPNN] " + decision.Message + " (LPNN Probes cannot score until then.)");
                 return;

@@ -179,6 +179,8 @@ namespace UnityEditor
         public delegate void CallbackFunction();
         // Editor/Mono/EditorApplication.cs:180
         public static CallbackFunction update;
+        // Editor/Mono/EditorApplication.cs:221
+        public static event Action hierarchyChanged { add { } remove { } }
     }
 }
 
@@ -586,6 +588,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:173
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:174
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:178
@@ -659,6 +663,8 @@ namespace UnityEditor.SceneManagement
         public static Scene OpenScene(string scenePath, OpenSceneMode mode) { throw null; }
         // Editor/Mono/EditorSceneManager.bindings.cs:94
         public static Scene NewScene(NewSceneSetup setup, NewSceneMode mode) { throw null; }
+        // Editor/Mono/EditorSceneManager.bindings.cs:134
+        public static bool IsPreviewScene(Scene scene) { throw null; }
     }
 }
 
@@ -675,6 +681,14 @@ namespace UnityEditor.SceneManagement
         public static bool SaveScene(Scene scene, string dstScenePath) { throw null; }
         // Editor/Mono/EditorSceneManager.cs:86
         public static bool SaveScene(Scene scene) { throw null; }
+    }
+    // Editor/Mono/SceneManagement/EditorSceneManager.cs:11
+    public sealed partial class EditorSceneManager
+    {
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:18
+        public delegate void SceneClosedCallback(Scene scene);
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:58
+        public static event SceneClosedCallback sceneClosed { add { } remove { } }
     }
     // Editor/Mono/EditorSceneManager.cs:15
     public enum NewSceneMode

@@ -203,6 +203,16 @@ namespace UnityEngine
         // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:1575
         public static void SyncTransforms() { throw null; }
     }
+    // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:606
+    public partial struct PhysicsScene
+    {
+    }
+    // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:918
+    public static partial class PhysicsSceneExtensions
+    {
+        // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:920
+        public static PhysicsScene GetPhysicsScene(this Scene scene) { throw null; }
+    }
     // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:37
     public partial struct RaycastHit
     {
@@ -659,6 +669,8 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
         public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:60
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:75
         public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
@@ -739,9 +751,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:10
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:38
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:43
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:48
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:85
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

@@ -695,6 +695,24 @@ namespace UnityEngine
 namespace UnityEngine
 {
     using System;
+    using System.Runtime.CompilerServices;
+    using System.Runtime.InteropServices;
+    using UnityEngine.SceneManagement;
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:17
+    public partial struct PhysicsScene
+    {
+    }
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:354
+    public static partial class PhysicsSceneExtensions
+    {
+        // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:356
+        public static PhysicsScene GetPhysicsScene(this Scene scene) { throw null; }
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
     using System.Collections.Generic;
     using System.Runtime.InteropServices;
     using Unity.Collections;
@@ -710,6 +728,8 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
         public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:61
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:76
         public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
@@ -780,9 +800,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:10
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:38
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:43
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:48
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:91
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

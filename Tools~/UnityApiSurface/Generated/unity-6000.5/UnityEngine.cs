@@ -690,6 +690,24 @@ namespace UnityEngine
 namespace UnityEngine
 {
     using System;
+    using System.Runtime.CompilerServices;
+    using System.Runtime.InteropServices;
+    using UnityEngine.SceneManagement;
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:17
+    public partial struct PhysicsScene
+    {
+    }
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:355
+    public static partial class PhysicsSceneExtensions
+    {
+        // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:357
+        public static PhysicsScene GetPhysicsScene(this Scene scene) { throw null; }
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
     using System.Collections.Generic;
     using System.Runtime.InteropServices;
     using Unity.Collections;
@@ -705,6 +723,8 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:54
         public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:63
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:78
         public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
@@ -868,9 +888,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:11
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:45
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:50
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:55
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:112
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

@@ -176,6 +176,8 @@ namespace UnityEditor
         public delegate void CallbackFunction();
         // Editor/Mono/EditorApplication.cs:198
         public static CallbackFunction update;
+        // Editor/Mono/EditorApplication.cs:242
+        public static event Action hierarchyChanged { add { } remove { } }
     }
 }
 
@@ -567,6 +569,8 @@ namespace UnityEditor.PackageManager
     // Modules/PackageManager/Editor/Managed/PackageInfo.cs:23
     public sealed partial class PackageInfo
     {
+        // Modules/PackageManager/Editor/Managed/PackageInfo.cs:184
+        public bool isDirectDependency { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:186
         public string version { get { throw null; } }
         // Modules/PackageManager/Editor/Managed/PackageInfo.cs:190
@@ -640,6 +644,8 @@ namespace UnityEditor.SceneManagement
         public static Scene OpenScene(string scenePath, OpenSceneMode mode) { throw null; }
         // Editor/Mono/EditorSceneManager.bindings.cs:92
         public static Scene NewScene(NewSceneSetup setup, NewSceneMode mode) { throw null; }
+        // Editor/Mono/EditorSceneManager.bindings.cs:136
+        public static bool IsPreviewScene(Scene scene) { throw null; }
     }
 }
 
@@ -657,6 +663,14 @@ namespace UnityEditor.SceneManagement
         public static bool SaveScene(Scene scene, string dstScenePath) { throw null; }
         // Editor/Mono/EditorSceneManager.cs:88
         public static bool SaveScene(Scene scene) { throw null; }
+    }
+    // Editor/Mono/SceneManagement/EditorSceneManager.cs:12
+    public sealed partial class EditorSceneManager
+    {
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:19
+        public delegate void SceneClosedCallback(Scene scene);
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:59
+        public static event SceneClosedCallback sceneClosed { add { } remove { } }
     }
     // Editor/Mono/EditorSceneManager.cs:17
     public enum NewSceneMode

@@ -684,6 +684,24 @@ namespace UnityEngine
 namespace UnityEngine
 {
     using System;
+    using System.Runtime.CompilerServices;
+    using System.Runtime.InteropServices;
+    using UnityEngine.SceneManagement;
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:17
+    public partial struct PhysicsScene
+    {
+    }
+    // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:355
+    public static partial class PhysicsSceneExtensions
+    {
+        // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:357
+        public static PhysicsScene GetPhysicsScene(this Scene scene) { throw null; }
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
     using System.Collections.Generic;
     using System.Runtime.InteropServices;
     using Unity.Collections;
@@ -699,6 +717,8 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:54
         public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:63
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
         // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:78
         public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
@@ -862,9 +882,13 @@ namespace UnityEngine.SceneManagement
     // Runtime/Export/SceneManager/Scene.cs:12
     public partial struct Scene
     {
+        // Runtime/Export/SceneManager/Scene.cs:48
+        public bool IsValid() { throw null; }
         // Runtime/Export/SceneManager/Scene.cs:53
         public string path { get { throw null; } }
         // Runtime/Export/SceneManager/Scene.cs:58
         public string name { get { throw null; } set { } }
+        // Runtime/Export/SceneManager/Scene.cs:115
+        public GameObject[] GetRootGameObjects() { throw null; }
     }
 }

@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Core.Grid
     /// the world origin. The exact point count is known before any per-point array is allocated.</summary>
     public static class GridBuilder
     {
-        public const int DefaultPointLimit = 2_000_000;
+        public const int DefaultPointLimit = 2000000;
 
         /// <summary>Rows are bounded too, so absurd inputs fail fast instead of enumerating forever.</summary>
         public const int RowsPerPointLimit = 4;

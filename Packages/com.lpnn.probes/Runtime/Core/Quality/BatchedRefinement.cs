@@ -147,6 +147,7 @@ namespace Lpnn.Probes.Core.Quality
                 int back = commit.Count;
                 while (byTolerance && following.ErrorSum > limit && back > 0)  // an unattributed hull effect
                 {
+                    cancel.ThrowIfCancellationRequested();  // each retry is a tetrahedralisation and an evaluation (issue 31)
                     back--;
                     locked[commit[back]] = true;
                     following = state.Without(reference, tetrahedralizer, commit.GetRange(0, back).ToArray());

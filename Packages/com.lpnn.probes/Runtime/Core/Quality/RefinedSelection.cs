@@ -55,7 +55,11 @@ namespace Lpnn.Probes.Core.Quality
                 return new SelectionResult(counted.Indices, selection.CornersAdded, 0, null, seedPoints.Length);
             }
             var refined = BatchedRefinement.WithinTolerance(evaluator.Reference, tetrahedralizer, seedPoints, settings.Value, keep, progress, cancel);
-            bool better = refined.MeanError <= settings.Value && refined.Indices.Length < target;
+            // The refinement's error is updated incrementally, exact only for the unique tie-broken Delaunay of our stand-in;
+            // Unity's native tetrahedraliser may split co-spherical points differently (issue 31), so the final set is
+            // evaluated once, from scratch, with the same tetrahedraliser Apply's preview uses, before it replaces the search's.
+            bool better = refined.Indices.Length < target && refined.MeanError <= settings.Value &&
+                          evaluator.MeanError(refined.Indices) <= settings.Value;
             return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, seedPoints.Length) : selection;
         }
 

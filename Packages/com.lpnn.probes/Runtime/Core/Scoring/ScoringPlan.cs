@@ -31,7 +31,7 @@ namespace Lpnn.Probes.Core.Scoring
         /// <summary>Points scored in one pass unless the caller sets another limit. The network pools over the whole
         /// cloud, so a grid cannot be split into chunks without changing its scores; activations grow with the point
         /// count (hundreds of floats per point per layer), which this bound keeps within a desktop GPU's memory.</summary>
-        public const int DefaultMaxPoints = 1_000_000;
+        public const int DefaultMaxPoints = 1000000;
 
         /// <summary>Backends to try, in order. Auto falls back to the CPU when the GPU run throws.</summary>
         public static IReadOnlyList<ScoringDevice> Attempts(ScoringBackendPreference preference, bool supportsComputeShaders)
