@@ -13,5 +13,6 @@ PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_sh_golden.py" "$REPO_ROOT/T
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_quality_golden.py" "$REPO_ROOT/Tests/Data"
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_insertion_golden.py" "$REPO_ROOT/Tests/Data"
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_batched_refinement_golden.py" "$REPO_ROOT/Tests/Data"
+PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_leak_aware_golden.py" "$REPO_ROOT/Tests/Data"
 python3 "Tools~/golden/make_leaks_golden.py"
 python3 "Tools~/golden/make_in_use_golden.py"

@@ -15,7 +15,8 @@
   with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
   K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
 F = RECOMMENDED_REFINE (2), the refine tier's factor. The C# core runs the same steps (BatchedRefinement.cs) with
-Unity's tetrahedralisation: what an LPNN volume does by default (without the leak option, Python only for now).
+Unity's tetrahedralisation: what an LPNN volume does by default. The C# core has the leak option too (LeakWeighting,
+LeakRepair, RefinedSelection; Tests/Data/leak_aware_golden.json), off by default there as here.
 """
 
 from __future__ import annotations

@@ -40,24 +40,36 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="seed">Evaluation point indices (distinct, at least 4, not in one plane).</param>
         /// <param name="keep">Point indices never removed (e.g. the bounds corners), or null.</param>
         public static BatchedRefinementResult ToCount(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int count,
-            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction) =>
+            ToCount(reference, tetrahedralizer, seed, count, null, keep, progress, cancel, fraction);
+
+        /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) every error the rounds sum is the
+        /// leak-weighted one (Documentation~/leaks.md "A leak-aware default"), the result's mean error included.</summary>
+        internal static BatchedRefinementResult ToCount(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int count,
+            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
         {
             if (count < 1) throw new PlacementErrorException("the count to refine down to must be at least 1, got " + count);
-            return Run(reference, tetrahedralizer, seed, Math.Max(ProbeIndices.Minimum, count), double.NaN, keep, progress, cancel, fraction);
+            return Run(reference, tetrahedralizer, seed, Math.Max(ProbeIndices.Minimum, count), double.NaN, keep, progress, cancel, fraction, leaks);
         }
 
         /// <summary>As far as the mean irradiance error stays ≤ <paramref name="tolerance"/>. A seed already above it comes
         /// back unrefined (<see cref="BatchedRefinementResult.SeedAboveTolerance"/>).</summary>
         public static BatchedRefinementResult WithinTolerance(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, double tolerance,
-            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction) =>
+            WithinTolerance(reference, tetrahedralizer, seed, tolerance, null, keep, progress, cancel, fraction);
+
+        /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) the tolerance bounds the leak-weighted
+        /// mean error, and the result's mean error is that one (Documentation~/leaks.md "A leak-aware default").</summary>
+        internal static BatchedRefinementResult WithinTolerance(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, double tolerance,
+            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
         {
             if (!(tolerance > 0) || double.IsInfinity(tolerance))
                 throw new PlacementErrorException("tolerance " + InvariantFormat.Number(tolerance) + " must be a finite mean error > 0 (e.g. 0.05)");
-            return Run(reference, tetrahedralizer, seed, ProbeIndices.Minimum, tolerance, keep, progress, cancel, fraction);
+            return Run(reference, tetrahedralizer, seed, ProbeIndices.Minimum, tolerance, keep, progress, cancel, fraction, leaks);
         }
 
         private static BatchedRefinementResult Run(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int goal, double tolerance,
-            int[] keep, ProgressCallback progress, CancellationToken cancel, double fraction)
+            int[] keep, ProgressCallback progress, CancellationToken cancel, double fraction, LeakWeighting leaks)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
@@ -77,7 +89,7 @@ namespace Lpnn.Probes.Core.Quality
                 }
             var probes = (int[])seed.Clone();
             Array.Sort(probes);
-            var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, probes);
+            var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, probes, leaks);
             if (byTolerance && state.ErrorSum > limit)
                 return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, 0, BatchedRefinementResult.SeedAboveTolerance);
             var cost = new double[n];

@@ -1,7 +1,8 @@
 namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>What <see cref="BatchedRefinement"/> kept: evaluation point indices (sorted ascending), their mean
-    /// irradiance error, the rounds run and why it stopped.</summary>
+    /// irradiance error (leak-weighted when the refinement weighed leaks, Documentation~/leaks.md "A leak-aware default"),
+    /// the rounds run and why it stopped.</summary>
     public sealed class BatchedRefinementResult
     {
         public const string StoppedAtCount = "count";

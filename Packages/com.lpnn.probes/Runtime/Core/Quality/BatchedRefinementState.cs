@@ -9,7 +9,9 @@ namespace Lpnn.Probes.Core.Quality
     /// without some probes (<see cref="Without"/>) only at the points whose stencil touched one: the tie-broken Delaunay
     /// is unique, so every other tetrahedron survives a removal, and a point outside the shrinking hull keeps its nearest
     /// hull point unless that point's triangle had a removed vertex. Port of lpnn/quality/batched_state.py, except that
-    /// the set without some probes is tetrahedralised again (Unity's native tetrahedraliser) rather than derived.</summary>
+    /// the set without some probes is tetrahedralised again (Unity's native tetrahedraliser) rather than derived.
+    /// With a <see cref="LeakWeighting"/> every error the state holds, sums and compares is the weighted one, and trials and
+    /// removals keep it, as the Python state does.</summary>
     internal sealed class BatchedRefinementState
     {
         internal int[] Probes;      // sorted evaluation point indices
@@ -19,6 +21,7 @@ namespace Lpnn.Probes.Core.Quality
         internal int[] EdgeStart;   // CSR over Probes' positions: neighbours of Probes[k] in EdgeStart[k]..EdgeStart[k+1]
         internal int[] EdgeTarget;  // neighbour point indices
         internal double ErrorSum;
+        internal LeakWeighting Leaks;  // null: plain errors
 
         /// <summary>Each candidate's removal cost into <paramref name="cost"/>: the summed error change (ascending point
         /// order) at the points whose stencil weighed it, plus its own new error. The trial (<paramref name="remaining"/>:
@@ -43,8 +46,14 @@ namespace Lpnn.Probes.Core.Quality
                 if (owner[p] >= 0) attributed.Add(p);
             }
             var trialErrors = new double[n];
+            var seen = Leaks == null ? null : new StencilLog();
             PlacementError.InterpolatePoints(reference, remaining, Tetrahedralize(reference, tetrahedralizer, remaining), attributed.ToArray(),
-                (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated));
+                (int p, ref Stencil stencil, double[] interpolated) =>
+                {
+                    trialErrors[p] = PointError(reference, p, interpolated);
+                    seen?.Add(p, stencil);
+                });
+            seen?.Weigh(reference, remaining, Leaks, trialErrors);
             foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - Errors[p];
         }
 
@@ -60,10 +69,15 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>Every point of <paramref name="probes"/> (sorted) evaluated: the seed.</summary>
-        internal static BatchedRefinementState Evaluate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
+        /// <param name="leaks">Weighs leaking points' errors from now on (null: plain errors).</param>
+        internal static BatchedRefinementState Evaluate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes,
+            LeakWeighting leaks = null)
         {
             int n = reference.Count;
-            var state = new BatchedRefinementState { Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n] };
+            var state = new BatchedRefinementState
+            {
+                Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n], Leaks = leaks
+            };
             for (int i = 0; i < 4 * n; i++) state.Owners[i] = state.Touched[i] = -1;
             Relocate(reference, tetrahedralizer, state, null);
             return state;
@@ -90,7 +104,7 @@ namespace Lpnn.Probes.Core.Quality
             var next = new BatchedRefinementState
             {
                 Probes = ProbesWithout(Probes, removed, n), Errors = (double[])Errors.Clone(),
-                Owners = (int[])Owners.Clone(), Touched = (int[])Touched.Clone()
+                Owners = (int[])Owners.Clone(), Touched = (int[])Touched.Clone(), Leaks = Leaks
             };
             Relocate(reference, tetrahedralizer, next, affected.ToArray());
             return next;
@@ -104,9 +118,11 @@ namespace Lpnn.Probes.Core.Quality
             int[] tetrahedra = Tetrahedralize(reference, tetrahedralizer, probes);
             double[] errors = state.Errors;
             int[] owners = state.Owners, touched = state.Touched;
+            var seen = state.Leaks == null ? null : new StencilLog();
             PlacementError.InterpolatePoints(reference, probes, tetrahedra, points, (int p, ref Stencil stencil, double[] interpolated) =>
             {
                 errors[p] = PointError(reference, p, interpolated);
+                seen?.Add(p, stencil);
                 touched[4 * p] = probes[stencil.Probe0];
                 touched[4 * p + 1] = probes[stencil.Probe1];
                 touched[4 * p + 2] = probes[stencil.Probe2];
@@ -116,6 +132,7 @@ namespace Lpnn.Probes.Core.Quality
                 owners[4 * p + 2] = stencil.Weight2 > 0 ? touched[4 * p + 2] : -1;
                 owners[4 * p + 3] = stencil.Weight3 > 0 ? touched[4 * p + 3] : -1;
             });
+            seen?.Weigh(reference, probes, state.Leaks, errors);
             double sum = 0;
             foreach (double e in errors) sum += e;
             state.ErrorSum = sum;
@@ -127,6 +144,22 @@ namespace Lpnn.Probes.Core.Quality
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
             return tetrahedralizer.Tetrahedralize(positions);
+        }
+
+        /// <summary>The points an interpolation visited and their stencils, for the leak weighting after it.</summary>
+        private sealed class StencilLog
+        {
+            private readonly List<int> points = new List<int>();
+            private readonly List<Stencil> stencils = new List<Stencil>();
+
+            internal void Add(int point, Stencil stencil)
+            {
+                points.Add(point);
+                stencils.Add(stencil);
+            }
+
+            internal void Weigh(ReferenceLighting reference, int[] probes, LeakWeighting leaks, double[] errors) =>
+                leaks.Weigh(reference, probes, points, stencils, errors);
         }
 
         private static double PointError(ReferenceLighting reference, int p, double[] interpolated) =>

@@ -33,9 +33,24 @@ namespace Lpnn.Probes.Core.Quality
                 points.Add(n);
                 stencils.Add(stencil);
             });
+            var leaks = Leaking(reference, probes, points, stencils, raycaster);
+            var leaking = new bool[reference.Count];
+            for (int i = 0; i < points.Count; i++) leaking[points[i]] = leaks[i];
+            return leaking;
+        }
+
+        /// <summary>Whether each of <paramref name="points"/> (evaluation point indices) leaks through its stencil
+        /// (<paramref name="stencils"/>, same order, probe-list indices into <paramref name="probes"/>), in batches of
+        /// <see cref="PointsPerBatch"/>; one entry per point given. Shared by <see cref="Find"/> and the leak weighting of
+        /// batched refinement, so both decide alike.</summary>
+        internal static bool[] Leaking(ReferenceLighting reference, int[] probes, IReadOnlyList<int> points, IReadOnlyList<Stencil> stencils,
+            IRaycaster raycaster)
+        {
+            if (points.Count != stencils.Count)
+                throw new ArgumentException("points (" + points.Count + ") and stencils (" + stencils.Count + ") differ in length");
             var probePositions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) probePositions[k] = reference.GetPosition(probes[k]);
-            var leaking = new bool[reference.Count];
+            var leaking = new bool[points.Count];
             for (int start = 0; start < points.Count; start += PointsPerBatch)
             {
                 int count = Math.Min(PointsPerBatch, points.Count - start);
@@ -47,7 +62,7 @@ namespace Lpnn.Probes.Core.Quality
                     batch[b] = stencils[start + b];
                 }
                 var leaks = StencilLeaks(positions, probePositions, batch, raycaster);
-                for (int b = 0; b < count; b++) leaking[points[start + b]] = leaks[b];
+                Array.Copy(leaks, 0, leaking, start, count);
             }
             return leaking;
         }

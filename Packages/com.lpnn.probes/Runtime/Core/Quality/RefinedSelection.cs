@@ -27,7 +27,16 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="candidates">The points the whole ranking holds (the grid's, or its valid ones).</param>
         /// <param name="evaluator">The lighting of every grid point and the tetrahedraliser (Unity's in the editor).</param>
         public static SelectionResult Refine(EvaluationGrid grid, SelectionResult selection, RankingPrefix prefix, int candidates, SelectionSettings settings,
-            PlacementEvaluator evaluator, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default)
+            PlacementEvaluator evaluator, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default) =>
+            Refine(grid, selection, prefix, candidates, settings, evaluator, null, valid, progress, cancel);
+
+        /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) the leak-aware variant of
+        /// lpnn/quality/refined_insertion.py (Documentation~/leaks.md "A leak-aware default"): the seed gets
+        /// <see cref="LeakRepair.DefaultRounds"/> repair rounds, the refinement weighs leaking points' errors, and with a
+        /// tolerance the refined set is the answer whenever its weighted mean error is within τ, even with more probes than
+        /// the search's (the price of fewer leaks).</summary>
+        internal static SelectionResult Refine(EvaluationGrid grid, SelectionResult selection, RankingPrefix prefix, int candidates, SelectionSettings settings,
+            PlacementEvaluator evaluator, LeakWeighting leaks, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (selection == null) throw new ArgumentNullException(nameof(selection));
@@ -44,21 +53,24 @@ namespace Lpnn.Probes.Core.Quality
             var seed = new HashSet<int>(selection.Indices);
             int[] head = prefix(seedCount);
             for (int r = 0; r < seedCount && r < head.Length; r++) seed.Add(head[r]);
-            if (seed.Count <= target) return selection;  // the seed is the selection: nothing to remove
+            if (leaks == null && seed.Count <= target) return selection;  // the seed is the selection: nothing to remove
             var seedPoints = new int[seed.Count];
             seed.CopyTo(seedPoints);
-            int[] keep = settings.KeepBoundsCorners ? ProbeSelector.BoundsCorners(grid, valid).ToArray() : null;
             var tetrahedralizer = evaluator.Tetrahedralizer;
+            if (leaks != null)  // a leak of the seed could not be undone by a refinement that only removes probes
+                seedPoints = LeakRepair.Repaired(evaluator.Reference, tetrahedralizer, seedPoints, leaks.Raycaster, LeakRepair.DefaultRounds, cancel);
+            int[] keep = settings.KeepBoundsCorners ? ProbeSelector.BoundsCorners(grid, valid).ToArray() : null;
             if (settings.Policy != SelectionPolicy.Tolerance)
             {
-                var counted = BatchedRefinement.ToCount(evaluator.Reference, tetrahedralizer, seedPoints, target, keep, progress, cancel);
+                var counted = BatchedRefinement.ToCount(evaluator.Reference, tetrahedralizer, seedPoints, target, leaks, keep, progress, cancel);
                 return new SelectionResult(counted.Indices, selection.CornersAdded, 0, null, seedPoints.Length);
             }
-            var refined = BatchedRefinement.WithinTolerance(evaluator.Reference, tetrahedralizer, seedPoints, settings.Value, keep, progress, cancel);
+            var refined = BatchedRefinement.WithinTolerance(evaluator.Reference, tetrahedralizer, seedPoints, settings.Value, leaks, keep, progress, cancel);
+            // Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
             // The refinement's error is updated incrementally, exact only for the unique tie-broken Delaunay of our stand-in;
             // Unity's native tetrahedraliser may split co-spherical points differently (issue 31), so the final set is
             // evaluated once, from scratch, with the same tetrahedraliser Apply's preview uses, before it replaces the search's.
-            bool better = refined.Indices.Length < target && refined.MeanError <= settings.Value &&
+            bool better = refined.MeanError <= settings.Value && (leaks != null || refined.Indices.Length < target) &&
                           evaluator.MeanError(refined.Indices) <= settings.Value;
             return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, seedPoints.Length) : selection;
         }

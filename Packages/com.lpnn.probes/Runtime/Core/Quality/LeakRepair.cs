@@ -1,0 +1,73 @@
+using System;
+using System.Collections.Generic;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>Leak repair of a seed (Documentation~/leaks.md "A leak-aware default", 1): each round adds, in every
+    /// tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull triangle), the leaking point
+    /// of largest error (ties: the lower index). A probe at a leaking point ends that point's leak and splits its
+    /// tetrahedron where it leaked worst; batched refinement only removes probes, so a leak of its seed could not be undone
+    /// later. Port of lpnn/quality/leak_aware.py leak_repaired.</summary>
+    internal static class LeakRepair
+    {
+        /// <summary>Repair rounds on the seed (lpnn/quality/leak_aware.py REPAIR_ROUNDS; benchmarks.md §12 measured 1 and 3).</summary>
+        public const int DefaultRounds = 2;
+
+        /// <summary><paramref name="probes"/> (evaluation point indices) plus, in each of up to <paramref name="rounds"/>
+        /// rounds, the worst leaking point of every leaking tetrahedron; stops early when nothing leaks. Sorted.</summary>
+        public static int[] Repaired(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster,
+            int rounds = DefaultRounds, CancellationToken cancel = default)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
+            if (raycaster == null) throw new ArgumentNullException(nameof(raycaster));
+            if (rounds < 0) throw new PlacementErrorException("leak repair rounds " + rounds + " must be >= 0");
+            ProbeIndices.Check(probes, reference.Count);
+            var current = (int[])probes.Clone();
+            Array.Sort(current);
+            for (int round = 0; round < rounds; round++)
+            {
+                cancel.ThrowIfCancellationRequested();
+                int[] added = WorstLeakPerCell(reference, tetrahedralizer, current, raycaster);
+                if (added.Length == 0) break;
+                var union = new SortedSet<int>(current);
+                union.UnionWith(added);
+                current = new int[union.Count];
+                union.CopyTo(current);
+            }
+            return current;
+        }
+
+        /// <summary>Per cell holding a leaking point, the leaking point of largest error (ties: the lower index).</summary>
+        private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster)
+        {
+            var positions = new Vector3[probes.Length];
+            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
+            int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
+            var points = new List<int>();
+            var stencils = new List<Stencil>();
+            var errors = new List<double>();
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int p, ref Stencil stencil, double[] interpolated) =>
+            {
+                points.Add(p);
+                stencils.Add(stencil);
+                errors.Add(PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale));
+            });
+            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster);
+            var worst = new Dictionary<int, int>();  // cell -> position in points; points ascend, so a tie keeps the lower index
+            for (int i = 0; i < points.Count; i++)
+            {
+                if (!leaking[i]) continue;
+                int cell = stencils[i].Cell;
+                if (!worst.TryGetValue(cell, out int best) || errors[i] > errors[best]) worst[cell] = i;
+            }
+            var added = new List<int>(worst.Count);
+            foreach (int i in worst.Values) added.Add(points[i]);
+            added.Sort();
+            return added.ToArray();
+        }
+    }
+}

@@ -1,0 +1,43 @@
+using System;
+using System.Collections.Generic;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Numerics;
+
+namespace Lpnn.Probes.Core.Quality
+{
+    /// <summary>The leak-aware option of batched refinement (Documentation~/leaks.md "A leak-aware default"): the error of
+    /// every point that leaks (<see cref="LeakCheck"/>) counts <see cref="Weight"/> times, in the removal costs, the
+    /// tolerance and the error sum alike, so a removal that lets a stencil reach through a wall is taken only when it is
+    /// cheap anyway. Only the error is weighted: a leak that changes nothing costs nothing. Port of
+    /// lpnn/quality/leak_aware.py LeakWeighting; parity pinned by Tests/Data/leak_aware_golden.json.</summary>
+    internal sealed class LeakWeighting
+    {
+        /// <summary>A leaking point's error counts this many times (lpnn/quality/leak_aware.py LEAK_WEIGHT; benchmarks.md §12
+        /// measured 2, 4, 8 and 16).</summary>
+        public const double DefaultWeight = 8.0;
+
+        public IRaycaster Raycaster { get; }
+        public double Weight { get; }
+
+        /// <param name="raycaster">The scene's rays (Unity's physics in the editor), for the segment test of the leak rule.</param>
+        /// <param name="weight">At least 1 (1: leaks count as any error).</param>
+        public LeakWeighting(IRaycaster raycaster, double weight = DefaultWeight)
+        {
+            Raycaster = raycaster ?? throw new ArgumentNullException(nameof(raycaster));
+            if (!(weight >= 1.0) || double.IsInfinity(weight))
+                throw new PlacementErrorException("leak weight " + InvariantFormat.Number(weight) + " must be a finite number >= 1 (1: leaks count as any error; " +
+                                                  InvariantFormat.Number(DefaultWeight) + " is recommended)");
+            Weight = weight;
+        }
+
+        /// <summary>Multiplies by <see cref="Weight"/> the <paramref name="errors"/> (indexed by point) of those of
+        /// <paramref name="points"/> that leak through their <paramref name="stencils"/> (probe-list indices into
+        /// <paramref name="probes"/>).</summary>
+        internal void Weigh(ReferenceLighting reference, int[] probes, List<int> points, List<Stencil> stencils, double[] errors)
+        {
+            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, Raycaster);
+            for (int i = 0; i < points.Count; i++)
+                if (leaking[i]) errors[points[i]] *= Weight;
+        }
+    }
+}

@@ -1,0 +1,225 @@
+using System;
+using System.Linq;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Tests.Support;
+using NUnit.Framework;
+
+namespace Lpnn.Probes.Core.Tests
+{
+    /// <summary>The leak-aware option of refined insertion (Documentation~/leaks.md "A leak-aware default"): parity with the
+    /// Python reference through Tests/Data/leak_aware_golden.json (a walled room: the repaired seed, the answer at a budget
+    /// and at τ), and its behaviour: off changes nothing, on leaks less within τ, a bad weight is refused, a cancel is
+    /// honoured between repair rounds.</summary>
+    [TestFixture]
+    public class LeakAwareRefinementTests
+    {
+        private static int[] Ints(JsonValue array) => array.Items.Select(v => (int)v.AsNumber).ToArray();
+
+        /// <summary>The golden walled room: its grid, lighting, wall and the insertion order the seeds come from.</summary>
+        private sealed class WalledRoom
+        {
+            public JsonValue Golden;
+            public EvaluationGrid Grid;
+            public PlacementEvaluator Evaluator;
+            public AnalyticBoxRaycaster Wall = new AnalyticBoxRaycaster();
+            public InsertionOrder Order;
+
+            public WalledRoom()
+            {
+                Golden = TestData.ReadJson("leak_aware_golden.json");
+                Grid = GoldenLighting.Grid(Golden);
+                Evaluator = new PlacementEvaluator(GoldenLighting.Reference(Golden, Grid), new BowyerWatsonDelaunay());
+                foreach (var box in Golden.Get("obstacles").Items)
+                    Wall.Boxes.Add(new AxisBox(AnalyticScene.ToDouble3(box.Get("min")), AnalyticScene.ToDouble3(box.Get("max"))));
+                Order = new InsertionOrder(Grid, Evaluator.Reference, Evaluator.Tetrahedralizer);
+            }
+
+            public SelectionResult Place(SelectionSettings settings, LeakWeighting leaks)
+            {
+                var selection = ProbeSelector.SelectFromPrefixes(Grid, Order.Count, k => Order.Prefix(k), settings, Evaluator);
+                return RefinedSelection.Refine(Grid, selection, k => Order.Prefix(k), Order.Count, settings, Evaluator, leaks);
+            }
+
+            public int Leaking(int[] probes)
+            {
+                var positions = probes.Select(p => Evaluator.Reference.GetPosition(p)).ToArray();
+                return LeakCheck.Find(Evaluator.Reference, probes, Evaluator.Tetrahedralizer.Tetrahedralize(positions), Wall).Count(x => x);
+            }
+        }
+
+        private static WalledRoom room;
+
+        private static WalledRoom Room => room ?? (room = new WalledRoom());
+
+        // ---- parity ---------------------------------------------------------------------------------------------------
+
+        [Test]
+        public void TheConstantsAreThePythonReferences()
+        {
+            Assert.That(Room.Golden.Get("leak_weight").AsNumber, Is.EqualTo(LeakWeighting.DefaultWeight));
+            Assert.That((int)Room.Golden.Get("repair_rounds").AsNumber, Is.EqualTo(LeakRepair.DefaultRounds));
+            StringAssert.StartsWith("exact", Room.Golden.Get("tolerance").AsString);
+        }
+
+        [Test]
+        public void TheSeedAndItsRepairAreThePythonReferences()
+        {
+            var budget = Room.Golden.Get("budget");
+            int count = (int)budget.Get("count").AsNumber;
+            int[] seed = Room.Order.Prefix(RefinedSelection.SeedCount(count, Room.Order.Count)).Take(RefinedSelection.SeedCount(count, Room.Order.Count))
+                .OrderBy(p => p).ToArray();
+            Assert.That(seed, Is.EqualTo(Ints(budget.Get("seed"))), "the insertion order's prefix");
+            var repaired = LeakRepair.Repaired(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall);
+            Assert.That(repaired, Is.EqualTo(Ints(budget.Get("repaired_seed"))));
+            Assert.That(repaired.Length, Is.GreaterThan(seed.Length), "the seed leaks: the repair must add probes");
+        }
+
+        [Test]
+        public void ABudgetKeepsThePythonReferencesProbes()
+        {
+            var budget = Room.Golden.Get("budget");
+            var placed = Room.Place(SelectionSettings.Budget((int)budget.Get("count").AsNumber), new LeakWeighting(Room.Wall));
+            Assert.That(placed.Indices, Is.EqualTo(Ints(budget.Get("indices"))));
+            Assert.That(placed.RefinedFrom, Is.EqualTo(budget.Get("repaired_seed").Items.Count));
+            double error = budget.Get("mean_error").AsNumber;
+            Assert.That(Room.Evaluator.MeanError(placed.Indices), Is.EqualTo(error).Within(1e-9 * error), "the plain metric's error");
+        }
+
+        [Test]
+        public void AToleranceKeepsThePythonReferencesProbes()
+        {
+            var c = Room.Golden.Get("tolerance_case");
+            double tau = c.Get("tolerance").AsNumber;
+            var placed = Room.Place(SelectionSettings.Tolerance(tau), new LeakWeighting(Room.Wall));
+            Assert.That(placed.Indices, Is.EqualTo(Ints(c.Get("indices"))));
+            double error = c.Get("mean_error").AsNumber;
+            Assert.That(Room.Evaluator.MeanError(placed.Indices), Is.EqualTo(error).Within(1e-9 * error));
+            var plain = Room.Place(SelectionSettings.Tolerance(tau), null);
+            Assert.That(plain.Indices, Is.EqualTo(Ints(c.Get("without_leaks"))), "the option off: today's answer");
+        }
+
+        // ---- behaviour ------------------------------------------------------------------------------------------------
+
+        [Test]
+        public void OnTheWalledRoomItLeaksLessThanTodayWithinTheTolerance()
+        {
+            double tau = Room.Golden.Get("tolerance_case").Get("tolerance").AsNumber;
+            var plain = Room.Place(SelectionSettings.Tolerance(tau), null);
+            var aware = Room.Place(SelectionSettings.Tolerance(tau), new LeakWeighting(Room.Wall));
+            int plainLeaks = Room.Leaking(plain.Indices), awareLeaks = Room.Leaking(aware.Indices);
+            Assert.That(plainLeaks, Is.GreaterThan(0), "today's answer must leak for the comparison to mean anything");
+            Assert.That(awareLeaks, Is.LessThan(plainLeaks));
+            Assert.That(Room.Evaluator.MeanError(aware.Indices), Is.LessThanOrEqualTo(tau));
+            var weighted = BatchedRefinement.ToCount(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, aware.Indices, aware.Indices.Length,
+                new LeakWeighting(Room.Wall));
+            Assert.That(weighted.MeanError, Is.LessThanOrEqualTo(tau + 1e-12), "the weighted error is within tau too");
+        }
+
+        [Test]
+        public void OffChangesNothingAndOnWithoutWallsChangesNothingInTheRefinement()
+        {
+            var reference = Room.Evaluator.Reference;
+            var tet = Room.Evaluator.Tetrahedralizer;
+            int[] seed = Room.Order.Prefix(64).Take(64).ToArray();
+            var plain = BatchedRefinement.ToCount(reference, tet, seed, 20);
+            var off = BatchedRefinement.ToCount(reference, tet, seed, 20, (LeakWeighting)null);
+            var open = BatchedRefinement.ToCount(reference, tet, seed, 20, new LeakWeighting(new AnalyticBoxRaycaster()));
+            var walled = BatchedRefinement.ToCount(reference, tet, seed, 20, new LeakWeighting(Room.Wall));
+            Assert.That(off.Indices, Is.EqualTo(plain.Indices));
+            Assert.That(off.MeanError, Is.EqualTo(plain.MeanError));
+            Assert.That(open.Indices, Is.EqualTo(plain.Indices), "nothing leaks without a wall: no error is weighted");
+            Assert.That(open.MeanError, Is.EqualTo(plain.MeanError));
+            Assert.That(walled.Indices, Is.Not.EqualTo(plain.Indices), "the wall must change which probes go");
+            var settings = SelectionSettings.Budget(20);
+            var selection = ProbeSelector.SelectFromPrefixes(Room.Grid, Room.Order.Count, k => Room.Order.Prefix(k), settings, Room.Evaluator);
+            Assert.That(RefinedSelection.Refine(Room.Grid, selection, k => Room.Order.Prefix(k), Room.Order.Count, settings, Room.Evaluator, null).Indices,
+                Is.EqualTo(RefinedSelection.Refine(Room.Grid, selection, k => Room.Order.Prefix(k), Room.Order.Count, settings, Room.Evaluator).Indices));
+        }
+
+        [Test]
+        public void TheWeightingMultipliesOnlyTheErrorsOfLeakingPoints()
+        {
+            var reference = Room.Evaluator.Reference;
+            int[] probes = Room.Order.Prefix(16).Take(16).OrderBy(p => p).ToArray();
+            var positions = probes.Select(p => reference.GetPosition(p)).ToArray();
+            int[] tetrahedra = Room.Evaluator.Tetrahedralizer.Tetrahedralize(positions);
+            bool[] leaking = LeakCheck.Find(reference, probes, tetrahedra, Room.Wall);
+            double[] plain = PlacementError.Evaluate(reference, probes, tetrahedra).PointIrradiance;
+            var state = BatchedRefinementState.Evaluate(reference, Room.Evaluator.Tetrahedralizer, probes, new LeakWeighting(Room.Wall, 3.0));
+            Assert.That(leaking.Any(x => x), Is.True);
+            for (int p = 0; p < reference.Count; p++)
+                Assert.That(state.Errors[p], Is.EqualTo(leaking[p] ? 3.0 * plain[p] : plain[p]).Within(1e-12 * Math.Max(1, plain[p])), "point " + p);
+            Assert.That(state.ErrorSum, Is.EqualTo(state.Errors.Sum()).Within(1e-9));
+        }
+
+        [TestCase(0.5, "leak weight 0.5")]
+        [TestCase(double.NaN, "leak weight NaN")]
+        [TestCase(double.PositiveInfinity, "leak weight ")]
+        public void AWeightBelowOneOrNotFiniteIsRefusedByName(double weight, string message)
+        {
+            var error = Assert.Throws<PlacementErrorException>(() => new LeakWeighting(new AnalyticBoxRaycaster(), weight));
+            StringAssert.Contains(message, error.Message);
+            StringAssert.Contains(">= 1", error.Message);
+        }
+
+        [Test]
+        public void RepairAddsOnlyLeakingPointsAndNothingWithoutWalls()
+        {
+            var reference = Room.Evaluator.Reference;
+            var tet = Room.Evaluator.Tetrahedralizer;
+            int[] probes = Room.Order.Prefix(16).Take(16).OrderBy(p => p).ToArray();
+            var positions = probes.Select(p => reference.GetPosition(p)).ToArray();
+            bool[] leaking = LeakCheck.Find(reference, probes, tet.Tetrahedralize(positions), Room.Wall);
+            int[] once = LeakRepair.Repaired(reference, tet, probes, Room.Wall, 1);
+            int[] added = once.Except(probes).ToArray();
+            Assert.That(added, Is.Not.Empty);
+            Assert.That(added.All(p => leaking[p]), Is.True, "only leaking points are added");
+            Assert.That(LeakRepair.Repaired(reference, tet, probes, Room.Wall, 0), Is.EqualTo(probes));
+            Assert.That(LeakRepair.Repaired(reference, tet, probes, new AnalyticBoxRaycaster(), 3), Is.EqualTo(probes));
+            StringAssert.Contains("rounds -1", Assert.Throws<PlacementErrorException>(() => LeakRepair.Repaired(reference, tet, probes, Room.Wall, -1)).Message);
+        }
+
+        /// <summary>Cancels its source on the first cast, so a repair is cancelled during its first round.</summary>
+        private sealed class CancellingRaycaster : IRaycaster
+        {
+            private readonly IRaycaster inner;
+            private readonly CancellationTokenSource source;
+            public int Casts;
+
+            public CancellingRaycaster(IRaycaster inner, CancellationTokenSource source)
+            {
+                this.inner = inner;
+                this.source = source;
+            }
+
+            public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
+            {
+                Casts++;
+                source.Cancel();
+                inner.Cast(origins, directions, maxDistance, results);
+            }
+        }
+
+        [Test]
+        public void ACancelIsHonouredBetweenRepairRounds()
+        {
+            var reference = Room.Evaluator.Reference;
+            int[] probes = Room.Order.Prefix(16).Take(16).ToArray();
+            using (var source = new CancellationTokenSource())
+            {
+                var rays = new CancellingRaycaster(Room.Wall, source);
+                Assert.Throws<OperationCanceledException>(() => LeakRepair.Repaired(reference, Room.Evaluator.Tetrahedralizer, probes, rays, 2, source.Token));
+                int castsInOneRound = rays.Casts;
+                Assert.That(castsInOneRound, Is.GreaterThan(0), "the first round ran");
+                Assert.That(LeakRepair.Repaired(reference, Room.Evaluator.Tetrahedralizer, probes, Room.Wall, 1).Length, Is.GreaterThan(probes.Length),
+                    "the first round added probes, so a second round would have cast again");
+            }
+        }
+    }
+}

@@ -1,0 +1,128 @@
+"""Writes Tests/Data/leak_aware_golden.json (Tests/Data/README.md; contract: Documentation~/leaks.md "A leak-aware
+default", quality.md §5.3).
+
+Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The probe sets come from the Python reference
+(lpnn.quality.refined_insertion with leaks=, lpnn.quality.leak_aware); the C# port (RefinedSelection with a
+LeakWeighting, LeakRepair, BatchedRefinement) is an independent implementation that must keep the same points with its
+own tetrahedraliser in the tests (Bowyer-Watson), location, hull projection, segment casts and sorting.
+
+The scene: a walled room. Points in general position (integer ids x 0.25, exact in float32) inside a large
+tetrahedron, split by a wall (an obstacle box of the analytic raycaster, AnalyticBoxRaycaster) lying between two id
+columns, so no point is inside it; the side below the wall is lit warm, the other dim and cool, each with a random
+bump per point. General position keeps every tetrahedralisation unique, which both languages need to agree.
+
+What is checked before writing (less than make_batched_refinement_golden.py certifies: points leave the hull here, so
+the intermediate sets are not certified): the tetrahedralisations of the seed, the repaired seed and the three answers
+are *the* Delaunay ones, in exact integer arithmetic with a margin (make_insertion_golden.certify_delaunay); every leak
+decision is decided by construction (the wall spans the whole scene in y and z and lies 0.3 of a cell from every point
+column, so a segment is blocked exactly when its ends lie on either side); the seed leaks, the repair ends leaks, and
+the leak-aware answer at tau leaks less than the answer without the option.
+
+    PYTHONPATH=Training~ python Tools~/golden/make_leak_aware_golden.py Tests/Data
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
+from lpnn.core.atomic import write_text_atomic
+from lpnn.quality.insertion import InsertionOrder
+from lpnn.quality.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
+from lpnn.quality.leaks import leaking_points
+from lpnn.quality.policies import budget_count
+from lpnn.quality.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+from lpnn.quality.triangulation import tetrahedralize
+
+from make_insertion_golden import CELL, _field, certify_delaunay, exact, grid_order
+
+SEED = 7
+POINTS = 160  # inner points: more than MINIMUM_SEED (64), so the seed is a prefix and the repair has points to add
+EXTENT = 512  # ids of the enclosing tetrahedron's corners
+WALL_ID = 200  # the wall lies between id columns x = 200 and 201
+BUDGET = 0.15
+TOLERANCE = 0.08
+
+
+def wall() -> AxisBox:
+    """A slab across the whole tetrahedron, strictly between two id columns (no point inside, none on a face)."""
+    lo, hi = (WALL_ID + 0.3) * CELL, (WALL_ID + 0.7) * CELL
+    return AxisBox(min=np.array([lo, -1000.0, -1000.0]), max=np.array([hi, 1000.0, 1000.0]))
+
+
+def walled_room(seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Ids (grid order) and SH. Every point's SH is a multiple of one base: 1.3-1.7x below the wall, 0.3-0.7x beyond it,
+    and exactly 1x at the 4 corners. Half the inner points lie on each side, so the median lighting is the corners'
+    and insertion starts from them (as in make_insertion_golden.py's enclosed construction): no point is outside the
+    probes' hull while insertion ranks, where a projection onto a hull edge would make its cell ambiguous."""
+    rng = np.random.default_rng(seed)
+    corners = np.array([[0, 0, 0], [EXTENT, 19, 45], [27, EXTENT, 5], [14, 35, EXTENT]], dtype=np.int64)
+    inner: list[np.ndarray] = []
+    per_side = {True: 0, False: 0}
+    while len(inner) < POINTS:
+        lam = rng.dirichlet(np.ones(4))
+        if lam.min() < 0.02:
+            continue
+        p = np.rint(lam @ corners).astype(np.int64)
+        lit = bool(p[0] <= WALL_ID)
+        if per_side[lit] == POINTS // 2 or any(np.array_equal(p, q) for q in inner):
+            continue
+        per_side[lit] += 1
+        inner.append(p)
+    ids = grid_order(np.concatenate([corners, np.asarray(inner)]))
+    is_corner = np.array([any(np.array_equal(row, c) for c in corners) for row in ids])
+    base = np.array([1.0, 0.85, 0.6] * 9) * np.array([1.0 if c % 9 == 0 else 0.1 for c in range(27)])
+    factor = np.where(ids[:, 0] <= WALL_ID, 1.5, 0.5) + rng.uniform(-0.2, 0.2, ids.shape[0])
+    factor[is_corner] = 1.0
+    return ids, base[None, :] * factor[:, None]
+
+
+def main(out_dir: str) -> None:
+    ids, sh = walled_room(SEED)
+    grid, sh32, scale, field = _field(ids, sh)
+    raycaster = AnalyticBoxRaycaster(obstacles=(wall(),))
+    n = field.point_count
+    count = budget_count(BUDGET, n)
+    seed = InsertionOrder(field, grid).selection()(seed_count(RECOMMENDED_REFINE, count, n))
+    repaired = leak_repaired(field, seed, raycaster)
+    budget = refined_insertion(field, grid, budget=BUDGET, leaks=raycaster)
+    tolerance = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=raycaster)
+    plain = refined_insertion(field, grid, tolerance=TOLERANCE)
+    leaks = {name: int(leaking_points(field, indices, raycaster)[0].sum())
+             for name, indices in (("seed", seed), ("repaired", repaired), ("tolerance", tolerance.indices),
+                                   ("tolerance_without_leaks", plain.indices))}
+    if not (repaired.shape[0] > seed.shape[0] and leaks["repaired"] < leaks["seed"]):
+        raise SystemExit(f"the repair must add probes and end leaks: {leaks}")
+    if not leaks["tolerance"] < leaks["tolerance_without_leaks"]:
+        raise SystemExit(f"the leak-aware answer must leak less than the plain one: {leaks}")
+    for name, probes in (("seed", seed), ("repaired seed", repaired), ("budget answer", budget.indices),
+                         ("tolerance answer", tolerance.indices), ("answer without leaks", plain.indices)):
+        if not certify_delaunay(ids, probes, tetrahedralize(field.world[probes], field.frame).tets, EXTENT):
+            raise SystemExit(f"the {name}'s Delaunay tetrahedralisation is not unique with a margin: choose another SEED")
+    golden: dict[str, Any] = {
+        "contract": "Documentation~/leaks.md \"A leak-aware default\" (refined insertion with leaks=, irradiance metric)",
+        "tolerance": "exact: probe sets equal; mean errors within 1e-9 relative",
+        "note": f"{n} points in general position (seed {SEED}) inside a tetrahedron, a wall between id columns "
+                f"x = {WALL_ID} and {WALL_ID + 1}: warm and bright below it, cool and dim beyond it",
+        "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions), "sh": exact(sh32),
+        "lighting_scale": scale, "obstacles": [wall().to_json()],
+        "leak_weight": LEAK_WEIGHT, "repair_rounds": REPAIR_ROUNDS,
+        "budget": {"fraction": BUDGET, "count": count, "seed": seed.tolist(), "repaired_seed": repaired.tolist(),
+                   "indices": budget.indices.tolist(), "mean_error": budget.mean_error},
+        "tolerance_case": {"tolerance": TOLERANCE, "indices": tolerance.indices.tolist(),
+                           "mean_error": tolerance.mean_error, "without_leaks": plain.indices.tolist()},
+        "leaking_points": leaks,
+    }
+    text = json.dumps(golden, indent=None, separators=(",", ":"))
+    write_text_atomic(Path(out_dir) / "leak_aware_golden.json", text + "\n")
+    print("wrote", Path(out_dir) / "leak_aware_golden.json", leaks,
+          {"budget": len(budget.indices), "tolerance": len(tolerance.indices), "plain": len(plain.indices)})
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "Tests/Data")

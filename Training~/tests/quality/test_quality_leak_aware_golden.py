@@ -1,0 +1,69 @@
+"""Tests/Data/leak_aware_golden.json (written by Tools~/golden/make_leak_aware_golden.py; contract leaks.md "A leak-aware
+default"): today's Python leak-aware refined insertion still gives the golden's probe sets on its walled room — the
+seed, its repair, the answer at a budget and at tau, and the answer without the option. The C# port
+(LeakAwareRefinementTests) reads the same file and must keep the same sets."""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+import pytest
+
+from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.insertion import InsertionOrder
+from lpnn.quality.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
+from lpnn.quality.leaks import leaking_points
+from lpnn.quality.metric import ReferenceField
+from lpnn.quality.policies import budget_count
+from lpnn.quality.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+
+GOLDEN_NAME = "leak_aware_golden.json"
+
+
+@pytest.fixture(scope="module")
+def room(golden: Callable[[str], Any]) -> tuple[dict[str, Any], ReferenceField, EvaluationGrid, AnalyticBoxRaycaster]:
+    document = golden(GOLDEN_NAME)
+    assert document["tolerance"].startswith("exact")
+    grid = EvaluationGrid(cell_size=document["cell_size"], ids=np.asarray(document["ids"], dtype=np.int32))
+    np.testing.assert_array_equal(grid.positions, np.asarray(document["positions"], dtype=np.float32))
+    field = ReferenceField.from_sh(grid.positions, np.asarray(document["sh"], dtype=np.float32), document["lighting_scale"])
+    raycaster = AnalyticBoxRaycaster(obstacles=tuple(AxisBox.from_json(o) for o in document["obstacles"]))
+    return document, field, grid, raycaster
+
+
+def test_the_constants_are_the_goldens(room) -> None:
+    document = room[0]
+    assert (document["leak_weight"], document["repair_rounds"]) == (LEAK_WEIGHT, REPAIR_ROUNDS)
+
+
+def test_the_seed_and_its_repair_are_the_goldens(room) -> None:
+    document, field, grid, raycaster = room
+    budget = document["budget"]
+    count = budget_count(budget["fraction"], field.point_count)
+    assert count == budget["count"]
+    seed = InsertionOrder(field, grid).selection()(seed_count(RECOMMENDED_REFINE, count, field.point_count))
+    assert seed.tolist() == budget["seed"]
+    repaired = leak_repaired(field, seed, raycaster)
+    assert repaired.tolist() == budget["repaired_seed"]
+    # What the case is for: the seed leaks and the repair ends its leaks.
+    assert leaking_points(field, seed, raycaster)[0].sum() == document["leaking_points"]["seed"] > 0
+    assert leaking_points(field, repaired, raycaster)[0].sum() == document["leaking_points"]["repaired"]
+
+
+def test_the_answers_at_a_budget_and_at_tau_are_the_goldens(room) -> None:
+    document, field, grid, raycaster = room
+    budget, case = document["budget"], document["tolerance_case"]
+    at_budget = refined_insertion(field, grid, budget=budget["fraction"], leaks=raycaster)
+    assert at_budget.indices.tolist() == budget["indices"]
+    assert at_budget.mean_error == pytest.approx(budget["mean_error"], rel=1e-9)
+    at_tau = refined_insertion(field, grid, tolerance=case["tolerance"], leaks=raycaster)
+    assert at_tau.indices.tolist() == case["indices"]
+    assert at_tau.mean_error == pytest.approx(case["mean_error"], rel=1e-9)
+    plain = refined_insertion(field, grid, tolerance=case["tolerance"])
+    assert plain.indices.tolist() == case["without_leaks"]
+    leaks = document["leaking_points"]
+    assert leaking_points(field, at_tau.indices, raycaster)[0].sum() == leaks["tolerance"]
+    assert leaking_points(field, plain.indices, raycaster)[0].sum() == leaks["tolerance_without_leaks"]
+    assert leaks["tolerance"] < leaks["tolerance_without_leaks"]
