@@ -25,6 +25,7 @@ A script of yours that uses the engine must keep its top-level code under `if __
 
 from __future__ import annotations
 
+import logging
 from collections import deque
 from dataclasses import dataclass
 from typing import Any, Callable, Generic, Iterable, Iterator, Sequence, TypeVar
@@ -83,8 +84,10 @@ class Engine:
                                 "on this machine") from exc
         else:
             # Loopback only, and any free port for the scheduler's HTTP endpoints (the usual 8787 may be taken).
+            # The workers' own logs are silenced: each failed item is reported once, by the command, with its reason.
             self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                         host="127.0.0.1", dashboard_address="127.0.0.1:0")
+                                         host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                                         silence_logs=logging.CRITICAL)
             self._client = Client(self._cluster)
         return self
 
