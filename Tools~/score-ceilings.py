@@ -124,20 +124,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="the model whose tiers to show (default: shipped)")
     parser.add_argument("--no-model", action="store_true", help="only the oracle rows")
     parser.add_argument("--card", type=Path, default=DEFAULT_CARD, help="the card whose held-out levels are refused")
-    parser.add_argument("--workers", type=int, default=2, choices=(1, 2))
+    parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     args = parser.parse_args(argv)
     refused = sorted({level_of(p) for p in args.captures} & held_out_levels(args.card))
     if refused:
         raise SystemExit(f"held-out level(s) {', '.join(refused)}: never used to select or tune (they only report); "
                          "cut crops of training or validation levels with Tools~/recipe-crops.py")
-    from lpnn.core.processes import worker_pool
+    from lpnn.core.engine import Engine
 
     tasks = [(str(p), None if args.no_model else str(args.model)) for p in args.captures]
-    if args.workers == 1:
-        results = [crop_ratios(t) for t in tasks]
-    else:
-        with worker_pool(args.workers) as pool:
-            results = list(pool.imap(crop_ratios, tasks))
+    with Engine(args.workers) as engine:
+        results = list(engine.ordered(crop_ratios, tasks))
     header = " | ".join(f"×ref @{b * 100:g} %" for b in BUDGETS) + f" | probes ×ref @τ={TOLERANCE:g}"
     print(f"{len(results)} crops; geometric means of per-crop ratios\n\n| ranking | {header} |\n|---|" + "---|" * 6)
     for name in results[0]:

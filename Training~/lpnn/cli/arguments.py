@@ -60,3 +60,35 @@ def add_policy_arguments(parser: argparse.ArgumentParser) -> None:
                         help="keep this fraction of the points (0.2 = the best 20 %%)")
     policy.add_argument("--tolerance", type=tolerance, metavar="TAU",
                         help=f"keep the fewest probes whose mean error is <= TAU ({DEFAULT_TOLERANCE:g} recommended: the default of bench, the demo and the editor)")
+
+
+def positive_count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a count of workers; give a whole number >= 1, e.g. 2")
+    return value
+
+
+def add_engine_arguments(parser: argparse.ArgumentParser, what: str) -> None:
+    """--workers and --scheduler: where `what` (the items of one command) run (lpnn/core/engine.py)."""
+    parser.add_argument("--workers", type=positive_count, default=1, metavar="N",
+                        help=f"local worker processes for {what} (default 1: in this process); with a single item "
+                             "they split its fast reference or blockwise blocks instead")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help=f"run {what} on the Dask cluster at ADDRESS (e.g. tcp://10.0.0.5:8786; "
+                             "Documentation~/training.md \"On a cluster\"); --workers is then ignored")
+
+
+def engine_and_inner_workers(args: argparse.Namespace, items: int) -> tuple[int, int]:
+    """(local engine workers, processes inside one item): items fan out over the engine, except a single item on this
+    machine, which keeps --workers for its own fast reference or blocks (as before the engine); never both, so
+    no worker starts workers of its own."""
+    if args.scheduler is None and items <= 1:
+        return 1, min(args.workers, FAST_REFERENCE_REPLICAS)
+    return args.workers, 1
+
+
+FAST_REFERENCE_REPLICAS = 2  # the most processes one fast reference uses (quality/removal_costs.py)

@@ -1,7 +1,7 @@
 """`lpnn bench`: the speed/accuracy benchmark of placement methods (Documentation~/quality.md §6).
 
   lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
-             [--repeats 3] --out DIR
+             [--repeats 3] [--workers N] [--scheduler ADDRESS] --out DIR
 
 For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
 (spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (guided insertion + seeded exact refinement,
@@ -13,8 +13,10 @@ refinement), mean and p95 error and the ratio to the reference — the fast refe
 only up to --refine-limit points (20,000). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
-Long runs lose nothing: bench.csv is rewritten (atomically) after every method of every capture, a method or capture
-that fails is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
+Captures are benchmarked side by side on --workers local processes or on the Dask cluster at --scheduler
+(lpnn/core/engine.py; the same rows, in capture order; the times are each worker's). Long runs lose nothing:
+bench.csv is rewritten (atomically) as each capture finishes, a method or capture that fails (or whose
+worker keeps dying) is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
 goes on; the exit code is 1 when anything failed. The blockwise reference (an hour or more on a level of 10^5-10^6
 points) keeps its finished blocks in DIR/<capture>.blockwise.npz as it goes: the same command run again resumes it.
 """
@@ -22,12 +24,14 @@ points) keeps its finished blocks in DIR/<capture>.blockwise.npz as it goes: the
 from __future__ import annotations
 
 import argparse
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
-    from .arguments import fractions, refine_factor, tolerance
+    from .arguments import add_engine_arguments, fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
@@ -43,7 +47,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--repeats", type=int, default=3, help="timing repeats of the cheap methods (median; default 3)")
     parser.add_argument("--reference-repeats", type=int, default=1, help="timing repeats of the references (default 1)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random baseline (default 0)")
-    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for the fast reference and the blockwise reference's blocks (default 1; 2 helps only on an idle second core)")
+    add_engine_arguments(parser, "the captures")
     parser.add_argument("--full-reference-limit", type=int, default=FULL_REFERENCE_LIMIT, metavar="N",
                         help="above N points the yardstick is the blockwise reference (quality.md §3.3) and the methods "
                              f"that run the full reference are skipped (default {FULL_REFERENCE_LIMIT:,})")
@@ -55,11 +59,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..core.capture_file import dataset_files, read_capture, safe_file_stem
-    from ..core.in_use_section import in_use_text
-    from ..scenes.capture_geometry import capture_raycaster
-    from ..quality.bench import BenchConfig, BenchFailure, BenchRow, bench_capture, failure_reason
-    from .errors import user_errors
+    from ..core.capture_file import dataset_files
+    from ..core.engine import Engine
+    from ..quality.bench import BenchConfig, BenchFailure, CaptureResult, failure_reason
+    from .arguments import engine_and_inner_workers
     from ..quality.plots import error_plot, time_plot
     from ..errors import UserError
 
@@ -72,53 +75,36 @@ def run(args: argparse.Namespace) -> int:
     files = dataset_files(args.captures)
     if not files:
         raise UserError("no capture files found in " + ", ".join(args.captures))
-    scorer = None
     if args.model is not None:
         from ..train.onnx_scoring import OnnxScorer
 
-        scorer = OnnxScorer(args.model)
+        OnnxScorer(args.model)  # a missing or unreadable model is reported before any work starts
+    engine_workers, inner_workers = engine_and_inner_workers(args, len(files))
     config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
-                         workers=args.workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
+                         workers=inner_workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
                          refine_limit=args.refine_limit, checkpoints=args.out)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    rows: list[BenchRow] = []
-    failures: list[BenchFailure] = []
-    stems: set[str] = set()
-    for number, path in enumerate(files, start=1):
-        print(f"[{number}/{len(files)}] {path}", flush=True)
-        try:
-            with user_errors(str(path)):
-                capture = read_capture(path)
-                if scorer is not None:
-                    scorer.check_capture(capture, str(path))
-                result = bench_capture(path.stem, capture, config, scorer,
-                                       log=lambda message: print(message, flush=True),
-                                       partial=lambda done: _write_results(out, rows + done, failures),
-                                       geometry=capture_raycaster(capture)[0])
-        except Exception as error:  # reported, and the run goes on (user_errors words the known ones)
-            failures.append(BenchFailure(path.stem, "*", failure_reason(error)))
-            print(f"  FAILED {path.stem}: {failures[-1].reason}", flush=True)
-            _write_results(out, rows, failures)
-            continue
-        stem = safe_file_stem(path.stem)
-        while stem in stems:
-            stem += "_"
-        stems.add(stem)
-        rows.extend(result.rows)
-        failures.extend(result.failures)
-        _write_results(out, rows, failures)  # after every capture: a later failure loses nothing
-        error_plot(result, out / f"{stem}.error.png")
-        time_plot(result, out / f"{stem}.time.png")
-        for row in result.rows:
-            versus = (f"probes x ref {row.probes_ratio:.2f}" if row.probes_ratio is not None
-                      else f"error x ref {row.error_ratio:.2f}")
-            print(f"  {row.method:>18} {row.policy:>9} {row.parameter:<6g} probes {row.probes:>6,} "
-                  f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  "
-                  f"in use {in_use_text(row.in_use_error)}  leaking {in_use_text(row.leaking)}  {versus}")
-        for failure in result.failures:
-            print(f"  FAILED {failure.method} on {failure.capture}: {failure.reason}", flush=True)
+    stems = figure_stems(files)
+    results: dict[int, CaptureResult] = {}  # capture number -> its result, written in capture order
+    failed: dict[int, BenchFailure] = {}  # capture number -> why the whole capture failed
+    tasks = [BenchTask(number, path, config, args.model, scorer_threads=None if engine_workers == 1 else 1)
+             for number, path in enumerate(files)]
+    with Engine(engine_workers, args.scheduler) as engine:
+        for finished, done in enumerate(engine.unordered(bench_one, tasks), start=1):
+            number, path = done.task.number, done.task.path
+            print(f"[{finished}/{len(files)}] {path}", flush=True)
+            if done.error is not None:  # reported, and the run goes on (user_errors words the known ones)
+                failed[number] = BenchFailure(path.stem, "*", failure_reason(done.error))
+                print(f"  FAILED {path.stem}: {failed[number].reason}", flush=True)
+            else:
+                result = results[number] = done.result
+                error_plot(result, out / f"{stems[number]}.error.png")
+                time_plot(result, out / f"{stems[number]}.time.png")
+                _print_result(result)
+            _write_results(out, *_in_capture_order(results, failed))  # as each capture finishes: nothing is lost
+    rows, failures = _in_capture_order(results, failed)
     print(f"wrote {out / 'bench.csv'} ({len(rows)} rows) and figures to {out}")
     if failures:
         print(f"{len(failures)} failure(s), listed in {out / 'failures.csv'}:")
@@ -126,6 +112,74 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {failure.capture}: {failure.method}: {failure.reason}")
         return 1
     return 0
+
+
+@dataclass(frozen=True)
+class BenchTask:
+    """One capture to benchmark (sent to a worker)."""
+
+    number: int
+    path: Path
+    config: Any  # BenchConfig
+    model: str | None
+    scorer_threads: int | None  # None: the scorer's default; 1 in each of several workers
+
+
+def bench_one(task: BenchTask) -> Any:
+    """In a worker: every method on one capture (a CaptureResult)."""
+    from ..core.capture_file import read_capture
+    from ..quality.bench import bench_capture
+    from ..scenes.capture_geometry import capture_raycaster
+    from .errors import user_errors
+
+    with user_errors(str(task.path)):
+        capture = read_capture(task.path)
+        scorer = None
+        if task.model is not None:
+            from ..train.onnx_scoring import OnnxScorer
+
+            scorer = (OnnxScorer(task.model) if task.scorer_threads is None
+                      else OnnxScorer(task.model, threads=task.scorer_threads))
+            scorer.check_capture(capture, str(task.path))
+        # The level's surfaces when the tools can load them (an OpenArena import): every row then reports its leaks.
+        return bench_capture(task.path.stem, capture, task.config, scorer, geometry=capture_raycaster(capture)[0])
+
+
+def figure_stems(files: list[Path]) -> list[str]:
+    """A distinct file stem per capture, for its figures (a repeated name gets underscores, in capture order)."""
+    from ..core.capture_file import safe_file_stem
+
+    stems: list[str] = []
+    for path in files:
+        stem = safe_file_stem(path.stem)
+        while stem in stems:
+            stem += "_"
+        stems.append(stem)
+    return stems
+
+
+def _in_capture_order(results: dict[int, Any], failed: dict[int, Any]) -> tuple[list, list]:
+    rows, failures = [], []
+    for number in sorted(set(results) | set(failed)):
+        if number in failed:
+            failures.append(failed[number])
+        else:
+            rows.extend(results[number].rows)
+            failures.extend(results[number].failures)
+    return rows, failures
+
+
+def _print_result(result: Any) -> None:
+    from ..core.in_use_section import in_use_text
+
+    for row in result.rows:
+        versus = (f"probes x ref {row.probes_ratio:.2f}" if row.probes_ratio is not None
+                  else f"error x ref {row.error_ratio:.2f}")
+        print(f"  {row.method:>18} {row.policy:>9} {row.parameter:<6g} probes {row.probes:>6,} "
+              f"time {row.seconds * 1000:>10.1f} ms  mean {row.mean_error:.4f}  p95 {row.p95_error:.4f}  "
+              f"in use {in_use_text(row.in_use_error)}  leaking {in_use_text(row.leaking)}  {versus}")
+    for failure in result.failures:
+        print(f"  FAILED {failure.method} on {failure.capture}: {failure.reason}", flush=True)
 
 
 def _write_results(out: Path, rows: list, failures: list) -> None:

@@ -33,6 +33,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     run_parser.add_argument("--in-use", choices=("all", "band", "reachable"), default="all",
                             help="the crops' points: 'all' (default; what the shipped model was trained on) or only "
                                  "the points where players go (Documentation~/in-use.md), labelled and trained on")
+    run_parser.add_argument("--scheduler", metavar="ADDRESS",
+                            help="crop, label and evaluate on the Dask cluster at ADDRESS (e.g. tcp://10.0.0.5:8786; "
+                                 "Documentation~/training.md \"On a cluster\"); default: 2 local worker processes")
     run_parser.add_argument("--install", metavar="MODELS_DIR", help="copy the model and its card here when done")
     run_parser.set_defaults(handler=_run)
     report_parser = commands.add_parser("report", help="print the held-out table of a recipe model's card")
@@ -58,7 +61,8 @@ def _run(args: argparse.Namespace) -> int:
         config = replace(config, variants_per_crop=args.variants,
                          variant_rig_scheme="quick" if args.quick else config.variant_rig_scheme)
     config = replace(config, in_use=args.in_use)
-    result = run_recipe(pak, Path(args.work), config, install_to=Path(args.install) if args.install else None)
+    result = run_recipe(pak, Path(args.work), config, install_to=Path(args.install) if args.install else None,
+                        scheduler=args.scheduler)
     total = sum(result.times.seconds.values())
     print(f"model: {result.model} ({total / 60:.1f} min over " +
           ", ".join(f"{k} {v:.0f} s" for k, v in result.times.seconds.items()) + ")")

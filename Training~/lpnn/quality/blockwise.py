@@ -132,7 +132,7 @@ def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLO
                         metric: str = PRIMARY_METRIC, progress: Callable[[int, int], None] | None = None,
                         workers: int = 1, checkpoint: str | os.PathLike | None = None) -> BlockwiseReference:
     """One fast reference per block with its margin (module text); `ids` (N, 3) the points' lattice ids; `workers`
-    processes decimate blocks side by side (core/processes.py; the same answer: blocks are independent);
+    local worker processes decimate blocks side by side (core/engine.py; the same answer: blocks are independent);
     `checkpoint` a file that keeps finished blocks and resumes a run cut short (module text)."""
     if block < 1 or margin < 0:
         raise ValueError(f"block {block} must be >= 1 cell and margin {margin} >= 0 cells")
@@ -159,13 +159,10 @@ def blockwise_reference(field: ReferenceField, ids: np.ndarray, block: int = BLO
                 yield _sub_field(field, members), members, np.searchsorted(members, cores[b]), metric
 
     def results():
-        if workers <= 1 or keys.shape[0] <= 1:
-            yield from map(_block_entries, tasks())
-            return
-        from ..core.processes import worker_pool
+        from ..core.engine import Engine
 
-        with worker_pool(workers) as pool:
-            yield from pool.imap(_block_entries, tasks(), chunksize=1)
+        with Engine(workers if keys.shape[0] > 1 else 1) as engine:
+            yield from engine.ordered(_block_entries, tasks())
 
     finished = keys.shape[0] - pending.shape[0]
     if progress is not None and finished:

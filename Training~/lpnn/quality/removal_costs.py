@@ -10,17 +10,20 @@ slower when other work competes for the cores.
 
 from __future__ import annotations
 
+import multiprocessing
 import traceback
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 
 import numpy as np
 
-from ..core.processes import CONTEXT, worker_process
 from .decimation_mesh import GlobalRemoval, LocalRemoval
 from .decimation_state import DecimationState
 from .metric import ReferenceField
 
+# The replica is one process in lockstep with this one over a pipe, not a fan-out of independent items (those go
+# through core/engine.py). Started with `spawn` for the reasons core/engine.py gives against `fork`.
+SPAWN = multiprocessing.get_context("spawn")
 
 MASTER_HANDICAP = 2.0  # interior-removal units of work this process does per step besides evaluating
 
@@ -106,8 +109,8 @@ class ParallelCosts(SerialCosts):
     """This process plus one worker replica, each evaluating half of every batch."""
 
     def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
-        self.connection, worker_end = CONTEXT.Pipe()
-        self.worker = worker_process(_replica, (worker_end, field, metric, initial))
+        self.connection, worker_end = SPAWN.Pipe()
+        self.worker = SPAWN.Process(target=_replica, args=(worker_end, field, metric, initial), daemon=True)
         self.worker.start()
         super().__init__(field, metric, initial)
         self.owner: dict[int, int] = {}  # 0 = here, 1 = worker

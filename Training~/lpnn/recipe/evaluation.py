@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
 from ..core.capture_file import read_capture
-from ..core.processes import worker_pool
+from ..core.engine import Engine
 from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from ..quality.bench import BenchConfig, bench_capture
 from ..quality.lpnn_placement import RECOMMENDED_REFINE
@@ -53,15 +53,11 @@ def evaluate_crop(task: tuple[str, str]) -> dict[str, Any]:
             "failures": [asdict(failure) for failure in result.failures]}  # a method that failed: reported
 
 
-def evaluate_crops(capture_paths: Sequence[Path], model_path: Path, workers: int,
+def evaluate_crops(capture_paths: Sequence[Path], model_path: Path, engine: Engine,
                    progress: Callable[[Iterable, int], Iterable] = lambda items, total: items) -> list[dict[str, Any]]:
-    """Every crop, sorted by name. Workers start as core/processes.py says."""
+    """Every crop, sorted by name, each on a worker of `engine` (core/engine.py); stops at the first crop that fails."""
     tasks = [(str(path), str(model_path)) for path in capture_paths]
-    if workers <= 1 or len(tasks) <= 1:
-        results = list(progress(map(evaluate_crop, tasks), len(tasks)))
-    else:
-        with worker_pool(workers) as pool:
-            results = list(progress(pool.imap_unordered(evaluate_crop, tasks), len(tasks)))
+    results = [done.value() for done in progress(engine.unordered(evaluate_crop, tasks), len(tasks))]
     return sorted(results, key=lambda crop: crop["name"])
 
 

@@ -7,12 +7,12 @@ import json
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable
 
 from ..errors import UserError
 from ..core.atomic import write_text_atomic
 from ..core.capture_file import read_capture, write_capture
-from ..core.processes import worker_pool
+from ..core.engine import Engine
 from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member
 from .config import RecipeConfig
@@ -139,16 +139,10 @@ def _crop_task(task: tuple[str, str, float, RecipeConfig, str]) -> dict:
             "points": [c.capture.point_count for c in crops], "seconds": round(time.perf_counter() - start, 3)}
 
 
-def _parallel(function: Callable, tasks: Sequence, workers: int) -> Iterable:
-    if workers <= 1 or len(tasks) <= 1:
-        yield from map(function, tasks)
-        return
-    with worker_pool(workers) as pool:
-        yield from pool.imap_unordered(function, tasks)
-
-
-def make_crops(paths: RecipePaths, pak: Path, members: list[str], config: RecipeConfig, log: Log) -> dict[str, dict]:
-    """Crop records per level (for the first cell size: whether the level is importable)."""
+def make_crops(paths: RecipePaths, pak: Path, members: list[str], config: RecipeConfig, log: Log,
+               engine: Engine) -> dict[str, dict]:
+    """Crop records per level (for the first cell size: whether the level is importable), each written as it
+    arrives (a rerun skips it)."""
     paths.crops.mkdir(parents=True, exist_ok=True)
     todo, records = [], {}
     for member in members:
@@ -159,7 +153,8 @@ def make_crops(paths: RecipePaths, pak: Path, members: list[str], config: Recipe
                 records[f"{name}@{cell}"] = read_work_json(record_path)
             else:
                 todo.append((str(pak), member, cell, config, str(paths.crops)))
-    for record in _progress(_parallel(_crop_task, todo, config.workers), len(todo), "cropping levels"):
+    for done in _progress(engine.unordered(_crop_task, todo), len(todo), "cropping levels"):
+        record = done.value()
         cell = record["cell_size"]
         write_text_atomic(paths.survey_record(record["level"], cell), json.dumps(record, indent=2) + "\n")
         records[f"{record['level']}@{cell}"] = record
@@ -215,13 +210,16 @@ def _label_task(task: tuple[str, str, float]) -> tuple[str, float, int]:
     return Path(target).stem, seconds, capture.point_count
 
 
-def label_crops(paths: RecipePaths, names: list[str], config: RecipeConfig, log: Log) -> dict[str, float]:
-    """Reference labels for every crop not labelled yet; returns the reference's seconds per crop."""
+def label_crops(paths: RecipePaths, names: list[str], config: RecipeConfig, log: Log,
+                engine: Engine) -> dict[str, float]:
+    """Reference labels for every crop not labelled yet (each written by its worker as it finishes: a rerun
+    skips it); returns the reference's seconds per crop. Stops at the first crop that fails."""
     paths.labelled.mkdir(parents=True, exist_ok=True)
     todo = [(str(paths.crops / f"{n}.lpnncap"), str(paths.labelled / f"{n}.lpnncap"), config.label_budget)
             for n in names if not (paths.labelled / f"{n}.lpnncap").exists()]
     seconds: dict[str, float] = {}
-    for name, spent, _points in _progress(_parallel(_label_task, todo, config.workers), len(todo), "labelling crops"):
+    for done in _progress(engine.unordered(_label_task, todo), len(todo), "labelling crops"):
+        name, spent, _points = done.value()
         seconds[name] = spent
     if todo:
         log(f"  labelled {len(todo)} crops with the fast reference ({sum(seconds.values()):.0f} s of reference time)")
@@ -270,9 +268,17 @@ def _selected_members(pak: Path, config: RecipeConfig) -> list[str]:
 
 
 def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
-               install_to: Path | None = None) -> RecipeResult:
+               install_to: Path | None = None, scheduler: str | None = None) -> RecipeResult:
     """Crops, split, labels, training, held-out evaluation, model card; then installs the model into
-    `install_to` when given. Each step's output stays in `work`, so a rerun resumes."""
+    `install_to` when given. Each step's output stays in `work`, so a rerun resumes. Crops, labels and the
+    held-out evaluation run on `config.workers` local processes, or on the Dask cluster at `scheduler`
+    (core/engine.py); the results are the same."""
+    with Engine(config.workers, scheduler) as engine:
+        return _run_recipe(pak, work, config, log, install_to, engine)
+
+
+def _run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log, install_to: Path | None,
+                engine: Engine) -> RecipeResult:
     paths = RecipePaths(work)
     work.mkdir(parents=True, exist_ok=True)
     check_manifest(paths, config, pak)
@@ -281,7 +287,7 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
 
     start = time.perf_counter()
     log(f"1/6 crops: {len(members)} levels x {len(config.cell_sizes)} cell size(s)")
-    records = make_crops(paths, pak, members, config, log)
+    records = make_crops(paths, pak, members, config, log, engine)
     times.record("crops", start)
     first_cell = config.cell_sizes[0]
     importable = sorted(r["level"] for k, r in records.items() if k.endswith(f"@{first_cell}") and r["importable"])
@@ -300,7 +306,7 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
 
     start = time.perf_counter()
     log("3/6 labels: the fast reference placement of every crop")
-    label_crops(paths, crops["train"] + crops["validation"] + crops["held_out"], config, log)
+    label_crops(paths, crops["train"] + crops["validation"] + crops["held_out"], config, log, engine)
     times.record("labels", start)
 
     start = time.perf_counter()
@@ -315,7 +321,7 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
 
     start = time.perf_counter()
     log(f"5/6 held-out evaluation: {len(crops['held_out'])} crops of {len(split.held_out)} levels")
-    held_out = evaluate_held_out(paths, crops["held_out"], config, log)
+    held_out = evaluate_held_out(paths, crops["held_out"], log, engine)
     times.record("evaluation", start)
 
     log("6/6 model card" + (f" and installation into {install_to}" if install_to else ""))
@@ -333,7 +339,7 @@ def run_recipe(pak: Path, work: Path, config: RecipeConfig, log: Log = print,
                         held_out=held_out, installed=installed)
 
 
-def evaluate_held_out(paths: RecipePaths, names: list[str], config: RecipeConfig, log: Log) -> dict:
+def evaluate_held_out(paths: RecipePaths, names: list[str], log: Log, engine: Engine) -> dict:
     """The held-out summary (cached in evaluation.json with the per-crop results, and bench.csv)."""
     if paths.evaluation.exists():  # the per-crop results are kept; the summary is recomputed from them
         stored = read_work_json(paths.evaluation)
@@ -342,7 +348,7 @@ def evaluate_held_out(paths: RecipePaths, names: list[str], config: RecipeConfig
             raise _damaged(paths.evaluation, "no list of 'crops'")
     else:
         files = [paths.labelled / f"{n}.lpnncap" for n in names]
-        crops = evaluate_crops(files, paths.model, config.workers,
+        crops = evaluate_crops(files, paths.model, engine,
                                lambda items, total: _progress(items, total, "evaluating held-out crops"))
     summary = summarize(crops)
     summary["goals"] = goal_checks(summary)

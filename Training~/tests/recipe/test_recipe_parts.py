@@ -162,6 +162,7 @@ def test_a_damaged_work_file_is_named_with_what_to_do(tmp_path, damaged: str) ->
     from pathlib import Path
 
     from lpnn.cli.errors import UserError
+    from lpnn.core.engine import Engine
     from lpnn.recipe.run import RecipePaths, StepTimes, check_manifest, evaluate_held_out
 
     paths = RecipePaths(tmp_path)
@@ -172,6 +173,6 @@ def test_a_damaged_work_file_is_named_with_what_to_do(tmp_path, damaged: str) ->
         with pytest.raises(UserError, match=r"recipe\.json is damaged .*delete it to redo that step"):
             check_manifest(paths, config, Path("pak.pk3"))
     with pytest.raises(UserError, match=r"evaluation\.json is damaged"):
-        evaluate_held_out(paths, [], config, print)
+        evaluate_held_out(paths, [], print, Engine())
     with pytest.raises(UserError, match=r"times\.json is damaged"):
         StepTimes.load(tmp_path / "times.json")
