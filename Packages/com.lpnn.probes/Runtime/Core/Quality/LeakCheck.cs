@@ -44,7 +44,11 @@ namespace Lpnn.Probes.Core.Quality
         /// <see cref="PointsPerBatch"/>; one entry per point given. Shared by <see cref="Find"/> and the leak weighting of
         /// batched refinement, so both decide alike.</summary>
         internal static bool[] Leaking(ReferenceLighting reference, int[] probes, IReadOnlyList<int> points, IReadOnlyList<Stencil> stencils,
-            IRaycaster raycaster)
+            IRaycaster raycaster) => Leaking(reference, probes, points, stencils, raycaster, null, CancellationToken.None);
+
+        /// <summary>As above, reporting the rays' progress and honouring <paramref name="cancel"/> (the inspector's leak report).</summary>
+        internal static bool[] Leaking(ReferenceLighting reference, int[] probes, IReadOnlyList<int> points, IReadOnlyList<Stencil> stencils,
+            IRaycaster raycaster, ProgressCallback progress, CancellationToken cancel)
         {
             if (points.Count != stencils.Count)
                 throw new ArgumentException("points (" + points.Count + ") and stencils (" + stencils.Count + ") differ in length");
@@ -61,7 +65,7 @@ namespace Lpnn.Probes.Core.Quality
                     positions[b] = reference.GetPosition(points[start + b]);
                     batch[b] = stencils[start + b];
                 }
-                var leaks = StencilLeaks(positions, probePositions, batch, raycaster);
+                var leaks = StencilLeaks(positions, probePositions, batch, raycaster, progress, cancel);
                 Array.Copy(leaks, 0, leaking, start, count);
             }
             return leaking;
@@ -69,7 +73,12 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>For each point, whether a probe of its stencil (indices into <paramref name="probePositions"/>) with weight
         /// above <see cref="MinimumWeight"/> is hidden from it; one batched cast for every weighing pair.</summary>
-        public static bool[] StencilLeaks(Vector3[] points, Vector3[] probePositions, Stencil[] stencils, IRaycaster raycaster)
+        public static bool[] StencilLeaks(Vector3[] points, Vector3[] probePositions, Stencil[] stencils, IRaycaster raycaster) =>
+            StencilLeaks(points, probePositions, stencils, raycaster, null, CancellationToken.None);
+
+        /// <summary>As above, reporting the rays' progress and honouring <paramref name="cancel"/>.</summary>
+        internal static bool[] StencilLeaks(Vector3[] points, Vector3[] probePositions, Stencil[] stencils, IRaycaster raycaster,
+            ProgressCallback progress, CancellationToken cancel)
         {
             if (points == null) throw new ArgumentNullException(nameof(points));
             if (probePositions == null) throw new ArgumentNullException(nameof(probePositions));
@@ -88,7 +97,7 @@ namespace Lpnn.Probes.Core.Quality
                 AddPair(n, points[n], probePositions, s.Probe3, s.Weight3, owners, starts, ends);
             }
             // The segment test of in-use.md "Definitions" 2, the one the in-use rule casts.
-            var free = InUseRays.SegmentsFree(starts.ToArray(), ends.ToArray(), raycaster, "leaks: segment rays", null, CancellationToken.None);
+            var free = InUseRays.SegmentsFree(starts.ToArray(), ends.ToArray(), raycaster, "leaks: segment rays", progress, cancel);
             var leaking = new bool[points.Length];
             for (int pair = 0; pair < free.Length; pair++)
                 if (!free[pair]) leaking[owners[pair]] = true;

@@ -87,7 +87,7 @@ namespace Lpnn.Probes.Core.Quality
             return stencil;
         }
 
-        private static double[] ProbePoints(ReferenceLighting reference, int[] probes)
+        internal static double[] ProbePoints(ReferenceLighting reference, int[] probes)
         {
             var points = new double[3 * probes.Length];
             for (int k = 0; k < probes.Length; k++)
