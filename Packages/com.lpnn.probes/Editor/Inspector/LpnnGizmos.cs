@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Editor
     /// <summary>Scene-view drawing of a volume (DrawGizmo: UnityCsReference Editor/Mono/DrawGizmo.cs; Gizmos:
     /// Runtime/Export/Gizmos/Gizmos.bindings.cs): the boxes always, and when selected the points the in-use rule left out
     /// (small grey cubes) and the points in use (green until scored), the scored evaluation points coloured by remapped
-    /// score (blue low, red high) and the probes of the target group.</summary>
+    /// score (blue low, red high), the probes of the target group and the edges of the leaking tetrahedra (magenta).</summary>
     internal static class LpnnGizmos
     {
         /// <summary>Gizmos are immediate mode; beyond this many points only every n-th is drawn.</summary>
@@ -17,6 +17,8 @@ namespace Lpnn.Probes.Editor
         private static readonly Color ProbeColor = new Color(1f, 0.95f, 0.3f, 1f);
         private static readonly Color InUseColor = new Color(0.2f, 0.9f, 0.35f, 0.8f);
         private static readonly Color NotInUseColor = new Color(0.55f, 0.55f, 0.55f, 0.3f);
+        /// <summary>Edges of the tetrahedra holding a leaking point (Documentation~/leaks.md).</summary>
+        private static readonly Color LeakColor = new Color(1f, 0.2f, 0.75f, 0.9f);
         private static readonly Dictionary<ObjectKey, ScoreCloud> Clouds = new Dictionary<ObjectKey, ScoreCloud>();
         private static readonly Dictionary<ObjectKey, InUseCloud> InUseClouds = new Dictionary<ObjectKey, InUseCloud>();
 
@@ -45,6 +47,27 @@ namespace Lpnn.Probes.Editor
             DrawInUse(volume);
             DrawScores(volume);
             DrawProbes(volume.TargetGroup, volume.CellSize);
+            DrawLeaks(volume);
+        }
+
+        /// <summary>The edges of the leaking tetrahedra of the volume's last leak report (at most
+        /// <see cref="LeaksAtPointsInUse.MaxDrawnTetrahedra"/>; the inspector line says when more leak).</summary>
+        private static void DrawLeaks(LpnnVolume volume)
+        {
+            var entry = LeaksAtPointsInUse.Last(volume);
+            if (entry == null) return;
+            var c = entry.Corners;
+            Gizmos.color = LeakColor;
+            for (int t = 0; t + 3 < c.Length; t += 4)
+            {
+                // Gizmos.DrawLine: UnityCsReference Runtime/Export/Gizmos/Gizmos.bindings.cs
+                Gizmos.DrawLine(c[t], c[t + 1]);
+                Gizmos.DrawLine(c[t], c[t + 2]);
+                Gizmos.DrawLine(c[t], c[t + 3]);
+                Gizmos.DrawLine(c[t + 1], c[t + 2]);
+                Gizmos.DrawLine(c[t + 1], c[t + 3]);
+                Gizmos.DrawLine(c[t + 2], c[t + 3]);
+            }
         }
 
         private static void DrawBoxes(LpnnVolume volume, bool selected)

@@ -188,6 +188,10 @@ namespace Lpnn.Probes.Editor
             StepResult result = null;
             if (!StepRunner.Run(Volume, state, (progress, cancel) => StepSummaries.Describe(result = work(progress, cancel)))) return false;
             Steps.Reported(step, Session, Volume);
+            // After Apply: the leaking points of the placed probes (Documentation~/leaks.md "What is reported"), own progress and cancel.
+            var placed = result as PlacementResult;
+            if (placed != null && placed.Selection != null && Session.Sh != null)
+                LeaksAtPointsInUse.Run(Volume, Session, LpnnPipeline.PlacementGrid(Volume, Session), placed.Selection.Indices);
             string warning = StepSummaries.Warning(result);
             state.Warn(warning);
             if (warning.Length > 0) Debug.LogWarning("[LPNN] " + Volume.name + " — " + state.Name + ": " + warning, Volume);

@@ -40,6 +40,7 @@ namespace Lpnn.Probes.Editor
         public const string ImportProbes = "Import .probes.json…";
         public const string ImportProbesPanel = "Import probe positions (*.probes.json)";
         public const string EstimateError = "Estimate error";
+        public const string FindLeaksInPreview = "Find leaks (physics rays)";
         public const string NoScoresYet = "No scores yet: run the Scoring step (or import a .probes.json).";
         public const string NoGuideScoresYet =
             "No scores yet: guided insertion takes, in each tetrahedron, the badly interpolated point the network rates highest: " +

@@ -78,10 +78,47 @@ namespace Lpnn.Probes.Editor
                     }
                 }
                 if (GUILayout.Button(LpnnVolumeStyles.Clear))
-                    StepRunner.Run(volume, placement, (progress, cancel) => { ProbeGroupWriter.Clear(volume.TargetGroup); return "probes cleared"; });
+                    StepRunner.Run(volume, placement, (progress, cancel) =>
+                    {
+                        ProbeGroupWriter.Clear(volume.TargetGroup);
+                        LeaksAtPointsInUse.Forget(volume);
+                        return "probes cleared";
+                    });
                 if (GUILayout.Button(LpnnVolumeStyles.ImportProbes)) ImportProbes(volume, placement, edited);
             }
             InspectorLayout.Status(placement);
+            AppliedLeakLine(volume, session, preview);
+        }
+
+        /// <summary>The leak line of a probe set (Documentation~/leaks.md "What is reported"): the kept report, or a button that
+        /// casts the rays (seconds on large grids, with progress and cancel), beside the estimated error.</summary>
+        private static void LeakLine(LpnnVolume volume, LpnnSession session, EvaluationGrid grid, int[] probes, string button)
+        {
+            if (session.Sh == null || session.Grid != grid) return;
+            var known = LeaksAtPointsInUse.Known(volume, session, probes);
+            if (known != null)
+            {
+                // EditorGUILayout.HelpBox: UnityCsReference Editor/Mono/EditorGUILayout.cs
+                EditorGUILayout.HelpBox(known.Text, known.Failed || (known.Report != null && known.Report.Leaking > 0) ? MessageType.Warning : MessageType.Info);
+                return;
+            }
+            // GUILayout.Button: UnityCsReference Modules/IMGUI/GUILayout.cs
+            if (GUILayout.Button(button))
+            {
+                LeaksAtPointsInUse.Run(volume, session, grid, probes);
+                // After a progress bar the layout group is gone: end this GUI pass (GUIUtility.ExitGUI: UnityCsReference
+                // Modules/IMGUI/GUIUtility.cs).
+                GUIUtility.ExitGUI();
+            }
+        }
+
+        /// <summary>After Apply: the leak report of the placed probes when they are not the preview's (a refined placement).</summary>
+        private static void AppliedLeakLine(LpnnVolume volume, LpnnSession session, SelectionResult preview)
+        {
+            var last = LeaksAtPointsInUse.Last(volume);
+            if (last == null || last.Sh != session.Sh) return;
+            if (preview != null && LeaksAtPointsInUse.Known(volume, session, preview.Indices) == last) return;
+            EditorGUILayout.HelpBox("Placed probes — " + last.Text, last.Failed || (last.Report != null && last.Report.Leaking > 0) ? MessageType.Warning : MessageType.Info);
         }
 
         /// <summary>The policy popup in <see cref="PolicyOrder"/>, not the order of the enum, whose values are stored in scenes
@@ -167,6 +204,7 @@ namespace Lpnn.Probes.Editor
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
             if (!_estimate.Has(result, session) && session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button(LpnnVolumeStyles.EstimateError))
                 _estimate.Get(result, session, grid, out bool _);
+            LeakLine(volume, session, grid, result.Indices, LpnnVolumeStyles.FindLeaksInPreview);
             return result;
         }
 

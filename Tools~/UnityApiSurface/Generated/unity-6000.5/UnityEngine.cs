@@ -382,6 +382,8 @@ namespace UnityEngine
     // Runtime/Export/Gizmos/Gizmos.bindings.cs:16
     public sealed partial class Gizmos
     {
+        // Runtime/Export/Gizmos/Gizmos.bindings.cs:19
+        public static void DrawLine(Vector3 from, Vector3 to) { throw null; }
         // Runtime/Export/Gizmos/Gizmos.bindings.cs:35
         public static void DrawWireSphere(Vector3 center, float radius) { throw null; }
         // Runtime/Export/Gizmos/Gizmos.bindings.cs:41
