@@ -178,6 +178,42 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
+        public void LeaksAreCountedOverTheMaskWithUnitysTetrahedraAndPhysicsRays()
+        {
+            // Documentation~/leaks.md "What is reported": the inspector's leak line after Apply under All counts the report
+            // mask's points only, as LeakCheck.Find decides them with the same tetrahedra and the scene's colliders.
+            _volume.SetInUseRule(InUseRule.All);
+            _volume.SetInUseSeeds(_seed);
+            _volume.SetSelection(SelectionSettings.Budget(24, true));
+            _volume.SetRefineInBatches(false);
+            LpnnPipeline.Run(_volume, _session, PipelineStep.Features, volume => new GradientLighting(), (step, work) =>
+            {
+                work(null, CancellationToken.None);
+                return true;
+            });
+            var placed = LpnnPipeline.Apply(_volume, _session, null, CancellationToken.None);
+            var grid = LpnnPipeline.PlacementGrid(_volume, _session);
+            var probes = placed.Selection.Indices;
+            var entry = LeaksAtPointsInUse.Run(_volume, _session, grid, probes);
+            Assert.That(entry, Is.Not.Null);
+            Assert.That(entry.Failed, Is.False, entry.Text);
+            Assert.That(LeaksAtPointsInUse.Known(_volume, _session, probes), Is.SameAs(entry));
+            var mask = _session.InUse.GridMask;
+            Assert.That(entry.Report.Points, Is.EqualTo(mask.Count(m => m)));
+            var reference = PlacementInputs.Reference(_session, grid);
+            var positions = probes.Select(p => reference.GetPosition(p)).ToArray();
+            int[] tetrahedra = new UnityTetrahedralizer().Tetrahedralize(positions);
+            bool[] leaking;
+            using (new RaycastScope(_volume, _volume.AddTemporaryColliders))
+                leaking = Core.Quality.LeakCheck.Find(reference, probes, tetrahedra, new PhysicsRaycaster(_volume.gameObject.scene));
+            Assert.That(entry.Report.Leaking, Is.EqualTo(Core.Quality.LeakReport.CountTrue(leaking, mask)));
+            Assert.That(entry.Corners.Length, Is.EqualTo(4 * System.Math.Min(entry.Report.TetrahedronCount, LeaksAtPointsInUse.MaxDrawnTetrahedra)));
+            StringAssert.StartsWith("Leaks: " + entry.Report.Leaking.ToString("N0", System.Globalization.CultureInfo.InvariantCulture) + " of ", entry.Text);
+            LeaksAtPointsInUse.Forget(_volume);
+            Assert.That(LeaksAtPointsInUse.Last(_volume), Is.Null);
+        }
+
+        [Test]
         public void AllMeasuresTheErrorAtTheMaskAndExportsTheInUseSection()
         {
             _volume.SetInUseRule(InUseRule.All);
