@@ -76,6 +76,14 @@ namespace Lpnn.Probes.Editor
                 entry.Text = "Leaks unavailable: " + e.Message;
                 entry.Failed = true;
             }
+            catch (Exception e)
+            {
+                // The placement stays; the line says what happened and the console has the details (Debug.LogException:
+                // UnityCsReference Runtime/Export/Debug/Debug.bindings.cs).
+                entry.Text = "Leaks unavailable: unexpected error (" + e.GetType().Name + ": " + e.Message + "); the console has the details.";
+                entry.Failed = true;
+                Debug.LogException(e, volume);
+            }
             Entries[ObjectKey.Of(volume)] = entry;
             return entry;
         }
