@@ -18,7 +18,7 @@ step "install system packages" bash "Tools~/install-system.sh" || true
 
 if step "build C# core and tests (mcs)" bash "Tools~/build-csharp.sh"; then
   reports+=("$BUILD_DIR/reports/nunit-core.xml")
-  (cd "$BUILD_DIR" && nunit-console -nologo -labels Lpnn.Probes.Core.Tests.dll \
+  (cd "$BUILD_DIR" && nunit-console -nologo -labels -exclude=RealLevelRehearsal Lpnn.Probes.Core.Tests.dll \
       -xml="$BUILD_DIR/reports/nunit-core.xml" > "$BUILD_DIR/reports/nunit-core.log" 2>&1) || true
   tail -n 15 "$BUILD_DIR/reports/nunit-core.log" | grep -E "Tests run|Errors and Failures|^[0-9]+\)" || true
 fi

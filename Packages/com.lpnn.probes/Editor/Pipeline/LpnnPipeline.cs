@@ -6,6 +6,7 @@ using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Pipeline;
 using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
@@ -186,26 +187,12 @@ namespace Lpnn.Probes.Editor
         private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, float[] guideScores, SelectionSettings settings,
             IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel)
         {
+            // The step itself is the core's (Core.Pipeline.ApplySteps), so the editor-free rehearsal runs this code.
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
             int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores);
-            RankingPrefix prefix;
-            int candidates;
-            SelectionResult selection;
-            if (known != null)
-            {
-                candidates = valid == null ? grid.Count : grid.Count - ValidCandidates.CountInvalid(valid);
-                prefix = count => known;
-                selection = ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
-            }
-            else
-            {
-                var order = PlacementInputs.InsertionOrder(session, grid, guideScores);
-                candidates = order.Count;
-                prefix = count => order.Prefix(count, progress, cancel);
-                selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, prefix, settings, measure, valid);
-            }
-            if (!refine) return selection;
-            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, PlacementInputs.Evaluator(session, grid), valid, progress, cancel);
+            var order = known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores) : null;
+            var evaluator = refine ? PlacementInputs.Evaluator(session, grid) : null;
+            return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel);
         }
 
         /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the
@@ -262,12 +249,7 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)
-        {
-            var positions = new NumericsVector3[selection.Indices.Length];
-            for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
-            return positions;
-        }
+        private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection) => ApplySteps.PositionsOf(grid, selection);
 
         /// <summary>The session's grid when it still matches the volume; otherwise an error saying to rebuild it.</summary>
         public static EvaluationGrid FreshGrid(LpnnVolume volume, LpnnSession session)

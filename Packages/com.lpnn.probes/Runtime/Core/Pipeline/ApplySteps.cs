@@ -1,0 +1,102 @@
+using System;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Sh;
+
+namespace Lpnn.Probes.Core.Pipeline
+{
+    /// <summary>Where the Apply step's probes go: a LightProbeGroup in the editor (one Undo step), a recording fake in the
+    /// rehearsal (Tests/Core/ApplyRehearsalTests.cs). Called once, with the final positions, only when nothing was cancelled.</summary>
+    internal interface IProbeGroupWriter
+    {
+        void Write(Vector3[] positions);
+    }
+
+    /// <summary>The Features step of a grid and its lighting (the editor: FeatureExtractor.Extract with Unity's physics
+    /// raycaster; the rehearsal: the features of a capture).</summary>
+    internal delegate FeatureSet FeatureStep(EvaluationGrid grid, float[] sh, ProgressCallback progress, CancellationToken cancel);
+
+    /// <summary>The order of the Apply steps between Unity calls (Documentation~/index.md "Apply rehearsal"): lighting through
+    /// an <see cref="ILightSampler"/> → features → valid points → the insertion selection with the tolerance policy and the
+    /// batched refinement → the positions handed to an <see cref="IProbeGroupWriter"/>. <see cref="SelectByInsertion"/> is
+    /// the code the editor's <c>LpnnPipeline</c> runs for the Insertion methods; <see cref="Rehearse"/> chains the steps
+    /// the way <c>LpnnPipeline.Run</c> does, without the editor's session, so it runs under Mono. Every step honours
+    /// <c>cancel</c>; a cancel throws <see cref="OperationCanceledException"/> before the writer is called.</summary>
+    internal static class ApplySteps
+    {
+        public const string LightingStage = "Lighting: sampling the evaluation points";
+
+        /// <summary>The insertion methods' selection, reading the insertion order only as far as the policy needs (a budget's
+        /// points, the tolerance search's prefixes), or the whole ranking when it is already known (<paramref name="known"/>,
+        /// else <paramref name="order"/>); with <paramref name="refine"/>, refined in batches from twice its count of the
+        /// ranking (Core.Quality.RefinedSelection, quality.md §5.3) with <paramref name="evaluator"/>.</summary>
+        public static SelectionResult SelectByInsertion(EvaluationGrid grid, bool[] valid, int[] known, InsertionOrder order, SelectionSettings settings,
+            IPlacementErrorMeasure measure, bool refine, PlacementEvaluator evaluator, ProgressCallback progress, CancellationToken cancel)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            RankingPrefix prefix;
+            int candidates;
+            SelectionResult selection;
+            if (known != null)
+            {
+                candidates = valid == null ? grid.Count : grid.Count - ValidCandidates.CountInvalid(valid);
+                prefix = count => known;
+                selection = ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
+            }
+            else
+            {
+                if (order == null) throw new ArgumentNullException(nameof(order), "neither a known ranking nor an insertion order");
+                candidates = order.Count;
+                prefix = count => order.Prefix(count, progress, cancel);
+                selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, prefix, settings, measure, valid);
+            }
+            if (!refine) return selection;
+            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, valid, progress, cancel);
+        }
+
+        /// <summary>World positions of the selected grid points, in the selection's order.</summary>
+        public static Vector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection)
+        {
+            var positions = new Vector3[selection.Indices.Length];
+            for (int p = 0; p < positions.Length; p++) positions[p] = grid.GetPosition(selection.Indices[p]);
+            return positions;
+        }
+
+        /// <summary>The whole Apply of the plain Insertion method (the volume's default: Insertion, Refine in batches) on a
+        /// grid: <paramref name="lighting"/> samples the SH, <paramref name="features"/> gives the features (their back-face
+        /// fractions say which points are valid), <paramref name="tetrahedralizer"/> stands in for Unity's, and the positions
+        /// go to <paramref name="writer"/> only after every step finished uncancelled.</summary>
+        public static SelectionResult Rehearse(EvaluationGrid grid, ILightSampler lighting, FeatureStep features, ITetrahedralizer tetrahedralizer,
+            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (writer == null) throw new ArgumentNullException(nameof(writer));
+            cancel.ThrowIfCancellationRequested();
+            // Lighting step (LpnnPipeline.SampleLighting).
+            var positions = new Vector3[grid.Count];
+            for (int n = 0; n < positions.Length; n++) positions[n] = grid.GetPosition(n);
+            progress?.Invoke(LightingStage, 0, grid.Count);
+            var sh = new float[ShMath.FloatsPerProbe * grid.Count];
+            lighting.Sample(positions, sh);
+            progress?.Invoke(LightingStage, grid.Count, grid.Count);
+            cancel.ThrowIfCancellationRequested();
+            // Features step (LpnnPipeline.ExtractFeatures); its back-face fractions make the valid points (PlacementInputs.ValidPoints).
+            var set = features(grid, sh, progress, cancel);
+            cancel.ThrowIfCancellationRequested();
+            bool[] valid = set == null || set.BackFaceFractions == null ? null : ValidCandidates.FromBackFaceFractions(set.BackFaceFractions);
+            // Placement step (LpnnPipeline.Apply → SelectedPositions → SelectByInsertion; PlacementInputs.InsertionOrder/Evaluator).
+            var reference = ReferenceLighting.FromGrid(grid, sh);
+            var evaluator = new PlacementEvaluator(reference, tetrahedralizer);
+            var order = InsertionOrder.OfValid(grid, sh, reference.SceneScale, valid, tetrahedralizer);
+            var measure = settings.Policy == SelectionPolicy.Tolerance ? ReportingMeasure.Wrap(evaluator, grid.Count, progress, cancel) : null;
+            var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel);
+            cancel.ThrowIfCancellationRequested();
+            writer.Write(PositionsOf(grid, selection));
+            return selection;
+        }
+    }
+}

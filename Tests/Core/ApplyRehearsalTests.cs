@@ -1,0 +1,263 @@
+using System;
+using System.Collections.Generic;
+using System.IO;
+using System.Linq;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Captures;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Pipeline;
+using Lpnn.Probes.Core.Placement;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Tests.Support;
+using NUnit.Framework;
+
+namespace Lpnn.Probes.Core.Tests
+{
+    /// <summary>The editor-free rehearsal of the whole Apply (issue 31, Deliver 4; Documentation~/ci.md "Apply rehearsal"):
+    /// <see cref="ApplySteps.Rehearse"/> — the step order of LpnnPipeline, whose insertion selection is the same
+    /// <see cref="ApplySteps.SelectByInsertion"/> the editor calls — on a real level's capture, with fakes of Unity's
+    /// light sampler (the capture's SH), features (the capture's, so no raycaster is needed: their rays were cast by the
+    /// importer), tetrahedraliser (Python's, see <see cref="PythonTetrahedralizer"/>) and probe group (a recording writer).
+    /// The level's capture and <c>lpnn place</c>'s answer on it are made at test time by
+    /// Training~/tests/quality/test_apply_rehearsal_openarena.py (level data is never committed), which runs this fixture
+    /// through nunit-console with the folder in <see cref="FolderVariable"/>. The default nunit-console run of
+    /// Tools~/test.sh excludes the category; run alone without the variable, the fixture fails rather than passes.</summary>
+    [TestFixture]
+    [Category(CategoryName)]
+    public class ApplyRehearsalTests
+    {
+        public const string CategoryName = "RealLevelRehearsal";
+        public const string FolderVariable = "LPNN_REHEARSAL_DIR";
+        private const double CountTolerance = 0.02;
+
+        private sealed class CaptureLighting : ILightSampler
+        {
+            private readonly Capture _capture;
+            private readonly EvaluationGrid _grid;
+            public int Calls;
+
+            public CaptureLighting(Capture capture, EvaluationGrid grid)
+            {
+                _capture = capture;
+                _grid = grid;
+            }
+
+            public void Sample(Vector3[] positions, float[] sh)
+            {
+                Calls++;
+                Assert.That(positions.Length, Is.EqualTo(_capture.PointCount));
+                for (int n = 0; n < positions.Length; n++)
+                {
+                    if (Vector3.Distance(positions[n], _grid.GetPosition(n)) > 1e-4f) Assert.Fail("the lighting was asked for another point " + n);
+                    Array.Copy(_capture.Sh, 27 * n, sh, 27 * n, 27);
+                }
+            }
+        }
+
+        /// <summary>Python's tetrahedralisation (Training~/tests/quality/rehearsal_tetrahedralizer.py, started through the
+        /// folder's tetrahedralizer.sh): a level's lattice is cospherical, so the Delaunay tetrahedralisation is not unique
+        /// and only the same tie-breaking gives the same errors; <see cref="BowyerWatsonDelaunay"/> needs general position.</summary>
+        private sealed class PythonTetrahedralizer : ITetrahedralizer, IDisposable
+        {
+            private readonly System.Diagnostics.Process _process;
+            private readonly Stream _in, _out;
+            public int Calls;
+
+            public PythonTetrahedralizer(string script)
+            {
+                var info = new System.Diagnostics.ProcessStartInfo("/bin/sh", "\"" + script + "\"")
+                {
+                    UseShellExecute = false, RedirectStandardInput = true, RedirectStandardOutput = true,
+                };
+                _process = System.Diagnostics.Process.Start(info);
+                _in = _process.StandardInput.BaseStream;
+                _out = _process.StandardOutput.BaseStream;
+            }
+
+            public int[] Tetrahedralize(Vector3[] positions)
+            {
+                Calls++;
+                var request = new byte[4 + 12 * positions.Length];
+                BitConverter.GetBytes(positions.Length).CopyTo(request, 0);
+                for (int n = 0; n < positions.Length; n++)
+                {
+                    BitConverter.GetBytes(positions[n].X).CopyTo(request, 4 + 12 * n);
+                    BitConverter.GetBytes(positions[n].Y).CopyTo(request, 8 + 12 * n);
+                    BitConverter.GetBytes(positions[n].Z).CopyTo(request, 12 + 12 * n);
+                }
+                _in.Write(request, 0, request.Length);
+                _in.Flush();
+                int count = BitConverter.ToInt32(Read(4), 0);
+                if (count < 0)
+                {
+                    int length = BitConverter.ToInt32(Read(4), 0);
+                    throw new PlacementErrorException(System.Text.Encoding.UTF8.GetString(Read(length)));
+                }
+                var bytes = Read(16 * count);
+                var tets = new int[4 * count];
+                Buffer.BlockCopy(bytes, 0, tets, 0, bytes.Length);
+                return tets;
+            }
+
+            private byte[] Read(int size)
+            {
+                var data = new byte[size];
+                int done = 0;
+                while (done < size)
+                {
+                    int got = _out.Read(data, done, size - done);
+                    if (got <= 0) throw new IOException("the rehearsal tetrahedraliser stopped");
+                    done += got;
+                }
+                return data;
+            }
+
+            public void Dispose()
+            {
+                _in.Close();
+                if (!_process.WaitForExit(10000)) _process.Kill();
+                _process.Dispose();
+            }
+        }
+
+        private sealed class RecordingWriter : IProbeGroupWriter
+        {
+            public readonly List<Vector3[]> Writes = new List<Vector3[]>();
+            public void Write(Vector3[] positions) => Writes.Add(positions);
+        }
+
+        private sealed class Level
+        {
+            public Capture Capture;
+            public EvaluationGrid Grid;
+            public Vector3[] Expected;
+            public int Calls;
+            public SelectionResult Selection;
+            public RecordingWriter Writer;
+            public double Tolerance;
+            public PythonTetrahedralizer Tetrahedralizer;
+        }
+
+        private static Level level;
+
+        private static Level Load()
+        {
+            if (level != null) return level;
+            string folder = Environment.GetEnvironmentVariable(FolderVariable);
+            if (string.IsNullOrEmpty(folder))
+                Assert.Fail(FolderVariable + " is not set: this fixture runs on a real level's capture made by " +
+                            "Training~/tests/quality/test_apply_rehearsal_openarena.py (make test runs it there)");
+            var capture = CaptureFile.Read(Path.Combine(folder, "level.lpnncap"));
+            var placed = ProbePositionsFile.Read(Path.Combine(folder, "place.probes.json"));
+            level = new Level
+            {
+                Capture = capture, Grid = capture.ToGrid(), Expected = placed.Positions,
+                Tetrahedralizer = new PythonTetrahedralizer(Path.Combine(folder, "tetrahedralizer.sh")),
+                Tolerance = double.Parse(File.ReadAllText(Path.Combine(folder, "tolerance.txt")).Trim(), System.Globalization.CultureInfo.InvariantCulture),
+            };
+            return level;
+        }
+
+        private static FeatureStep CaptureFeatures(Capture capture, List<string> calls) => (grid, sh, progress, cancel) =>
+        {
+            calls?.Add("features");
+            Assert.That(grid.Count, Is.EqualTo(capture.PointCount));
+            return new FeatureSet(FeatureSchema.ById(capture.Schema), capture.PointCount, capture.Features, capture.LightingScale);
+        };
+
+        private static SelectionResult Run(Level l, RecordingWriter writer, ProgressCallback progress, CancellationToken cancel) =>
+            ApplySteps.Rehearse(l.Grid, new CaptureLighting(l.Capture, l.Grid), CaptureFeatures(l.Capture, null), l.Tetrahedralizer,
+                SelectionSettings.Tolerance(l.Tolerance), true, writer, progress, cancel);
+
+        private static string Key(Vector3 p) => Math.Round(p.X, 3).ToString("R") + "," + Math.Round(p.Y, 3).ToString("R") + "," + Math.Round(p.Z, 3).ToString("R");
+
+        [TestFixtureTearDown]
+        public void StopTheTetrahedralizer()
+        {
+            if (level != null) level.Tetrahedralizer.Dispose();
+            level = null;
+        }
+
+        /// <summary>The uncancelled run, once for both tests (it takes most of the fixture's time).</summary>
+        private static Level Completed()
+        {
+            var l = Load();
+            if (l.Writer != null) return l;
+            var writer = new RecordingWriter();
+            int calls = 0;
+            l.Selection = Run(l, writer, (stage, done, total) => calls++, CancellationToken.None);
+            l.Calls = calls;
+            l.Writer = writer;
+            return l;
+        }
+
+        [Test]
+        public void TheWholeApplyOnARealLevelWritesOnceAndMatchesLpnnPlace()
+        {
+            var l = Completed();
+            Assert.That(l.Capture.PointCount, Is.InRange(10000, 100000), "a real level's capture of 10^4-10^5 points");
+            var writer = l.Writer;
+            var selection = l.Selection;
+            int calls = l.Calls;
+            Assert.That(writer.Writes.Count, Is.EqualTo(1), "the group is written once, at the end");
+            var written = writer.Writes[0];
+            Assert.That(written.Length, Is.EqualTo(selection.Indices.Length));
+            var expected = new HashSet<string>(l.Expected.Select(Key));
+            var got = new HashSet<string>(written.Select(Key));
+            Assert.That(got.Count, Is.EqualTo(written.Length), "no probe twice");
+            int same = got.Count(expected.Contains);
+            Console.WriteLine("rehearsal: " + l.Capture.PointCount + " points, " + written.Length + " probes (lpnn place: " + l.Expected.Length +
+                              "), " + same + " in common, " + calls + " progress calls");
+            // Not the same set: the level's lattice and its light grid make many points' errors exactly equal, and the two
+            // languages' insertion rounds break those ties differently (the first rounds already differ with the same
+            // tetrahedralisation). What holds is asserted: the count within 2 % (measured on oa_dm1: 1,523 against 1,539 at a
+            // 0.85 m cell, 1.04 %; 1,596 against 1,599 at 0.8 m, 0.19 %: 1 % does not hold at every cell) and both sets
+            // within tau, each measured here with the same (Python's) tetrahedralisation and the capture's SH.
+            Assert.That(Math.Abs(written.Length - l.Expected.Length), Is.LessThanOrEqualTo(CountTolerance * l.Expected.Length),
+                "the probe count of lpnn place --method insertion-refined within 2 %");
+            var evaluator = new PlacementEvaluator(ReferenceLighting.FromGrid(l.Grid, l.Capture.Sh), l.Tetrahedralizer);
+            var index = new Dictionary<string, int>();
+            for (int n = 0; n < l.Grid.Count; n++) index[Key(l.Grid.GetPosition(n))] = n;
+            int[] theirs = l.Expected.Select(p => index[Key(p)]).ToArray();
+            double ours = evaluator.MeanError(selection.Indices), python = evaluator.MeanError(theirs);
+            Console.WriteLine("mean error: rehearsal " + ours.ToString("R") + ", lpnn place " + python.ToString("R") + ", tau " + l.Tolerance);
+            Assert.That(ours, Is.LessThanOrEqualTo(l.Tolerance + 1e-12), "the rehearsal's probes meet tau");
+            Assert.That(python, Is.LessThanOrEqualTo(l.Tolerance + 1e-9), "lpnn place's probes meet tau here too");
+        }
+
+        [Test]
+        public void ACancelAtAnyProgressCallLeavesTheGroupUnwritten()
+        {
+            var l = Completed();
+            int n = l.Calls;
+            Assert.That(n, Is.GreaterThan(10), "the Apply reports progress throughout");
+            // The lighting's two calls, one halfway (in the search or the refinement) and the last: the final check before the writer.
+            var ks = new SortedSet<int> { 1, 2, n / 2, n };
+            foreach (int k in ks)
+            {
+                if (k < 1) continue;
+                var writer = new RecordingWriter();
+                using (var source = new CancellationTokenSource())
+                {
+                    int calls = 0;
+                    string stageAtCancel = null;
+                    ProgressCallback progress = (stage, done, total) =>
+                    {
+                        if (++calls == k)
+                        {
+                            stageAtCancel = stage;
+                            source.Cancel();
+                        }
+                    };
+                    Assert.Throws(Is.InstanceOf<OperationCanceledException>(), () => Run(l, writer, progress, source.Token),
+                        "cancel at progress call " + k + " of " + n);
+                    Assert.That(writer.Writes, Is.Empty, "cancel at progress call " + k + " (" + stageAtCancel + ") wrote the group");
+                    Console.WriteLine("cancel at call " + k + " of " + n + " (" + stageAtCancel + "): after " + calls + " calls, nothing written");
+                }
+            }
+        }
+    }
+}
