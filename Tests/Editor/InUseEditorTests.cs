@@ -177,11 +177,10 @@ namespace Lpnn.Probes.Editor.Tests
                 StepSummaries.Describe(placed));
         }
 
-        [Test]
-        public void LeaksAreCountedOverTheMaskWithUnitysTetrahedraAndPhysicsRays()
+        /// <summary>The volume under All with the seed, 24 probes by budget (no refinement), run through Features under the
+        /// gradient lighting and applied: what the report-mask tests read.</summary>
+        private PlacementResult AppliedUnderAll()
         {
-            // Documentation~/leaks.md "What is reported": the inspector's leak line after Apply under All counts the report
-            // mask's points only, as LeakCheck.Find decides them with the same tetrahedra and the scene's colliders.
             _volume.SetInUseRule(InUseRule.All);
             _volume.SetInUseSeeds(_seed);
             _volume.SetSelection(SelectionSettings.Budget(24, true));
@@ -191,7 +190,15 @@ namespace Lpnn.Probes.Editor.Tests
                 work(null, CancellationToken.None);
                 return true;
             });
-            var placed = LpnnPipeline.Apply(_volume, _session, null, CancellationToken.None);
+            return LpnnPipeline.Apply(_volume, _session, null, CancellationToken.None);
+        }
+
+        [Test]
+        public void LeaksAreCountedOverTheMaskWithUnitysTetrahedraAndPhysicsRays()
+        {
+            // Documentation~/leaks.md "What is reported": the inspector's leak line after Apply under All counts the report
+            // mask's points only, as LeakCheck.Find decides them with the same tetrahedra and the scene's colliders.
+            var placed = AppliedUnderAll();
             var grid = LpnnPipeline.PlacementGrid(_volume, _session);
             var probes = placed.Selection.Indices;
             var entry = LeaksAtPointsInUse.Run(_volume, _session, grid, probes);
@@ -216,16 +223,7 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void AllMeasuresTheErrorAtTheMaskAndExportsTheInUseSection()
         {
-            _volume.SetInUseRule(InUseRule.All);
-            _volume.SetInUseSeeds(_seed);
-            _volume.SetSelection(SelectionSettings.Budget(24, true));
-            _volume.SetRefineInBatches(false);
-            LpnnPipeline.Run(_volume, _session, PipelineStep.Features, volume => new GradientLighting(), (step, work) =>
-            {
-                work(null, CancellationToken.None);
-                return true;
-            });
-            var placed = LpnnPipeline.Apply(_volume, _session, null, CancellationToken.None);
+            var placed = AppliedUnderAll();
             var errors = PlacementInputs.Evaluator(_session, _session.Grid).Evaluate(placed.Selection.Indices).PointIrradiance;
             var mask = _session.InUse.GridMask;
             double sum = 0;
