@@ -22,6 +22,7 @@ import numpy as np
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.in_use_section import in_use_points
+from lpnn.core.lattice_index import IdIndex
 from lpnn.quality.metric import ReferenceField, point_errors
 from lpnn.quality.refined_insertion import refined_insertion
 from lpnn.scenes.defaults import DEFAULT_CELL
@@ -30,12 +31,6 @@ from lpnn.scenes.importer import import_level
 COLUMNS = ("level", "rule", "points", "import_seconds", "probes", "place_seconds", "mean_error", "error_reachable",
            "reachable_points")
 TOLERANCE = 0.05
-
-
-def _keys(ids: np.ndarray) -> np.ndarray:
-    """Lattice ids as one sortable integer each (ids fit in 21 bits per axis on every level we import)."""
-    shifted = np.asarray(ids, dtype=np.int64) + (1 << 20)
-    return (shifted[:, 2] << 42) | (shifted[:, 1] << 21) | shifted[:, 0]
 
 
 def measure(level: str, cell: float, rules: tuple[str, ...]) -> list[dict]:
@@ -48,7 +43,7 @@ def measure(level: str, cell: float, rules: tuple[str, ...]) -> list[dict]:
     whole = captures["all"]
     reachable = in_use_points(whole)
     yardstick = ReferenceField.from_capture(whole)
-    whole_keys = _keys(whole.ids)
+    whole_index = IdIndex.build(whole.ids)
     for rule in rules:
         capture = captures[rule]
         field = ReferenceField.from_capture(capture)
@@ -56,7 +51,7 @@ def measure(level: str, cell: float, rules: tuple[str, ...]) -> list[dict]:
         placed = refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids),
                                    tolerance=TOLERANCE)
         seconds = time.perf_counter() - clock
-        probes_in_whole = np.searchsorted(whole_keys, _keys(capture.ids[placed.indices]))  # ids are in grid order
+        probes_in_whole = whole_index.lookup(capture.ids[placed.indices])  # every rule's points are the whole's
         errors = point_errors(yardstick, probes_in_whole)
         rows.append({"level": level, "rule": rule, "points": capture.point_count,
                      "import_seconds": capture.source["import_seconds"], "probes": int(placed.indices.shape[0]),

@@ -16,8 +16,7 @@ import numpy as np
 from ..core.capture import Capture
 from ..core.features import Raycaster
 from ..scenes.capture_geometry import capture_raycaster
-from .leak_rule import stencil_leaks
-from .metric import ReferenceField, probe_stencil, stencil_point_errors
+from .metric import ReferenceField, probe_stencil, stencil_leaking, stencil_point_errors
 
 # The `nearest_surface` feature is (nearest hit of the 26 rays) / (4 cells): at most 1/4 means within one cell.
 NEAR_SURFACE_FEATURE = "nearest_surface"
@@ -41,11 +40,8 @@ def leaking_points(field: ReferenceField, probes: np.ndarray, raycaster: Raycast
     """(N,) bool leaking and (N,) float64 irradiance error per point of the placement `probes` (one
     tetrahedralisation serves both); probes never leak."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
-    errors = stencil_point_errors(field, indices, others, stencil)
-    leaking = np.zeros(field.point_count, dtype=bool)
-    leaking[others] = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
-                                    raycaster)
-    return leaking, errors
+    return stencil_leaking(field, indices, others, stencil, raycaster), stencil_point_errors(field, indices, others,
+                                                                                             stencil)
 
 
 def leak_report(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,

@@ -252,13 +252,21 @@ def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQu
                             leaking=_leaking_share(field, indices, others, stencil))
 
 
+def stencil_leaking(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+                    raycaster: Raycaster) -> np.ndarray:
+    """(N,) bool: the points among `others` that leak under their stencils (leaks.md; vertices are positions in the
+    probe indices `indices`); probes and points not asked for never do."""
+    leaking = np.zeros(field.point_count, dtype=bool)
+    leaking[others] = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
+                                    raycaster)
+    return leaking
+
+
 def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil) -> float:
     """The share of the points in use (all points when not known) that leak under this stencil (leaks.md); NaN
     without the scene's geometry. Probes never leak."""
     if field.geometry is None:
         return math.nan
-    leaking = np.zeros(field.point_count, dtype=bool)
-    leaking[others] = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
-                                    field.geometry)
+    leaking = stencil_leaking(field, indices, others, stencil, field.geometry)
     counted = field.in_use if field.in_use is not None and field.in_use.any() else np.ones_like(leaking)
     return float(np.count_nonzero(leaking & counted)) / float(np.count_nonzero(counted))
