@@ -69,6 +69,7 @@ from .decimation import MINIMUM_PROBES, initial_mask
 from .leak_aware import LeakWeighting
 from .metric import MetricError, ReferenceField
 from .policies import checked_tolerance
+from .refinement_kernel import sequential_greedy
 from .triangulation import flatness
 
 COMMIT_FRACTION = 0.05  # commit candidates within this quantile of the measured costs (module text)
@@ -87,24 +88,13 @@ class BatchedRefinement:
 
 def greedy_independent_set(vertices: np.ndarray, edges: np.ndarray, rank: np.ndarray) -> np.ndarray:
     """The independent set the sequential greedy takes when it visits `vertices` by ascending `rank` (distinct,
-    indexed by vertex id) and keeps every vertex none of whose neighbours it kept; returned in rank order.
-    Vectorised: take every live vertex ranked below all its live neighbours, drop their neighbours, repeat (each pass
-    takes what the sequential greedy takes, so the result is the same)."""
-    size = rank.shape[0]
-    live = np.zeros(size, dtype=bool)
-    live[vertices] = True
-    chosen = np.zeros(size, dtype=bool)
-    unranked = np.iinfo(np.int64).max
-    while live.any():
-        alive = edges[live[edges[:, 0]] & live[edges[:, 1]]]
-        lowest_neighbour = np.full(size, unranked, dtype=np.int64)
-        np.minimum.at(lowest_neighbour, alive[:, 0], rank[alive[:, 1]])
-        take = live & (rank < lowest_neighbour)
-        chosen |= take
-        live &= ~take
-        live[alive[take[alive[:, 0]], 1]] = False
-    picked = np.flatnonzero(chosen)
-    return picked[np.argsort(rank[picked], kind="stable")]
+    indexed by vertex id) and keeps every vertex none of whose neighbours it kept; returned in rank order
+    (refinement_kernel.sequential_greedy, over the edges sorted by their first vertex)."""
+    ordered = np.asarray(vertices, dtype=np.int64)
+    ordered = ordered[np.argsort(rank[ordered], kind="stable")]
+    by_first = np.argsort(edges[:, 0], kind="stable")
+    return sequential_greedy(ordered, np.ascontiguousarray(edges[by_first, 0]), np.ascontiguousarray(edges[by_first, 1]),
+                             rank.shape[0])
 
 
 def _ranks(probes: np.ndarray, cost: np.ndarray, size: int) -> np.ndarray:

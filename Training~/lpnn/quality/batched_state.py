@@ -26,6 +26,7 @@ import numpy as np
 from .leak_aware import LeakWeighting
 from .location import locate_local
 from .metric import ReferenceField, probe_mesh, stencil_point_errors
+from .refinement_kernel import rows_holding
 from .triangulation import GeometryError, Tetrahedralization
 
 
@@ -103,7 +104,7 @@ def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np
     """Points (ascending) whose `ids` rows (state.owners or state.touched) hold a removed probe, and the removed."""
     gone = np.zeros(state.errors.shape[0], dtype=bool)
     gone[removed] = True
-    return np.flatnonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).any(axis=1) | gone)
+    return rows_holding(ids, gone)
 
 
 @dataclass(frozen=True)

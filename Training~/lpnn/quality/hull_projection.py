@@ -18,9 +18,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .hull_kernel import nearest_among
+from .triangulation import QUERY_WORKERS
+
 INITIAL_CANDIDATES = 8
 PROJECTION_TOLERANCE = 4e-12  # supporting-plane slack per unit distance (local units, extent ~1)
-CHUNK_PAIRS = 1 << 20  # point-triangle pairs evaluated per numpy pass
+CHUNK_PAIRS = 1 << 20  # point-triangle or point-vertex pairs per pass (bounds temporaries)
 
 
 @dataclass(frozen=True)
@@ -31,70 +34,25 @@ class HullProjection:
     distance: np.ndarray  # (M,) float64
 
 
-def _safe_ratio(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
-    return numerator / np.where(denominator != 0.0, denominator, 1.0)
-
-
-def closest_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Barycentric weights (..., 3) of the closest point of triangle abc to p (Ericson, RTCD §5.1.5)."""
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = np.sum(ab * ap, axis=-1), np.sum(ac * ap, axis=-1)
-    bp = p - b
-    d3, d4 = np.sum(ab * bp, axis=-1), np.sum(ac * bp, axis=-1)
-    cp = p - c
-    d5, d6 = np.sum(ab * cp, axis=-1), np.sum(ac * cp, axis=-1)
-    vc = d1 * d4 - d3 * d2
-    vb = d5 * d2 - d1 * d6
-    va = d3 * d6 - d5 * d4
-    in_a = (d1 <= 0.0) & (d2 <= 0.0)
-    in_b = (d3 >= 0.0) & (d4 <= d3)
-    in_ab = (vc <= 0.0) & (d1 >= 0.0) & (d3 <= 0.0)
-    in_c = (d6 >= 0.0) & (d5 <= d6)
-    in_ac = (vb <= 0.0) & (d2 >= 0.0) & (d6 <= 0.0)
-    in_bc = (va <= 0.0) & ((d4 - d3) >= 0.0) & ((d5 - d6) >= 0.0)
-    t_ab = _safe_ratio(d1, d1 - d3)
-    t_ac = _safe_ratio(d2, d2 - d6)
-    t_bc = _safe_ratio(d4 - d3, (d4 - d3) + (d5 - d6))
-    total = va + vb + vc
-    v_face = _safe_ratio(vb, total)
-    w_face = _safe_ratio(vc, total)
-    zero, one = np.zeros_like(d1), np.ones_like(d1)
-    conditions = [in_a, in_b, in_ab, in_c, in_ac, in_bc]
-    u = np.select(conditions, [one, zero, 1.0 - t_ab, zero, 1.0 - t_ac, zero], 1.0 - v_face - w_face)
-    v = np.select(conditions, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_face)
-    w = np.select(conditions, [zero, zero, zero, one, t_ac, t_bc], w_face)
-    weights = np.clip(np.stack([u, v, w], axis=-1), 0.0, None)
-    return weights / np.sum(weights, axis=-1, keepdims=True)
-
-
 def _nearest_among(query: np.ndarray, corners: np.ndarray, candidates: np.ndarray, allowed: np.ndarray | None
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """For points (M, 3) and candidate triangles (M, k): best triangle, weights, anchor, distance
-    (distance inf when no candidate is allowed)."""
-    m, k = candidates.shape
-    best_face = np.full(m, -1, dtype=np.int64)
-    best_weights = np.zeros((m, 3))
-    best_anchor = np.zeros((m, 3))
-    best_distance = np.full(m, np.inf)
-    if k == 0:
-        return best_face, best_weights, best_anchor, best_distance
-    rows = max(1, CHUNK_PAIRS // k)
+    """For points (M, 3) and candidate triangles (M, k): best triangle (the first of the nearest), weights, anchor,
+    distance (distance inf when no candidate is allowed); hull_kernel.nearest_among."""
+    m = query.shape[0]
+    face = np.empty(m, dtype=np.int64)
+    weights = np.empty((m, 3))
+    anchor = np.empty((m, 3))
+    distance = np.empty(m)
+    use_allowed = allowed is not None
+    q = np.ascontiguousarray(query, dtype=np.float64)
+    c = np.ascontiguousarray(corners, dtype=np.float64)
+    usable = np.ascontiguousarray(allowed if use_allowed else np.zeros(1, dtype=bool))
+    rows = max(1, CHUNK_PAIRS // max(candidates.shape[1], 1))  # candidates may be a broadcast view: copy in slices
     for start in range(0, m, rows):
-        stop = min(start + rows, m)
-        tri = corners[candidates[start:stop]]  # (r, k, 3, 3)
-        p = query[start:stop, None, :]
-        weights = closest_on_triangles(p, tri[:, :, 0], tri[:, :, 1], tri[:, :, 2])  # (r, k, 3)
-        anchor = np.einsum("rkv,rkvx->rkx", weights, tri)
-        distance = np.sqrt(np.sum((anchor - p) ** 2, axis=-1))
-        if allowed is not None:
-            distance = np.where(allowed[candidates[start:stop]], distance, np.inf)
-        pick = np.argmin(distance, axis=1)  # first of equals: deterministic
-        row = np.arange(stop - start)
-        best_face[start:stop] = candidates[start:stop][row, pick]
-        best_weights[start:stop] = weights[row, pick]
-        best_anchor[start:stop] = anchor[row, pick]
-        best_distance[start:stop] = distance[row, pick]
-    return best_face, best_weights, best_anchor, best_distance
+        part = slice(start, min(start + rows, m))
+        nearest_among(q[part], c, np.ascontiguousarray(candidates[part], dtype=np.int64), usable, use_allowed,
+                      face[part], weights[part], anchor[part], distance[part])
+    return face, weights, anchor, distance
 
 
 class HullIndex:
@@ -125,7 +83,7 @@ class HullIndex:
         candidates = [np.broadcast_to(np.arange(h, h + extra.shape[0]), (m, extra.shape[0]))]
         if h:
             k = min(INITIAL_CANDIDATES, h)
-            candidates.append(np.asarray(self.tree.query(q, k=k)[1], dtype=np.int64).reshape(m, k))
+            candidates.append(np.asarray(self.tree.query(q, k=k, workers=QUERY_WORKERS)[1], dtype=np.int64).reshape(m, k))
         face, weights, anchor, distance = _nearest_among(q, all_corners, np.concatenate(candidates, axis=1),
                                                          all_usable)
         # Supporting-plane certificate; points failing it are settled against every triangle.

@@ -46,11 +46,12 @@ from typing import Callable
 
 import numpy as np
 
-from ..core import sh as shmath
 from ..core.grid import EvaluationGrid
 from ..core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ..core.spread import farthest_point_ranking, spread_weights
-from .metric import POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil
+from .insertion_kernel import first_per_cell
+from .metric import (POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil,
+                     stencil_point_errors)
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
@@ -115,20 +116,18 @@ def insertion_batch(field: ReferenceField, order: np.ndarray, metric: str = PRIM
     text); empty when every other point is interpolated exactly. `guide` (checked_guide): each cell's
     candidate is its point of largest error x weight among those with error > EXACT (guided insertion)
     instead of its point of largest error. The C# core's InsertionRanking.NextBatch."""
-    values = field.values(metric)
     guide = checked_guide(guide, field.point_count)
     indices, others, stencil = probe_stencil(field, order)
-    blended = shmath.blend(values[indices], stencil.vertices, stencil.weights)
-    errors = POINT_ERRORS[metric](blended, values[others], field.scale)
+    errors = stencil_point_errors(field, indices, others, stencil, metric)[others]
     # Per cell the candidate first, ties by index. Unguided, the key is the error itself; guided, points at
     # or below EXACT never become candidates (key -1), so a cell needs a point exactly when it does unguided.
     key = errors if guide is None else np.where(errors > EXACT, errors * guide[others], -1.0)
-    by_cell = np.lexsort((others, -key, stencil.cell))
-    first = by_cell[np.concatenate([[True], np.diff(stencil.cell[by_cell]) != 0])]
+    cell_count = int(stencil.cell.max()) + 1
+    first = first_per_cell(stencil.cell, np.ascontiguousarray(key), cell_count)  # others ascend: first = lowest index
     worst = first[errors[first] > EXACT]
     if worst.shape[0] == 0:
         return np.zeros(0, dtype=np.int64)
-    cell_error = np.bincount(stencil.cell, errors, minlength=int(stencil.cell.max()) + 1)
+    cell_error = np.bincount(stencil.cell, errors, minlength=cell_count)
     worst = worst[np.lexsort((others[worst], -cell_error[stencil.cell[worst]]))]
     return others[worst[:max(1, int(math.ceil(growth * len(order))))]]
 

@@ -14,12 +14,11 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import walk
-from .triangulation import Tetrahedralization
+from .metric_kernel import inside_stencils, most_inside, walk
+from .triangulation import QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
 BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
-CHUNK_PAIRS = 1 << 20
 WALK_STEP_LIMIT = 10_000
 
 
@@ -44,19 +43,11 @@ def barycentric(tri: Tetrahedralization, cells: np.ndarray, query: np.ndarray) -
 
 
 def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Most-inside tetrahedron (max of min barycentric) for each point, and that minimum."""
-    count = tri.tets.shape[0]
+    """Most-inside tetrahedron (max of min barycentric, the first of equals) for each point, and that minimum
+    (metric_kernel.most_inside: `barycentric`'s numbers)."""
     best_cell = np.empty(query.shape[0], dtype=np.int64)
     best_min = np.empty(query.shape[0])
-    rows = max(1, CHUNK_PAIRS // count)
-    cells = np.arange(count)
-    for start in range(0, query.shape[0], rows):
-        stop = min(start + rows, query.shape[0])
-        lam = barycentric(tri, cells[None, :], query[start:stop, None, :])  # (r, T, 4)
-        smallest = lam.min(axis=2)
-        pick = np.argmax(smallest, axis=1)
-        best_cell[start:stop] = pick
-        best_min[start:stop] = smallest[np.arange(stop - start), pick]
+    most_inside(tri.points, tri.tets, tri.inverse, np.ascontiguousarray(query, dtype=np.float64), best_cell, best_min)
     return best_cell, best_min
 
 
@@ -68,7 +59,7 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     or with `coherent` (points in grid order) where the previous point's walk ended."""
     centroids = tri.points[tri.tets].mean(axis=1)
     first = query[:1] if coherent else query
-    start = np.asarray(cKDTree(centroids).query(first, k=1)[1], dtype=np.int64).reshape(-1)
+    start = np.asarray(cKDTree(centroids).query(first, k=1, workers=QUERY_WORKERS)[1], dtype=np.int64).reshape(-1)
     result = np.empty(query.shape[0], dtype=np.int64)
     resolved = np.empty(query.shape[0], dtype=bool)
     coordinates = np.empty((query.shape[0], 4))
@@ -101,12 +92,8 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     vertices = np.zeros((m, 4), dtype=np.int64)
     weights = np.zeros((m, 4))
     anchor = q.copy()
-    inside = np.flatnonzero(cell >= 0)
-    settled = inside[~walked[inside]]  # cells from the brute force: their coordinates are computed here
-    coordinates[settled] = barycentric(tri, cell[settled], q[settled])
-    lam = np.clip(coordinates[inside], 0.0, None)
-    weights[inside] = lam / lam.sum(axis=1, keepdims=True)
-    vertices[inside] = tri.tets[cell[inside]]
+    # Cells from the brute force get their coordinates computed there (metric_kernel.inside_stencils).
+    inside_stencils(tri.points, tri.tets, tri.inverse, q, cell, walked, coordinates, vertices, weights)
     outside = cell < 0
     far = np.flatnonzero(outside)
     if far.shape[0]:

@@ -99,3 +99,61 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
                 resolved[m] = True
                 break
             current = step
+
+
+@njit(cache=True)
+def most_inside(points, tets, inverse, query, best_cell, best_min):
+    """For each query point, the tetrahedron of largest smallest barycentric coordinate (the first of equals, as
+    numpy's argmax) and that coordinate: location.py's brute force, in the walk's arithmetic."""
+    for m in range(query.shape[0]):
+        qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+        best_cell[m] = 0
+        best_min[m] = -np.inf
+        for t in range(tets.shape[0]):
+            base = tets[t, 0]
+            dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
+            total = 0.0
+            smallest = np.inf
+            for i in range(3):
+                rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
+                total += rest
+                if rest < smallest:
+                    smallest = rest
+            lam0 = 1.0 - total
+            if lam0 < smallest:
+                smallest = lam0
+            if smallest > best_min[m] or t == 0:
+                best_cell[m] = t
+                best_min[m] = smallest
+
+
+@njit(cache=True)
+def inside_stencils(points, tets, inverse, query, cell, walked, coordinates, vertices, weights):
+    """Stencils of the points inside a tetrahedron (cell[m] >= 0): its vertices and the barycentric coordinates
+    clamped to >= 0 and divided by their sum ((l0 + l1) + l2) + l3, numpy's order; the coordinates are the walk's
+    where walked[m], else computed here in `barycentric`'s arithmetic. Rows of other points are left untouched."""
+    lam = np.empty(4)
+    for m in range(query.shape[0]):
+        t = cell[m]
+        if t < 0:
+            continue
+        if walked[m]:
+            for i in range(4):
+                lam[i] = coordinates[m, i]
+        else:
+            base = tets[t, 0]
+            dx, dy, dz = query[m, 0] - points[base, 0], query[m, 1] - points[base, 1], query[m, 2] - points[base, 2]
+            total = 0.0
+            for i in range(3):
+                rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
+                lam[i + 1] = rest
+                total += rest
+            lam[0] = 1.0 - total
+        total = 0.0
+        for i in range(4):
+            if not lam[i] >= 0.0:  # np.clip(x, 0, None); NaN cannot reach here (the cell accepted the point)
+                lam[i] = 0.0
+            total += lam[i]
+        for i in range(4):
+            vertices[m, i] = tets[t, i]
+            weights[m, i] = lam[i] / total

@@ -8,6 +8,7 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.refinement_kernel import rows_holding
 from lpnn.quality.batched_state import evaluate, refilled, trial_of, without
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.insertion import InsertionOrder
@@ -35,7 +36,7 @@ def _sequential_greedy(vertices: np.ndarray, edges: np.ndarray, rank: np.ndarray
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_the_vectorised_independent_set_is_the_sequential_greedy_one(seed: int) -> None:
+def test_the_compiled_independent_set_is_the_sequential_greedy_one(seed: int) -> None:
     rng = np.random.default_rng(seed)
     size = 60
     pairs = rng.integers(0, size, (150, 2))
@@ -212,3 +213,12 @@ def test_a_flat_seed_is_refused_naming_the_plane() -> None:
     field = ReferenceField.from_sh(positions, linear_sh(positions))
     with pytest.raises(Exception, match="lie in one plane"):
         batched_refinement(field, np.arange(10), count=5)  # the first 10 points: one row of the lowest layer
+
+
+def test_rows_holding_a_removed_probe_are_the_numpy_scans() -> None:
+    """refinement_kernel.rows_holding: the rows with a gone id among their >= 0 ids, or gone themselves."""
+    rng = np.random.default_rng(8)
+    ids = rng.integers(-1, 500, (500, 4))
+    gone = rng.uniform(size=500) < 0.05
+    expected = np.flatnonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).any(axis=1) | gone)
+    np.testing.assert_array_equal(rows_holding(ids, gone), expected)

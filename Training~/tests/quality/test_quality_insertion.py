@@ -12,6 +12,7 @@ import pytest
 from lpnn.core import sh as shmath
 from lpnn.quality.insertion import (EXACT, InsertionOrder, guide_weights, insertion_batch, insertion_ranking,
                                     typical_tetrahedron)
+from lpnn.quality.insertion_kernel import first_per_cell
 from lpnn.quality.metric import POINT_ERRORS, MetricError, ReferenceField, placement_error, probe_stencil
 from lpnn.quality.policies import budget_count, place_tolerance, prefix_selection
 from lpnn.quality.triangulation import flatness
@@ -190,3 +191,14 @@ def test_the_lazy_selection_completes_a_flat_head_of_the_start_as_the_whole_rank
         np.testing.assert_array_equal(lazy(count), eager(count), err_msg=f"count {count}")
     assert lazy(4).shape[0] == 5 and flatness(field.local[lazy(4)]) is None
     assert place_tolerance(field, lazy, 0.05).indices.shape[0] >= 4  # the search starts at 4 probes: no flat error
+
+
+def test_the_compiled_per_cell_candidate_is_the_lexsorts() -> None:
+    """insertion_kernel.first_per_cell gives the rows numpy's lexsort by (cell, -key, row) puts first per cell,
+    with many equal keys (ties to the lowest row) and cells without rows."""
+    rng = np.random.default_rng(4)
+    cell = rng.integers(0, 300, 5000)
+    key = rng.integers(0, 6, 5000).astype(np.float64) / 4.0  # few distinct values: ties everywhere
+    by_cell = np.lexsort((np.arange(5000), -key, cell))
+    expected = by_cell[np.concatenate([[True], np.diff(cell[by_cell]) != 0])]
+    np.testing.assert_array_equal(first_per_cell(cell, key, 400), expected)

@@ -111,3 +111,52 @@ def test_einsum_sums_three_products_as_the_walk_does() -> None:
     inverse, d = rng.normal(size=(20_000, 3, 3)), rng.normal(size=(20_000, 3))
     a = inverse * d[:, None, :]
     np.testing.assert_array_equal(np.einsum("...ij,...j->...i", inverse, d), (a[..., 0] + a[..., 2]) + a[..., 1])
+
+
+def _numpy_most_inside(tri, query):
+    """location._brute_force as numpy passes over every point-tetrahedron pair (the code the compiled loop replaced)."""
+    lam = location.barycentric(tri, np.arange(tri.tets.shape[0])[None, :], query[:, None, :])  # (M, T, 4)
+    smallest = lam.min(axis=2)
+    pick = np.argmax(smallest, axis=1)
+    return pick, smallest[np.arange(query.shape[0]), pick]
+
+
+@pytest.mark.parametrize("jitter", [0.0, 0.3])
+def test_compiled_brute_force_equals_numpy(jitter: float) -> None:
+    """On lattice probes and points (ties between tetrahedra sharing faces and edges) and jittered ones, inside and
+    outside the hull: the same tetrahedron and the same smallest coordinate, bit for bit."""
+    rng = np.random.default_rng(9)
+    axes = np.arange(4.0)
+    probes = np.stack(np.meshgrid(axes, axes[:3], axes[:3], indexing="ij"), axis=-1).reshape(-1, 3)
+    probes = probes + rng.uniform(-jitter, jitter, probes.shape) * 0.3
+    tri = tetrahedralize(probes)
+    grid_points = np.stack(np.meshgrid(np.arange(-1.0, 4.5, 0.5), np.arange(-1.0, 3.5, 0.5), np.arange(-1.0, 3.5, 0.5),
+                                       indexing="ij"), axis=-1).reshape(-1, 3)
+    query = tri.frame.to_local(np.concatenate([grid_points, rng.uniform(-1.0, 4.0, (400, 3))]))
+    expected_cell, expected_min = _numpy_most_inside(tri, query)
+    cell, smallest = location._brute_force(tri, query)
+    np.testing.assert_array_equal(cell, expected_cell)
+    np.testing.assert_array_equal(smallest, expected_min)
+
+
+@pytest.mark.parametrize("coherent", [False, True])
+def test_compiled_stencils_equal_numpy(scene, coherent: bool) -> None:
+    """locate_local's inside stencils (metric_kernel.inside_stencils) are the numpy formulation's: the walk's cell and
+    coordinates (the brute force's recomputed with `barycentric`), clamped to >= 0 and normalised, bit for bit."""
+    field, select = scene
+    probes = select(300)
+    tri = tetrahedralize(field.world[probes], field.frame)
+    query = np.ascontiguousarray(field.local[np.setdiff1d(np.arange(field.point_count), probes)])
+    cell, walked, coordinates = location._walk(tri, query, coherent)
+    stencil = location.locate_local(tri, query, coherent)
+    inside = np.flatnonzero(cell >= 0)
+    lam = np.clip(coordinates[inside], 0.0, None)
+    np.testing.assert_array_equal(stencil.weights[inside], lam / lam.sum(axis=1, keepdims=True))
+    np.testing.assert_array_equal(stencil.vertices[inside], tri.tets[cell[inside]])
+    # The brute force's rows (a small query): coordinates from `barycentric`.
+    few = query[:40]
+    small = location.locate_local(tri, few)
+    best, smallest = location._brute_force(tri, few)
+    rows = np.flatnonzero(smallest >= -location.INSIDE_TOLERANCE)
+    lam = np.clip(location.barycentric(tri, best[rows], few[rows]), 0.0, None)
+    np.testing.assert_array_equal(small.weights[rows], lam / lam.sum(axis=1, keepdims=True))

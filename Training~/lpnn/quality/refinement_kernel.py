@@ -1,0 +1,56 @@
+"""Compiled loops of batched refinement's rounds (batched_refinement.py, batched_state.py).
+
+At 10^6 points the numpy versions passed over (N,) and (N, 4) arrays several times a round while a round touches a few
+thousand probes: the greedy independent set ran its vectorised passes over arrays as long as the points, and finding the
+points whose stencil holds a removed probe scanned every stencil with temporaries. These loops give the same results
+(tests/quality/test_quality_batched_refinement.py compares both). Compiled with numba and cached on disk (core/cache.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.cache import use_project_cache_for_numba
+
+use_project_cache_for_numba()
+from numba import njit  # noqa: E402  (after the cache folder is chosen)
+
+
+@njit(cache=True)
+def sequential_greedy(ordered, edge_from, edge_to, size):
+    """The vertices `ordered` (distinct ids < size, in visiting order) the sequential greedy keeps: each one none of
+    whose neighbours (edges edge_from -> edge_to, both directions listed, sorted by edge_from) it kept before."""
+    blocked = np.zeros(size, dtype=np.bool_)
+    kept = np.empty(ordered.shape[0], dtype=np.int64)
+    count = 0
+    for v in ordered:
+        if blocked[v]:
+            continue
+        kept[count] = v
+        count += 1
+        for e in range(np.searchsorted(edge_from, v), np.searchsorted(edge_from, v + 1)):
+            blocked[edge_to[e]] = True
+    return kept[:count]
+
+
+@njit(cache=True)
+def rows_holding(ids, gone):
+    """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself."""
+    hit = np.zeros(ids.shape[0], dtype=np.bool_)
+    count = 0
+    for r in range(ids.shape[0]):
+        found = gone[r]
+        for k in range(ids.shape[1]):
+            v = ids[r, k]
+            if v >= 0 and gone[v]:
+                found = True
+        if found:
+            hit[r] = True
+            count += 1
+    rows = np.empty(count, dtype=np.int64)
+    count = 0
+    for r in range(ids.shape[0]):
+        if hit[r]:
+            rows[count] = r
+            count += 1
+    return rows

@@ -1,0 +1,101 @@
+"""The compiled nearest-triangle loop (hull_kernel.py) gives the numpy formulation's numbers bit for bit: on points
+around a lattice's hull (projections onto faces, edges and vertices; ties between triangles sharing them) and on
+random triangles (every region of Ericson's test), with and without a mask of allowed triangles."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lpnn.quality.hull_projection import _nearest_among, project_to_hull
+from lpnn.quality.triangulation import tetrahedralize
+
+
+def _safe_ratio(numerator, denominator):
+    return numerator / np.where(denominator != 0.0, denominator, 1.0)
+
+
+def _numpy_closest(p, a, b, c):
+    """Ericson RTCD §5.1.5 over whole arrays: the numpy code the compiled loop replaced."""
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = np.sum(ab * ap, axis=-1), np.sum(ac * ap, axis=-1)
+    bp = p - b
+    d3, d4 = np.sum(ab * bp, axis=-1), np.sum(ac * bp, axis=-1)
+    cp = p - c
+    d5, d6 = np.sum(ab * cp, axis=-1), np.sum(ac * cp, axis=-1)
+    vc, vb, va = d1 * d4 - d3 * d2, d5 * d2 - d1 * d6, d3 * d6 - d5 * d4
+    conditions = [(d1 <= 0.0) & (d2 <= 0.0), (d3 >= 0.0) & (d4 <= d3), (vc <= 0.0) & (d1 >= 0.0) & (d3 <= 0.0),
+                  (d6 >= 0.0) & (d5 <= d6), (vb <= 0.0) & (d2 >= 0.0) & (d6 <= 0.0),
+                  (va <= 0.0) & ((d4 - d3) >= 0.0) & ((d5 - d6) >= 0.0)]
+    t_ab, t_ac = _safe_ratio(d1, d1 - d3), _safe_ratio(d2, d2 - d6)
+    t_bc = _safe_ratio(d4 - d3, (d4 - d3) + (d5 - d6))
+    total = va + vb + vc
+    v_face, w_face = _safe_ratio(vb, total), _safe_ratio(vc, total)
+    zero, one = np.zeros_like(d1), np.ones_like(d1)
+    u = np.select(conditions, [one, zero, 1.0 - t_ab, zero, 1.0 - t_ac, zero], 1.0 - v_face - w_face)
+    v = np.select(conditions, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_face)
+    w = np.select(conditions, [zero, zero, zero, one, t_ac, t_bc], w_face)
+    weights = np.clip(np.stack([u, v, w], axis=-1), 0.0, None)
+    return weights / np.sum(weights, axis=-1, keepdims=True)
+
+
+def _numpy_nearest_among(query, corners, candidates, allowed):
+    tri = corners[candidates]  # (m, k, 3, 3)
+    p = query[:, None, :]
+    weights = _numpy_closest(p, tri[:, :, 0], tri[:, :, 1], tri[:, :, 2])
+    anchor = np.einsum("rkv,rkvx->rkx", weights, tri)
+    distance = np.sqrt(np.sum((anchor - p) ** 2, axis=-1))
+    if allowed is not None:
+        distance = np.where(allowed[candidates], distance, np.inf)
+    pick = np.argmin(distance, axis=1)
+    row = np.arange(query.shape[0])
+    return candidates[row, pick], weights[row, pick], anchor[row, pick], distance[row, pick]
+
+
+def _assert_same(expected, actual):
+    for e, a in zip(expected, actual):
+        np.testing.assert_array_equal(a, e)
+
+
+@pytest.mark.parametrize("masked", [False, True])
+def test_kernel_equals_numpy_around_a_lattice_hull(masked: bool) -> None:
+    axes = [np.arange(4.0), np.arange(3.0), np.arange(3.0)]
+    probes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    tri = tetrahedralize(probes)
+    corners = tri.points[tri.hull_faces]
+    rng = np.random.default_rng(11)
+    # Lattice-aligned points outside: projections land exactly on shared edges and vertices (ties between triangles).
+    outside = np.stack(np.meshgrid(np.arange(-2.0, 6.0), np.arange(-2.0, 5.0), np.arange(-2.0, 5.0),
+                                   indexing="ij"), axis=-1).reshape(-1, 3)
+    query = tri.frame.to_local(np.concatenate([outside, rng.uniform(-3.0, 6.0, (500, 3))]))
+    every = np.broadcast_to(np.arange(corners.shape[0]), (query.shape[0], corners.shape[0]))
+    allowed = rng.uniform(size=corners.shape[0]) < 0.7 if masked else None
+    _assert_same(_numpy_nearest_among(query, corners, every, allowed), _nearest_among(query, corners, every, allowed))
+
+
+def test_kernel_equals_numpy_on_random_triangles_in_every_region() -> None:
+    rng = np.random.default_rng(5)
+    corners = rng.normal(size=(40, 3, 3))
+    corners[0, 2] = corners[0, 1]  # a degenerate triangle (two equal corners): the guarded ratios
+    query = rng.normal(scale=2.0, size=(3000, 3))
+    candidates = rng.integers(0, corners.shape[0], size=(query.shape[0], 6))
+    _assert_same(_numpy_nearest_among(query, corners, candidates, None),
+                 _nearest_among(query, corners, candidates, None))
+
+
+def test_no_allowed_candidate_gives_an_infinite_distance_and_the_first_candidate() -> None:
+    corners = np.array([[[0.0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0.0, 0, 1], [1, 0, 1], [0, 1, 1]]])
+    face, _, _, distance = _nearest_among(np.array([[0.2, 0.2, 3.0]]), corners, np.array([[1, 0]]),
+                                          np.array([False, False]))
+    assert face.tolist() == [1] and np.isinf(distance[0])
+
+
+def test_projection_onto_a_box_is_the_clamped_point() -> None:
+    """Independent of both formulations: the nearest point of the box [0, 2]^3 is the point clamped to it."""
+    axes = np.arange(3.0)
+    probes = np.stack(np.meshgrid(axes, axes, axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    tri = tetrahedralize(probes)
+    query = np.random.default_rng(2).uniform(-3.0, 5.0, (2000, 3))
+    query = query[np.any((query < 0.0) | (query > 2.0), axis=1)]
+    projection = project_to_hull(tri.points, tri.hull_faces, tri.frame.to_local(query))
+    np.testing.assert_allclose(tri.frame.to_world(projection.anchor), np.clip(query, 0.0, 2.0), atol=1e-12)
