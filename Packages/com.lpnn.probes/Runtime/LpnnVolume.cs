@@ -39,6 +39,8 @@ namespace Lpnn.Probes
             public const string Tolerance = nameof(tolerance);
             public const string KeepBoundsCorners = nameof(keepBoundsCorners);
             public const string RefineInBatches = nameof(refineInBatches);
+            public const string KeepPinnedProbes = nameof(keepPinnedProbes);
+            public const string PinnedProbes = nameof(pinnedProbes);
             public const string TargetGroup = nameof(targetGroup);
             public const string GroundTruthGroup = nameof(groundTruthGroup);
             public const string DatasetFolder = nameof(datasetFolder);
@@ -111,6 +113,14 @@ namespace Lpnn.Probes
                  "alone needs about 1.7x, for seconds more on rooms and minutes more on large volumes.")]
         [SerializeField] private bool refineInBatches = true;
 
+        [Tooltip("Insertion methods: Apply keeps the pinned probes (an artist's, pinned from the target group with the button " +
+                 "below), counts them in the budget and the error, and puts no new probe within one cell of one " +
+                 "(Documentation~/pins.md).")]
+        [SerializeField] private bool keepPinnedProbes;
+
+        // World positions of the pinned probes (Documentation~/pins.md); set by the inspector's "Pin the group's probes".
+        [SerializeField] private Vector3[] pinnedProbes = new Vector3[0];
+
         [Tooltip("The LightProbeGroup that Apply writes the chosen probes to.")]
         [SerializeField] private LightProbeGroup targetGroup;
 
@@ -172,6 +182,13 @@ namespace Lpnn.Probes
         public PlacementMethod Method => placementMethod;
         /// <summary>Whether Apply refines an insertion method's selection in batches (Core.Quality.RefinedSelection).</summary>
         public bool RefineInBatches => refineInBatches;
+        /// <summary>Whether Apply keeps <see cref="PinnedProbes"/> (Documentation~/pins.md).</summary>
+        public bool KeepPinnedProbes => keepPinnedProbes;
+        /// <summary>World positions of the pinned probes (a copy).</summary>
+        public Vector3[] PinnedProbes => pinnedProbes == null ? new Vector3[0] : (Vector3[])pinnedProbes.Clone();
+
+        /// <summary>Pins these world positions (the caller records Undo first), replacing the pins so far.</summary>
+        public void SetPinnedProbes(Vector3[] positions) => pinnedProbes = positions == null ? new Vector3[0] : (Vector3[])positions.Clone();
         public LpnnScoreRecord LastScores => lastScores ?? (lastScores = new LpnnScoreRecord());
 
         /// <summary>Which evaluation points are in use (<see cref="InUseRules.Default"/> for a new volume).</summary>

@@ -2,7 +2,8 @@
 
   lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv
                       | --method fast|insertion|insertion-refined|uniform|heuristic|apv|random]
-             [--guided | --refine F [--batched] | --topk] [--no-report] (--budget FRACTION | --tolerance TAU) --out PROBES.json
+             [--guided | --refine F [--batched] | --topk] [--no-report] [--keep PINS.json [--keep-distance D]]
+             (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 Without --model, --scores or --method it places by insertion refined in batches (DEFAULT_METHOD,
 quality.md §5.3): the best method measured where the capture's dense lighting is available, which `lpnn place`
@@ -21,6 +22,10 @@ seconds on a whole level where the exact greedy takes minutes); --guided ranks b
 Non-learned methods (quality.md): the fast reference, insertion (coarse-to-fine error-driven), insertion refined in
 batches (the best non-learned method measured, the default), the uniform lattice, the curvature heuristic, an
 APV-style geometry density, random.
+--keep PINS.json (a *.probes.json, e.g. the artist's probes exported from Unity; Documentation~/pins.md): every
+probe in it is kept, counted in the budget and the error, and no new probe comes within --keep-distance (default one
+cell) of one; insertion-refined, insertion and the ranking methods (uniform, heuristic, apv, random: pins first)
+take it; the fast reference, the uniform lattice and the LPNN tiers refuse it. The file written holds the pins at their own positions.
 Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
 evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
 """
@@ -37,6 +42,7 @@ if TYPE_CHECKING:
 
     from ..core.capture import Capture
     from ..quality.metric import PlacementQuality
+    from ..quality.pins import Pins
 
 PLACE_METHODS = ("fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random")
 DEFAULT_METHOD = "insertion-refined"  # module text; the Unity volume's default too (Insertion, Refine in batches)
@@ -70,6 +76,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "badly interpolated point the network rates highest; the best method measured, about "
                              "a second per thousand points)")
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
+    parser.add_argument("--keep", metavar="PINS.json",
+                        help="probes to keep (a *.probes.json in the capture's units; Documentation~/pins.md): every "
+                             "method keeps them, counts them in the budget and the error, and puts no new probe near one")
+    parser.add_argument("--keep-distance", type=float, metavar="D",
+                        help="with --keep: no new probe closer than D to a kept probe (capture units; default one cell)")
     parser.add_argument("--no-report", action="store_true",
                         help="with --model/--scores: skip the final error evaluation (the dense lighting of every "
                              "point, one tetrahedralisation of the probes, every point located; ~half of a budget "
@@ -96,6 +107,17 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("--guided, --refine and --topk are different LPNN tiers: give at most one of them")
     if args.method is None and args.model is None and args.scores is None:
         args.method = DEFAULT_METHOD
+    if args.keep_distance is not None and args.keep is None:
+        raise UserError("--keep-distance applies to pinned probes: give it with --keep PINS.json")
+    if args.keep is not None and args.method is None:
+        raise UserError("--keep does not apply to the LPNN tiers (--model/--scores) yet: use --method insertion-refined "
+                        "(the default), which keeps the pins")
+    if args.keep is not None and args.method == "uniform":
+        raise UserError("--keep does not apply to --method uniform: a lattice of K points is no ranking the pins could "
+                        "head; use --method insertion-refined (the default) or a ranking method (heuristic, apv, random)")
+    if args.keep is not None and args.method == "fast":
+        raise UserError("--keep does not apply to --method fast: the fast reference is the pin-free yardstick (a full "
+                        "greedy decimation of every point); use --method insertion-refined (the default) to keep the pins")
     capture = read_capture(args.capture)
     # The one place where points inside geometry leave (a capture exported from Unity carries their back-face
     # fractions): every method below sees, places and is measured on the valid points only.
@@ -110,7 +132,13 @@ def run(args: argparse.Namespace) -> int:
     with user_errors(args.capture):
         if args.method is None:
             return _place_lpnn(args, candidates, capture.ids, valid)
-        return _place(args, candidates)
+        pins = None
+        if args.keep is not None:
+            from ..quality.pins import pin_probes, read_pins_json
+
+            pins = pin_probes(read_pins_json(args.keep, capture.units), candidates.positions, candidates.cell_size,
+                              args.keep_distance)
+        return _place(args, candidates, pins)
 
 
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
@@ -154,12 +182,13 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     return 0
 
 
-def _place(args: argparse.Namespace, capture: Capture) -> int:
+def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None) -> int:
     from ..core.grid import EvaluationGrid
     from ..quality.apv import apv_ranking
     from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
     from ..quality.insertion import InsertionOrder
     from ..quality.leaks import field_with_geometry
+    from ..quality.pins import checked_pinned_count, pinned_selection, pinned_smallest
     from ..quality.metric import evaluate_placement
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
@@ -191,16 +220,16 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
             removed, close_removed = progress_bar(f"{name}: batched refinement")
             try:
                 refined = refined_insertion(field, grid, budget=args.budget, tolerance=args.tolerance,
-                                            insertion_progress=ranked, refinement_progress=removed)
+                                            insertion_progress=ranked, refinement_progress=removed, pins=pins)
             finally:
                 close_ranked()
                 close_removed()
             _write(args, capture, refined.indices, evaluate_placement(field, refined.indices), 0,
-                   "insertion refined in batches", {}, f"; {refined.rounds} refinement rounds")
+                   "insertion refined in batches", {}, f"; {refined.rounds} refinement rounds", pins=pins)
             return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
             update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
-            select = InsertionOrder(field, grid, progress=update).selection()
+            select = InsertionOrder(field, grid, progress=update, pins=pins).selection()
             what = "insertion (coarse-to-fine, error-driven)"
         else:
             if args.method == "heuristic":
@@ -209,23 +238,28 @@ def _place(args: argparse.Namespace, capture: Capture) -> int:
                 ranking, what = apv_ranking(grid, capture.features, capture.feature_names), "APV-style geometry density"
             else:
                 ranking, what = random_ranking(n, args.seed), f"random (seed {args.seed})"
-            select = prefix_selection(grid, ranking)
+            select = prefix_selection(grid, ranking) if pins is None else pinned_selection(grid, ranking, pins)
         try:
-            placement = (place_count(field, select, budget_count(args.budget, n)) if args.budget is not None
-                         else place_tolerance(field, select, args.tolerance))
+            placement = (place_count(field, select, checked_pinned_count(budget_count(args.budget, n), pins))
+                         if args.budget is not None else place_tolerance(field, select, args.tolerance,
+                                                                         smallest=pinned_smallest(pins)))
         finally:
             if close_bar is not None:
                 close_bar()
     _write(args, capture, placement.indices, evaluate_placement(field, placement.indices),
-           placement.added_for_tetrahedron, what, {}, "")
+           placement.added_for_tetrahedron, what, {}, "", pins=pins)
     return 0
 
 
 def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, quality: PlacementQuality | None,
-           added: int, what: str, extra_source: dict, extra_text: str, searched_error: float | None = None) -> None:
-    """Write the probe file (source: capture, method, policy, errors) and print one summary line.
-    quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any."""
+           added: int, what: str, extra_source: dict, extra_text: str, searched_error: float | None = None,
+           pins: Pins | None = None) -> None:
+    """Write the probe file (source: capture, method, policy, errors, pinned) and print one summary line.
+    quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any. A pinned probe is
+    written at its own (the artist's) position, not at the evaluation point it stands for (pins.md)."""
     from ..core.in_use_section import capture_rule, in_use_text
+    import numpy as np
+
     from ..quality.probes_file import write_probes_json
 
     n = capture.point_count
@@ -246,8 +280,14 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
     else:
         errors = "error not evaluated (no report)"
     source.update(extra_source)
-    write_probes_json(args.out, capture.positions[indices], capture.units, source)
+    pinned = 0 if pins is None else pins.count
+    source.update(pinned=pinned)
+    positions = capture.positions[indices].astype(np.float64)
+    if pins is not None:
+        at = np.searchsorted(indices, pins.indices)  # `indices` are sorted and hold every pin
+        positions[at] = pins.positions
+    write_probes_json(args.out, positions, capture.units, source)
     kept = indices.shape[0]
     added_text = f" ({added} added for a tetrahedron)" if added else ""
-    print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %){added_text}; "
+    print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %), {pinned:,} pinned{added_text}; "
           f"{errors}{extra_text} -> {args.out}")

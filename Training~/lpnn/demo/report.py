@@ -63,6 +63,10 @@ def table(result: DemoResult) -> str:
                   f"points but {in_use_text(whole.quality.in_use_error)} at the points in use, where "
                   f"{percent_text(whole.quality.leaking)} leak; placement {total:.2f} s "
                   f"(in use: {sum(result.methods[PRIMARY].seconds.values()):.2f} s)"]
+    # The demo's level has no artist's probes: every method above places from scratch (Documentation~/pins.md;
+    # `lpnn place --keep PINS.json` keeps given ones).
+    lines += ["", "Pinned probes: 0 (no artist's probes on this level; lpnn place --keep PINS.json keeps given ones, "
+              "Documentation~/pins.md)"]
     return "\n".join(lines) + "\n"
 
 

@@ -57,7 +57,7 @@ from .reference_faithful import FAITHFUL_MAX_CANDIDATES, faithful_decimation
 from .reference_fast import fast_decimation
 
 CSV_COLUMNS = (
-    "capture", "points", "method", "policy", "parameter", "probes", "seconds", "feature_seconds",
+    "capture", "points", "method", "policy", "parameter", "probes", "pinned", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
     "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error", "leaking",
 )
@@ -103,6 +103,7 @@ class BenchRow:
     yardstick: str = "fast-reference"  # or "blockwise-reference" (module text)
     in_use_error: float = math.nan  # mean error at the points in use (in-use.md); NaN when the capture cannot say
     leaking: float = math.nan  # share of the points in use that leak (leaks.md); NaN without the scene's geometry
+    pinned: int = 0  # of `probes`, pinned (pins.md); the benchmark places without pins, Tools~/pins-bench.py with them
 
 
 @dataclass(frozen=True)

@@ -52,6 +52,7 @@ from ..core.spread import farthest_point_ranking, spread_weights
 from .insertion_kernel import first_per_cell
 from .metric import (POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil,
                      stencil_point_errors)
+from .pins import Pins, pinned_start
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
@@ -111,20 +112,26 @@ def checked_guide(guide: np.ndarray | None, point_count: int) -> np.ndarray | No
 
 
 def insertion_batch(field: ReferenceField, order: np.ndarray, metric: str = PRIMARY_METRIC,
-                    growth: float = INSERTION_GROWTH, guide: np.ndarray | None = None) -> np.ndarray:
+                    growth: float = INSERTION_GROWTH, guide: np.ndarray | None = None,
+                    candidates: np.ndarray | None = None) -> np.ndarray:
     """One round given the probes so far (`order`): the next points to insert, in insertion order (module
     text); empty when every other point is interpolated exactly. `guide` (checked_guide): each cell's
     candidate is its point of largest error x weight among those with error > EXACT (guided insertion)
-    instead of its point of largest error. The C# core's InsertionRanking.NextBatch."""
+    instead of its point of largest error. `candidates` ((N,) bool, pins.Pins.candidates): only these points become
+    probes (a cell whose badly interpolated points are all blocked gets none). The C# core's InsertionRanking.NextBatch."""
     guide = checked_guide(guide, field.point_count)
     indices, others, stencil = probe_stencil(field, order)
     errors = stencil_point_errors(field, indices, others, stencil, metric)[others]
     # Per cell the candidate first, ties by index. Unguided, the key is the error itself; guided, points at
     # or below EXACT never become candidates (key -1), so a cell needs a point exactly when it does unguided.
     key = errors if guide is None else np.where(errors > EXACT, errors * guide[others], -1.0)
+    if candidates is not None:  # pinned probes (pins.py): a point near a pin is never a cell's candidate
+        key = np.where(candidates[others], key, -np.inf)
     cell_count = int(stencil.cell.max()) + 1
     first = first_per_cell(stencil.cell, np.ascontiguousarray(key), cell_count)  # others ascend: first = lowest index
     worst = first[errors[first] > EXACT]
+    if candidates is not None:
+        worst = worst[candidates[others[worst]]]
     if worst.shape[0] == 0:
         return np.zeros(0, dtype=np.int64)
     cell_error = np.bincount(stencil.cell, errors, minlength=cell_count)
@@ -140,7 +147,9 @@ class InsertionOrder:
 
     def __init__(self, field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
                  growth: float = INSERTION_GROWTH, progress: Callable[[int, int], None] | None = None,
-                 guide: np.ndarray | None = None) -> None:
+                 guide: np.ndarray | None = None, pins: Pins | None = None) -> None:
+        """`pins` (pins.py): the order starts with the pins, then the usual start without the points near a pin, and
+        no point near a pin is ever ranked (the order then holds fewer than N points)."""
         checked_metric(metric)
         if not (math.isfinite(growth) and growth > 0.0):
             raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
@@ -148,6 +157,9 @@ class InsertionOrder:
         self._field, self._grid, self._metric, self._growth, self._progress = field, grid, metric, growth, progress
         self._guide = checked_guide(guide, field.point_count)
         self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
+        self._candidates = None if pins is None else pins.candidates
+        if pins is not None:
+            self._order = pinned_start(grid, pins, self._order)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
         self.rounds = 0
 
@@ -165,7 +177,8 @@ class InsertionOrder:
         n = self._field.point_count
         count = min(int(count), n)
         while self._order.shape[0] < count and not self._exhausted:
-            batch = insertion_batch(self._field, self._order, self._metric, self._growth, self._guide)
+            batch = insertion_batch(self._field, self._order, self._metric, self._growth, self._guide,
+                                    self._candidates)
             self.rounds += 1
             if batch.shape[0] == 0:
                 self._exhausted = True
@@ -176,6 +189,8 @@ class InsertionOrder:
         if self._order.shape[0] < count:  # exhausted: the rest by index
             chosen = np.zeros(n, dtype=bool)
             chosen[self._order] = True
+            if self._candidates is not None:  # pinned: the points near a pin are never ranked
+                chosen |= ~self._candidates
             self._order = np.concatenate([self._order, np.flatnonzero(~chosen)])
         return self._order[:count]
 

@@ -34,6 +34,7 @@ from .batched_refinement import batched_refinement
 from .insertion import InsertionOrder
 from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
 from .metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
+from .pins import PinError, Pins, checked_pinned_count, pinned_smallest
 from .policies import budget_count, place_tolerance
 
 RECOMMENDED_REFINE = 2.0  # the seed holds this many times the wanted count (the refine tier's factor)
@@ -62,26 +63,30 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
                       insertion_progress: Callable[[int, int], None] | None = None,
                       refinement_progress: Callable[[int, int], None] | None = None,
                       leaks: Raycaster | None = None, leak_weight: float = LEAK_WEIGHT,
-                      repair_rounds: int = REPAIR_ROUNDS) -> RefinedPlacement:
+                      repair_rounds: int = REPAIR_ROUNDS, pins: Pins | None = None) -> RefinedPlacement:
     """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
     from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
     `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
-    and (probes removed, probes to remove at most) during the refinement."""
+    and (probes removed, probes to remove at most) during the refinement. `pins` (pins.py): insertion starts from them
+    and never ranks a point near one, the refinement never removes them, and a budget counts them."""
     if (budget is None) == (tolerance is None):
         raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
     factor = float(refine)
     if not (math.isfinite(factor) and factor > 1.0):
         raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
                           f"{RECOMMENDED_REFINE:g} is recommended)")
+    if pins is not None and leaks is not None:  # leak repair adds probes wherever a point leaks, pins or not
+        raise PinError("the leak-aware option does not keep pinned probes yet: give pins or leaks, not both")
     weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
     n = field.point_count
     start = time.perf_counter()
-    select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress).selection()
+    select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins).selection()
+    keep = None if pins is None else pins.indices
     found = None
     if tolerance is None:
-        target = budget_count(budget, n)  # type: ignore[arg-type]
+        target = checked_pinned_count(budget_count(budget, n), pins)  # type: ignore[arg-type]
     else:
-        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC)
+        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, pinned_smallest(pins))
         target = int(found.indices.shape[0])
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()
@@ -89,10 +94,12 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     if weighting is not None:
         seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
     if tolerance is None:
-        refined = batched_refinement(field, seed, count=target, progress=refinement_progress, leaks=weighting)
+        refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
+                                     leaks=weighting)
         indices, error = refined.indices, refined.mean_error
     else:
-        refined = batched_refinement(field, seed, tolerance=tolerance, progress=refinement_progress, leaks=weighting)
+        refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
+                                     leaks=weighting)
         assert found is not None
         # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
         better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)

@@ -25,6 +25,7 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty Tolerance { get; }
         public SerializedProperty KeepBoundsCorners { get; }
         public SerializedProperty RefineInBatches { get; }
+        public SerializedProperty KeepPinnedProbes { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
         public SerializedProperty InUseRule { get; }
@@ -55,6 +56,7 @@ namespace Lpnn.Probes.Editor
             Tolerance = volume.FindProperty(LpnnVolume.Fields.Tolerance);
             KeepBoundsCorners = volume.FindProperty(LpnnVolume.Fields.KeepBoundsCorners);
             RefineInBatches = volume.FindProperty(LpnnVolume.Fields.RefineInBatches);
+            KeepPinnedProbes = volume.FindProperty(LpnnVolume.Fields.KeepPinnedProbes);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);
             InUseRule = volume.FindProperty(LpnnVolume.Fields.InUseRule);

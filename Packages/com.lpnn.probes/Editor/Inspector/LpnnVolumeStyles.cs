@@ -83,5 +83,10 @@ namespace Lpnn.Probes.Editor
         public const string Bake = "Bake";
         public const string Continue = "Continue";
         public const string Cancel = "Cancel";
+    
+        // Pinned probes (Documentation~/pins.md).
+        public const string PinGroupButton = "Pin the group's probes";
+        public const string ClearPinsButton = "Clear pins";
+        public static string PinnedCount(int count) => count == 1 ? "1 pinned probe" : count + " pinned probes";
     }
 }

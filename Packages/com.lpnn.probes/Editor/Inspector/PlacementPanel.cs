@@ -44,7 +44,9 @@ namespace Lpnn.Probes.Editor
             }
             InspectorLayout.Field(properties.KeepBoundsCorners);
             if (byInsertion) InspectorLayout.Field(properties.RefineInBatches);
+            if (byInsertion) InspectorLayout.Field(properties.KeepPinnedProbes);
             edited.ApplyModifiedProperties();
+            if (byInsertion) PinButtons(volume, edited);
             // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
             bool refines = byInsertion && volume.RefineInBatches;
             var preview = PreviewCount(volume, session);
@@ -123,6 +125,41 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The policy popup in <see cref="PolicyOrder"/>, not the order of the enum, whose values are stored in scenes
         /// and only ever appended to.</summary>
+        /// <summary>How many probes are pinned, and the buttons that pin the target group's probes or clear the pins (one Undo
+        /// step each; Documentation~/pins.md). Apply keeps them when Keep Pinned Probes is on.</summary>
+        private static void PinButtons(LpnnVolume volume, SerializedObject edited)
+        {
+            int pinned = volume.PinnedProbes.Length;
+            using (new EditorGUILayout.HorizontalScope())
+            {
+                EditorGUILayout.LabelField(LpnnVolumeStyles.PinnedCount(pinned), EditorStyles.wordWrappedMiniLabel);
+                using (new EditorGUI.DisabledScope(volume.TargetGroup == null))
+                    if (GUILayout.Button(LpnnVolumeStyles.PinGroupButton))
+                        SetPins(volume, edited, "Pin LPNN probes", GroupWorldPositions(volume.TargetGroup));
+                using (new EditorGUI.DisabledScope(pinned == 0))
+                    if (GUILayout.Button(LpnnVolumeStyles.ClearPinsButton))
+                        SetPins(volume, edited, "Clear LPNN pins", new Vector3[0]);
+            }
+        }
+
+        private static void SetPins(LpnnVolume volume, SerializedObject edited, string undoName, Vector3[] positions)
+        {
+            // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — the pins are serialized with the volume.
+            Undo.RecordObject(volume, undoName);
+            volume.SetPinnedProbes(positions);
+            EditorUtility.SetDirty(volume);
+            edited.Update();
+        }
+
+        /// <summary>The group's probes in world space (LightProbeGroup.probePositions are local to its transform).</summary>
+        private static Vector3[] GroupWorldPositions(UnityEngine.LightProbeGroup group)
+        {
+            var local = group.probePositions;
+            var world = new Vector3[local.Length];
+            for (int p = 0; p < local.Length; p++) world[p] = group.transform.TransformPoint(local[p]);
+            return world;
+        }
+
         private static SelectionPolicy PolicyPopup(SerializedProperty property)
         {
             // The enum is declared in value order, so its index is its value.

@@ -174,10 +174,11 @@ namespace Lpnn.Probes.Editor
             var measure = settings.Policy == SelectionPolicy.Tolerance
                 ? ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel)
                 : null;
+            var pins = PinsOf(volume, session, grid);
             selection = PlacementMethods.RanksByInsertion(volume.Method)
-                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel)
+                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel, pins)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
-            return PositionsOf(grid, selection);
+            return ApplySteps.PositionsOf(grid, selection, pins);
         }
 
         /// <summary>The insertion methods' selection, reading the insertion order (guided by <paramref name="guideScores"/> when
@@ -185,14 +186,31 @@ namespace Lpnn.Probes.Editor
         /// when it is already known; with <paramref name="refine"/>, refined in batches from twice its count of the ranking
         /// (Core.Quality.RefinedSelection, quality.md §5.3).</summary>
         private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, float[] guideScores, SelectionSettings settings,
-            IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel)
+            IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel, Pins pins)
         {
             // The step itself is the core's (Core.Pipeline.ApplySteps), so the editor-free rehearsal runs this code.
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
-            int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores);
-            var order = known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores) : null;
+            // With pins the order starts from them (a fresh order: the cached ones are pin-free).
+            int[] known = pins == null ? PlacementInputs.KnownInsertionRanking(session, grid, guideScores) : null;
+            var order = pins != null
+                ? Core.Quality.InsertionOrder.OfValid(grid, session.Sh, PlacementInputs.Evaluator(session, grid).Reference.SceneScale, valid,
+                    new UnityTetrahedralizer(), pins, InsertionRanking.DefaultGrowth, guideScores)
+                : known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores) : null;
             var evaluator = refine ? PlacementInputs.Evaluator(session, grid) : null;
-            return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel);
+            return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel, pins);
+        }
+
+        /// <summary>The volume's pinned probes snapped to <paramref name="grid"/>'s valid points (Documentation~/pins.md), or null
+        /// when it keeps none. The Network method cannot keep them: an error says to choose an insertion method.</summary>
+        internal static Pins PinsOf(LpnnVolume volume, LpnnSession session, EvaluationGrid grid)
+        {
+            if (!volume.KeepPinnedProbes) return null;
+            if (!PlacementMethods.RanksByInsertion(volume.Method))
+                throw new PinException("Keep Pinned Probes works with the insertion methods: set Method to Insertion (or turn the toggle off)");
+            var world = volume.PinnedProbes;
+            var positions = new Double3[world.Length];
+            for (int p = 0; p < world.Length; p++) positions[p] = new Double3(world[p].x, world[p].y, world[p].z);
+            return Pins.Snap(grid, positions, null, PlacementInputs.ValidPoints(session, grid));
         }
 
         /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the
@@ -214,7 +232,7 @@ namespace Lpnn.Probes.Editor
         public static PlacementResult Apply(LpnnVolume volume, LpnnSession session, SelectionResult selection)
         {
             var grid = PlacementGrid(volume, session);
-            var positions = PositionsOf(grid, selection);
+            var positions = ApplySteps.PositionsOf(grid, selection, PinsOf(volume, session, grid));
             ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
             string unknown;
             var errorAtPointsInUse = ErrorAtPointsInUseOf(session, grid, selection, out unknown);
@@ -249,7 +267,6 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        private static NumericsVector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection) => ApplySteps.PositionsOf(grid, selection);
 
         /// <summary>The session's grid when it still matches the volume; otherwise an error saying to rebuild it.</summary>
         public static EvaluationGrid FreshGrid(LpnnVolume volume, LpnnSession session)

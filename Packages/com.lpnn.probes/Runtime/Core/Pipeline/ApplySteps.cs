@@ -1,4 +1,5 @@
 using System;
+using System.Collections.Generic;
 using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
@@ -33,9 +34,12 @@ namespace Lpnn.Probes.Core.Pipeline
         /// <summary>The insertion methods' selection, reading the insertion order only as far as the policy needs (a budget's
         /// points, the tolerance search's prefixes), or the whole ranking when it is already known (<paramref name="known"/>,
         /// else <paramref name="order"/>); with <paramref name="refine"/>, refined in batches from twice its count of the
-        /// ranking (Core.Quality.RefinedSelection, quality.md §5.3) with <paramref name="evaluator"/>.</summary>
+        /// ranking (Core.Quality.RefinedSelection, quality.md §5.3) with <paramref name="evaluator"/>. <paramref name="pins"/> (null:
+        /// none; Documentation~/pins.md): the order must start with them (InsertionOrder.OfValid with the same pins); the
+        /// selection holds every pin (a tolerance search that stops below the pins' count gets the rest added), a count
+        /// policy's count must hold them, and the refinement keeps them.</summary>
         public static SelectionResult SelectByInsertion(EvaluationGrid grid, bool[] valid, int[] known, InsertionOrder order, SelectionSettings settings,
-            IPlacementErrorMeasure measure, bool refine, PlacementEvaluator evaluator, ProgressCallback progress, CancellationToken cancel)
+            IPlacementErrorMeasure measure, bool refine, PlacementEvaluator evaluator, ProgressCallback progress, CancellationToken cancel, Pins pins = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             RankingPrefix prefix;
@@ -54,8 +58,38 @@ namespace Lpnn.Probes.Core.Pipeline
                 prefix = count => order.Prefix(count, progress, cancel);
                 selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, prefix, settings, measure, valid);
             }
+            if (pins != null)
+            {
+                if (settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(selection.Indices.Length);
+                selection = WithPins(selection, pins);
+            }
             if (!refine) return selection;
-            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, valid, progress, cancel);
+            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, null, valid, progress, cancel, pins);
+        }
+
+        /// <summary>The selection with every pin it lacks added (sorted indices, as the selector returns them).</summary>
+        internal static SelectionResult WithPins(SelectionResult selection, Pins pins)
+        {
+            var all = new SortedSet<int>(selection.Indices);
+            all.UnionWith(pins.Indices);
+            if (all.Count == selection.Indices.Length) return selection;
+            var indices = new int[all.Count];
+            all.CopyTo(indices);
+            return new SelectionResult(indices, selection.CornersAdded, selection.AddedForTetrahedron, selection.Tolerance, selection.RefinedFrom);
+        }
+
+        /// <summary>World positions of the selected grid points, in the selection's order; a pinned point is written at the
+        /// artist's own position (pins.md), not at the evaluation point it stands for.</summary>
+        public static Vector3[] PositionsOf(EvaluationGrid grid, SelectionResult selection, Pins pins)
+        {
+            var positions = PositionsOf(grid, selection);
+            if (pins == null) return positions;
+            var pinOf = new Dictionary<int, int>();
+            for (int p = 0; p < pins.Count; p++) pinOf[pins.Indices[p]] = p;
+            for (int k = 0; k < positions.Length; k++)
+                if (pinOf.TryGetValue(selection.Indices[k], out int p))
+                    positions[k] = new Vector3((float)pins.Positions[p].X, (float)pins.Positions[p].Y, (float)pins.Positions[p].Z);
+            return positions;
         }
 
         /// <summary>World positions of the selected grid points, in the selection's order.</summary>

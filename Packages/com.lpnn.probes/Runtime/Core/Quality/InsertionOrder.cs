@@ -29,6 +29,8 @@ namespace Lpnn.Probes.Core.Quality
         private readonly int[] _rows;
         private readonly List<int> _order;
         private readonly bool[] _chosen;
+        /// <summary>Null, or one flag per point of the reference: only these may be ranked (pinned probes, pins.md).</summary>
+        private readonly bool[] _candidates;
         /// <summary>Every point not yet ranked is interpolated exactly: the rest follow by index.</summary>
         private bool _exhausted;
 
@@ -47,18 +49,27 @@ namespace Lpnn.Probes.Core.Quality
         /// &gt; 0 (<see cref="InsertionRanking.GuideWeights"/> of their scores): guided insertion (quality.md §5.2). Copied.</param>
         public InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth = InsertionRanking.DefaultGrowth,
             double[] guide = null)
-            : this(grid, reference, tetrahedralizer, growth, guide == null ? null : (double[])guide.Clone(), null)
+            : this(grid, reference, tetrahedralizer, growth, guide == null ? null : (double[])guide.Clone(), null, null)
         {
         }
 
         /// <param name="guide">Owned by this order (not copied).</param>
-        private InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth, double[] guide, int[] rows)
+        /// <param name="pins">Null, or pins snapped to <paramref name="grid"/>'s own points: the order starts with them (then the
+        /// usual start without the blocked points) and never ranks a blocked point (pins.md).</param>
+        private InsertionOrder(EvaluationGrid grid, ReferenceLighting reference, ITetrahedralizer tetrahedralizer, double growth, double[] guide, int[] rows,
+            Pins pins)
         {
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             InsertionRanking.CheckGrowth(growth);
             InsertionRanking.CheckGuide(guide, reference.Count);
             int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            if (pins != null)
+            {
+                start = Pins.Start(grid, pins.Indices, pins.Blocked, start);
+                _candidates = new bool[reference.Count];
+                for (int n = 0; n < _candidates.Length; n++) _candidates[n] = !pins.Blocked[n];
+            }
             _reference = reference;
             _tetrahedralizer = tetrahedralizer;
             _growth = growth;
@@ -79,13 +90,19 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="valid">One flag per grid point, or null (all valid).</param>
         /// <param name="scores">One network score per grid point (guided insertion), or null (plain insertion).</param>
         public static InsertionOrder OfValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer,
+            double growth = InsertionRanking.DefaultGrowth, float[] scores = null) =>
+            OfValid(grid, sh, sceneScale, valid, tetrahedralizer, null, growth, scores);
+
+        /// <summary>As the public overload, with <paramref name="pins"/> (null: none) snapped to <paramref name="grid"/> with the
+        /// same <paramref name="valid"/> flags (<see cref="Pins.Snap"/>): the pins come first and no point near one is ranked.</summary>
+        internal static InsertionOrder OfValid(EvaluationGrid grid, float[] sh, double sceneScale, bool[] valid, ITetrahedralizer tetrahedralizer, Pins pins,
             double growth = InsertionRanking.DefaultGrowth, float[] scores = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (sh == null) throw new ArgumentNullException(nameof(sh));
             if (valid == null)
                 return new InsertionOrder(grid, ReferenceLighting.FromGrid(grid, sh, sceneScale), tetrahedralizer, growth,
-                    InsertionRanking.GuideOf(scores, grid.Count), null);
+                    InsertionRanking.GuideOf(scores, grid.Count), null, pins);
             int validCount = ValidCandidates.Check(grid, valid);
             if (sh.Length != ShMath.FloatsPerProbe * grid.Count)
                 throw new PlacementErrorException("need 27 SH coefficients per evaluation point: got " + InvariantFormat.Count(sh.Length) +
@@ -103,7 +120,7 @@ namespace Lpnn.Probes.Core.Quality
             }
             var validGrid = grid.Subset(valid);
             return new InsertionOrder(validGrid, ReferenceLighting.FromGrid(validGrid, validSh, sceneScale), tetrahedralizer, growth,
-                InsertionRanking.GuideOf(validScores, validCount), rows);
+                InsertionRanking.GuideOf(validScores, validCount), rows, pins == null ? null : pins.OfRows(rows));
         }
 
         /// <summary>The ranking's first min(<paramref name="count"/>, <see cref="Count"/>) points — or more: every point
@@ -119,7 +136,8 @@ namespace Lpnn.Probes.Core.Quality
                     cancel.ThrowIfCancellationRequested();
                     progress?.Invoke(Stage, _order.Count, count);
                     int[] probes = _order.ToArray();
-                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide);
+                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide,
+                        _candidates);
                     Rounds++;
                     if (batch.Length == 0) _exhausted = true;
                     foreach (int p in batch)
@@ -130,7 +148,7 @@ namespace Lpnn.Probes.Core.Quality
                 }
                 if (_order.Count < count)
                     for (int n = 0; n < _chosen.Length; n++)
-                        if (!_chosen[n]) _order.Add(n);
+                        if (!_chosen[n] && (_candidates == null || _candidates[n])) _order.Add(n);
                 progress?.Invoke(Stage, count, count);
             }
             var ranked = new int[_order.Count];

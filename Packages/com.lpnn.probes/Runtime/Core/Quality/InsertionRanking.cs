@@ -80,7 +80,10 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="tetrahedra">4 indices into <paramref name="probes"/> per tetrahedron.</param>
         /// <param name="guide">Null (plain insertion), or one weight per point of <paramref name="reference"/>, each finite and
         /// &gt; 0 (<see cref="GuideWeights"/>): guided insertion (quality.md §5.2).</param>
-        public static int[] NextBatch(ReferenceLighting reference, int[] probes, int[] tetrahedra, double growth = DefaultGrowth, double[] guide = null)
+        /// <param name="allowed">Null, or one flag per point: only flagged points become probes (pinned probes, pins.md: a
+        /// point near a pin never does; a cell whose badly interpolated points are all unflagged gets none).</param>
+        public static int[] NextBatch(ReferenceLighting reference, int[] probes, int[] tetrahedra, double growth = DefaultGrowth, double[] guide = null,
+            bool[] allowed = null)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             if (tetrahedra == null) throw new ArgumentNullException(nameof(tetrahedra));
@@ -101,6 +104,7 @@ namespace Lpnn.Probes.Core.Quality
                 // The candidate's key: the error itself, or (guided) error × weight, with points at or below Exact never
                 // candidates (key -1), so a cell needs a point exactly when it does unguided.
                 double key = guide == null ? e : e > Exact ? e * guide[n] : -1.0;
+                if (allowed != null && !allowed[n]) key = double.NegativeInfinity;
                 // Points arrive in ascending index order, so a strict > keeps the lower index among equal keys.
                 if (worst[cell] < 0 || key > worstKey[cell])
                 {
@@ -112,7 +116,7 @@ namespace Lpnn.Probes.Core.Quality
             var candidateError = new List<double>();
             for (int c = 0; c < cells; c++)
             {
-                if (worst[c] < 0 || !(errors[worst[c]] > Exact)) continue;
+                if (worst[c] < 0 || !(errors[worst[c]] > Exact) || (allowed != null && !allowed[worst[c]])) continue;
                 candidates.Add(worst[c]);
                 candidateError.Add(cellError[c]);
             }

@@ -34,9 +34,11 @@ namespace Lpnn.Probes.Core.Quality
         /// lpnn/quality/refined_insertion.py (Documentation~/leaks.md "A leak-aware default"): the seed gets
         /// <see cref="LeakRepair.DefaultRounds"/> repair rounds, the refinement weighs leaking points' errors, and with a
         /// tolerance the refined set is the answer whenever its weighted mean error is within τ, even with more probes than
-        /// the search's (the price of fewer leaks).</summary>
+        /// the search's (the price of fewer leaks). <paramref name="pins"/> (null: none; grid indices, pins.md): the refinement
+        /// never removes them and a count policy's count must hold them.</summary>
         internal static SelectionResult Refine(EvaluationGrid grid, SelectionResult selection, RankingPrefix prefix, int candidates, SelectionSettings settings,
-            PlacementEvaluator evaluator, LeakWeighting leaks, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default)
+            PlacementEvaluator evaluator, LeakWeighting leaks, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default,
+            Pins pins = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (selection == null) throw new ArgumentNullException(nameof(selection));
@@ -48,9 +50,13 @@ namespace Lpnn.Probes.Core.Quality
             settings.Validate();
             if (settings.Policy == SelectionPolicy.Threshold)
                 throw new SelectionException("batched refinement refines a ranking's prefix; the score threshold policy has none: choose Tolerance, Spread or Budget");
+            if (pins != null && leaks != null)  // leak repair adds probes wherever a point leaks, pins or not
+                throw new PinException("the leak-aware option does not keep pinned probes yet: give pins or leaks, not both");
             int target = selection.Indices.Length;
+            if (pins != null && settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(target);
             int seedCount = SeedCount(target, candidates);
             var seed = new HashSet<int>(selection.Indices);
+            if (pins != null) seed.UnionWith(pins.Indices);
             int[] head = prefix(seedCount);
             for (int r = 0; r < seedCount && r < head.Length; r++) seed.Add(head[r]);
             if (leaks == null && seed.Count <= target) return selection;  // the seed is the selection: nothing to remove
@@ -59,7 +65,10 @@ namespace Lpnn.Probes.Core.Quality
             var tetrahedralizer = evaluator.Tetrahedralizer;
             if (leaks != null)  // a leak of the seed could not be undone by a refinement that only removes probes
                 seedPoints = LeakRepair.Repaired(evaluator.Reference, tetrahedralizer, seedPoints, leaks.Raycaster, LeakRepair.DefaultRounds, cancel);
-            int[] keep = settings.KeepBoundsCorners ? ProbeSelector.BoundsCorners(grid, valid).ToArray() : null;
+            var kept = new List<int>();
+            if (settings.KeepBoundsCorners) kept.AddRange(ProbeSelector.BoundsCorners(grid, valid));
+            if (pins != null) kept.AddRange(pins.Indices);
+            int[] keep = kept.Count == 0 ? null : kept.ToArray();
             if (settings.Policy != SelectionPolicy.Tolerance)
             {
                 var counted = BatchedRefinement.ToCount(evaluator.Reference, tetrahedralizer, seedPoints, target, leaks, keep, progress, cancel);
