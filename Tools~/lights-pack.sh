@@ -8,6 +8,7 @@ cd "$REPO_ROOT"
 PY=$(bash "Tools~/setup-python.sh")
 export LPNN_OPENARENA_PAK
 LPNN_OPENARENA_PAK=$(bash "Tools~/install-openarena.sh")
+bash "Tools~/install-openarena-textures.sh" >/dev/null  # shader scripts and textures of the forward model (lights.md §1)
 SCHEME="${1:-quick}"
 OUT="${2:-$BUILD_DIR/lights-pack}"
 mkdir -p "$OUT"

@@ -125,8 +125,10 @@ def _lights(args: argparse.Namespace) -> None:
 
 
 def _compare(args: argparse.Namespace) -> None:
-    from ..lights.compare import compare_grid, compare_rigs, relight_grid, stored_grid
-    from ..lights.rig import entity_lights, read_rig
+    from ..lights.compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
+    from ..lights.pipeline import level_emitters, point_lights_of
+    from ..lights.rig import Rig, entity_lights, read_rig
+    from ..scenes.solid import SolidTester
     from ..scenes.levels import load_level
     from ..scenes.raycast import EmbreeRaycaster
     from ..scenes.surfaces import ray_geometry
@@ -149,8 +151,18 @@ def _compare(args: argparse.Namespace) -> None:
         print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
     geometry = ray_geometry(level.bsp)
     raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
-    sets = [("the rig", rig)] + ([("the level's own lights (yardstick)", real.rig)] if real.rig.count else [])
-    for label, lights in sets:
-        g = compare_grid(stored, relight_grid(stored.positions, lights, raycaster))
+    solid = SolidTester(level.bsp)
+
+    def is_open(points):
+        return ~solid.solid_or_outside(points)
+
+    sets = [("the rig", rig, None)]
+    if real.rig.count:
+        own = point_lights_of(real)
+        sets.append(("the level's own lights, spotlights and surface lights (yardstick)",
+                     Rig.from_quake(own.positions, own.colours, own.intensities, ambient=own.ambient),
+                     level_emitters(level, real)))
+    for label, lights, emitters in sets:
+        g = compare_grid(stored, relight_stored_grid(level.bsp, stored, lights, raycaster, is_open, emitters))
         print(f"light grid re-lit from {label} vs stored, {g.nodes:,} valid nodes: relative irradiance error mean "
               f"{g.mean_error:.3f}, p95 {g.p95_error:.3f} (quality.md); plain relative error {g.plain_relative:.3f}")

@@ -31,6 +31,7 @@ from ..scenes.bsp import Bsp
 from ..scenes.errors import BspError
 from ..scenes.lightgrid import decode_directions
 from ..scenes.raycast import EmbreeRaycaster
+from .emitters import Emitters, emitters_at_points
 from .model import POINT_SCALE
 from .pointlight import visible_light
 from .rig import Rig
@@ -97,8 +98,44 @@ def stored_grid(bsp: Bsp) -> GridNodes:
                      direction=decode_directions(records[valid, 6], records[valid, 7]))
 
 
-def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None) -> GridNodes:
-    """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights."""
+def grid_sample_points(nodes: np.ndarray, is_open) -> np.ndarray:
+    """Where q3map2 samples each grid node (light.c TraceGrid): the node itself when it is in open
+    space, else the first of the 8 diagonal offsets of +-9 units, then of +-18 units (x sign from bit
+    0, y from bit 1, z from bit 2, minus first), that is; a node with none keeps its position."""
+    out = np.asarray(nodes, dtype=np.float64).copy()
+    todo = ~is_open(out)
+    for step in (9.0, 18.0):
+        for i in range(8):
+            if not todo.any():
+                return out
+            offset = step * np.array([1.0 if i & 1 else -1.0, 1.0 if i & 2 else -1.0, 1.0 if i & 4 else -1.0])
+            candidate = nodes[todo] + offset
+            found = is_open(candidate)
+            index = np.flatnonzero(todo)[found]
+            out[index] = candidate[found]
+            todo[index] = False
+    return out
+
+
+def grid_inhibit(bsp: Bsp) -> float:
+    """light.c TraceGrid's inhibitRadius: half the largest side of a grid cell (Quake units)."""
+    return 0.5 * float(np.max(bsp.light_grid_layout.cell_size))
+
+
+def relight_stored_grid(bsp: Bsp, stored: GridNodes, rig: Rig, raycaster: EmbreeRaycaster | None, is_open,
+                        emitters: Emitters | None = None) -> GridNodes:
+    """The stored grid's valid nodes re-lit as q3map2 lights them: each sampled where TraceGrid
+    samples it (grid_sample_points), occluders within grid_inhibit ignored."""
+    relit = relight_grid(grid_sample_points(stored.positions, is_open), rig, raycaster, emitters, grid_inhibit(bsp))
+    return GridNodes(positions=stored.positions, ambient=relit.ambient, directed=relit.directed,
+                     direction=relit.direction)
+
+
+def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
+                 emitters: Emitters | None = None, inhibit: float = 0.0) -> GridNodes:
+    """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights (and the
+    emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule; occluders within
+    `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS)."""
     lights = rig.quake_positions()
     emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
     ambient = np.zeros((len(nodes), 3))
@@ -106,7 +143,10 @@ def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None)
     direction = np.zeros((len(nodes), 3))
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
-        colour, unit = visible_light(nodes[chunk], lights, emitted, raycaster)  # (C, J, 3) each
+        colour, unit = visible_light(nodes[chunk], lights, emitted, raycaster, inhibit)  # (C, J, 3) each
+        if emitters is not None:
+            more, more_unit = emitters_at_points(nodes[chunk], emitters, raycaster, inhibit)
+            colour, unit = np.concatenate([colour, more], axis=1), np.concatenate([unit, more_unit], axis=1)
         main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
         length = np.linalg.norm(main, axis=1, keepdims=True)
         main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)

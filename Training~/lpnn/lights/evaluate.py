@@ -19,14 +19,16 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..core.atomic import write_text_atomic
 from ..scenes.levels import load_level
-from .compare import compare_grid, compare_rigs, relight_grid, stored_grid
+from .compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
-from .model import Lights
-from .pipeline import fit_scene, load_scene, rig_of
+from .emitters import emitter_bytes
+from .pipeline import fit_scene, level_emitters, load_scene, point_lights_of, rig_of
+from .rig import Rig, entity_lights, write_rig
 from .settings import DEFAULT_GRID, SCHEMES
-from .rig import entity_lights, write_rig
 
 HEADER = ("| level | scheme | target points | lights | objective | iterations | s / iteration | rays/s | "
           "matched within 1 m | distance real→rec. | grid error mean (p95) |\n|---|---|---|---|---|---|---|---|---|---|---|")
@@ -40,9 +42,17 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
     stored = stored_grid(level.bsp)
     rows: list[dict[str, Any]] = []
     if real.rig.count:
-        lights = Lights(real.rig.quake_positions(), real.rig.colours, real.rig.intensities, ambient=real.rig.ambient)
+        started = time.perf_counter()
+        lights = point_lights_of(real)
+        emitters = level_emitters(level, real)
+        scene.model.fixed = emitter_bytes(scene.model.points, scene.model.normals, emitters, raycaster)
         objective = scene.model.objective(lights, scene.model.visibility(lights), with_gradient=False).value
-        g = compare_grid(stored, relight_grid(stored.positions, real.rig, raycaster))
+        scene.model.fixed = np.zeros_like(scene.model.points)
+        point_rig = Rig.from_quake(lights.positions, lights.colours, lights.intensities, ambient=lights.ambient)
+        g = compare_grid(stored, relight_stored_grid(level.bsp, stored, point_rig, raycaster, scene.is_open, emitters))
+        print(f"{level.name}: real rig {objective:.4f}, grid {g.mean_error:.3f} in {time.perf_counter() - started:.1f} s "
+              f"({emitters.spots.count} spotlights, {emitters.areas.count} area lights of "
+              f"{len(emitters.shaders)} shaders)", flush=True)
         rows.append(dict(level=level.name, scheme="real rig", points=scene.target.point_count, lights=real.rig.count,
                          objective=objective, grid_mean=g.mean_error, grid_p95=g.p95_error,
                          grid_plain=g.plain_relative, ambient=real.rig.ambient.tolist()))
@@ -67,10 +77,12 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
             c = compare_rigs(rig, real.rig)
             row.update(matched=c.matched_share, real_to_recovered=c.real_to_recovered,
                        recovered_to_real=c.recovered_to_real)
-        g = compare_grid(stored, relight_grid(stored.positions, rig, raycaster))
+        g = compare_grid(stored, relight_stored_grid(level.bsp, stored, rig, raycaster, scene.is_open))
         row.update(grid_mean=g.mean_error, grid_p95=g.p95_error, grid_plain=g.plain_relative)
         rows.append(row)
         print(table_row(row), flush=True)
+    if not curves:
+        return rows
     write_curve_png(out / f"{level.name}.curves.png", curves, f"{level.name}: objective by scheme "
                     f"({'x'.join(map(str, grid))} initial grid)")
     return rows
@@ -89,7 +101,7 @@ def table_row(row: dict[str, Any]) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--levels", nargs="+", required=True, metavar="LEVEL")
-    parser.add_argument("--schemes", nargs="+", default=["adam", "lbfgs", "mixed"], choices=sorted(SCHEMES))
+    parser.add_argument("--schemes", nargs="*", default=["adam", "lbfgs", "mixed"], choices=sorted(SCHEMES))
     parser.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM")
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     args = parser.parse_args(argv)

@@ -81,6 +81,9 @@ class ForwardModel:
         # an all-black target: any light is error; normalise by 1 instead of dividing by zero
         self.norm = norm if norm > 0 else 1.0
         self.raycaster = raycaster
+        # bytes every point receives from light elements held fixed in a fit (spotlights and surface
+        # lights of a compile, emitters.py), added before the 255 clamp like the ambient
+        self.fixed = np.zeros_like(self.points)
         self.rays = 0
         self._pairs_of: np.ndarray | None = None  # the visibility matrix whose pairs are cached
         self._pairs: list = []
@@ -126,8 +129,8 @@ class ForwardModel:
         emitted = lights.colours * lights.intensities[:, None]  # (J, 3)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
-            light = lights.ambient + POINT_SCALE * _sum_by(pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light],
-                                                           chunk.stop - chunk.start)
+            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(
+                pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light], chunk.stop - chunk.start)
             out[chunk] = self.albedo[chunk] * LINEAR_PER_BYTE * saturate(light)
         return out
 
@@ -181,7 +184,8 @@ class ForwardModel:
             t = self._transfer(lights, pairs)
             local = pairs.point - chunk.start
             albedo = self.albedo[chunk]
-            light = lights.ambient + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light], len(albedo))
+            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
+                                                                               len(albedo))
             residual = albedo * LINEAR_PER_BYTE * saturate(light) - self.radiance[chunk]
             weight = self.weights[chunk][:, None]
             value += float(np.sum(weight * residual ** 2))

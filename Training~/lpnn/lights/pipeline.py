@@ -14,9 +14,10 @@ from ..scenes.levels import Level, default_pak
 from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
 from ..scenes.surfaces import ray_geometry
-from .model import ForwardModel
+from .emitters import Emitters, Spots, read_shader_scripts, shader_light, surface_emitters
+from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
-from .rig import Rig
+from .rig import EntityLights, Rig
 from .settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
@@ -108,3 +109,43 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
     return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit], ambient=lights.ambient,
                           level=scene.level.name, bsp_sha256=scene.level.sha256, scheme=scheme,
                           objective=float(result.objective), extra=info)
+
+
+def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> Emitters:
+    """The light elements of the level's compile that are not plain point lights: its spotlights
+    (from the light entities) and, with `surfaces`, the surface lights of its shaders (the
+    `scripts/*.shader` of the pk3s beside it, emitters.py)."""
+    spot = real.spot
+    quake = real.rig.quake_positions()
+    spots = Spots(positions=quake[spot], colours=real.rig.colours[spot], intensities=real.rig.intensities[spot],
+                  directions=real.spot_direction[spot], radius_by_dist=real.radius_by_dist[spot])
+    emitters = Emitters(spots=spots)
+    if not surfaces:
+        return emitters
+    bsp = level.bsp
+    paks = texture_paks(level.pak, default_pak().parent)
+    scripts = read_shader_scripts(paks)
+    images: dict[str, np.ndarray | None] = {}
+
+    def image_colour(path: str) -> np.ndarray | None:
+        if path not in images:
+            albedo = load_albedo([path], paks)
+            images[path] = None if albedo.images[0] is None else albedo.images[0].reshape(-1, 3).mean(axis=0)
+        return images[path]
+
+    shaders = {}
+    for index in range(len(bsp.shaders)):
+        light = shader_light(scripts, bsp.shader_name(index), image_colour)
+        if light is not None:
+            shaders[index] = light
+    areas, positions, colours, intensities = surface_emitters(bsp, shaders)
+    emitters.areas, emitters.shaders = areas, shaders
+    emitters.splash_positions, emitters.splash_colours, emitters.splash_intensities = positions, colours, intensities
+    return emitters
+
+
+def point_lights_of(real: EntityLights) -> Lights:
+    """The level's light entities that are plain point lights (spotlights are emitters), with its ambient."""
+    keep = ~real.spot if len(real.spot) == real.rig.count else np.ones(real.rig.count, bool)
+    return Lights(real.rig.quake_positions()[keep], real.rig.colours[keep], real.rig.intensities[keep],
+                  ambient=real.rig.ambient.copy())

@@ -19,17 +19,20 @@ RAY_MIN_LENGTH = 1e-3  # Quake units
 
 
 def visible_light(points: np.ndarray, lights: np.ndarray, emitted: np.ndarray,
-                  raycaster: EmbreeRaycaster | None) -> tuple[np.ndarray, np.ndarray]:
+                  raycaster: EmbreeRaycaster | None, inhibit: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """points (C, 3), light positions (J, 3), emitted = colour x intensity x 7500 (J, 3) ->
-    bytes (C, J, 3), zero where the light is dropped or shadowed, and unit directions (C, J, 3)."""
+    bytes (C, J, 3), zero where the light is dropped or shadowed, and unit directions (C, J, 3).
+    Occluders closer than `inhibit` units to the point are ignored (q3map2's grid traces,
+    light.c TraceGrid: inhibitRadius = half the largest grid cell side; light_trace.c)."""
     offset = lights[None, :, :] - points[:, None, :]  # (C, J, 3)
     distance = np.linalg.norm(offset, axis=2)
     unit = offset / np.maximum(distance, 1e-9)[..., None]
     colour = emitted[None, :, :] / np.maximum(distance, MIN_DISTANCE)[..., None] ** 2
     counts = colour.max(axis=2) > DROPPED_CONTRIBUTION
     if raycaster is not None:
-        point, light = np.nonzero(counts & (distance > RAY_MIN_LENGTH))
-        length = distance[point, light]
-        hits, _ = raycaster.cast(points[point], unit[point, light], float(length.max(initial=0.0)))
+        point, light = np.nonzero(counts & (distance > max(RAY_MIN_LENGTH, inhibit)))
+        length = distance[point, light] - inhibit
+        hits, _ = raycaster.cast(points[point] + inhibit * unit[point, light], unit[point, light],
+                                 float(length.max(initial=0.0)))
         counts[point[hits < length], light[hits < length]] = False
     return np.where(counts[..., None], colour, 0.0), unit

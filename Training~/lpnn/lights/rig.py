@@ -29,6 +29,7 @@ VERSION = 1
 FALLOFF = "q3map2-point"  # 7500 * I * cos / max(r, 16 units)^2 bytes (model.py)
 DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light` / `light`
 SPAWNFLAG_LINEAR = 1
+SPOT_DEFAULT_RADIUS = 64.0  # light.c CreateEntityLights
 
 
 class RigError(InvalidInputError):
@@ -145,16 +146,23 @@ def _numbers(value: Any, count: int, what: str) -> list[float]:
 
 @dataclass(frozen=True)
 class EntityLights:
-    rig: Rig  # point lights (the ones a point-light rig can match)
+    rig: Rig  # point lights and spotlights (the positions a rig can match)
     linear: np.ndarray  # (J,) bool: spawnflags 1 (linear falloff)
     skipped: dict[str, int]  # reason -> light entities left out
+    spot: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))  # (J,) bool: a spotlight
+    spot_direction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # (J, 3) Quake axes, unit
+    radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (J,) the cone, 0 for a point light
 
 
 def entity_lights(entities: list[dict[str, str]], level_name: str) -> EntityLights:
     """The level's light entities as q3map2 reads them (quake3-bsp.md §5): origin, `_light` then
     `light` (300 when missing or 0) x `scale`, `_color` normalised to max 1. Suns and negative
-    (subtractive) lights are left out and counted; spotlights are kept as point lights."""
+    (subtractive) lights are left out and counted. A light whose `target` names an entity with an
+    origin is a spotlight (light.c CreateEntityLights: unit direction to the target's origin,
+    radiusByDist = (`radius`, default 64, + 16) / distance, distance 0 -> 64)."""
     positions, colours, intensities, linear = [], [], [], []
+    spots, directions, cones = [], [], []
+    targets = {e["targetname"]: e for e in entities if "targetname" in e and "origin" in e}
     skipped = {"sun": 0, "negative or zero": 0, "no origin": 0, "grid only (lightJunior)": 0}
     for number, entity in enumerate(light_entities(entities)):
         what = f"{level_name}: light entity {number}"
@@ -180,10 +188,22 @@ def entity_lights(entities: list[dict[str, str]], level_name: str) -> EntityLigh
         colours.append(colour / colour.max())
         intensities.append(intensity)
         linear.append(int(_float(entity.get("spawnflags", "0"), f"{what}: key 'spawnflags'")) & SPAWNFLAG_LINEAR != 0)
+        target = targets.get(entity.get("target", ""))
+        direction, cone = np.zeros(3), 0.0
+        if target is not None:
+            offset = np.array(parse_vector(target["origin"], 3, f"{what}: its target's 'origin'")) - np.array(origin)
+            distance = float(np.linalg.norm(offset))
+            direction = offset / distance if distance > 0 else np.array([0.0, 0.0, -1.0])
+            radius = _float(entity.get("radius", "0"), f"{what}: key 'radius'") or SPOT_DEFAULT_RADIUS
+            cone = (radius + 16.0) / (distance if distance > 0 else SPOT_DEFAULT_RADIUS)
+        spots.append(target is not None)
+        directions.append(direction)
+        cones.append(cone)
     rig = Rig.from_quake(np.array(positions).reshape(-1, 3), np.array(colours).reshape(-1, 3),
                          np.array(intensities), ambient=worldspawn_ambient(entities, level_name),
                          level=level_name, scheme="light entities")
-    return EntityLights(rig=rig, linear=np.array(linear, dtype=bool), skipped=skipped)
+    return EntityLights(rig=rig, linear=np.array(linear, dtype=bool), skipped=skipped, spot=np.array(spots, dtype=bool),
+                        spot_direction=np.array(directions).reshape(-1, 3), radius_by_dist=np.array(cones))
 
 
 def worldspawn_ambient(entities: list[dict[str, str]], level_name: str) -> np.ndarray:

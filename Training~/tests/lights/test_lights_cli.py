@@ -40,7 +40,7 @@ def test_recover_then_compare(lit_bsp: Path, tmp_path: Path, capsys: pytest.Capt
     printed = capsys.readouterr().out
     assert "rig vs the level's 1 point-light entities" in printed  # the lightJunior is left out
     assert "light grid re-lit from the rig vs stored" in printed
-    assert "light grid re-lit from the level's own lights (yardstick) vs stored" in printed
+    assert "light grid re-lit from the level's own lights, spotlights and surface lights (yardstick) vs stored" in printed
 
 
 def test_level_without_lightmaps_is_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
