@@ -132,9 +132,11 @@ class SpreadPrefix:
         return np.concatenate([self._state[0][:ranked], np.flatnonzero(~self._state[8])])
 
 
-def farthest_point_ranking(positions: np.ndarray, weights: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+def farthest_point_ranking(positions: np.ndarray, weights: np.ndarray, seeds: np.ndarray,
+                           limit: int | None = None) -> np.ndarray:
     """`seeds` in order (repeats dropped; none: point 0), then repeatedly the point maximising
-    weight x distance to the chosen set, ties to the lower index. (N,) int64.
+    weight x distance to the chosen set, ties to the lower index. (N,) int64; with `limit`, only the first
+    min(limit, N) of that ranking (at least the seeds), at the cost of ranking those.
 
     weights: (N,) finite, >= 0. Exact: equals the O(N^2) argmax loop (tests/core/test_core_spread.py).
     """
@@ -153,4 +155,8 @@ def farthest_point_ranking(positions: np.ndarray, weights: np.ndarray, seeds: np
     if start.shape[0] and (start.min() < 0 or start.max() >= n):
         raise SpreadError(f"seed index {int(start[(start < 0) | (start >= n)][0])} is outside the {n:,} points")
     start = np.asarray(list(dict.fromkeys(start.tolist())) or ([0] if n else []), dtype=np.int64)
-    return weighted_farthest_points(points, w, start)
+    if limit is None:
+        return weighted_farthest_points(points, w, start)
+    state = start_ranking(points, w, start)
+    ranked, _ = extend_ranking(points, w, *state, int(limit))
+    return state[0][:ranked]

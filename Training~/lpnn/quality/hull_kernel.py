@@ -21,7 +21,9 @@ import numpy as np
 from ..core.cache import use_project_cache_for_numba
 
 use_project_cache_for_numba()
-from numba import njit  # noqa: E402  (after the cache folder is chosen)
+from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
+
+from .metric_kernel import chunk_bounds, chunk_count  # noqa: E402
 
 
 @njit(cache=True)
@@ -76,30 +78,58 @@ def closest_weights(px, py, pz, a, b, c, out):
     out[0], out[1], out[2] = u / total, v / total, w / total
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def nearest_among(query, corners, candidates, allowed, use_allowed, face, weights, anchor, distance):
     """For each point m: the candidate triangle candidates[m, j] (among those allowed) whose closest point is nearest,
-    its weights, that point and the distance (distance inf when none is allowed; face -1 when there are none)."""
-    trial = np.empty(3)
-    for m in range(query.shape[0]):
-        px, py, pz = query[m, 0], query[m, 1], query[m, 2]
-        face[m] = -1
-        distance[m] = np.inf
-        weights[m, 0] = weights[m, 1] = weights[m, 2] = 0.0
-        anchor[m, 0] = anchor[m, 1] = anchor[m, 2] = 0.0
-        for j in range(candidates.shape[1]):
-            f = candidates[m, j]
-            a, b, c = corners[f, 0], corners[f, 1], corners[f, 2]
-            closest_weights(px, py, pz, a, b, c, trial)
-            x = (trial[0] * a[0] + trial[1] * b[0]) + trial[2] * c[0]
-            y = (trial[0] * a[1] + trial[1] * b[1]) + trial[2] * c[1]
-            z = (trial[0] * a[2] + trial[1] * b[2]) + trial[2] * c[2]
-            dx, dy, dz = x - px, y - py, z - pz
-            d = math.sqrt((dx * dx + dy * dy) + dz * dz)
-            if use_allowed and not allowed[f]:
-                d = np.inf
-            if d < distance[m] or face[m] < 0:
-                face[m] = f
-                distance[m] = d
-                weights[m, 0], weights[m, 1], weights[m, 2] = trial[0], trial[1], trial[2]
-                anchor[m, 0], anchor[m, 1], anchor[m, 2] = x, y, z
+    its weights, that point and the distance (distance inf when none is allowed; face -1 when there are none);
+    points in parallel slices (metric_kernel.chunk_count)."""
+    chunks = chunk_count(query.shape[0] * max(1, candidates.shape[1] // 8))
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        trial = np.empty(3)
+        for m in range(lo, hi):
+            px, py, pz = query[m, 0], query[m, 1], query[m, 2]
+            face[m] = -1
+            distance[m] = np.inf
+            weights[m, 0] = weights[m, 1] = weights[m, 2] = 0.0
+            anchor[m, 0] = anchor[m, 1] = anchor[m, 2] = 0.0
+            for j in range(candidates.shape[1]):
+                f = candidates[m, j]
+                a, b, c = corners[f, 0], corners[f, 1], corners[f, 2]
+                closest_weights(px, py, pz, a, b, c, trial)
+                x = (trial[0] * a[0] + trial[1] * b[0]) + trial[2] * c[0]
+                y = (trial[0] * a[1] + trial[1] * b[1]) + trial[2] * c[1]
+                z = (trial[0] * a[2] + trial[1] * b[2]) + trial[2] * c[2]
+                dx, dy, dz = x - px, y - py, z - pz
+                d = math.sqrt((dx * dx + dy * dy) + dz * dz)
+                if use_allowed and not allowed[f]:
+                    d = np.inf
+                if d < distance[m] or face[m] < 0:
+                    face[m] = f
+                    distance[m] = d
+                    weights[m, 0], weights[m, 1], weights[m, 2] = trial[0], trial[1], trial[2]
+                    anchor[m, 0], anchor[m, 1], anchor[m, 2] = x, y, z
+
+
+@njit(cache=True, parallel=True)
+def certified(query, anchor, distance, vertices, tolerance, out):
+    """out[m]: (q - p).(x - p) <= tolerance x |q - p| + 1e-15 for every hull vertex x (p = anchor[m], a finite
+    distance): p is the nearest point of the hull to q. Stops at the first vertex beyond; points in parallel. (The
+    slack is thousands of times the rounding of these sums, so their order of operations decides nothing.)"""
+    chunks = chunk_count(query.shape[0] * max(1, vertices.shape[0] // 8))
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        for m in range(lo, hi):
+            if not np.isfinite(distance[m]):
+                out[m] = False
+                continue
+            ax, ay, az = anchor[m, 0], anchor[m, 1], anchor[m, 2]
+            rx, ry, rz = query[m, 0] - ax, query[m, 1] - ay, query[m, 2] - az
+            base = (rx * ax + ry * ay) + rz * az
+            limit = tolerance * distance[m] + 1e-15
+            ok = True
+            for v in range(vertices.shape[0]):
+                if ((rx * vertices[v, 0] + ry * vertices[v, 1]) + rz * vertices[v, 2]) - base > limit:
+                    ok = False
+                    break
+            out[m] = ok

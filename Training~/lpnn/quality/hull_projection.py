@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .hull_kernel import nearest_among
+from .hull_kernel import certified, nearest_among
 from .triangulation import QUERY_WORKERS
 
 INITIAL_CANDIDATES = 8
@@ -123,15 +123,12 @@ def nearest_on_candidates(points: np.ndarray, faces: np.ndarray, query: np.ndarr
 
 
 def _is_projection(query: np.ndarray, anchor: np.ndarray, distance: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """(q - p).(x - p) <= tolerance for all hull vertices x: p is the nearest point of the hull to q."""
-    ok = np.isfinite(distance)
-    rows = max(1, CHUNK_PAIRS // max(vertices.shape[0], 1))
-    for start in range(0, query.shape[0], rows):
-        stop = min(start + rows, query.shape[0])
-        r = query[start:stop] - anchor[start:stop]
-        reach = np.einsum("mx,vx->mv", r, vertices) - np.einsum("mx,mx->m", r, anchor[start:stop])[:, None]
-        # Slack proportional to |q - p|: an accepted p is the nearest point to ~1e-11 of the extent.
-        ok[start:stop] &= reach.max(axis=1) <= PROJECTION_TOLERANCE * distance[start:stop] + 1e-15
+    """(q - p).(x - p) <= tolerance for all hull vertices x: p is the nearest point of the hull to q. The slack is
+    proportional to |q - p|: an accepted p is the nearest point to ~1e-11 of the extent (hull_kernel.certified)."""
+    ok = np.empty(query.shape[0], dtype=bool)
+    certified(np.ascontiguousarray(query, dtype=np.float64), np.ascontiguousarray(anchor, dtype=np.float64),
+              np.ascontiguousarray(distance, dtype=np.float64), np.ascontiguousarray(vertices, dtype=np.float64),
+              PROJECTION_TOLERANCE, ok)
     return ok
 
 

@@ -77,22 +77,34 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     10^6 points): the same tetrahedron for every point inside one; a point on a face or edge shared
     by several may get another of them, with the same weights up to rounding (quality.md §1)."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+    return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent))
+
+
+def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first half of locate_local for points (M, 3) in local coordinates: each one's tetrahedron (-1: outside the
+    hull), whether the walk found it, and the walk's barycentric coordinates there (rows of other points undefined)."""
     m = q.shape[0]
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
         cell, smallest = _brute_force(tri, q)
-        cell = np.where(smallest >= -INSIDE_TOLERANCE, cell, -1)
-        walked = np.zeros(m, dtype=bool)
-        coordinates = np.empty((m, 4))
-    else:
-        cell, walked, coordinates = _walk(tri, q, coherent)
-        stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
-        if stuck.shape[0]:
-            fallback, smallest = _brute_force(tri, q[stuck])
-            cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
+        return np.where(smallest >= -INSIDE_TOLERANCE, cell, -1), np.zeros(m, dtype=bool), np.empty((m, 4))
+    cell, walked, coordinates = _walk(tri, q, coherent)
+    stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
+    if stuck.shape[0]:
+        fallback, smallest = _brute_force(tri, q[stuck])
+        cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
+    return cell, walked, coordinates
+
+
+def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, walked: np.ndarray,
+                      coordinates: np.ndarray) -> Stencil:
+    """The second half of locate_local: stencils from each point's tetrahedron (cell >= 0; its barycentric coordinates
+    are the walk's where `walked`, else computed here) or, outside the hull (cell -1), from its nearest hull point.
+    `cell` becomes the Stencil's own."""
+    m = q.shape[0]
     vertices = np.zeros((m, 4), dtype=np.int64)
     weights = np.zeros((m, 4))
     anchor = q.copy()
-    # Cells from the brute force get their coordinates computed there (metric_kernel.inside_stencils).
     inside_stencils(tri.points, tri.tets, tri.inverse, q, cell, walked, coordinates, vertices, weights)
     outside = cell < 0
     far = np.flatnonzero(outside)

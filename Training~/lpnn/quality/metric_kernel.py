@@ -22,41 +22,59 @@ from ..core.cache import use_project_cache_for_numba
 from ..core.features_kernel import pairwise_sum
 
 use_project_cache_for_numba()
-from numba import njit  # noqa: E402  (after the cache folder is chosen)
+from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
 IRRADIANCE = 0
 SMAPE = 1
+PARALLEL_ROWS = 4096  # rows per parallel slice at least (fewer: one slice, no threads woken for nothing)
+PARALLEL_CHUNKS = 64  # slices at most: enough to balance any core count here
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def chunk_bounds(total, chunks, chunk):
+    """Rows [lo, hi) of chunk `chunk` of `chunks` near-equal slices of `total` rows."""
+    return total * chunk // chunks, total * (chunk + 1) // chunks
+
+
+@njit(cache=True, inline="always")
+def chunk_count(total):
+    """Slices a parallel loop over `total` independent rows is cut into (a fixed function of the rows, so results
+    never depend on the thread count; each point's numbers are computed alone anyway)."""
+    return max(1, min(total // PARALLEL_ROWS, PARALLEL_CHUNKS))
+
+
+@njit(cache=True, parallel=True)
 def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
     """out[rows[m]] = the error of point rows[m] against the blend of values[probes[vertices[m]]]
     with weights[m] (metric IRRADIANCE: sum|I - R| / (sum(|I| + |R|) + floor); SMAPE: the mean of
-    |I - R| / (|I| + |R| + floor)), for every m."""
+    |I - R| / (|I| + |R| + floor)), for every m; rows in parallel slices."""
     width = values.shape[1]
-    interpolated = np.empty(width)
-    difference = np.empty(width)
-    magnitude = np.empty(width)
-    for m in range(rows.shape[0]):
-        point = rows[m]
-        for c in range(width):
-            interpolated[c] = 0.0
-        for k in range(vertices.shape[1]):
-            w = weights[m, k]
-            source = probes[vertices[m, k]]
+    chunks = chunk_count(rows.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(rows.shape[0], chunks, chunk)
+        interpolated = np.empty(width)
+        difference = np.empty(width)
+        magnitude = np.empty(width)
+        for m in range(lo, hi):
+            point = rows[m]
             for c in range(width):
-                interpolated[c] += w * values[source, c]
-        for c in range(width):
-            i, r = interpolated[c], values[point, c]
+                interpolated[c] = 0.0
+            for k in range(vertices.shape[1]):
+                w = weights[m, k]
+                source = probes[vertices[m, k]]
+                for c in range(width):
+                    interpolated[c] += w * values[source, c]
+            for c in range(width):
+                i, r = interpolated[c], values[point, c]
+                if metric == IRRADIANCE:
+                    difference[c] = abs(i - r)
+                    magnitude[c] = abs(i) + abs(r)
+                else:
+                    difference[c] = abs(i - r) / (abs(i) + abs(r) + floor)
             if metric == IRRADIANCE:
-                difference[c] = abs(i - r)
-                magnitude[c] = abs(i) + abs(r)
+                out[point] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
             else:
-                difference[c] = abs(i - r) / (abs(i) + abs(r) + floor)
-        if metric == IRRADIANCE:
-            out[point] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
-        else:
-            out[point] = pairwise_sum(difference, width) / width
+                out[point] = pairwise_sum(difference, width) / width
 
 
 @njit(cache=True)
@@ -101,59 +119,68 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
             current = step
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def most_inside(points, tets, inverse, query, best_cell, best_min):
     """For each query point, the tetrahedron of largest smallest barycentric coordinate (the first of equals, as
-    numpy's argmax) and that coordinate: location.py's brute force, in the walk's arithmetic."""
-    for m in range(query.shape[0]):
-        qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
-        best_cell[m] = 0
-        best_min[m] = -np.inf
-        for t in range(tets.shape[0]):
-            base = tets[t, 0]
-            dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
-            total = 0.0
-            smallest = np.inf
-            for i in range(3):
-                rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
-                total += rest
-                if rest < smallest:
-                    smallest = rest
-            lam0 = 1.0 - total
-            if lam0 < smallest:
-                smallest = lam0
-            if smallest > best_min[m] or t == 0:
-                best_cell[m] = t
-                best_min[m] = smallest
+    numpy's argmax) and that coordinate: location.py's brute force, in the walk's arithmetic; points in parallel."""
+    chunks = chunk_count(query.shape[0] * max(1, tets.shape[0] // 64))
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        for m in range(lo, hi):
+            qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+            best_cell[m] = 0
+            best_min[m] = -np.inf
+            for t in range(tets.shape[0]):
+                base = tets[t, 0]
+                dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
+                total = 0.0
+                smallest = np.inf
+                for i in range(3):
+                    rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
+                    total += rest
+                    if rest < smallest:
+                        smallest = rest
+                lam0 = 1.0 - total
+                if lam0 < smallest:
+                    smallest = lam0
+                if smallest > best_min[m] or t == 0:
+                    best_cell[m] = t
+                    best_min[m] = smallest
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def inside_stencils(points, tets, inverse, query, cell, walked, coordinates, vertices, weights):
     """Stencils of the points inside a tetrahedron (cell[m] >= 0): its vertices and the barycentric coordinates
     clamped to >= 0 and divided by their sum ((l0 + l1) + l2) + l3, numpy's order; the coordinates are the walk's
-    where walked[m], else computed here in `barycentric`'s arithmetic. Rows of other points are left untouched."""
-    lam = np.empty(4)
-    for m in range(query.shape[0]):
-        t = cell[m]
-        if t < 0:
-            continue
-        if walked[m]:
-            for i in range(4):
-                lam[i] = coordinates[m, i]
-        else:
-            base = tets[t, 0]
-            dx, dy, dz = query[m, 0] - points[base, 0], query[m, 1] - points[base, 1], query[m, 2] - points[base, 2]
+    where walked[m], else computed here in `barycentric`'s arithmetic. Rows of other points are left untouched;
+    points in parallel."""
+    chunks = chunk_count(query.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        lam = np.empty(4)
+        for m in range(lo, hi):
+            t = cell[m]
+            if t < 0:
+                continue
+            if walked[m]:
+                for i in range(4):
+                    lam[i] = coordinates[m, i]
+            else:
+                base = tets[t, 0]
+                dx = query[m, 0] - points[base, 0]
+                dy = query[m, 1] - points[base, 1]
+                dz = query[m, 2] - points[base, 2]
+                total = 0.0
+                for i in range(3):
+                    rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
+                    lam[i + 1] = rest
+                    total += rest
+                lam[0] = 1.0 - total
             total = 0.0
-            for i in range(3):
-                rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
-                lam[i + 1] = rest
-                total += rest
-            lam[0] = 1.0 - total
-        total = 0.0
-        for i in range(4):
-            if not lam[i] >= 0.0:  # np.clip(x, 0, None); NaN cannot reach here (the cell accepted the point)
-                lam[i] = 0.0
-            total += lam[i]
-        for i in range(4):
-            vertices[m, i] = tets[t, i]
-            weights[m, i] = lam[i] / total
+            for i in range(4):
+                if not lam[i] >= 0.0:  # np.clip(x, 0, None); NaN cannot reach here (the cell accepted the point)
+                    lam[i] = 0.0
+                total += lam[i]
+            for i in range(4):
+                vertices[m, i] = tets[t, i]
+                weights[m, i] = lam[i] / total

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality.hull_projection import _nearest_among, project_to_hull
+from lpnn.quality.hull_projection import PROJECTION_TOLERANCE, _is_projection, _nearest_among, project_to_hull
 from lpnn.quality.triangulation import tetrahedralize
 
 
@@ -99,3 +99,26 @@ def test_projection_onto_a_box_is_the_clamped_point() -> None:
     query = query[np.any((query < 0.0) | (query > 2.0), axis=1)]
     projection = project_to_hull(tri.points, tri.hull_faces, tri.frame.to_local(query))
     np.testing.assert_allclose(tri.frame.to_world(projection.anchor), np.clip(query, 0.0, 2.0), atol=1e-12)
+
+
+def test_the_certificate_accepts_exactly_the_nearest_hull_points() -> None:
+    """hull_kernel.certified against the supporting-plane test in numpy: true nearest points of a box's hull pass,
+    points moved off them along the surface fail, infinite distances fail."""
+    axes = np.arange(3.0)
+    probes = np.stack(np.meshgrid(axes, axes, axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    tri = tetrahedralize(probes)
+    rng = np.random.default_rng(6)
+    query = tri.frame.to_local(rng.uniform(-3.0, 5.0, (3000, 3)))
+    query = query[np.any((query < tri.points.min(axis=0)) | (query > tri.points.max(axis=0)), axis=1)]
+    nearest = np.clip(query, tri.points.min(axis=0), tri.points.max(axis=0))
+    shifted = nearest + rng.normal(scale=0.05, size=nearest.shape) * (nearest != query)  # off the true projection
+    shifted = np.clip(shifted, tri.points.min(axis=0), tri.points.max(axis=0))
+    vertices = tri.points[np.unique(tri.hull_faces)]
+    for anchor in (nearest, shifted):
+        distance = np.linalg.norm(query - anchor, axis=1)
+        r = query - anchor
+        reach = r @ vertices.T - np.sum(r * anchor, axis=1)[:, None]
+        expected = reach.max(axis=1) <= PROJECTION_TOLERANCE * distance + 1e-15
+        np.testing.assert_array_equal(_is_projection(query, anchor, distance, vertices), expected)
+    assert _is_projection(query, nearest, np.linalg.norm(query - nearest, axis=1), vertices).all()
+    assert not _is_projection(query[:1], nearest[:1], np.array([np.inf]), vertices)[0]

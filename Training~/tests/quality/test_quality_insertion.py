@@ -10,6 +10,7 @@ from lpnn.quality.baselines import heuristic_ranking, random_ranking, uniform_se
 import pytest
 
 from lpnn.core import sh as shmath
+from lpnn.quality import insertion
 from lpnn.quality.insertion import (EXACT, InsertionOrder, guide_weights, insertion_batch, insertion_ranking,
                                     typical_tetrahedron)
 from lpnn.quality.insertion_kernel import first_per_cell
@@ -202,3 +203,27 @@ def test_the_compiled_per_cell_candidate_is_the_lexsorts() -> None:
     by_cell = np.lexsort((np.arange(5000), -key, cell))
     expected = by_cell[np.concatenate([[True], np.diff(cell[by_cell]) != 0])]
     np.testing.assert_array_equal(first_per_cell(cell, key, 400), expected)
+
+
+@pytest.mark.parametrize("head", [4, 5])
+def test_the_start_reads_only_the_spread_head_yet_equals_the_whole_rankings(monkeypatch, medium_capture: Capture,
+                                                                         head: int) -> None:
+    """typical_tetrahedron ranks STARTING_SPREAD candidates first and all of them only when the tetrahedron guarantee
+    reaches past that head: the same start as with the whole ranking, on a room (the head suffices) and on a slab
+    one point thick but for one point off its plane (the head is flat: the whole ranking is needed)."""
+    def start(field, grid, spread):
+        monkeypatch.setattr(insertion, "STARTING_SPREAD", spread)
+        return typical_tetrahedron(field, grid)
+
+    field, grid = ReferenceField.from_capture(medium_capture), _grid(medium_capture)
+    np.testing.assert_array_equal(start(field, grid, head), start(field, grid, 10**9))
+    ids = np.stack(np.meshgrid(np.arange(12), np.arange(12), [0], indexing="ij"), axis=-1).reshape(-1, 3)
+    ids = np.concatenate([ids, [[11, 11, 1]]])
+    ids = ids[np.lexsort((ids[:, 0], ids[:, 1], ids[:, 2]))]
+    sh = np.zeros((ids.shape[0], shmath.SH_FLOATS), dtype=np.float32)
+    sh[:, 0:27:9] = 1.0 + 0.01 * ids[:, :1]  # lighting varies along x only: the candidates are a strip of the slab
+    slab = ReferenceField.from_sh(ids * 0.5, sh)
+    slab_grid = EvaluationGrid(cell_size=0.5, ids=ids)
+    whole = start(slab, slab_grid, 10**9)
+    assert flatness(slab.local[whole]) is None
+    np.testing.assert_array_equal(start(slab, slab_grid, head), whole)
