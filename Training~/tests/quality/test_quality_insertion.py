@@ -227,3 +227,17 @@ def test_the_start_reads_only_the_spread_head_yet_equals_the_whole_rankings(monk
     whole = start(slab, slab_grid, 10**9)
     assert flatness(slab.local[whole]) is None
     np.testing.assert_array_equal(start(slab, slab_grid, head), whole)
+
+
+def test_rounds_located_incrementally_equal_fresh_locations_without_ties(medium_capture: Capture) -> None:
+    """InsertionOrder locates each round incrementally (insertion_state.py); where no point lies on a face shared by
+    two tetrahedra (jittered positions) its order is insertion_batch's, every round located from scratch, exactly."""
+    positions = medium_capture.positions.astype(np.float64)
+    positions = positions + np.random.default_rng(2).uniform(-0.03, 0.03, positions.shape) * medium_capture.cell_size
+    field = ReferenceField.from_sh(positions, medium_capture.sh, medium_capture.lighting_scale)
+    grid = _grid(medium_capture)
+    incremental = InsertionOrder(field, grid).prefix(600)
+    fresh = typical_tetrahedron(field, grid).astype(np.int64)
+    while fresh.shape[0] < 600:
+        fresh = np.concatenate([fresh, insertion_batch(field, fresh)])
+    np.testing.assert_array_equal(incremental, fresh[:600])
