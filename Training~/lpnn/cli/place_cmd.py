@@ -208,7 +208,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
                      else reference_tolerance(decimation, args.tolerance))
         what = "fast reference"
     else:
-        close_bar = None
+        close_bar, error_of = None, None
         if args.method == "uniform":
             select = uniform_selector(grid)
             what = "uniform lattice"
@@ -229,7 +229,8 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
             update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
-            select = InsertionOrder(field, grid, progress=update, pins=pins).selection()
+            order = InsertionOrder(field, grid, progress=update, pins=pins)
+            select, error_of = order.selection(), order.mean_error
             what = "insertion (coarse-to-fine, error-driven)"
         else:
             if args.method == "heuristic":
@@ -242,7 +243,8 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
         try:
             placement = (place_count(field, select, checked_pinned_count(budget_count(args.budget, n), pins))
                          if args.budget is not None else place_tolerance(field, select, args.tolerance,
-                                                                         smallest=pinned_smallest(pins)))
+                                                                         smallest=pinned_smallest(pins),
+                                                                         error_of=error_of))
         finally:
             if close_bar is not None:
                 close_bar()

@@ -50,9 +50,9 @@ from ..core.grid import EvaluationGrid
 from ..core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ..core.spread import farthest_point_ranking, spread_weights
 from .insertion_kernel import first_per_cell
-from .insertion_state import LocatedSet, located_set, with_inserted
+from .insertion_state import LocatedSet, Placed, located_set, mean_error, with_inserted
 from .metric import (POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil,
-                     stencil_point_errors)
+                     mean_placement_error, stencil_point_errors)
 from .pins import Pins, pinned_start
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
@@ -62,6 +62,9 @@ EXACT = 1e-12  # per-point errors at or below this are exact interpolation (noth
 # Guided insertion uses the network's scores only on volumes of at most this many points (quality.md §5.2: chosen on
 # whole training and validation levels; larger clouds than the network ever saw make its guide worse than none).
 GUIDED_POINT_LIMIT = 32_768
+# Rounds whose located sets InsertionOrder keeps for the tolerance search's bisection (it narrows a bracket of two
+# counts a factor 2 apart: ~7 rounds of growth 0.1); ~12 bytes a point each.
+KEPT_ROUNDS = 8
 
 
 def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC) -> np.ndarray:
@@ -178,6 +181,7 @@ class InsertionOrder:
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
         self._located: LocatedSet | None = None  # the first _located_count ranked points, located (insertion_state)
         self._located_count = 0
+        self._placed: list[tuple[int, Placed]] = []  # the last KEPT_ROUNDS rounds' sets (count, set): mean_error
         self.rounds = 0
 
     @property
@@ -200,6 +204,7 @@ class InsertionOrder:
                                                 self._metric))
             self._located_count = self._order.shape[0]
             located = self._located
+            self._placed = (self._placed + [(self._located_count, located.placed())])[-KEPT_ROUNDS:]
             batch = batch_of(located.others, located.errors, located.stencil.cell, self._order.shape[0],
                              self._growth, self._guide, self._candidates)
             self.rounds += 1
@@ -216,6 +221,17 @@ class InsertionOrder:
                 chosen |= ~self._candidates
             self._order = np.concatenate([self._order, np.flatnonzero(~chosen)])
         return self._order[:count]
+
+    def mean_error(self, count: int, probes: np.ndarray) -> float:
+        """metric.mean_placement_error(field, probes) for `probes` = selection()(count), located from the last kept round
+        at or below `count` (insertion_state.with_inserted; equal to a fresh location but for points on faces shared
+        by several tetrahedra, whose errors agree to ~1e-15), else from scratch."""
+        rounds = [(done, placed) for done, placed in self._placed if done <= count]
+        ordered = np.sort(probes)
+        if not rounds or count > self._order.shape[0] or not np.array_equal(ordered, np.sort(self._order[:count])):
+            return mean_placement_error(self._field, ordered, self._metric)
+        done, placed = rounds[-1]
+        return mean_error(self._field, with_inserted(self._field, placed, self._order[done:count], self._metric))
 
     def selection(self) -> Callable[[int], np.ndarray]:
         """K -> the first K points completed to a tetrahedron (sorted), as policies.prefix_selection(grid,

@@ -3,6 +3,7 @@ other point, carried from one round to the next.
 
     located = located_set(field, probes, metric)            # every other point located (the start)
     located = with_inserted(field, located, batch, metric)  # walked again only where a tetrahedron broke
+    mean = mean_error(field, located)                        # the placement's mean error (metric.mean_placement_error)
 
 Why only there. Inserting probes re-triangulates only the tetrahedra they break (triangulation.py: the tie-broken
 Delaunay is unique); every other tetrahedron is in the new tetrahedralisation too, with the same four vertices. A point
@@ -28,27 +29,34 @@ from .triangulation import Tetrahedralization, tetrahedralize
 
 
 @dataclass(frozen=True)
-class LocatedSet:
-    """A probe set (point indices in insertion order), its tetrahedralisation, the other points (ascending), their stencils
-    (vertices are positions in `probes`) and errors (M,)."""
+class Placed:
+    """What the next round needs of a probe set: the probes (point indices in insertion order), their
+    tetrahedralisation, the other points (ascending) and each one's tetrahedron (-1: outside the hull). ~12 bytes a
+    point: InsertionOrder keeps a few rounds' of them for the tolerance search."""
 
     probes: np.ndarray
     mesh: Tetrahedralization
     others: np.ndarray
+    inside: np.ndarray
+
+
+@dataclass(frozen=True)
+class LocatedSet(Placed):
+    """A Placed set with the other points' stencils (vertices are positions in `probes`) and errors (M,)."""
+
     stencil: Stencil
     errors: np.ndarray
 
-    @property
-    def inside_cells(self) -> np.ndarray:
-        """(M,) each point's tetrahedron, -1 for points outside the hull (their stencil's cell is a hull owner)."""
-        return np.where(self.stencil.outside, -1, self.stencil.cell)
+    def placed(self) -> Placed:
+        return Placed(probes=self.probes, mesh=self.mesh, others=self.others, inside=self.inside.astype(np.int32))
 
 
 def _finished(field: ReferenceField, probes: np.ndarray, mesh: Tetrahedralization, others: np.ndarray,
               cell: np.ndarray, walked: np.ndarray, coordinates: np.ndarray, metric: str) -> LocatedSet:
     stencil = stencils_of_cells(mesh, np.ascontiguousarray(field.local[others]), cell, walked, coordinates)
     errors = stencil_point_errors(field, probes, others, stencil, metric)[others]
-    return LocatedSet(probes=probes, mesh=mesh, others=others, stencil=stencil, errors=errors)
+    inside = np.where(stencil.outside, -1, stencil.cell)  # stencil.cell is a hull owner outside
+    return LocatedSet(probes=probes, mesh=mesh, others=others, inside=inside, stencil=stencil, errors=errors)
 
 
 def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> LocatedSet:
@@ -62,7 +70,7 @@ def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> Locat
     return _finished(field, ordered, mesh, others, *locate_cells(mesh, query), metric)
 
 
-def with_inserted(field: ReferenceField, located: LocatedSet, added: np.ndarray, metric: str) -> LocatedSet:
+def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str) -> LocatedSet:
     """`located` with the points `added` (none of them probes yet) made probes: walked only where needed (module
     text)."""
     # Probes in insertion order, as metric.probe_stencil takes them: the same tetrahedralisation, numbered alike.
@@ -78,7 +86,7 @@ def with_inserted(field: ReferenceField, located: LocatedSet, added: np.ndarray,
     is_added[added] = True
     staying = ~is_added[located.others]
     others = located.others[staying]
-    before = located.inside_cells[staying]
+    before = located.inside[staying]
     cell = np.where(before >= 0, survivor[np.maximum(before, 0)], -1)
     walked = np.zeros(others.shape[0], dtype=bool)  # kept cells: coordinates recomputed in the new tetrahedron
     coordinates = np.empty((others.shape[0], 4))
@@ -87,3 +95,10 @@ def with_inserted(field: ReferenceField, located: LocatedSet, added: np.ndarray,
         cell[again], walked[again], coordinates[again] = locate_cells(
             mesh, np.ascontiguousarray(field.local[others[again]]))
     return _finished(field, probes, mesh, others, cell, walked, coordinates, metric)
+
+
+def mean_error(field: ReferenceField, located: LocatedSet) -> float:
+    """The set's mean error over every point, the probes' zeros included, summed as metric.mean_placement_error."""
+    errors = np.zeros(field.point_count)
+    errors[located.others] = located.errors
+    return float(np.mean(errors))

@@ -104,10 +104,12 @@ def place_count(field_: ReferenceField, selection: SelectionForCount, count: int
 
 
 def place_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
-                    metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES) -> Placement:
+                    metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES,
+                    error_of: Callable[[int, np.ndarray], float] | None = None) -> Placement:
     """Tolerance policy: exponential search from `smallest`, then bisection over prefix counts down to the search's
-    resolution (`search_resolved`)."""
-    found = bounded_tolerance(field_, selection, tolerance, metric, smallest)
+    resolution (`search_resolved`). `error_of(count, probes)`: the mean error of selection(count) when the selection
+    knows a cheaper way to it (insertion.InsertionOrder.mean_error), else metric.mean_placement_error."""
+    found = bounded_tolerance(field_, selection, tolerance, metric, smallest, error_of=error_of)
     assert found is not None  # without a bound the search ends at the latest with all points
     return found
 
@@ -121,7 +123,8 @@ def search_resolved(failing: int, passing: int) -> bool:
 
 def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tolerance: float,
                       metric: str = PRIMARY_METRIC, smallest: int = MINIMUM_PROBES,
-                      largest: int | None = None) -> Placement | None:
+                      largest: int | None = None,
+                      error_of: Callable[[int, np.ndarray], float] | None = None) -> Placement | None:
     """place_tolerance, giving up (None) as soon as it is known that the answer exceeds `largest`:
     the search then never evaluates a count above largest + 1 (a caller with a cheaper plan for
     large answers, e.g. the refine tier running the full reference, stops paying for the search)."""
@@ -135,7 +138,8 @@ def bounded_tolerance(field_: ReferenceField, selection: SelectionForCount, tole
     def error_at(count: int) -> float:
         if count not in checked:
             chosen[count] = selection(count)
-            checked[count] = mean_placement_error(field_, chosen[count], metric)
+            checked[count] = (mean_placement_error(field_, chosen[count], metric) if error_of is None
+                              else error_of(count, chosen[count]))
         return checked[count]
 
     failing, passing = low_limit - 1, low_limit

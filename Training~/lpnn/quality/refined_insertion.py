@@ -80,13 +80,14 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
     n = field.point_count
     start = time.perf_counter()
-    select = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins).selection()
+    order = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins)
+    select = order.selection()
     keep = None if pins is None else pins.indices
     found = None
     if tolerance is None:
         target = checked_pinned_count(budget_count(budget, n), pins)  # type: ignore[arg-type]
     else:
-        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, pinned_smallest(pins))
+        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, pinned_smallest(pins), order.mean_error)
         target = int(found.indices.shape[0])
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()

@@ -13,7 +13,9 @@ import numpy as np
 from ..core.cache import use_project_cache_for_numba
 
 use_project_cache_for_numba()
-from numba import njit  # noqa: E402  (after the cache folder is chosen)
+from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
+
+from .metric_kernel import chunk_bounds, chunk_count  # noqa: E402
 
 
 @njit(cache=True)
@@ -33,24 +35,22 @@ def sequential_greedy(ordered, edge_from, edge_to, size):
     return kept[:count]
 
 
-@njit(cache=True)
-def rows_holding(ids, gone):
-    """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself."""
-    hit = np.zeros(ids.shape[0], dtype=np.bool_)
-    count = 0
-    for r in range(ids.shape[0]):
-        found = gone[r]
-        for k in range(ids.shape[1]):
-            v = ids[r, k]
-            if v >= 0 and gone[v]:
-                found = True
-        if found:
-            hit[r] = True
-            count += 1
-    rows = np.empty(count, dtype=np.int64)
-    count = 0
-    for r in range(ids.shape[0]):
-        if hit[r]:
-            rows[count] = r
-            count += 1
-    return rows
+@njit(cache=True, parallel=True)
+def _holding(ids, gone, hit):
+    chunks = chunk_count(ids.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(ids.shape[0], chunks, chunk)
+        for r in range(lo, hi):
+            found = gone[r]
+            for k in range(ids.shape[1]):
+                v = ids[r, k]
+                if v >= 0 and gone[v]:
+                    found = True
+            hit[r] = found
+
+
+def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
+    """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself (rows scanned in parallel)."""
+    hit = np.empty(ids.shape[0], dtype=bool)
+    _holding(ids, gone, hit)
+    return np.flatnonzero(hit)

@@ -29,7 +29,7 @@ namespace Lpnn.Probes.Core.Quality
     {
         /// <summary>Commit the candidates within this quantile of the measured costs (chosen on validation crops and levels,
         /// quality.md §5.3).</summary>
-        public const double CommitFraction = 0.05;
+        public const double CommitFraction = 0.1;
 
         /// <summary>A set thinner than this fraction of its extent is flat (lpnn/quality/triangulation.py FLAT_TOLERANCE).</summary>
         public const double FlatTolerance = 1e-7;
