@@ -35,6 +35,7 @@ def table(result: DemoResult) -> str:
     lines = [f"{result.level}: {n:,} evaluation points at {result.capture.cell_size:g} m ({held})",
              in_use_line(result),
              "import: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()),
+             f"placement kernels compiled before timing: {result.compile_seconds:.2f} s (numba; near 0 once cached)",
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
@@ -151,7 +152,7 @@ def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, P
     files["table"] = write_text_atomic(out / "table.txt", text)
     summary = {"level": result.level, "points": capture.point_count, "cell_size": capture.cell_size,
                "held_out": result.held_out, "tolerance": result.tolerance, "model": model_name,
-               "import_seconds": result.import_seconds, "in_use": capture_rule(capture),
+               "import_seconds": result.import_seconds, "compile_seconds": result.compile_seconds, "in_use": capture_rule(capture),
                "points_before_in_use": capture.source.get("points_before_in_use", capture.point_count),
                "methods": {name: {"probes": m.probes, "mean_error": m.quality.irradiance.mean,
                                   "in_use_error": _number(m.quality.in_use_error),
