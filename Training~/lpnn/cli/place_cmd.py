@@ -224,8 +224,10 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             finally:
                 close_ranked()
                 close_removed()
+            timing = (f"; {refined.rounds} refinement rounds; insertion and search {refined.selection_seconds:.1f} s, "
+                      f"refinement {refined.refinement_seconds:.1f} s")
             _write(args, capture, refined.indices, evaluate_placement(field, refined.indices), 0,
-                   "insertion refined in batches", {}, f"; {refined.rounds} refinement rounds", pins=pins)
+                   "insertion refined in batches", {}, timing, pins=pins)
             return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
             update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
