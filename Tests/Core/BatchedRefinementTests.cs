@@ -26,7 +26,8 @@ namespace Lpnn.Probes.Core.Tests
             StringAssert.StartsWith("exact", golden.Get("tolerance").AsString);
             var c = golden.Get("cases").Items[index];
             Assert.That(c.Get("name").AsString, Is.EqualTo(name));
-            Assert.That(c.Get("commit_fraction").AsNumber, Is.EqualTo(BatchedRefinement.CommitFraction));
+            Assert.That(c.Get("commit_fraction").AsNumber, Is.EqualTo(c.TryGet("count", out _)
+                ? BatchedRefinement.CountCommitFraction : BatchedRefinement.ToleranceCommitFraction));
             var grid = GoldenLighting.Grid(c);
             var reference = GoldenLighting.Reference(c, grid);
             int[] seed = Ints(c.Get("seed_points"));

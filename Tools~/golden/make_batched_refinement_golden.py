@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from lpnn.core.atomic import write_text_atomic
-from lpnn.quality.batched_refinement import COMMIT_FRACTION, batched_refinement
+from lpnn.quality.batched_refinement import COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION, batched_refinement
 from lpnn.quality.triangulation import tetrahedralize
 
 from make_insertion_golden import (MARGIN, _field, certify_cells, certify_delaunay, enclosed_points, exact,
@@ -81,7 +81,7 @@ def refinement_case(name: str, note: str, seed: int, count: int | None = None,
              for r in rounds if "candidates" in r]
     case: dict[str, Any] = {"name": name, "note": note, "cell_size": 0.25, "ids": ids.tolist(),
                             "positions": exact(grid.positions), "sh": exact(sh32), "lighting_scale": scale,
-                            "seed_points": list(range(n)), "commit_fraction": COMMIT_FRACTION,
+                            "seed_points": list(range(n)), "commit_fraction": COUNT_COMMIT_FRACTION if count is not None else TOLERANCE_COMMIT_FRACTION,
                             "indices": result.indices.tolist(), "mean_error": result.mean_error,
                             "rounds": result.rounds, "stop_reason": result.stop_reason, "keep": keep.tolist(),
                             "trace": trace}

@@ -27,7 +27,8 @@ A round, from the probe set P (its tetrahedralisation, stencils and errors e):
    validation crops 0.7 % fewer probes at tau, on oa_bases7 3 % and on ctf_compromise 8 %, for 1.5-1.8x the rounds.)
 2. Trial: tetrahedralise P minus the candidates; each candidate's cost = sum of (new - old error) over the points
    whose stencil held it with a weight > 0, plus its own new error. These costs replace the candidates' old ones.
-3. Commit: the candidates whose cost is at most the COMMIT_FRACTION quantile (the lower one, no interpolation) of
+3. Commit: the candidates whose cost is at most the COUNT_COMMIT_FRACTION (down to a count) or
+   TOLERANCE_COMMIT_FRACTION (within a tolerance) quantile (the lower one, no interpolation) of
    all measured costs of P, cheapest first (ties: lower index) — or, when none is and every unlocked probe's cost is
    fresh, the cheapest candidate (then the cheapest removal there is); with a count, no more than |P| - K; with a
    tolerance, the longest prefix keeping sum(e) + its costs (summed in that order) <= tau x N. Nothing committed: with
@@ -43,13 +44,13 @@ A round, from the probe set P (its tetrahedralisation, stencils and errors e):
    does not, and are locked.
 Stops at K probes, at the tolerance, at 4 probes, or when the rest would lie in one plane.
 
-COMMIT_FRACTION = 0.1 was chosen on the 10 validation crops and 5 whole validation levels (none held out), seeded
-with insertion's first 2 K0 points. First (2026-11-26, with the rules before stale costs went first) fractions
-0.2/0.1/0.05 kept 1.10/1.08/1.05x the reference's probes at tau on the crops; with today's rules (2026-11-27) 0.05 and
-0.1 keep the same 1.03x there (0.2: 1.06x), and on the whole levels (q3dm6ish, fan, oa_bases7, oa_koth1,
-ctf_compromise) 0.1 keeps 305/968/1,670/183/753 probes against 0.05's 305/968/1,665/176/704 (+1.6 % in all) in
-24-41 % fewer rounds; at 1,151,667 points (ctf_compromise at 0.81 m) 932 against 906, 61 s against 75 s in all
-(benchmarks.md §11.2).
+The fractions were chosen on the 10 validation crops and 5 whole validation levels (none held out), seeded with
+insertion's first 2 K0 points (2026-11-27, today's rules). Within tau, 0.05 and 0.1 keep the same 1.03x the
+reference's probes on the crops (0.2: 1.06x), and on the whole levels (q3dm6ish, fan, oa_bases7, oa_koth1,
+ctf_compromise) 0.1 keeps 305/968/1,670/183/753 probes against 0.05's 305/968/1,665/176/704 (+1.6 % in all) in 24-41 %
+fewer rounds; at 1,151,667 points (ctf_compromise at 0.81 m) 932 against 906, 61 s against 75 s in all. Down to a
+count, 0.1 raised the crops' error over the reference's at 1/5/10/20/30 % from 1.010/1.082/1.050/1.048/1.044x to
+1.007/1.108/1.070/1.064/1.080x, so budgets keep 0.05 (benchmarks.md §11).
 Each round costs one Qhull tetrahedralisation (the trial's), the trial's location of the points whose stencil weighs
 a candidate (~40 % of them; no other point enters a cost) and the commit's of the points its removed probes touched (a
 few %); the committed set's tetrahedra are derived, not recomputed (batched_state.py; the C# core, with Unity's native
@@ -75,7 +76,8 @@ from .policies import checked_tolerance
 from .refinement_kernel import sequential_greedy
 from .triangulation import flatness
 
-COMMIT_FRACTION = 0.1  # commit candidates within this quantile of the measured costs (module text)
+COUNT_COMMIT_FRACTION = 0.05  # down to a count: commit candidates within this quantile of the measured costs
+TOLERANCE_COMMIT_FRACTION = 0.1  # within a tolerance: the same, a larger quantile (module text)
 UNMEASURED = -math.inf  # the cost of a probe never measured, and the key of any cost not fresh: candidates first
 
 
@@ -116,12 +118,12 @@ def _commit_threshold(measured: np.ndarray, fraction: float) -> float:
 def _checked_fraction(fraction: float) -> float:
     value = float(fraction)
     if not (math.isfinite(value) and 0.0 <= value <= 1.0):
-        raise MetricError(f"commit fraction {fraction!r} must be in [0, 1] (e.g. {COMMIT_FRACTION})")
+        raise MetricError(f"commit fraction {fraction!r} must be in [0, 1] (e.g. {TOLERANCE_COMMIT_FRACTION})")
     return value
 
 
 def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | None = None,
-                       tolerance: float | None = None, fraction: float = COMMIT_FRACTION,
+                       tolerance: float | None = None, fraction: float | None = None,
                        keep: np.ndarray | None = None, progress: Callable[[int, int], None] | None = None,
                        trace: Callable[[dict[str, Any]], None] | None = None,
                        leaks: LeakWeighting | None = None) -> BatchedRefinement:
@@ -134,7 +136,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
-    fraction = _checked_fraction(fraction)
+    fraction = _checked_fraction((COUNT_COMMIT_FRACTION if tolerance is None else TOLERANCE_COMMIT_FRACTION)
+                                 if fraction is None else fraction)
     n = field.point_count
     mask = initial_mask(seed, n)
     assert mask is not None

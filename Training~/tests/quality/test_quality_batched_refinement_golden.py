@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.batched_refinement import COMMIT_FRACTION, batched_refinement
+from lpnn.quality.batched_refinement import COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION, batched_refinement
 from lpnn.quality.metric import ReferenceField
 
 GOLDEN_NAME = "batched_refinement_golden.json"
@@ -30,7 +30,7 @@ def test_the_refinement_keeps_the_golden_points_round_by_round(cases: list[dict[
     grid = EvaluationGrid(cell_size=case["cell_size"], ids=np.asarray(case["ids"], dtype=np.int32))
     np.testing.assert_array_equal(grid.positions, np.asarray(case["positions"], dtype=np.float32))
     field = ReferenceField.from_sh(grid.positions, np.asarray(case["sh"], dtype=np.float32), case["lighting_scale"])
-    assert case["commit_fraction"] == COMMIT_FRACTION
+    assert case["commit_fraction"] == (COUNT_COMMIT_FRACTION if "count" in case else TOLERANCE_COMMIT_FRACTION)
     rounds: list[dict[str, Any]] = []
     result = batched_refinement(field, np.asarray(case["seed_points"]), count=case.get("count"),
                                 tolerance=case.get("tolerance"), keep=np.asarray(case["keep"]), trace=rounds.append)

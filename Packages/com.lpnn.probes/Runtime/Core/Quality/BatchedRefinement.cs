@@ -18,7 +18,7 @@ namespace Lpnn.Probes.Core.Quality
     /// (costs not fresh — never measured, or a neighbour removed since — first; ties: lower index), locked probes left
     /// out, at most |P| − 4; if the rest is flat, only the first unlocked probe whose removal alone leaves a solid set; (2) one trial
     /// without them gives each its cost; (3) commit those within the
-    /// <see cref="CommitFraction"/> quantile of all measured costs, cheapest first (none: the cheapest candidate once
+    /// <see cref="CountCommitFraction"/> (down to a count) or <see cref="ToleranceCommitFraction"/> (within a tolerance) quantile of all measured costs, cheapest first (none: the cheapest candidate once
     /// every cost is fresh), capped by the count, or the longest prefix that keeps the error sum within τ·N (nothing
     /// committed: with a tolerance and every cost fresh, stop; else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
     /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
@@ -27,9 +27,13 @@ namespace Lpnn.Probes.Core.Quality
     /// keeps its nearest hull point unless that point's triangle had a removed vertex).</summary>
     public static class BatchedRefinement
     {
-        /// <summary>Commit the candidates within this quantile of the measured costs (chosen on validation crops and levels,
-        /// quality.md §5.3).</summary>
-        public const double CommitFraction = 0.1;
+        /// <summary>Down to a count, commit the candidates within this quantile of the measured costs (chosen on validation
+        /// crops and levels, quality.md §5.3).</summary>
+        public const double CountCommitFraction = 0.05;
+
+        /// <summary>Within a tolerance, commit the candidates within this quantile of the measured costs (chosen on validation
+        /// crops and levels, quality.md §5.3: as few probes as 0.05 on the crops, in fewer rounds).</summary>
+        public const double ToleranceCommitFraction = 0.1;
 
         /// <summary>A set thinner than this fraction of its extent is flat (lpnn/quality/triangulation.py FLAT_TOLERANCE).</summary>
         public const double FlatTolerance = 1e-7;
@@ -40,13 +44,13 @@ namespace Lpnn.Probes.Core.Quality
         /// <param name="seed">Evaluation point indices (distinct, at least 4, not in one plane).</param>
         /// <param name="keep">Point indices never removed (e.g. the bounds corners), or null.</param>
         public static BatchedRefinementResult ToCount(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int count,
-            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction) =>
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CountCommitFraction) =>
             ToCount(reference, tetrahedralizer, seed, count, null, keep, progress, cancel, fraction);
 
         /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) every error the rounds sum is the
         /// leak-weighted one (Documentation~/leaks.md "A leak-aware default"), the result's mean error included.</summary>
         internal static BatchedRefinementResult ToCount(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, int count,
-            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CountCommitFraction)
         {
             if (count < 1) throw new PlacementErrorException("the count to refine down to must be at least 1, got " + count);
             return Run(reference, tetrahedralizer, seed, Math.Max(ProbeIndices.Minimum, count), double.NaN, keep, progress, cancel, fraction, leaks);
@@ -55,13 +59,13 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>As far as the mean irradiance error stays ≤ <paramref name="tolerance"/>. A seed already above it comes
         /// back unrefined (<see cref="BatchedRefinementResult.SeedAboveTolerance"/>).</summary>
         public static BatchedRefinementResult WithinTolerance(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, double tolerance,
-            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction) =>
+            int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = ToleranceCommitFraction) =>
             WithinTolerance(reference, tetrahedralizer, seed, tolerance, null, keep, progress, cancel, fraction);
 
         /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) the tolerance bounds the leak-weighted
         /// mean error, and the result's mean error is that one (Documentation~/leaks.md "A leak-aware default").</summary>
         internal static BatchedRefinementResult WithinTolerance(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] seed, double tolerance,
-            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = CommitFraction)
+            LeakWeighting leaks, int[] keep = null, ProgressCallback progress = null, CancellationToken cancel = default, double fraction = ToleranceCommitFraction)
         {
             if (!(tolerance > 0) || double.IsInfinity(tolerance))
                 throw new PlacementErrorException("tolerance " + InvariantFormat.Number(tolerance) + " must be a finite mean error > 0 (e.g. 0.05)");
@@ -75,7 +79,7 @@ namespace Lpnn.Probes.Core.Quality
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
             if (!(fraction >= 0 && fraction <= 1))
                 throw new PlacementErrorException("commit fraction " + InvariantFormat.Number(fraction) + " must be in [0, 1] (e.g. " +
-                                                  InvariantFormat.Number(CommitFraction) + ")");
+                                                  InvariantFormat.Number(ToleranceCommitFraction) + ")");
             ProbeIndices.Check(seed, reference.Count);
             int n = reference.Count;
             bool byTolerance = !double.IsNaN(tolerance);
