@@ -19,7 +19,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_kernel import certified, nearest_among
-from .triangulation import QUERY_WORKERS
+from .metric_kernel import run_rows
+from .triangulation import PARALLEL_QUERY, QUERY_WORKERS
 
 INITIAL_CANDIDATES = 8
 PROJECTION_TOLERANCE = 4e-12  # supporting-plane slack per unit distance (local units, extent ~1)
@@ -50,8 +51,10 @@ def _nearest_among(query: np.ndarray, corners: np.ndarray, candidates: np.ndarra
     rows = max(1, CHUNK_PAIRS // max(candidates.shape[1], 1))  # candidates may be a broadcast view: copy in slices
     for start in range(0, m, rows):
         part = slice(start, min(start + rows, m))
-        nearest_among(q[part], c, np.ascontiguousarray(candidates[part], dtype=np.int64), usable, use_allowed,
-                      face[part], weights[part], anchor[part], distance[part])
+        block = q[part]
+        run_rows(nearest_among, block.shape[0] * max(1, candidates.shape[1] // 8), block, c,
+                 np.ascontiguousarray(candidates[part], dtype=np.int64), usable, use_allowed, face[part], weights[part],
+                 anchor[part], distance[part])
     return face, weights, anchor, distance
 
 
@@ -83,7 +86,8 @@ class HullIndex:
         candidates = [np.broadcast_to(np.arange(h, h + extra.shape[0]), (m, extra.shape[0]))]
         if h:
             k = min(INITIAL_CANDIDATES, h)
-            candidates.append(np.asarray(self.tree.query(q, k=k, workers=QUERY_WORKERS)[1], dtype=np.int64).reshape(m, k))
+            workers = QUERY_WORKERS if m >= PARALLEL_QUERY else 1  # threads cost more than small queries take
+            candidates.append(np.asarray(self.tree.query(q, k=k, workers=workers)[1], dtype=np.int64).reshape(m, k))
         face, weights, anchor, distance = _nearest_among(q, all_corners, np.concatenate(candidates, axis=1),
                                                          all_usable)
         # Supporting-plane certificate; points failing it are settled against every triangle.
@@ -126,9 +130,9 @@ def _is_projection(query: np.ndarray, anchor: np.ndarray, distance: np.ndarray, 
     """(q - p).(x - p) <= tolerance for all hull vertices x: p is the nearest point of the hull to q. The slack is
     proportional to |q - p|: an accepted p is the nearest point to ~1e-11 of the extent (hull_kernel.certified)."""
     ok = np.empty(query.shape[0], dtype=bool)
-    certified(np.ascontiguousarray(query, dtype=np.float64), np.ascontiguousarray(anchor, dtype=np.float64),
-              np.ascontiguousarray(distance, dtype=np.float64), np.ascontiguousarray(vertices, dtype=np.float64),
-              PROJECTION_TOLERANCE, ok)
+    run_rows(certified, query.shape[0] * max(1, vertices.shape[0] // 8), np.ascontiguousarray(query, dtype=np.float64),
+             np.ascontiguousarray(anchor, dtype=np.float64), np.ascontiguousarray(distance, dtype=np.float64),
+             np.ascontiguousarray(vertices, dtype=np.float64), PROJECTION_TOLERANCE, ok)
     return ok
 
 

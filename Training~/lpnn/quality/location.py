@@ -14,8 +14,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import inside_stencils, most_inside, walk
-from .triangulation import QUERY_WORKERS, Tetrahedralization
+from .metric_kernel import inside_stencils, most_inside, run_rows, walk
+from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
 BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
@@ -47,7 +47,8 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
     (metric_kernel.most_inside: `barycentric`'s numbers)."""
     best_cell = np.empty(query.shape[0], dtype=np.int64)
     best_min = np.empty(query.shape[0])
-    most_inside(tri.points, tri.tets, tri.inverse, np.ascontiguousarray(query, dtype=np.float64), best_cell, best_min)
+    run_rows(most_inside, query.shape[0] * max(1, tri.tets.shape[0] // 64), tri.points, tri.tets, tri.inverse,
+             np.ascontiguousarray(query, dtype=np.float64), best_cell, best_min)
     return best_cell, best_min
 
 
@@ -59,7 +60,8 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     or with `coherent` (points in grid order) where the previous point's walk ended."""
     centroids = tri.points[tri.tets].mean(axis=1)
     first = query[:1] if coherent else query
-    start = np.asarray(cKDTree(centroids).query(first, k=1, workers=QUERY_WORKERS)[1], dtype=np.int64).reshape(-1)
+    workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
+    start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
     result = np.empty(query.shape[0], dtype=np.int64)
     resolved = np.empty(query.shape[0], dtype=bool)
     coordinates = np.empty((query.shape[0], 4))
@@ -105,7 +107,7 @@ def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, 
     vertices = np.zeros((m, 4), dtype=np.int64)
     weights = np.zeros((m, 4))
     anchor = q.copy()
-    inside_stencils(tri.points, tri.tets, tri.inverse, q, cell, walked, coordinates, vertices, weights)
+    run_rows(inside_stencils, m, tri.points, tri.tets, tri.inverse, q, cell, walked, coordinates, vertices, weights)
     outside = cell < 0
     far = np.flatnonzero(outside)
     if far.shape[0]:

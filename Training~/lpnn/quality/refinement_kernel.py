@@ -15,7 +15,7 @@ from ..core.cache import use_project_cache_for_numba
 use_project_cache_for_numba()
 from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
-from .metric_kernel import chunk_bounds, chunk_count  # noqa: E402
+from .metric_kernel import chunk_bounds, chunk_count, run_rows  # noqa: E402
 
 
 @njit(cache=True)
@@ -52,5 +52,5 @@ def _holding(ids, gone, hit):
 def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
     """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself (rows scanned in parallel)."""
     hit = np.empty(ids.shape[0], dtype=bool)
-    _holding(ids, gone, hit)
+    run_rows(_holding, ids.shape[0], ids, gone, hit)
     return np.flatnonzero(hit)

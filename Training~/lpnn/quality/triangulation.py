@@ -33,6 +33,7 @@ LOWER_FACET_TOLERANCE = 1e-10  # 4-D facet normals with w-component above -this 
 QHULL_OPTIONS = "Qt"  # triangulated output; no Qbb/Qz: those are for Qhull's own Delaunay mode
 VERTEX_KEY_BITS = 21  # three vertex ids fit one int64 face key when there are < 2^21 points
 QUERY_WORKERS = -1  # the spacing's nearest-neighbour query on every core (same distances; ~1 s less at 10^6 points)
+PARALLEL_QUERY = 20_000  # placement's k-d queries of at least this many points use QUERY_WORKERS, smaller ones one thread
 
 
 class GeometryError(InvalidInputError):
