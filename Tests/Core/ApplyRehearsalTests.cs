@@ -20,7 +20,8 @@ namespace Lpnn.Probes.Core.Tests
     /// <see cref="ApplySteps.Rehearse"/> — the step order of LpnnPipeline, whose insertion selection is the same
     /// <see cref="ApplySteps.SelectByInsertion"/> the editor calls — on a real level's capture, with fakes of Unity's
     /// light sampler (the capture's SH), features (the capture's, so no raycaster is needed: their rays were cast by the
-    /// importer), tetrahedraliser (Python's, see <see cref="PythonTetrahedralizer"/>) and probe group (a recording writer).
+    /// importer), tetrahedraliser (Python's, see <see cref="PythonTetrahedralizer"/>) and probe group (a recording writer);
+    /// the fakes are in Support/RehearsalApply.cs, shared with the Apply benchmark (csharp-selection-bench.sh --apply).
     /// The level's capture and <c>lpnn place</c>'s answer on it are made at test time by
     /// Training~/tests/quality/test_apply_rehearsal_openarena.py (level data is never committed), which runs this fixture
     /// through nunit-console with the folder in <see cref="FolderVariable"/>. The default nunit-console run of
@@ -33,102 +34,6 @@ namespace Lpnn.Probes.Core.Tests
         public const string FolderVariable = "LPNN_REHEARSAL_DIR";
         private const double CountTolerance = 0.02;
 
-        private sealed class CaptureLighting : ILightSampler
-        {
-            private readonly Capture _capture;
-            private readonly EvaluationGrid _grid;
-            public int Calls;
-
-            public CaptureLighting(Capture capture, EvaluationGrid grid)
-            {
-                _capture = capture;
-                _grid = grid;
-            }
-
-            public void Sample(Vector3[] positions, float[] sh)
-            {
-                Calls++;
-                Assert.That(positions.Length, Is.EqualTo(_capture.PointCount));
-                for (int n = 0; n < positions.Length; n++)
-                {
-                    if (Vector3.Distance(positions[n], _grid.GetPosition(n)) > 1e-4f) Assert.Fail("the lighting was asked for another point " + n);
-                    Array.Copy(_capture.Sh, 27 * n, sh, 27 * n, 27);
-                }
-            }
-        }
-
-        /// <summary>Python's tetrahedralisation (Training~/tests/quality/rehearsal_tetrahedralizer.py, started through the
-        /// folder's tetrahedralizer.sh): a level's lattice is cospherical, so the Delaunay tetrahedralisation is not unique
-        /// and only the same tie-breaking gives the same errors; <see cref="BowyerWatsonDelaunay"/> needs general position.</summary>
-        private sealed class PythonTetrahedralizer : ITetrahedralizer, IDisposable
-        {
-            private readonly System.Diagnostics.Process _process;
-            private readonly Stream _in, _out;
-            public int Calls;
-
-            public PythonTetrahedralizer(string script)
-            {
-                var info = new System.Diagnostics.ProcessStartInfo("/bin/sh", "\"" + script + "\"")
-                {
-                    UseShellExecute = false, RedirectStandardInput = true, RedirectStandardOutput = true,
-                };
-                _process = System.Diagnostics.Process.Start(info);
-                _in = _process.StandardInput.BaseStream;
-                _out = _process.StandardOutput.BaseStream;
-            }
-
-            public int[] Tetrahedralize(Vector3[] positions)
-            {
-                Calls++;
-                var request = new byte[4 + 12 * positions.Length];
-                BitConverter.GetBytes(positions.Length).CopyTo(request, 0);
-                for (int n = 0; n < positions.Length; n++)
-                {
-                    BitConverter.GetBytes(positions[n].X).CopyTo(request, 4 + 12 * n);
-                    BitConverter.GetBytes(positions[n].Y).CopyTo(request, 8 + 12 * n);
-                    BitConverter.GetBytes(positions[n].Z).CopyTo(request, 12 + 12 * n);
-                }
-                _in.Write(request, 0, request.Length);
-                _in.Flush();
-                int count = BitConverter.ToInt32(Read(4), 0);
-                if (count < 0)
-                {
-                    int length = BitConverter.ToInt32(Read(4), 0);
-                    throw new PlacementErrorException(System.Text.Encoding.UTF8.GetString(Read(length)));
-                }
-                var bytes = Read(16 * count);
-                var tets = new int[4 * count];
-                Buffer.BlockCopy(bytes, 0, tets, 0, bytes.Length);
-                return tets;
-            }
-
-            private byte[] Read(int size)
-            {
-                var data = new byte[size];
-                int done = 0;
-                while (done < size)
-                {
-                    int got = _out.Read(data, done, size - done);
-                    if (got <= 0) throw new IOException("the rehearsal tetrahedraliser stopped");
-                    done += got;
-                }
-                return data;
-            }
-
-            public void Dispose()
-            {
-                _in.Close();
-                if (!_process.WaitForExit(10000)) _process.Kill();
-                _process.Dispose();
-            }
-        }
-
-        private sealed class RecordingWriter : IProbeGroupWriter
-        {
-            public readonly List<Vector3[]> Writes = new List<Vector3[]>();
-            public void Write(Vector3[] positions) => Writes.Add(positions);
-        }
-
         private sealed class Level
         {
             public Capture Capture;
@@ -136,7 +41,7 @@ namespace Lpnn.Probes.Core.Tests
             public Vector3[] Expected;
             public int Calls;
             public SelectionResult Selection;
-            public RecordingWriter Writer;
+            public List<Vector3[]> Writes;
             public double Tolerance;
             public PythonTetrahedralizer Tetrahedralizer;
         }
@@ -161,16 +66,8 @@ namespace Lpnn.Probes.Core.Tests
             return level;
         }
 
-        private static FeatureStep CaptureFeatures(Capture capture, List<string> calls) => (grid, sh, progress, cancel) =>
-        {
-            calls?.Add("features");
-            Assert.That(grid.Count, Is.EqualTo(capture.PointCount));
-            return new FeatureSet(FeatureSchema.ById(capture.Schema), capture.PointCount, capture.Features, capture.LightingScale);
-        };
-
-        private static SelectionResult Run(Level l, RecordingWriter writer, ProgressCallback progress, CancellationToken cancel) =>
-            ApplySteps.Rehearse(l.Grid, new CaptureLighting(l.Capture, l.Grid), CaptureFeatures(l.Capture, null), l.Tetrahedralizer,
-                SelectionSettings.Tolerance(l.Tolerance), true, writer, progress, cancel);
+        private static SelectionResult Run(Level l, List<Vector3[]> writes, ProgressCallback progress, CancellationToken cancel) =>
+            RehearsalApply.Run(l.Capture, l.Grid, l.Tetrahedralizer, SelectionSettings.Tolerance(l.Tolerance), true, writes, progress, cancel);
 
         private static string Key(Vector3 p) => Math.Round(p.X, 3).ToString("R") + "," + Math.Round(p.Y, 3).ToString("R") + "," + Math.Round(p.Z, 3).ToString("R");
 
@@ -185,12 +82,12 @@ namespace Lpnn.Probes.Core.Tests
         private static Level Completed()
         {
             var l = Load();
-            if (l.Writer != null) return l;
-            var writer = new RecordingWriter();
+            if (l.Writes != null) return l;
+            var writes = new List<Vector3[]>();
             int calls = 0;
-            l.Selection = Run(l, writer, (stage, done, total) => calls++, CancellationToken.None);
+            l.Selection = Run(l, writes, (stage, done, total) => calls++, CancellationToken.None);
             l.Calls = calls;
-            l.Writer = writer;
+            l.Writes = writes;
             return l;
         }
 
@@ -199,11 +96,11 @@ namespace Lpnn.Probes.Core.Tests
         {
             var l = Completed();
             Assert.That(l.Capture.PointCount, Is.InRange(10000, 100000), "a real level's capture of 10^4-10^5 points");
-            var writer = l.Writer;
+            var writes = l.Writes;
             var selection = l.Selection;
             int calls = l.Calls;
-            Assert.That(writer.Writes.Count, Is.EqualTo(1), "the group is written once, at the end");
-            var written = writer.Writes[0];
+            Assert.That(writes.Count, Is.EqualTo(1), "the group is written once, at the end");
+            var written = writes[0];
             Assert.That(written.Length, Is.EqualTo(selection.Indices.Length));
             var expected = new HashSet<string>(l.Expected.Select(Key));
             var got = new HashSet<string>(written.Select(Key));
@@ -239,7 +136,7 @@ namespace Lpnn.Probes.Core.Tests
             foreach (int k in ks)
             {
                 if (k < 1) continue;
-                var writer = new RecordingWriter();
+                var writes = new List<Vector3[]>();
                 using (var source = new CancellationTokenSource())
                 {
                     int calls = 0;
@@ -252,9 +149,9 @@ namespace Lpnn.Probes.Core.Tests
                             source.Cancel();
                         }
                     };
-                    Assert.Throws(Is.InstanceOf<OperationCanceledException>(), () => Run(l, writer, progress, source.Token),
+                    Assert.Throws(Is.InstanceOf<OperationCanceledException>(), () => Run(l, writes, progress, source.Token),
                         "cancel at progress call " + k + " of " + n);
-                    Assert.That(writer.Writes, Is.Empty, "cancel at progress call " + k + " (" + stageAtCancel + ") wrote the group");
+                    Assert.That(writes, Is.Empty, "cancel at progress call " + k + " (" + stageAtCancel + ") wrote the group");
                     Console.WriteLine("cancel at call " + k + " of " + n + " (" + stageAtCancel + "): after " + calls + " calls, nothing written");
                 }
             }

@@ -16,7 +16,8 @@ using Lpnn.Probes.Core.Tests.Support;
 /// Delaunay is O(n²) per call, so the whole ranking's time can only be measured in Unity.
 /// Last, one round of the batched refinement (Quality.BatchedRefinement), whose Unity-independent part is linear in the points.
 /// Usage: mono SelectionBench.exe [--batched] [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points; --batched: only
-/// the batched refinement round).</summary>
+/// the batched refinement round); mono SelectionBench.exe --apply CAPTURE SCRIPT: the whole default selection on a real
+/// capture with Python's tetrahedraliser (<see cref="ApplyBench"/>).</summary>
 public static class SelectionBench
 {
     /// <summary>Stands in for the placement error: τ·(K/count), so the search settles on K = 5 % of the points after
@@ -32,6 +33,11 @@ public static class SelectionBench
 
     public static int Main(string[] args)
     {
+        if (args.Length > 0 && args[0] == "--apply")
+        {
+            if (args.Length != 3) throw new ArgumentException("usage: SelectionBench.exe --apply CAPTURE TETRAHEDRALIZER.sh");
+            return ApplyBench.Run(args[1], args[2], ApplyBench.Tolerance);
+        }
         var sizes = new List<int>();
         bool batchedOnly = false;
         foreach (var a in args)

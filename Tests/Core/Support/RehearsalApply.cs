@@ -1,0 +1,139 @@
+using System;
+using System.Collections.Generic;
+using System.IO;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Captures;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Pipeline;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+
+namespace Lpnn.Probes.Core.Tests.Support
+{
+    /// <summary>The editor-free Apply on a real level's capture (Documentation~/ci.md "Apply rehearsal"):
+    /// <see cref="ApplySteps.Rehearse"/> with fakes of Unity's light sampler (the capture's SH), features (the capture's:
+    /// their rays were cast by the importer) and probe group (the writes are recorded). The tetrahedraliser is the caller's:
+    /// <see cref="PythonTetrahedralizer"/>, or a wrapper of it. Shared by Tests/Core/ApplyRehearsalTests.cs and the Apply
+    /// benchmark (Tools~/SelectionBench, <c>csharp-selection-bench.sh --apply</c>).</summary>
+    public static class RehearsalApply
+    {
+        /// <summary>ApplySteps.Rehearse on <paramref name="capture"/> (its grid: <paramref name="grid"/>, Capture.ToGrid()),
+        /// the positions written added to <paramref name="writes"/>.</summary>
+        public static SelectionResult Run(Capture capture, EvaluationGrid grid, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
+            List<Vector3[]> writes, ProgressCallback progress, CancellationToken cancel)
+        {
+            if (capture == null) throw new ArgumentNullException(nameof(capture));
+            if (writes == null) throw new ArgumentNullException(nameof(writes));
+            return ApplySteps.Rehearse(grid, new CaptureLighting(capture, grid), CaptureFeatures(capture), tetrahedralizer, settings, refine,
+                new RecordingWriter(writes), progress, cancel);
+        }
+
+        private sealed class CaptureLighting : ILightSampler
+        {
+            private readonly Capture _capture;
+            private readonly EvaluationGrid _grid;
+
+            public CaptureLighting(Capture capture, EvaluationGrid grid)
+            {
+                _capture = capture;
+                _grid = grid;
+            }
+
+            public void Sample(Vector3[] positions, float[] sh)
+            {
+                if (positions.Length != _capture.PointCount)
+                    throw new InvalidOperationException("the lighting was asked for " + positions.Length + " points, the capture has " + _capture.PointCount);
+                for (int n = 0; n < positions.Length; n++)
+                {
+                    if (Vector3.Distance(positions[n], _grid.GetPosition(n)) > 1e-4f) throw new InvalidOperationException("the lighting was asked for another point " + n);
+                    Array.Copy(_capture.Sh, 27 * n, sh, 27 * n, 27);
+                }
+            }
+        }
+
+        private static FeatureStep CaptureFeatures(Capture capture) => (grid, sh, progress, cancel) =>
+        {
+            if (grid.Count != capture.PointCount)
+                throw new InvalidOperationException("features asked for " + grid.Count + " points, the capture has " + capture.PointCount);
+            return new FeatureSet(FeatureSchema.ById(capture.Schema), capture.PointCount, capture.Features, capture.LightingScale);
+        };
+
+        private sealed class RecordingWriter : IProbeGroupWriter
+        {
+            private readonly List<Vector3[]> _writes;
+            public RecordingWriter(List<Vector3[]> writes) { _writes = writes; }
+            public void Write(Vector3[] positions) => _writes.Add(positions);
+        }
+    }
+
+    /// <summary>Python's tetrahedralisation (Training~/tests/quality/rehearsal_tetrahedralizer.py, started through a shell
+    /// script that runs it on the capture): a level's lattice is cospherical, so the Delaunay tetrahedralisation is not unique
+    /// and only the same tie-breaking gives the same errors; <see cref="BowyerWatsonDelaunay"/> needs general position and is
+    /// O(n²). Protocol: the script's docstring.</summary>
+    public sealed class PythonTetrahedralizer : ITetrahedralizer, IDisposable
+    {
+        private readonly System.Diagnostics.Process _process;
+        private readonly Stream _in, _out;
+        /// <summary>Tetrahedralisations asked for so far.</summary>
+        public int Calls;
+
+        /// <param name="script">A shell script that execs rehearsal_tetrahedralizer.py on the capture.</param>
+        public PythonTetrahedralizer(string script)
+        {
+            var info = new System.Diagnostics.ProcessStartInfo("/bin/sh", "\"" + script + "\"")
+            {
+                UseShellExecute = false, RedirectStandardInput = true, RedirectStandardOutput = true,
+            };
+            _process = System.Diagnostics.Process.Start(info);
+            _in = _process.StandardInput.BaseStream;
+            _out = _process.StandardOutput.BaseStream;
+        }
+
+        public int[] Tetrahedralize(Vector3[] positions)
+        {
+            Calls++;
+            var request = new byte[4 + 12 * positions.Length];
+            BitConverter.GetBytes(positions.Length).CopyTo(request, 0);
+            for (int n = 0; n < positions.Length; n++)
+            {
+                BitConverter.GetBytes(positions[n].X).CopyTo(request, 4 + 12 * n);
+                BitConverter.GetBytes(positions[n].Y).CopyTo(request, 8 + 12 * n);
+                BitConverter.GetBytes(positions[n].Z).CopyTo(request, 12 + 12 * n);
+            }
+            _in.Write(request, 0, request.Length);
+            _in.Flush();
+            int count = BitConverter.ToInt32(Read(4), 0);
+            if (count < 0)
+            {
+                int length = BitConverter.ToInt32(Read(4), 0);
+                throw new PlacementErrorException(System.Text.Encoding.UTF8.GetString(Read(length)));
+            }
+            var bytes = Read(16 * count);
+            var tets = new int[4 * count];
+            Buffer.BlockCopy(bytes, 0, tets, 0, bytes.Length);
+            return tets;
+        }
+
+        private byte[] Read(int size)
+        {
+            var data = new byte[size];
+            int done = 0;
+            while (done < size)
+            {
+                int got = _out.Read(data, done, size - done);
+                if (got <= 0) throw new IOException("the rehearsal tetrahedraliser stopped");
+                done += got;
+            }
+            return data;
+        }
+
+        public void Dispose()
+        {
+            _in.Close();
+            if (!_process.WaitForExit(10000)) _process.Kill();
+            _process.Dispose();
+        }
+    }
+}

@@ -1,0 +1,158 @@
+using System;
+using System.Collections.Generic;
+using System.Diagnostics;
+using System.Globalization;
+using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Captures;
+using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Pipeline;
+using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Tests.Support;
+
+/// <summary>The whole Apply of the volume's default (Insertion, refined in batches, τ = 0.05) on a real level's capture,
+/// timed per stage (issue 30, Deliver 1; Documentation~/benchmarks.md §11.3): the Apply rehearsal's run
+/// (Tests/Core/Support/RehearsalApply.cs: ApplySteps.Rehearse with the capture's SH and features) with Python's
+/// tetrahedraliser over a pipe (<see cref="PythonTetrahedralizer"/>), wrapped to count the tetrahedralisations and the
+/// seconds spent waiting on them per stage. A stage is known from the C# frames that asked for the tetrahedralisation
+/// (InsertionOrder: an insertion round; ReportingMeasure: a tolerance-search evaluation; BatchedRefinementState.Evaluate,
+/// RemovalCosts, Without: the refinement's seed, trial, commit; RefinedSelection: the final check) and from the progress
+/// calls; wall time is charged to the stage running since the last switch. Prints figures; asserts nothing.</summary>
+public static class ApplyBench
+{
+    public const double Tolerance = 0.05;
+
+    private const string Before = "before the first tetrahedralisation (features fake, reference lighting x2, typical tetrahedron)";
+    private const string Insertion = "insertion rounds";
+    private const string Search = "tolerance search evaluations";
+    private const string Refinement = "batched refinement";
+    private const string Other = "other";
+    private static readonly string[] Stages = { Before, Insertion, Search, Refinement, Other };
+
+    private sealed class StagedTetrahedralizer : ITetrahedralizer
+    {
+        private readonly ITetrahedralizer _inner;
+        private readonly Stopwatch _clock = Stopwatch.StartNew();
+        private double _since;
+        public string Current = "lighting (fake)";
+        public readonly Dictionary<string, double> Wall = new Dictionary<string, double>();
+        public readonly Dictionary<string, double> Waiting = new Dictionary<string, double>();
+        /// <summary>Calls per stage, and per kind inside the refinement ("refinement: seed" etc.).</summary>
+        public readonly Dictionary<string, int> Calls = new Dictionary<string, int>();
+        public int Total;
+
+        public StagedTetrahedralizer(ITetrahedralizer inner) { _inner = inner; }
+
+        public double Elapsed => _clock.Elapsed.TotalSeconds;
+
+        public void Switch(string stage)
+        {
+            double now = Elapsed;
+            Add(Wall, Current, now - _since);
+            _since = now;
+            Current = stage;
+        }
+
+        public int[] Tetrahedralize(Vector3[] positions)
+        {
+            string kind = Classify(new StackTrace(1, false));
+            string stage = kind.StartsWith("refinement", StringComparison.Ordinal) ? Refinement : kind;
+            Switch(stage);
+            Calls[kind] = Count(Calls, kind) + 1;
+            if (kind != stage) Calls[stage] = Count(Calls, stage) + 1;
+            Total++;
+            double start = Elapsed;
+            int[] tetrahedra = _inner.Tetrahedralize(positions);
+            Add(Waiting, stage, Elapsed - start);
+            if (Total % 25 == 0)
+                Console.Error.WriteLine(string.Format(CultureInfo.InvariantCulture, "[{0:F0} s] {1} tetrahedralisations: insertion {2}, search {3}, refinement {4} ({5} probes in the last)",
+                    Elapsed, Total, Count(Calls, Insertion), Count(Calls, Search), Count(Calls, Refinement), positions.Length));
+            return tetrahedra;
+        }
+
+        /// <summary>The innermost frame of a known Core step decides.</summary>
+        private static string Classify(StackTrace trace)
+        {
+            foreach (var frame in trace.GetFrames() ?? new StackFrame[0])
+            {
+                var method = frame.GetMethod();
+                string type = method?.DeclaringType?.FullName ?? "";
+                if (type.StartsWith("Lpnn.Probes.Core.Quality.InsertionOrder", StringComparison.Ordinal)) return Insertion;
+                if (type.StartsWith("Lpnn.Probes.Core.Selection.ReportingMeasure", StringComparison.Ordinal) ||
+                    type.StartsWith("Lpnn.Probes.Core.Selection.ToleranceSearch", StringComparison.Ordinal)) return Search;
+                if (type.StartsWith("Lpnn.Probes.Core.Quality.BatchedRefinementState", StringComparison.Ordinal))
+                {
+                    if (method.Name == "Evaluate") return "refinement: seed";
+                    if (method.Name == "RemovalCosts") return "refinement: trial";
+                    if (method.Name == "Without") return "refinement: commit";
+                }
+                if (type == "Lpnn.Probes.Core.Quality.BatchedRefinement") return "refinement: other";
+                if (type.StartsWith("Lpnn.Probes.Core.Quality.RefinedSelection", StringComparison.Ordinal)) return "refinement: final check";
+            }
+            return Other;
+        }
+
+        private static void Add(Dictionary<string, double> sums, string key, double value) => sums[key] = (sums.TryGetValue(key, out double v) ? v : 0) + value;
+        public static int Count(Dictionary<string, int> counts, string key) => counts.TryGetValue(key, out int c) ? c : 0;
+        public static double Sum(Dictionary<string, double> sums, string key) => sums.TryGetValue(key, out double v) ? v : 0;
+    }
+
+    public static int Run(string capturePath, string script, double tolerance)
+    {
+        var read = Stopwatch.StartNew();
+        var capture = CaptureFile.Read(capturePath);
+        var grid = capture.ToGrid();
+        double readSeconds = read.Elapsed.TotalSeconds;
+        Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "{0}: {1:N0} points, tau {2} (capture read in {3:F1} s)",
+            System.IO.Path.GetFileName(capturePath), capture.PointCount, tolerance, readSeconds));
+        // The first stage's two parts, timed alone (the Apply computes the reference twice: its evaluator's and its order's).
+        read.Restart();
+        var reference = ReferenceLighting.FromGrid(grid, capture.Sh);
+        double referenceSeconds = read.Elapsed.TotalSeconds;
+        read.Restart();
+        InsertionRanking.TypicalTetrahedron(grid, reference);
+        Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "timed alone: reference lighting {0:F1} s, typical tetrahedron {1:F1} s",
+            referenceSeconds, read.Elapsed.TotalSeconds));
+        reference = null;
+        using (var python = new PythonTetrahedralizer(script))
+        {
+            var staged = new StagedTetrahedralizer(python);
+            var writes = new List<Vector3[]>();
+            int refinementProgress = 0;
+            ProgressCallback progress = (stage, done, total) =>
+            {
+                if (stage == ApplySteps.LightingStage && done == total) staged.Switch(Before);
+                else if (stage == ReportingMeasure.Stage) staged.Switch(Search);
+                else if (stage == "insertion ranking") staged.Switch(Insertion);
+                else if (stage == "batched refinement") refinementProgress++;
+            };
+            var selection = RehearsalApply.Run(capture, grid, staged, SelectionSettings.Tolerance(tolerance), true, writes, progress, CancellationToken.None);
+            staged.Switch("done");
+            double wallTotal = 0, waitTotal = 0;
+            Console.WriteLine("stage | wall s | waiting on the tetrahedraliser s | C# own s | tetrahedralisations");
+            foreach (string stage in Stages)
+            {
+                double wall = StagedTetrahedralizer.Sum(staged.Wall, stage), wait = StagedTetrahedralizer.Sum(staged.Waiting, stage);
+                int calls = StagedTetrahedralizer.Count(staged.Calls, stage);
+                if (stage == Other && wall == 0 && calls == 0) continue;
+                wallTotal += wall;
+                waitTotal += wait;
+                Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "{0} | {1:F1} | {2:F1} | {3:F1} | {4}", stage, wall, wait, wall - wait, calls));
+            }
+            Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "total (lighting fake: {0:F1} s) | {1:F1} | {2:F1} | {3:F1} | {4}",
+                StagedTetrahedralizer.Sum(staged.Wall, "lighting (fake)"), wallTotal, waitTotal, wallTotal - waitTotal, staged.Total));
+            var refinementKinds = new List<string>();
+            foreach (var pair in staged.Calls)
+                if (pair.Key.StartsWith("refinement: ", StringComparison.Ordinal)) refinementKinds.Add(pair.Key.Substring(12) + " " + pair.Value);
+            refinementKinds.Sort(StringComparer.Ordinal);
+            var search = selection.Tolerance;
+            Console.WriteLine(string.Format(CultureInfo.InvariantCulture,
+                "probes kept: {0:N0} (written {1}x); search: {2:N0} probes after {3} evaluations; refinement from {4:N0} seed points, {5} commits " +
+                "reported; refinement tetrahedralisations: {6}",
+                selection.Indices.Length, writes.Count, search == null ? 0 : search.Count, search == null ? 0 : search.Evaluated.Count,
+                selection.RefinedFrom, refinementProgress, string.Join(", ", refinementKinds)));
+        }
+        return 0;
+    }
+}
