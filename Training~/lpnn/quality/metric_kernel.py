@@ -92,6 +92,20 @@ def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
                 out[point] = pairwise_sum(difference, width) / width
 
 
+@njit(cache=True, inline="always")
+def barycentric_into(points, tets, inverse, t, qx, qy, qz, lam):
+    """lam[0..3] = the barycentric coordinates of (qx, qy, qz) in tetrahedron t, in `barycentric`'s arithmetic
+    (module text): rest_i = (a_0 + a_2) + a_1, lambda_0 = 1 - ((rest_0 + rest_1) + rest_2)."""
+    base = tets[t, 0]
+    dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
+    total = 0.0
+    for i in range(3):
+        rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
+        lam[i + 1] = rest
+        total += rest
+    lam[0] = 1.0 - total
+
+
 @njit(cache=True)
 def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
          coherent):
@@ -109,14 +123,7 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
         resolved[m] = False
         qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
         for _ in range(step_limit):
-            base = tets[current, 0]
-            dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
-            total = 0.0
-            for i in range(3):
-                rest = (inverse[current, i, 0] * dx + inverse[current, i, 2] * dz) + inverse[current, i, 1] * dy
-                lam[i + 1] = rest
-                total += rest
-            lam[0] = 1.0 - total
+            barycentric_into(points, tets, inverse, current, qx, qy, qz, lam)
             worst = 0
             for i in range(1, 4):
                 if lam[i] < lam[worst]:
@@ -141,23 +148,14 @@ def most_inside(points, tets, inverse, query, best_cell, best_min):
     chunks = chunk_count(query.shape[0] * max(1, tets.shape[0] // 64))
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        lam = np.empty(4)
         for m in range(lo, hi):
             qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
             best_cell[m] = 0
             best_min[m] = -np.inf
             for t in range(tets.shape[0]):
-                base = tets[t, 0]
-                dx, dy, dz = qx - points[base, 0], qy - points[base, 1], qz - points[base, 2]
-                total = 0.0
-                smallest = np.inf
-                for i in range(3):
-                    rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
-                    total += rest
-                    if rest < smallest:
-                        smallest = rest
-                lam0 = 1.0 - total
-                if lam0 < smallest:
-                    smallest = lam0
+                barycentric_into(points, tets, inverse, t, qx, qy, qz, lam)
+                smallest = min(min(lam[0], lam[1]), min(lam[2], lam[3]))
                 if smallest > best_min[m] or t == 0:
                     best_cell[m] = t
                     best_min[m] = smallest
@@ -181,16 +179,7 @@ def inside_stencils(points, tets, inverse, query, cell, walked, coordinates, ver
                 for i in range(4):
                     lam[i] = coordinates[m, i]
             else:
-                base = tets[t, 0]
-                dx = query[m, 0] - points[base, 0]
-                dy = query[m, 1] - points[base, 1]
-                dz = query[m, 2] - points[base, 2]
-                total = 0.0
-                for i in range(3):
-                    rest = (inverse[t, i, 0] * dx + inverse[t, i, 2] * dz) + inverse[t, i, 1] * dy
-                    lam[i + 1] = rest
-                    total += rest
-                lam[0] = 1.0 - total
+                barycentric_into(points, tets, inverse, t, query[m, 0], query[m, 1], query[m, 2], lam)
             total = 0.0
             for i in range(4):
                 if not lam[i] >= 0.0:  # np.clip(x, 0, None); NaN cannot reach here (the cell accepted the point)
