@@ -154,6 +154,60 @@ namespace Lpnn.Probes.Core.Tests
                 Assert.That(InsertionRanking.Rank(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth), Is.Not.EqualTo(expected));
         }
 
+        /// <summary>The rounds from scratch (every point located each round, <see cref="InsertionRanking.NextBatch"/>) and
+        /// incrementally (<see cref="InsertionRounds"/>, as <see cref="InsertionOrder"/> runs them) side by side: the same
+        /// batch every round. Returns the whole order and how many points kept their tetrahedron.</summary>
+        private static List<int> RoundsBothWays(EvaluationGrid grid, ReferenceLighting reference, double growth, double[] guide, out long kept)
+        {
+            var order = InsertionRanking.TypicalTetrahedron(grid, reference).ToList();
+            var rounds = new InsertionRounds();
+            var delaunay = new BowyerWatsonDelaunay();
+            while (true)
+            {
+                int[] probes = order.ToArray();
+                int[] tetrahedra = delaunay.Tetrahedralize(probes.Select(p => reference.GetPosition(p)).ToArray());
+                int[] fresh = InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide);
+                Assert.That(rounds.NextBatch(reference, probes, tetrahedra, growth, guide, null), Is.EqualTo(fresh),
+                    "round " + rounds.Rounds + " from " + probes.Length + " probes");
+                if (fresh.Length == 0) break;
+                order.AddRange(fresh);
+            }
+            Assert.That(rounds.Kept + rounds.Located, Is.GreaterThan(0));
+            kept = rounds.Kept;
+            return order;
+        }
+
+        [Test]
+        public void IncrementalRoundsEqualRoundsFromScratchOnTheGoldenCases()
+        {
+            foreach (var c in GoldenCase.ReadAll())
+            {
+                if (!c.Json.TryGet("ranking", out var ranking)) continue;
+                double growth = c.Json.Get("growth").AsNumber;
+                var order = RoundsBothWays(c.Grid, c.Reference, growth, c.Guide, out long kept);
+                Assert.That(kept, Is.GreaterThan(0), c.Name + ": no point kept its tetrahedron, so nothing incremental was tested");
+                Assert.That(Ints(ranking).Take(order.Count), Is.EqualTo(order), c.Name);
+                Assert.That(new InsertionOrder(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth, c.Guide).Prefix(order.Count).Take(order.Count),
+                    Is.EqualTo(order), c.Name);
+            }
+        }
+
+        [Test]
+        public void IncrementalRoundsEqualRoundsFromScratchOnJitteredPoints()
+        {
+            var grid = QualityFixtures.Box(9, 8, 7);
+            var positions = QualityFixtures.Jittered(QualityFixtures.Positions(grid), 0.2f, 11);
+            var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(2, 2, 2), new Vector3(6, 5, 4), 2.5f));
+            foreach (double growth in new[] { InsertionRanking.DefaultGrowth, 0.5 })
+            {
+                var order = RoundsBothWays(grid, reference, growth, null, out long kept);
+                Assert.That(kept, Is.GreaterThan(grid.Count / 4), "growth " + growth + ": few points kept their tetrahedron");
+                // The lazy order runs the incremental rounds: its ranking is the rounds' batches, then the rest by index.
+                var rest = Enumerable.Range(0, grid.Count).Where(p => !order.Contains(p));
+                Assert.That(new InsertionOrder(grid, reference, new BowyerWatsonDelaunay(), growth).All(), Is.EqualTo(order.Concat(rest)), "growth " + growth);
+            }
+        }
+
         // ---- behaviour on cases known by hand -------------------------------------------------------------------------
 
         /// <summary>A 4 × 4 × 3 lattice, positions jittered into general position (a unique Delaunay).</summary>

@@ -15,7 +15,8 @@ namespace Lpnn.Probes.Core.Quality
     /// from 4, then bisection: it never reads beyond about twice its answer), thus costs the rounds up to that count instead
     /// of the ~log(N / 4) / log(1 + growth) rounds of the whole ranking; the prefixes are those of the whole ranking exactly
     /// (the same rounds, in the same order). Port of lpnn/quality/insertion.py InsertionOrder (quality.md §5.1 step 4); with
-    /// a guide, guided insertion (quality.md §5.2).</summary>
+    /// a guide, guided insertion (quality.md §5.2). Each round after the first locates only the points whose tetrahedron
+    /// the last insertion broke, and those outside the hull (<see cref="InsertionRounds"/>, quality.md §5.1 step 5).</summary>
     public sealed class InsertionOrder
     {
         private const string Stage = "insertion ranking";
@@ -31,6 +32,9 @@ namespace Lpnn.Probes.Core.Quality
         private readonly bool[] _chosen;
         /// <summary>Null, or one flag per point of the reference: only these may be ranked (pinned probes, pins.md).</summary>
         private readonly bool[] _candidates;
+        /// <summary>The rounds, located incrementally: a point whose tetrahedron survived the last insertion keeps it
+        /// (quality.md §5.1 step 5).</summary>
+        private readonly InsertionRounds _rounds = new InsertionRounds();
         /// <summary>Every point not yet ranked is interpolated exactly: the rest follow by index.</summary>
         private bool _exhausted;
 
@@ -136,7 +140,7 @@ namespace Lpnn.Probes.Core.Quality
                     cancel.ThrowIfCancellationRequested();
                     progress?.Invoke(Stage, _order.Count, count);
                     int[] probes = _order.ToArray();
-                    int[] batch = InsertionRanking.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide,
+                    int[] batch = _rounds.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide,
                         _candidates);
                     Rounds++;
                     if (batch.Length == 0) _exhausted = true;

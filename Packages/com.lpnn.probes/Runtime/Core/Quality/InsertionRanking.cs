@@ -19,7 +19,8 @@ namespace Lpnn.Probes.Core.Quality
     ///
     /// Needs the dense lighting at every evaluation point and a tetrahedraliser (Unity's in the editor). Cost: about
     /// log(N / 4) / log(1 + growth) rounds (~60 for 1,000 points), each one tetrahedralisation of the probes and one
-    /// location of the other points.
+    /// location of the other points (<see cref="InsertionOrder"/> locates only the points whose tetrahedron the last
+    /// insertion broke, outside the hull or on a tetrahedron's boundary: <see cref="InsertionRounds"/>).
     ///
     /// Guided insertion (quality.md §5.2): the same rounds, but each cell's candidate is its point of largest error ×
     /// guide weight among those with error above <see cref="Exact"/>, the weights being the network's scores through the
@@ -89,13 +90,23 @@ namespace Lpnn.Probes.Core.Quality
             if (tetrahedra == null) throw new ArgumentNullException(nameof(tetrahedra));
             CheckGrowth(growth);
             CheckGuide(guide, reference.Count);
-            int cells = tetrahedra.Length / 4;
+            // (null probes: InterpolateOthers refuses them with its usual message)
+            return BatchOf(reference, probes == null ? 0 : probes.Length, tetrahedra.Length / 4, growth, guide, allowed,
+                visit => PlacementError.InterpolateOthers(reference, probes, tetrahedra, visit));
+        }
+
+        /// <summary><see cref="NextBatch"/>'s choice, given how the round's points are interpolated: <paramref name="interpolate"/>
+        /// visits every point that is not a probe, in ascending index order, with its stencil (cells below
+        /// <paramref name="cells"/>). Shared by NextBatch and the incremental rounds (<see cref="InsertionRounds"/>).</summary>
+        internal static int[] BatchOf(ReferenceLighting reference, int probeCount, int cells, double growth, double[] guide, bool[] allowed,
+            Action<PlacementError.PointVisitor> interpolate)
+        {
             var cellError = new double[cells];
             var worst = new int[cells];
             var worstKey = new double[cells];
             for (int c = 0; c < cells; c++) worst[c] = -1;
             var errors = new double[reference.Count];
-            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+            interpolate((int n, ref Stencil stencil, double[] interpolated) =>
             {
                 double e = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
                 errors[n] = e;
@@ -127,7 +138,7 @@ namespace Lpnn.Probes.Core.Quality
                 int bySum = candidateError[b].CompareTo(candidateError[a]);
                 return bySum != 0 ? bySum : candidates[a].CompareTo(candidates[b]);
             });
-            int take = Math.Min(byCellError.Length, Math.Max(1, (int)Math.Ceiling(growth * probes.Length)));
+            int take = Math.Min(byCellError.Length, Math.Max(1, (int)Math.Ceiling(growth * probeCount)));
             var batch = new int[take];
             for (int k = 0; k < take; k++) batch[k] = candidates[byCellError[k]];
             return batch;

@@ -74,6 +74,41 @@ namespace Lpnn.Probes.Core.Quality
             }
         }
 
+        /// <summary>As <see cref="InterpolateOthers"/> on a built <paramref name="mesh"/> of <paramref name="probes"/>, but a
+        /// point whose tetrahedron is known (<paramref name="knownCell"/>[n] ≥ 0, a tetrahedron of the mesh containing it) and
+        /// clearly inside it (<see cref="TetrahedronLocator.TryWeightsIn"/>) only gets its weights there, the numbers a
+        /// location computes; the others (-1, or on their tetrahedron's boundary) are located as usual: the same stencils.
+        /// Insertion's incremental rounds (<see cref="InsertionRounds"/>). Returns how many points were located.</summary>
+        internal static int InterpolateOthers(ReferenceLighting reference, int[] probes, TetrahedralMesh mesh, int[] knownCell, PointVisitor visit)
+        {
+            var locator = new TetrahedronLocator(mesh);
+            HullProjector hull = null;  // built when a point is outside
+            var interpolated = new double[ReferenceLighting.LightValues];
+            var weights = new double[4];
+            var stencil = new Stencil();
+            double[] local = reference.Local;
+            int count = reference.Count;
+            var isProbe = new bool[count];
+            foreach (int p in probes) isProbe[p] = true;
+            int located = 0;
+            for (int n = 0; n < count; n++)
+            {
+                if (isProbe[n]) continue;
+                int t = knownCell[n];
+                if (t >= 0 && locator.TryWeightsIn(t, local[3 * n], local[3 * n + 1], local[3 * n + 2], weights))
+                    InsideStencil(mesh, t, weights, ref stencil);
+                else
+                {
+                    if (hull == null) hull = new HullProjector(mesh.Points, mesh.HullFaces);
+                    Locate(mesh, locator, hull, local, n, weights, ref stencil);
+                    located++;
+                }
+                Interpolate(reference.Light, probes, ref stencil, interpolated);
+                visit(n, ref stencil, interpolated);
+            }
+            return located;
+        }
+
         /// <summary>The stencil of one evaluation point (for inspection and tests): probe-list indices and weights.</summary>
         public static Stencil StencilOf(ReferenceLighting reference, int[] probes, int[] tetrahedra, int point)
         {
@@ -101,16 +136,7 @@ namespace Lpnn.Probes.Core.Quality
             double x = local[3 * n], y = local[3 * n + 1], z = local[3 * n + 2];
             if (locator.TryLocate(x, y, z, weights, out int t))
             {
-                stencil.Probe0 = mesh.Tetrahedra[4 * t];
-                stencil.Probe1 = mesh.Tetrahedra[4 * t + 1];
-                stencil.Probe2 = mesh.Tetrahedra[4 * t + 2];
-                stencil.Probe3 = mesh.Tetrahedra[4 * t + 3];
-                stencil.Weight0 = weights[0];
-                stencil.Weight1 = weights[1];
-                stencil.Weight2 = weights[2];
-                stencil.Weight3 = weights[3];
-                stencil.Outside = false;
-                stencil.Cell = t;
+                InsideStencil(mesh, t, weights, ref stencil);
                 return;
             }
             int f = hull.Nearest(x, y, z, out double u, out double v, out double w);
@@ -124,6 +150,20 @@ namespace Lpnn.Probes.Core.Quality
             stencil.Weight3 = 0;
             stencil.Outside = true;
             stencil.Cell = mesh.HullFaceOwners[f];
+        }
+
+        private static void InsideStencil(TetrahedralMesh mesh, int t, double[] weights, ref Stencil stencil)
+        {
+            stencil.Probe0 = mesh.Tetrahedra[4 * t];
+            stencil.Probe1 = mesh.Tetrahedra[4 * t + 1];
+            stencil.Probe2 = mesh.Tetrahedra[4 * t + 2];
+            stencil.Probe3 = mesh.Tetrahedra[4 * t + 3];
+            stencil.Weight0 = weights[0];
+            stencil.Weight1 = weights[1];
+            stencil.Weight2 = weights[2];
+            stencil.Weight3 = weights[3];
+            stencil.Outside = false;
+            stencil.Cell = t;
         }
 
         /// <summary>Σ wₖ·E(probeₖ) over the 42 values: the SH blend is linear, so this equals evaluating the blended SH.</summary>

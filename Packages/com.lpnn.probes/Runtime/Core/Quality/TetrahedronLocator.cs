@@ -124,6 +124,30 @@ namespace Lpnn.Probes.Core.Quality
                 b0 = l0; b1 = l1; b2 = l2; b3 = l3;
             }
             if (!(best >= -InsideTolerance)) return false;
+            Normalised(b0, b1, b2, b3, weights);
+            return true;
+        }
+
+        /// <summary>A point whose smallest barycentric weight in a tetrahedron is above this lies in no other tetrahedron
+        /// (they do not overlap, and rounding stays far below it): <see cref="TryLocate"/> finds it there.</summary>
+        public const double ClearlyInside = 1e-9;
+
+        /// <summary>The weights of (x, y, z) in tetrahedron <paramref name="t"/>, as <see cref="TryLocate"/> gives them (the
+        /// same numbers), when the point is clearly inside it (<see cref="ClearlyInside"/>): then TryLocate would find it
+        /// there. False for a point on or near its boundary (a face or edge it may share with another tetrahedron, where
+        /// TryLocate takes the one it is most inside, ties to the lower index): locate that one. For an insertion round's
+        /// point whose tetrahedron survived the insertion (<see cref="InsertionRounds"/>).</summary>
+        public bool TryWeightsIn(int t, double x, double y, double z, double[] weights)
+        {
+            Barycentric(t, x, y, z, out double b0, out double b1, out double b2, out double b3);
+            if (!(Math.Min(Math.Min(b0, b1), Math.Min(b2, b3)) > ClearlyInside)) return false;
+            Normalised(b0, b1, b2, b3, weights);
+            return true;
+        }
+
+        /// <summary>Clamped to ≥ 0 and renormalised.</summary>
+        private static void Normalised(double b0, double b1, double b2, double b3, double[] weights)
+        {
             b0 = Math.Max(0, b0);
             b1 = Math.Max(0, b1);
             b2 = Math.Max(0, b2);
@@ -134,7 +158,6 @@ namespace Lpnn.Probes.Core.Quality
             weights[1] = b1 / sum;
             weights[2] = b2 / sum;
             weights[3] = b3 / sum;
-            return true;
         }
 
         private void Barycentric(int t, double x, double y, double z, out double l0, out double l1, out double l2, out double l3)
