@@ -50,7 +50,7 @@ from ..core.grid import EvaluationGrid
 from ..core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ..core.spread import farthest_point_ranking, spread_weights
 from .insertion_kernel import first_per_cell
-from .insertion_state import LocatedSet, Placed, located_set, mean_error, with_inserted
+from .insertion_state import Placed, located_set, mean_error, with_inserted
 from .metric import (POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil,
                      mean_placement_error, stencil_point_errors)
 from .pins import Pins, pinned_start
@@ -179,9 +179,9 @@ class InsertionOrder:
         if pins is not None:
             self._order = pinned_start(grid, pins, self._order)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
-        self._located: LocatedSet | None = None  # the first _located_count ranked points, located (insertion_state)
-        self._located_count = 0
-        self._placed: list[tuple[int, Placed]] = []  # the last KEPT_ROUNDS rounds' sets (count, set): mean_error
+        # The last KEPT_ROUNDS rounds' probe sets (count ranked then, the set; insertion_state): the next round starts
+        # from the last one, the tolerance search's mean_error from any of them.
+        self._placed: list[tuple[int, Placed]] = []
         self.rounds = 0
 
     @property
@@ -199,12 +199,12 @@ class InsertionOrder:
         count = min(int(count), n)
         while self._order.shape[0] < count and not self._exhausted:
             # insertion_batch's round, located incrementally (insertion_state.py)
-            self._located = (located_set(self._field, self._order, self._metric) if self._located is None
-                             else with_inserted(self._field, self._located, self._order[self._located_count:],
-                                                self._metric))
-            self._located_count = self._order.shape[0]
-            located = self._located
-            self._placed = (self._placed + [(self._located_count, located.placed())])[-KEPT_ROUNDS:]
+            if self._placed:
+                done, placed = self._placed[-1]
+                located = with_inserted(self._field, placed, self._order[done:], self._metric)
+            else:
+                located = located_set(self._field, self._order, self._metric)
+            self._placed = (self._placed + [(self._order.shape[0], located.placed())])[-KEPT_ROUNDS:]
             batch = batch_of(located.others, located.errors, located.stencil.cell, self._order.shape[0],
                              self._growth, self._guide, self._candidates)
             self.rounds += 1

@@ -24,7 +24,7 @@ import numpy as np
 
 from .batched_state import tet_keys
 from .location import Stencil, locate_cells, stencils_of_cells
-from .metric import ReferenceField, checked_probes, stencil_point_errors
+from .metric import ReferenceField, probe_mesh, stencil_point_errors
 from .triangulation import Tetrahedralization, tetrahedralize
 
 
@@ -52,22 +52,16 @@ class LocatedSet(Placed):
 
 
 def _finished(field: ReferenceField, probes: np.ndarray, mesh: Tetrahedralization, others: np.ndarray,
-              cell: np.ndarray, walked: np.ndarray, coordinates: np.ndarray, metric: str) -> LocatedSet:
-    stencil = stencils_of_cells(mesh, np.ascontiguousarray(field.local[others]), cell, walked, coordinates)
+              stencil: Stencil, metric: str) -> LocatedSet:
     errors = stencil_point_errors(field, probes, others, stencil, metric)[others]
     inside = np.where(stencil.outside, -1, stencil.cell)  # stencil.cell is a hull owner outside
     return LocatedSet(probes=probes, mesh=mesh, others=others, inside=inside, stencil=stencil, errors=errors)
 
 
 def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> LocatedSet:
-    """Every point but the probes located from scratch (non-coherent walks, as metric.probe_stencil)."""
-    ordered = checked_probes(field, probes)
-    mesh = tetrahedralize(field.world[ordered], field.frame)
-    is_probe = np.zeros(field.point_count, dtype=bool)
-    is_probe[ordered] = True
-    others = np.flatnonzero(~is_probe)
-    query = np.ascontiguousarray(field.local[others])
-    return _finished(field, ordered, mesh, others, *locate_cells(mesh, query), metric)
+    """Every point but the probes located from scratch (metric.probe_mesh: non-coherent walks)."""
+    ordered, others, mesh, stencil = probe_mesh(field, probes)
+    return _finished(field, ordered, mesh, others, stencil, metric)
 
 
 def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str) -> LocatedSet:
@@ -94,7 +88,8 @@ def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, met
     if again.shape[0]:
         cell[again], walked[again], coordinates[again] = locate_cells(
             mesh, np.ascontiguousarray(field.local[others[again]]))
-    return _finished(field, probes, mesh, others, cell, walked, coordinates, metric)
+    stencil = stencils_of_cells(mesh, np.ascontiguousarray(field.local[others]), cell, walked, coordinates)
+    return _finished(field, probes, mesh, others, stencil, metric)
 
 
 def mean_error(field: ReferenceField, located: LocatedSet) -> float:
