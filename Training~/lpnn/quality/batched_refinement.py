@@ -68,7 +68,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .batched_state import evaluate, trial_of, without
+from .batched_state import evaluate, restore, trial_of, without
 from .decimation import MINIMUM_PROBES, initial_mask
 from .leak_aware import LeakWeighting
 from .metric import MetricError, ReferenceField
@@ -210,12 +210,13 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         removed = np.zeros(n, dtype=bool)
         removed[commit] = True
         fresh[state.edges[removed[state.edges[:, 0]], 1]] = False
-        following = without(field, state, commit, trial)
+        following = without(field, state, commit, trial, reuse=True)
         back = commit.shape[0]
         while tau is not None and following.error_sum > limit and back > 0:  # an unattributed hull effect
             back -= 1
             locked[commit[back]] = True
-            following = without(field, state, commit[:back], trial)
+            restore(following)
+            following = without(field, state, commit[:back], trial, reuse=True)
         if trace is not None:
             trace({"following": following.probes, "following_sum": following.error_sum})
         state = following
