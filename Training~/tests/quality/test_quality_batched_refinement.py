@@ -8,8 +8,9 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
-from lpnn.quality.refinement_kernel import rows_holding
-from lpnn.quality.batched_state import evaluate, refilled, trial_of, without
+from lpnn.quality.metric_kernel import run_rows
+from lpnn.quality.refinement_kernel import attributed_costs, rows_holding, stencil_ids
+from lpnn.quality.batched_state import evaluate, refilled, restore, trial_of, without
 from lpnn.quality.decimation import MINIMUM_PROBES
 from lpnn.quality.insertion import InsertionOrder
 from lpnn.quality.metric import MetricError, ReferenceField, point_errors
@@ -102,6 +103,16 @@ def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_f
         np.testing.assert_array_equal(np.sort(updated.edges, axis=0), np.sort(fresh.edges, axis=0))
     # Stencils are not compared: a point on a face or edge shared by several tetrahedra may take any of them (the
     # same error; a weight exactly 0 in one may be 1e-17 in another).
+    # reuse=True: the same new state in the old one's arrays, and restore() gives the old state back exactly.
+    kept = (state.errors.copy(), state.owners.copy(), state.touched.copy())
+    copied = without(field, state, removed, trial)
+    reused = without(field, state, removed, trial, reuse=True)
+    assert reused.errors is state.errors and reused.error_sum == copied.error_sum
+    for new, old in ((reused.errors, copied.errors), (reused.owners, copied.owners), (reused.touched, copied.touched)):
+        np.testing.assert_array_equal(new, old)
+    restore(reused)
+    for now, before in zip((state.errors, state.owners, state.touched), kept):
+        np.testing.assert_array_equal(now, before)
 
 
 def test_a_count_keeps_exactly_that_many_of_the_seeds_points_deterministically(medium_capture: Capture) -> None:
@@ -213,6 +224,32 @@ def test_a_flat_seed_is_refused_naming_the_plane() -> None:
     field = ReferenceField.from_sh(positions, linear_sh(positions))
     with pytest.raises(Exception, match="lie in one plane"):
         batched_refinement(field, np.arange(10), count=5)  # the first 10 points: one row of the lowest layer
+
+
+def test_the_trials_compiled_attribution_and_stencil_rows_are_the_numpy_formulation() -> None:
+    """refinement_kernel.attributed_costs and stencil_ids: bit for bit what trial_of and evaluated_at computed in numpy
+    (a row's first candidate by argmax, bincount's sums in row order; touched ids, -1 where the weight is 0)."""
+    rng = np.random.default_rng(9)
+    n = 400
+    owners = np.where(rng.uniform(size=(n, 4)) < 0.2, -1, rng.integers(0, n, (n, 4)))
+    is_candidate = rng.uniform(size=n) < 0.1
+    holds = ((owners >= 0) & is_candidate[np.maximum(owners, 0)]).any(axis=1) | is_candidate
+    attributed = np.flatnonzero(holds)
+    trial_errors, state_errors = rng.uniform(size=n), rng.uniform(size=n)
+    rows = owners[attributed]
+    hits = (rows >= 0) & is_candidate[np.maximum(rows, 0)]
+    owner = np.where(is_candidate[attributed], attributed, rows[np.arange(attributed.shape[0]), np.argmax(hits, axis=1)])
+    expected = np.bincount(owner, trial_errors[attributed] - state_errors[attributed], minlength=n)
+    totals = np.zeros(n)
+    attributed_costs(owners, attributed, is_candidate, trial_errors, state_errors, totals)
+    np.testing.assert_array_equal(totals, expected)
+    indices = rng.permutation(n)
+    vertices = rng.integers(0, n, (9000, 4))
+    weights = np.where(rng.uniform(size=(9000, 4)) < 0.3, 0.0, rng.uniform(size=(9000, 4)))
+    touched, kept = np.empty_like(vertices), np.empty_like(vertices)
+    run_rows(stencil_ids, vertices.shape[0], indices, vertices, weights, touched, kept)
+    np.testing.assert_array_equal(touched, indices[vertices])
+    np.testing.assert_array_equal(kept, np.where(weights > 0.0, indices[vertices], -1))
 
 
 def test_rows_holding_a_removed_probe_are_the_numpy_scans() -> None:
