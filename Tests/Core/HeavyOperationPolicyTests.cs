@@ -1,29 +1,67 @@
 using Lpnn.Probes.Core.Placement;
+using Lpnn.Probes.Core.Selection;
 using NUnit.Framework;
 
 namespace Lpnn.Probes.Core.Tests
 {
     /// <summary>The one rule every heavy inspector button asks: time from the point count and the rates measured in
-    /// Documentation~/benchmarks.md (§7.4, §11.3), a confirmation above 10 s or, without a measured rate, above 250,000 points.</summary>
+    /// Documentation~/benchmarks.md (§7.4, §11.3), a confirmation above 10 s or, without a measured rate, above 250,000 points,
+    /// and the placement panel's line of Apply's expected time.</summary>
     [TestFixture]
     public class HeavyOperationPolicyTests
     {
         [Test]
-        public void RefinementAtAMillionPointsIsMinutesFromTheMeasuredRound()
+        public void ApplysStagesGoThroughTheTwoMeasuredLevels()
         {
-            // §11.3: one round 2.49 s at 10⁶ points; §11.2: up to 150 rounds on a whole level.
-            var estimate = HeavyOperationPolicy.Estimate(1000000, new[] { HeavyOperation.BatchedRefinement });
-            Assert.That(estimate.Seconds, Is.EqualTo(150 * 2.49).Within(1e-6));
-            Assert.That(estimate.NeedsConfirmation, Is.True);
-            StringAssert.Contains("about 7 min", estimate.Describe());
+            // §11.3, the Apply rehearsal on ctf_compromise (136,512 points) and at 0.8128 m (1,151,667): first stage + insertion
+            // rounds 0.4 + 9.7 and 5.5 + 72.6 s, tolerance search 5.9 and 42.3 s, refinement 18.3 and 95.4 s.
+            var cases = new[]
+            {
+                new { Op = HeavyOperation.InsertionRounds, Small = 10.1, Large = 78.1 },
+                new { Op = HeavyOperation.ToleranceSearch, Small = 5.9, Large = 42.3 },
+                new { Op = HeavyOperation.BatchedRefinement, Small = 18.3, Large = 95.4 },
+            };
+            foreach (var c in cases)
+            {
+                Assert.That(HeavyOperationPolicy.Estimate(136512, new[] { c.Op }).Seconds, Is.EqualTo(c.Small).Within(1e-9), c.Op.ToString());
+                Assert.That(HeavyOperationPolicy.Estimate(1151667, new[] { c.Op }).Seconds, Is.EqualTo(c.Large).Within(1e-9), c.Op.ToString());
+            }
         }
 
-        [TestCase(10000, false)]   // 3.7 s
-        [TestCase(100000, true)]   // 37 s
+        [Test]
+        public void TheWholeDefaultApplyAtTheMeasuredLevelsIsItsMeasuredTotal()
+        {
+            var apply = HeavyOperationPolicy.PlacementOperations(true, true, true, false);
+            // §11.3 totals: 34.4 s and 215.9 s (the first stage's 0.1 s rounding aside).
+            Assert.That(HeavyOperationPolicy.Estimate(136512, apply).Seconds, Is.EqualTo(34.3).Within(1e-9));
+            Assert.That(HeavyOperationPolicy.Estimate(1151667, apply).Seconds, Is.EqualTo(215.8).Within(1e-9));
+            StringAssert.StartsWith("about 4 min", HeavyOperationPolicy.Estimate(1151667, apply).Describe());
+        }
+
+        [Test]
+        public void RefinementAtAMillionPointsIsAboutAMinuteAndAHalf()
+        {
+            var estimate = HeavyOperationPolicy.Estimate(1000000, new[] { HeavyOperation.BatchedRefinement });
+            Assert.That(estimate.Seconds, Is.EqualTo(18.3 + (95.4 - 18.3) / (1151667 - 136512) * (1000000 - 136512)).Within(1e-9));
+            Assert.That(estimate.NeedsConfirmation, Is.True);
+            StringAssert.StartsWith("about 85 s at the rates measured under Mono", estimate.Describe());
+            StringAssert.DoesNotContain("tetrahedralisations", estimate.Describe());
+        }
+
+        [TestCase(1000, false)]    // 8.0 s: the refinement's rounds cost even on a small volume
+        [TestCase(100000, true)]   // 15.5 s
         public void RefinementIsConfirmedAboveTenSeconds(long points, bool confirmed)
         {
             var estimate = HeavyOperationPolicy.Estimate(points, new[] { HeavyOperation.BatchedRefinement });
             Assert.That(estimate.NeedsConfirmation, Is.EqualTo(confirmed), "estimate " + estimate.Seconds + " s");
+        }
+
+        [Test]
+        public void AnEmptyGridCostsNothing()
+        {
+            var estimate = HeavyOperationPolicy.Estimate(0, HeavyOperationPolicy.PlacementOperations(true, true, true, false));
+            Assert.That(estimate.Seconds, Is.EqualTo(0));
+            Assert.That(estimate.NeedsConfirmation, Is.False);
         }
 
         [Test]
@@ -34,6 +72,9 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(atAMillion, Is.EqualTo(100 * atTenThousand).Within(1e-9));
             // 11 rounds' worth of the 4.90 s round plus the reference lighting and typical tetrahedron (2.48 + 7.45 s).
             Assert.That(atAMillion, Is.EqualTo(11 * 4.90 + 2.48 + 7.45).Within(1e-6));
+            // Its rate leaves Unity's tetrahedralisations out, and says so.
+            StringAssert.EndsWith("plus Unity's tetrahedralisations",
+                HeavyOperationPolicy.Estimate(1000000, new[] { HeavyOperation.InsertionRanking }).Describe());
         }
 
         [TestCase(250000, false)]
@@ -41,6 +82,7 @@ namespace Lpnn.Probes.Core.Tests
         public void StepsWithoutAMeasuredRateFallBackToTheGridSize(long points, bool confirmed)
         {
             var estimate = HeavyOperationPolicy.Estimate(points, new[] { HeavyOperation.Lighting });
+            Assert.That(HeavyOperationPolicy.FixedSeconds(HeavyOperation.Lighting), Is.EqualTo(0));
             Assert.That(estimate.NeedsConfirmation, Is.EqualTo(confirmed));
             Assert.That(estimate.Seconds, Is.EqualTo(0));
             Assert.That(estimate.FullyMeasured, Is.False);
@@ -50,20 +92,73 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void OperationsAddUp()
         {
-            var ops = new[] { HeavyOperation.InsertionRanking, HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement };
+            var ops = new[] { HeavyOperation.InsertionRounds, HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement };
             double sum = 0;
             foreach (var op in ops) sum += HeavyOperationPolicy.Estimate(50000, new[] { op }).Seconds;
             Assert.That(HeavyOperationPolicy.Estimate(50000, ops).Seconds, Is.EqualTo(sum).Within(1e-9));
         }
 
         [Test]
-        public void ApplyOfARefinedInsertionRunsRankingSearchAndRefinement()
+        public void ApplyOfARefinedInsertionRunsRoundsSearchAndRefinement()
         {
             Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, false),
-                Is.EqualTo(new[] { HeavyOperation.InsertionRanking, HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement }));
+                Is.EqualTo(new[] { HeavyOperation.InsertionRounds, HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement }));
             Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, true),
-                Is.EqualTo(new[] { HeavyOperation.InsertionRanking, HeavyOperation.ToleranceSearch }));
+                Is.EqualTo(new[] { HeavyOperation.InsertionRounds, HeavyOperation.ToleranceSearch }));
+            Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, false, rankingKnown: true),
+                Is.EqualTo(new[] { HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement }));
             Assert.That(HeavyOperationPolicy.PlacementOperations(false, false, true, false), Is.Empty);
+        }
+
+        [TestCase(0.2, "under a second")]
+        [TestCase(1.0, "about 1 s")]
+        [TestCase(6.1, "about 7 s")]
+        [TestCase(10.0, "about 10 s")]
+        [TestCase(34.3, "about 35 s")]
+        [TestCase(37.4, "about 35 s")]
+        [TestCase(37.5, "about 40 s")]
+        [TestCase(89.9, "about 90 s")]
+        [TestCase(90.0, "about 2 min")]
+        [TestCase(215.8, "about 4 min")]
+        [TestCase(5399, "about 90 min")]
+        [TestCase(5400, "about 1.5 h")]
+        public void TimesAreRoundedToWhatAReaderNeeds(double seconds, string text)
+        {
+            Assert.That(HeavyOperationPolicy.ApproximateTime(seconds), Is.EqualTo(text));
+        }
+
+        [Test]
+        public void TheApplyLineOfTheDefaultNamesItsTimeStepsAndSource()
+        {
+            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false);
+            Assert.That(line, Is.EqualTo("Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the refinement in batches; " +
+                                         "C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
+                                         "Documentation~/benchmarks.md §11.3)."));
+        }
+
+        [Test]
+        public void TheApplyLineSaysWhatItCannotKnow()
+        {
+            StringAssert.Contains("once the grid is built",
+                HeavyOperationPolicy.ApplyLine(0, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false));
+            StringAssert.StartsWith("Apply: under a second for 1,272 points",
+                HeavyOperationPolicy.ApplyLine(1272, PlacementMethod.Insertion, SelectionPolicy.Budget, false, true, true));
+            StringAssert.Contains("ranks the stored scores",
+                HeavyOperationPolicy.ApplyLine(5000, PlacementMethod.Network, SelectionPolicy.Spread, true, false, false));
+            string budget = HeavyOperationPolicy.ApplyLine(50000, PlacementMethod.GuidedInsertion, SelectionPolicy.Budget, true, false, false);
+            StringAssert.Contains("(guided insertion rounds and the refinement in batches;", budget);
+            StringAssert.Contains("a budget of many probes takes more rounds", budget);
+            StringAssert.Contains("guided rounds priced as plain insertion's", budget);
+            string huge = HeavyOperationPolicy.ApplyLine(3000000, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false);
+            StringAssert.Contains("extrapolated beyond the 1,151,667 points measured", huge);
+            StringAssert.StartsWith("Apply: about 9 min for 3,000,000 points", huge);
+        }
+
+        [Test]
+        public void TheNetworksToleranceSearchIsItsOnlyHeavyStep()
+        {
+            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.Network, SelectionPolicy.Tolerance, true, false, false);
+            StringAssert.StartsWith("Apply: about 6 s for 136,512 points (the tolerance search;", line);
         }
 
         [Test]

@@ -8,10 +8,19 @@ namespace Lpnn.Probes.Editor
     /// <see cref="HeavyOperationPolicy"/>'s estimate (the rule itself lives in Core).</summary>
     internal static class HeavyOperations
     {
-        /// <summary>Apply, or Find probes (<paramref name="searchOnly"/>: the search without the refinement).</summary>
-        public static List<HeavyOperation> Placement(LpnnVolume volume, SelectionPolicy policy, bool searchOnly) =>
+        /// <summary>Apply, or Find probes (<paramref name="searchOnly"/>: the search without the refinement); no insertion rounds
+        /// when the whole ranking is known (<paramref name="rankingKnown"/>).</summary>
+        public static List<HeavyOperation> Placement(LpnnVolume volume, SelectionPolicy policy, bool searchOnly, bool rankingKnown = false) =>
             HeavyOperationPolicy.PlacementOperations(PlacementMethods.RanksByInsertion(volume.Method), policy == SelectionPolicy.Tolerance,
-                volume.RefineInBatches, searchOnly);
+                volume.RefineInBatches, searchOnly, RankingUsed(volume, rankingKnown));
+
+        /// <summary>The placement panel's line of Apply's expected time (the text is Core's <see cref="HeavyOperationPolicy.ApplyLine"/>);
+        /// <paramref name="previewKnown"/>: Apply writes the preview as it is.</summary>
+        public static string ApplyLine(LpnnVolume volume, SelectionPolicy policy, long points, bool rankingKnown, bool previewKnown) =>
+            HeavyOperationPolicy.ApplyLine(points, volume.Method, policy, volume.RefineInBatches, RankingUsed(volume, rankingKnown), previewKnown);
+
+        /// <summary>A known ranking spares Apply the rounds unless it keeps pinned probes (a fresh order starts from them).</summary>
+        private static bool RankingUsed(LpnnVolume volume, bool rankingKnown) => rankingKnown && !volume.KeepPinnedProbes;
 
         /// <summary>Run all: every step the volume's method needs, then its placement.</summary>
         public static List<HeavyOperation> RunAll(LpnnVolume volume)

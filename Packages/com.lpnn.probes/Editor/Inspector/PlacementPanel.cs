@@ -52,13 +52,17 @@ namespace Lpnn.Probes.Editor
             var preview = PreviewCount(volume, session);
             var placement = steps[PipelineStep.Placement];
             long points = session.Grid != null ? session.Grid.Count : 0;
+            bool rankingKnown = byInsertion && KnownInsertionRanking(volume, session) != null;
+            // What Apply will cost for this many points, before it is pressed (the text and rates are Core's HeavyOperationPolicy).
+            EditorGUILayout.LabelField(HeavyOperations.ApplyLine(volume, policy, points, rankingKnown, preview != null && !refines),
+                EditorStyles.wordWrappedMiniLabel);
             using (new EditorGUILayout.HorizontalScope())
             {
                 using (new EditorGUI.DisabledScope((needsScores && volume.LastScores.IsEmpty) || (byInsertion && session.Sh == null)))
                 {
                     // Each heavy button asks HeavyOperationPolicy first; after a dialog or a long step the GUI pass ends, since the
                     // HorizontalScope's layout group is gone by then (InspectorLayout.EndGuiAfterModal, as ExportPanel does).
-                    if (byInsertion && KnownInsertionRanking(volume, session) == null && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
+                    if (byInsertion && !rankingKnown && GUILayout.Button(LpnnVolumeStyles.RankByInsertion))
                     {
                         if (LpnnDialogs.ConfirmHeavy(points, "rank every point by insertion", HeavyOperation.InsertionRanking))
                             StepRunner.Run(volume, placement, (progress, cancel) => RankByInsertion(volume, session, progress, cancel));
@@ -66,14 +70,14 @@ namespace Lpnn.Probes.Editor
                     }
                     if (policy == SelectionPolicy.Tolerance && GUILayout.Button(LpnnVolumeStyles.FindProbes))
                     {
-                        if (LpnnDialogs.ConfirmHeavy(points, "search the tolerance", HeavyOperations.Placement(volume, policy, true)))
+                        if (LpnnDialogs.ConfirmHeavy(points, "search the tolerance", HeavyOperations.Placement(volume, policy, true, rankingKnown)))
                             StepRunner.Run(volume, placement, (progress, cancel) => SearchTolerance(volume, session, progress, cancel));
                         InspectorLayout.EndGuiAfterModal(edited);
                     }
                     if (GUILayout.Button(LpnnVolumeStyles.Apply))
                     {
                         bool known = preview != null && !refines;
-                        if (known || LpnnDialogs.ConfirmHeavy(points, "place the probes", HeavyOperations.Placement(volume, policy, false)))
+                        if (known || LpnnDialogs.ConfirmHeavy(points, "place the probes", HeavyOperations.Placement(volume, policy, false, rankingKnown)))
                             runStep(PipelineStep.Placement, (progress, cancel) =>
                                 known ? LpnnPipeline.Apply(volume, session, preview) : LpnnPipeline.Apply(volume, session, progress, cancel));
                         InspectorLayout.EndGuiAfterModal(edited);

@@ -1,6 +1,8 @@
 using System;
 using System.Collections.Generic;
 using System.Globalization;
+using Lpnn.Probes.Core.Numerics;
+using Lpnn.Probes.Core.Selection;
 
 namespace Lpnn.Probes.Core.Placement
 {
@@ -11,12 +13,15 @@ namespace Lpnn.Probes.Core.Placement
         Lighting = 1,
         Features = 2,
         Scoring = 3,
-        /// <summary>The whole insertion ranking (Rank by insertion).</summary>
+        /// <summary>The whole insertion ranking (Rank by insertion): every point ranked.</summary>
         InsertionRanking = 4,
         /// <summary>The tolerance search's placement-error evaluations (Find probes, Apply with a tolerance).</summary>
         ToleranceSearch = 5,
         /// <summary>Refine in batches (Apply of an insertion method with the option on).</summary>
         BatchedRefinement = 6,
+        /// <summary>The insertion rounds Apply and Find probes read, lazily, up to the policy's answer (Quality.InsertionOrder),
+        /// with the reference lighting and typical tetrahedron they start from.</summary>
+        InsertionRounds = 7,
     }
 
     /// <summary>What a heavy step will cost, and whether the inspector asks before running it.</summary>
@@ -26,33 +31,38 @@ namespace Lpnn.Probes.Core.Placement
         public readonly double Seconds;
         /// <summary>Whether every operation has a measured rate (else Seconds covers only some of the work).</summary>
         public readonly bool FullyMeasured;
+        /// <summary>Whether some operation's rate leaves out Unity's tetrahedralisations (the whole ranking's, §7.4).</summary>
+        public readonly bool ExcludesTetrahedralisations;
         public readonly bool NeedsConfirmation;
         public readonly long Points;
 
-        public HeavyEstimate(long points, double seconds, bool fullyMeasured, bool needsConfirmation)
+        public HeavyEstimate(long points, double seconds, bool fullyMeasured, bool needsConfirmation, bool excludesTetrahedralisations = false)
         {
             Points = points;
             Seconds = seconds;
             FullyMeasured = fullyMeasured;
             NeedsConfirmation = needsConfirmation;
+            ExcludesTetrahedralisations = excludesTetrahedralisations;
         }
 
-        /// <summary>"about 37 s" / "about 6 min", with what the figure leaves out; empty when nothing was measured.</summary>
+        /// <summary>"about 35 s" / "about 6 min" at the rates measured under Mono, with what the figure leaves out; empty when
+        /// nothing was measured.</summary>
         public string Describe()
         {
             if (Seconds <= 0) return "";
-            string time = Seconds < 90
-                ? Math.Ceiling(Seconds).ToString(CultureInfo.InvariantCulture) + " s"
-                : Math.Ceiling(Seconds / 60).ToString(CultureInfo.InvariantCulture) + " min";
-            return "about " + time + " of C# work at the rates measured under Mono (Documentation~/benchmarks.md §7.4, §11.3), " +
-                   "plus Unity's tetrahedralisations" + (FullyMeasured ? "" : " and the steps without a measured rate");
+            var left = new List<string>();
+            if (ExcludesTetrahedralisations) left.Add("Unity's tetrahedralisations");
+            if (!FullyMeasured) left.Add("the steps without a measured rate");
+            return HeavyOperationPolicy.ApproximateTime(Seconds) + " at the rates measured under Mono (Documentation~/benchmarks.md §7.4, §11.3)" +
+                   (left.Count > 0 ? ", plus " + string.Join(" and ", left) : "");
         }
     }
 
     /// <summary>One rule for every heavy button: estimate the time from the volume's point count and the rates measured in
     /// Documentation~/benchmarks.md, and ask before anything expected to take more than <see cref="ConfirmAboveSeconds"/>,
     /// or, for steps without a measured rate (they run inside Unity: lighting, rays, inference), before grids larger than
-    /// <see cref="LargeGrid"/> points.</summary>
+    /// <see cref="LargeGrid"/> points. The same rates give the placement panel's line of Apply's expected time
+    /// (<see cref="ApplyLine"/>).</summary>
     internal static class HeavyOperationPolicy
     {
         /// <summary>Points above which a step without a measured rate is confirmed.</summary>
@@ -60,19 +70,37 @@ namespace Lpnn.Probes.Core.Placement
         /// <summary>Expected seconds above which a step is confirmed (issue 31: "more than ~10 s").</summary>
         public const double ConfirmAboveSeconds = 10.0;
 
+        // ---- The whole insertion ranking (Rank by insertion), benchmarks.md §7.4: no C# timing of it exists on real levels
+        // (the tests' tetrahedraliser is quadratic), so it is priced from one round given the mesh and excludes Unity's
+        // tetrahedralisations.
+
         /// <summary>Rounds of a whole insertion ranking's work relative to its last round: the prefixes grow by 10 % a round,
         /// so the total is ~11x the last (benchmarks.md §7.4).</summary>
         private const double RankingRoundsOfWork = 11.0;
         /// <summary>One insertion round given the mesh, 4.90 s at 10⁶ points, plus the reference lighting (2.48 s) and the
         /// typical tetrahedron (7.45 s) computed once (benchmarks.md §7.4, Mono 6.8).</summary>
         private const double RankingSecondsPerPoint = RankingRoundsOfWork * 4.90e-6 + (2.48e-6 + 7.45e-6);
-        /// <summary>One batched-refinement round, 2.49 s at 10⁶ points (benchmarks.md §11.3, Mono), times the 150 rounds a
-        /// whole level takes at most (§11.2: 90–150).</summary>
-        private const double RefinementSecondsPerPoint = 150 * 2.49e-6;
-        /// <summary>The tolerance search's evaluations of every point (ToleranceSearch: at most 2·log₂N + 2; 18–30 measured in
-        /// §7.4), each priced as one refinement round's pass over the points (§11.3), an upper bound.</summary>
-        private const double SearchEvaluations = 30;
-        private const double SearchSecondsPerPoint = SearchEvaluations * 2.49e-6;
+
+        // ---- What Apply runs, benchmarks.md §11.3 "The whole default selection on real levels": the Apply rehearsal of the
+        // default (insertion rounds read lazily, the tolerance search at τ = 0.05, the batched refinement) under Mono 6.8,
+        // 2026-11-27, with the insertion rounds located incrementally, on two captures of the validation level
+        // ctf_compromise; stage wall seconds including the calls to Python's Qhull over a pipe, which stand in for Unity's
+        // tetrahedraliser (0.06 s a call at 10⁶ points). Each stage is priced by the line through the two rows (a fixed part
+        // — the rounds' count hardly depends on the size — and a part per point).
+
+        /// <summary>ctf_compromise, 136,512 points (§11.3).</summary>
+        public const long SmallerMeasuredLevel = 136512;
+        /// <summary>ctf_compromise at 0.8128 m, 1,151,667 points (§11.3): beyond it the rates are extrapolated.</summary>
+        public const long LargestMeasuredLevel = 1151667;
+        /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.4 + 9.7 s and 5.5 + 72.6 s.</summary>
+        private const double RoundsAtSmaller = 0.4 + 9.7, RoundsAtLargest = 5.5 + 72.6;
+        /// <summary>The tolerance search's evaluations (18 and 19): 5.9 s and 42.3 s.</summary>
+        private const double SearchAtSmaller = 5.9, SearchAtLargest = 42.3;
+        /// <summary>The batched refinement (150 and 181 tetrahedralisations): 18.3 s and 95.4 s.</summary>
+        private const double RefinementAtSmaller = 18.3, RefinementAtLargest = 95.4;
+
+        private static double PerPoint(double atSmaller, double atLargest) => (atLargest - atSmaller) / (LargestMeasuredLevel - SmallerMeasuredLevel);
+        private static double Fixed(double atSmaller, double atLargest) => atSmaller - PerPoint(atSmaller, atLargest) * SmallerMeasuredLevel;
 
         /// <summary>Seconds per point of one operation under Mono, or NaN when only Unity can measure it.</summary>
         public static double SecondsPerPoint(HeavyOperation operation)
@@ -80,8 +108,9 @@ namespace Lpnn.Probes.Core.Placement
             switch (operation)
             {
                 case HeavyOperation.InsertionRanking: return RankingSecondsPerPoint;
-                case HeavyOperation.ToleranceSearch: return SearchSecondsPerPoint;
-                case HeavyOperation.BatchedRefinement: return RefinementSecondsPerPoint;
+                case HeavyOperation.InsertionRounds: return PerPoint(RoundsAtSmaller, RoundsAtLargest);
+                case HeavyOperation.ToleranceSearch: return PerPoint(SearchAtSmaller, SearchAtLargest);
+                case HeavyOperation.BatchedRefinement: return PerPoint(RefinementAtSmaller, RefinementAtLargest);
                 case HeavyOperation.Grid:
                 case HeavyOperation.Lighting:
                 case HeavyOperation.Features:
@@ -92,32 +121,106 @@ namespace Lpnn.Probes.Core.Placement
             }
         }
 
-        /// <summary>The estimate of running <paramref name="operations"/> one after another on <paramref name="points"/> points.</summary>
+        /// <summary>Seconds an operation costs whatever the size (its rounds), 0 for those priced per point alone or unmeasured.</summary>
+        public static double FixedSeconds(HeavyOperation operation)
+        {
+            switch (operation)
+            {
+                case HeavyOperation.InsertionRounds: return Fixed(RoundsAtSmaller, RoundsAtLargest);
+                case HeavyOperation.ToleranceSearch: return Fixed(SearchAtSmaller, SearchAtLargest);
+                case HeavyOperation.BatchedRefinement: return Fixed(RefinementAtSmaller, RefinementAtLargest);
+                default:
+                    SecondsPerPoint(operation);  // names an unknown operation
+                    return 0;
+            }
+        }
+
+        /// <summary>The estimate of running <paramref name="operations"/> one after another on <paramref name="points"/> points
+        /// (no time at all on an empty grid).</summary>
         public static HeavyEstimate Estimate(long points, IEnumerable<HeavyOperation> operations)
         {
             if (points < 0) throw new LpnnException("the point count is " + points + "; it cannot be negative");
             if (operations == null) throw new ArgumentNullException(nameof(operations));
             double seconds = 0;
-            bool fullyMeasured = true, anyUnmeasured = false;
+            bool fullyMeasured = true, anyUnmeasured = false, excludesTetrahedralisations = false;
             foreach (var operation in operations)
             {
                 double rate = SecondsPerPoint(operation);
                 if (double.IsNaN(rate)) { fullyMeasured = false; anyUnmeasured = true; }
-                else seconds += rate * points;
+                else if (points > 0) seconds += Math.Max(0, FixedSeconds(operation) + rate * points);
+                if (operation == HeavyOperation.InsertionRanking) excludesTetrahedralisations = true;
             }
             bool confirm = seconds > ConfirmAboveSeconds || (anyUnmeasured && points > LargeGrid);
-            return new HeavyEstimate(points, seconds, fullyMeasured, confirm);
+            return new HeavyEstimate(points, seconds, fullyMeasured, confirm, excludesTetrahedralisations);
         }
 
-        /// <summary>What Apply (or Find probes, <paramref name="searchOnly"/>) runs for a placement: insertion methods rank
-        /// (lazily on Apply, but up to the whole ranking), a tolerance policy searches, and Refine in batches refines.</summary>
-        public static List<HeavyOperation> PlacementOperations(bool byInsertion, bool tolerance, bool refineInBatches, bool searchOnly)
+        /// <summary>What Apply (or Find probes, <paramref name="searchOnly"/>) runs for a placement: insertion methods read the
+        /// insertion rounds up to the answer (none when the whole ranking is already known, <paramref name="rankingKnown"/>), a
+        /// tolerance policy searches, and Refine in batches refines.</summary>
+        public static List<HeavyOperation> PlacementOperations(bool byInsertion, bool tolerance, bool refineInBatches, bool searchOnly,
+            bool rankingKnown = false)
         {
             var operations = new List<HeavyOperation>();
-            if (byInsertion) operations.Add(HeavyOperation.InsertionRanking);
+            if (byInsertion && !rankingKnown) operations.Add(HeavyOperation.InsertionRounds);
             if (tolerance) operations.Add(HeavyOperation.ToleranceSearch);
             if (byInsertion && refineInBatches && !searchOnly) operations.Add(HeavyOperation.BatchedRefinement);
             return operations;
         }
+
+        /// <summary>"under a second", "about 7 s" (whole seconds up to 10 s, rounded up), "about 35 s" (to 5 s below 90 s),
+        /// "about 4 min" (whole minutes below 90 min), "about 2.5 h".</summary>
+        public static string ApproximateTime(double seconds)
+        {
+            if (double.IsNaN(seconds) || seconds < 0) throw new ArgumentOutOfRangeException(nameof(seconds), seconds, "not a duration");
+            var culture = CultureInfo.InvariantCulture;
+            if (seconds < 1) return "under a second";
+            if (seconds < 10) return "about " + Math.Ceiling(seconds).ToString(culture) + " s";
+            if (seconds < 90) return "about " + (5 * Math.Max(2, Math.Round(seconds / 5, MidpointRounding.AwayFromZero))).ToString(culture) + " s";
+            if (seconds < 90 * 60) return "about " + Math.Max(2, Math.Round(seconds / 60, MidpointRounding.AwayFromZero)).ToString(culture) + " min";
+            return "about " + Math.Round(seconds / 3600, 1, MidpointRounding.AwayFromZero).ToString("0.0", culture) + " h";
+        }
+
+        /// <summary>The placement panel's line of what Apply will cost for the volume's <paramref name="points"/>, shown before
+        /// Apply is pressed: e.g. "Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the
+        /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md §11.3)".
+        /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).</summary>
+        public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool refineInBatches, bool rankingKnown,
+            bool previewKnown)
+        {
+            if (points <= 0) return "Apply: its expected time shows once the grid is built.";
+            string count = " for " + InvariantFormat.Count(points) + " points";
+            if (previewKnown) return "Apply: under a second" + count + " (it writes the selection shown above).";
+            bool byInsertion = PlacementMethods.RanksByInsertion(method);
+            var operations = PlacementOperations(byInsertion, policy == SelectionPolicy.Tolerance, refineInBatches, false, rankingKnown);
+            if (operations.Count == 0)
+                return "Apply: no insertion rounds, tolerance search or refinement to wait for" + count + " (it ranks the stored scores).";
+            var estimate = Estimate(points, operations);
+            var steps = new List<string>();
+            foreach (var operation in operations) steps.Add(StepName(operation, method));
+            var notes = new List<string>();
+            if (byInsertion && !rankingKnown && policy != SelectionPolicy.Tolerance)
+                notes.Add("measured at τ = 0.05: a budget of many probes takes more rounds");
+            if (PlacementMethods.GuidesInsertion(method) && !rankingKnown) notes.Add("guided rounds priced as plain insertion's");
+            if (points > LargestMeasuredLevel)
+                notes.Add("extrapolated beyond the " + InvariantFormat.Count(LargestMeasuredLevel) + " points measured");
+            return "Apply: " + ApproximateTime(estimate.Seconds) + count + " (" + JoinSteps(steps) +
+                   "; C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
+                   "Documentation~/benchmarks.md §11.3" + (notes.Count > 0 ? "; " + string.Join("; ", notes) : "") + ").";
+        }
+
+        private static string StepName(HeavyOperation operation, PlacementMethod method)
+        {
+            switch (operation)
+            {
+                case HeavyOperation.InsertionRounds: return PlacementMethods.GuidesInsertion(method) ? "guided insertion rounds" : "insertion rounds";
+                case HeavyOperation.ToleranceSearch: return "the tolerance search";
+                case HeavyOperation.BatchedRefinement: return "the refinement in batches";
+                case HeavyOperation.InsertionRanking: return "the whole insertion ranking";
+                default: return operation.ToString().ToLowerInvariant();
+            }
+        }
+
+        private static string JoinSteps(List<string> steps) =>
+            steps.Count == 1 ? steps[0] : string.Join(", ", steps.GetRange(0, steps.Count - 1)) + " and " + steps[steps.Count - 1];
     }
 }
