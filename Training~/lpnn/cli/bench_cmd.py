@@ -1,7 +1,8 @@
 """`lpnn bench`: the speed/accuracy benchmark of placement methods (Documentation~/quality.md §6).
 
   lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
-             [--repeats 3] [--workers N] [--scheduler ADDRESS] --out DIR
+             [--repeats 3] [--workers N] [--scheduler ADDRESS] [--methods M1,M2] [--no-budgets]
+             [--reference-stop E | --no-reference] --out DIR
 
 For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
 (spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (guided insertion + seeded exact refinement,
@@ -19,6 +20,10 @@ bench.csv is rewritten (atomically) as each capture finishes, a method or captur
 worker keeps dying) is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
 goes on; the exit code is 1 when anything failed. The blockwise reference (an hour or more on a level of 10^5-10^6
 points) keeps its finished blocks in DIR/<capture>.blockwise.npz as it goes: the same command run again resumes it.
+
+For whole levels where the full run would not fit in the time (the trade table, benchmarks.md): --methods runs a
+subset, --no-budgets only the tolerance rows, --reference-stop E stops the fast reference above E (e.g. 2τ: its curve
+down to there, without the dearest tail), --no-reference computes none (probes, error and time without ratios).
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    from ..quality.bench import BENCH_METHODS
     from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
     from .arguments import add_engine_arguments, fractions, refine_factor, tolerance
 
@@ -54,6 +60,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--refine-limit", type=int, default=REFINE_BENCH_LIMIT, metavar="N",
                         help="above N points the lpnn-refine tier is skipped: each of its rows decimates again "
                              f"(default {REFINE_BENCH_LIMIT:,})")
+    parser.add_argument("--methods", type=method_names, metavar="M1,M2,...",
+                        help="run only these methods (default: every one; the yardstick always runs): "
+                             + ", ".join(BENCH_METHODS))
+    parser.add_argument("--no-budgets", action="store_true", help="skip the budget rows (the tolerance rows only)")
+    parser.add_argument("--reference-stop", type=float, metavar="E",
+                        help="stop the fast reference once its mean error exceeds E, e.g. 2x the tolerance: its curve is "
+                             "the full one down to there, without the last and dearest removals (a budget whose count "
+                             "lies below gets no ratio)")
+    parser.add_argument("--no-reference", action="store_true",
+                        help="compute no reference (every ratio NaN; yardstick column 'none'): where neither the full nor "
+                             "the blockwise reference fits in the time, the rows still give probes, error and time")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (bench.csv and PNG figures)")
     parser.set_defaults(handler=run)
 
@@ -80,10 +97,18 @@ def run(args: argparse.Namespace) -> int:
 
         OnnxScorer(args.model)  # a missing or unreadable model is reported before any work starts
     engine_workers, inner_workers = engine_and_inner_workers(args, len(files))
-    config = BenchConfig(budgets=tuple(args.budgets), tolerance=None if args.no_tolerance else args.tolerance,
+    if args.no_budgets and args.no_tolerance:
+        raise UserError("--no-budgets with --no-tolerance leaves no row to measure")
+    if args.reference_stop is not None and args.no_reference:
+        raise UserError("--reference-stop and --no-reference exclude each other: the first stops the reference, the second skips it")
+    if args.reference_stop is not None and not args.reference_stop > 0:
+        raise UserError(f"--reference-stop {args.reference_stop:g} must be a positive mean error (e.g. 0.1, twice τ = 0.05)")
+    config = BenchConfig(budgets=() if args.no_budgets else tuple(args.budgets),
+                         tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
                          workers=inner_workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
-                         refine_limit=args.refine_limit, checkpoints=args.out)
+                         refine_limit=args.refine_limit, checkpoints=args.out, methods=args.methods,
+                         reference_stop=args.reference_stop, yardstick="none" if args.no_reference else "auto")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     stems = figure_stems(files)
@@ -112,6 +137,18 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {failure.capture}: {failure.method}: {failure.reason}")
         return 1
     return 0
+
+
+def method_names(text: str) -> frozenset[str]:
+    """argparse type: comma-separated names of `lpnn bench` methods."""
+    from ..quality.bench import BENCH_METHODS
+
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in names if name not in BENCH_METHODS]
+    if not names or unknown:
+        raise argparse.ArgumentTypeError(f"unknown method(s) {', '.join(unknown) or '(none given)'}; "
+                                         f"choose from {', '.join(BENCH_METHODS)}")
+    return frozenset(names)
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,12 @@ Times are medians over `repeats` runs for the cheap methods; the references and 
 capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
 the tiers), selection (ranking + prefix + tetrahedron guarantee) and refinement. A tolerance
 row's time includes its error evaluations (the search needs them).
+
+Three options shape a run on whole levels (the trade table, benchmarks.md "The speed/accuracy trade"): `methods` runs only
+the named methods (the yardstick is always computed); `reference_stop` stops the fast reference once its error exceeds it
+(its curve is the full one down to that count, where the last and dearest removals are left out; budgets whose counts lie
+below get no ratio); `yardstick="none"` computes no reference at all (every ratio NaN, column `yardstick` "none": where
+neither reference fits in the time, the rows still give each method's probes, error and time).
 """
 
 from __future__ import annotations
@@ -62,6 +68,10 @@ CSV_COLUMNS = (
     "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error", "leaking",
 )
 T = TypeVar("T")
+# Every method `lpnn bench` can run (`methods` names a subset; the yardstick, fast or blockwise reference, always runs).
+BENCH_METHODS = ("uniform", "random", "heuristic", "apv", "insertion", "insertion-refined", "lpnn-topk", "lpnn",
+                 "lpnn-guided", "lpnn-batched", "lpnn-refine", "faithful-reference")
+LPNN_TIERS = ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched", "lpnn-refine")
 
 
 @dataclass(frozen=True)
@@ -77,6 +87,13 @@ class BenchConfig:
     full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
     refine_limit: int = REFINE_BENCH_LIMIT  # above: no lpnn-refine rows (each decimates again, minutes per row)
     checkpoints: str | None = None  # folder keeping the blockwise reference's finished blocks (a rerun resumes)
+    methods: frozenset[str] | None = None  # run only these methods (None: every one); the yardstick always runs
+    reference_stop: float | None = None  # stop the fast reference above this mean error (None: down to 4 probes)
+    yardstick: str = "auto"  # "auto": fast reference up to full_reference_limit, else blockwise; "none": no reference
+
+    def wants(self, method: str) -> bool:
+        """Whether `method` is to be run (module text)."""
+        return self.methods is None or method in self.methods
 
 
 @dataclass
@@ -163,6 +180,12 @@ class _Yardstick:
     target: Placement | None
 
 
+def _no_yardstick(point_count: int) -> _Yardstick:
+    """No reference (module text): every ratio NaN; the tolerance rows still run."""
+    return _Yardstick("none", _Method("none", lambda count: np.zeros(0, dtype=np.int64), 0.0), lambda count: math.nan,
+                      np.full(point_count + 1, np.nan), None)
+
+
 def _fast_yardstick(method: _Method, tolerance: float | None) -> _Yardstick:
     decimation = method.decimation
     assert decimation is not None
@@ -239,23 +262,29 @@ def _methods(capture: Capture, field_: ReferenceField, grid: EvaluationGrid, con
     ]
     if NEAREST_SURFACE in capture.feature_names:
         rankings.append(("apv", lambda: apv_ranking(grid, capture.features, capture.feature_names), config.repeats))
-    methods = [_uniform_method(grid)]
+    methods = [_uniform_method(grid)] if config.wants("uniform") else []
     for method, make_ranking, repeats in rankings:
+        if not config.wants(method):
+            continue
         try:
             methods.append(_ranking_method(method, grid, make_ranking, repeats))
         except Exception as error:  # recorded; the other methods go on
             failures.append(BenchFailure(name, method, failure_reason(error)))
-    methods.append(_insertion_method("insertion", field_, grid))
+    if config.wants("insertion"):
+        methods.append(_insertion_method("insertion", field_, grid))
+    if reference is None and config.yardstick == "none":
+        return methods, _no_yardstick(field_.point_count)
     if reference is None and field_.point_count > config.full_reference_limit:
         yardstick = _blockwise_yardstick(field_, grid, capture, config, name)
         return methods + [yardstick.method], yardstick
     if reference is None:
-        computed, seconds = timed(lambda: fast_decimation(field_, workers=config.workers), config.reference_repeats)
+        computed, seconds = timed(lambda: fast_decimation(field_, workers=config.workers, stop_above=config.reference_stop),
+                                  config.reference_repeats)
         fast = _reference_method("fast-reference", computed, seconds)
     else:  # computed before (e.g. stored with the labels): not re-timed
         fast = _reference_method("fast-reference", reference, reference.seconds)
     methods.append(fast)
-    if field_.point_count <= config.faithful_limit:
+    if field_.point_count <= config.faithful_limit and config.wants("faithful-reference"):
         faithful, faithful_seconds = timed(lambda: faithful_decimation(field_, max_candidates=config.faithful_limit),
                                            config.reference_repeats)
         methods.append(_reference_method("faithful-reference", faithful, faithful_seconds))
@@ -270,7 +299,8 @@ def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter:
         inference_seconds=timing.inference, selection_seconds=timing.selection, refine_seconds=timing.refine,
         mean_error=quality.irradiance.mean, p95_error=quality.irradiance.p95, smape_mean=quality.smape.mean,
         smape_p95=quality.smape.p95, reference_error=reference_error,
-        error_ratio=guarded_ratio(quality.irradiance.mean, reference_error), yardstick=yardstick,
+        error_ratio=math.nan if math.isnan(reference_error) else guarded_ratio(quality.irradiance.mean, reference_error),
+        yardstick=yardstick,
         in_use_error=quality.in_use_error, leaking=quality.leaking)
 
 
@@ -283,9 +313,9 @@ def _with_target(row: BenchRow, target: Placement) -> BenchRow:
 
 def _policies(config: BenchConfig, yardstick: _Yardstick) -> list[tuple[str, float, dict[str, float]]]:
     """(policy, parameter, keyword arguments) of every row a placement method gets: each budget, and the tolerance when
-    the yardstick has a tolerance answer."""
+    the yardstick has a tolerance answer (or there is no yardstick)."""
     policies = [("budget", fraction, {"budget": fraction}) for fraction in config.budgets]
-    if yardstick.target is not None:
+    if _has_tolerance_rows(config, yardstick):
         policies.append(("tolerance", config.tolerance, {"tolerance": config.tolerance}))
     return policies
 
@@ -296,7 +326,8 @@ def _policy_row(name: str, field_: ReferenceField, method: str, policy: str, par
     if policy == "budget":
         return _row(name, field_, method, policy, parameter, quality, timing,
                     yardstick.error_at(max(quality.probes, MINIMUM_PROBES)), yardstick.name)
-    assert yardstick.target is not None
+    if yardstick.target is None:  # no yardstick (module text): the answer without a ratio
+        return _row(name, field_, method, policy, parameter, quality, timing, math.nan, yardstick.name)
     return _with_target(_row(name, field_, method, policy, parameter, quality, timing, yardstick.target.mean_error,
                              yardstick.name), yardstick.target)
 
@@ -313,7 +344,7 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
                          selection=None if precomputed else selection_seconds)
         rows.append(_policy_row(name, field_, method.name, "budget", fraction, evaluate_placement(field_, indices),
                                 timing, yardstick))
-    if yardstick.target is not None:
+    if _has_tolerance_rows(config, yardstick):
         start = time.perf_counter()
         if method.decimation is not None:
             placement = reference_tolerance(method.decimation, config.tolerance)
@@ -330,6 +361,10 @@ def _ranking_rows(name: str, field_: ReferenceField, method: _Method, config: Be
     return rows
 
 
+def _has_tolerance_rows(config: BenchConfig, yardstick: _Yardstick) -> bool:
+    return config.tolerance is not None and (yardstick.target is not None or yardstick.name == "none")
+
+
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
                yardstick: _Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure],
                insertion_rows: Sequence[BenchRow], refined_rows: Sequence[BenchRow] = ()) -> list[BenchRow]:
@@ -338,21 +373,26 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
     above `refine_limit` points (a decimation per row)."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
     features = feature_seconds(capture)
-    tiers = [("lpnn-topk", {"topk": True}, config.repeats), ("lpnn", {}, config.repeats)]
-    if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit:
+    tiers = [(tier, options, config.repeats) for tier, options in (("lpnn-topk", {"topk": True}), ("lpnn", {}))
+             if config.wants(tier)]
+    if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit and config.wants("lpnn-refine"):
         tiers.append(("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
     policies = _policies(config, yardstick)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    rows = _guided_tier_rows(name, "lpnn-guided", scores, inference, features, failures, insertion_rows,
-                             lambda guide: _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_, grid,
-                                                                                         guide), config, yardstick))
-    if log is not None:
-        log(f"{name}: lpnn-guided done")
-    rows.extend(_guided_tier_rows(name, "lpnn-batched", scores, inference, features, failures, refined_rows,
-                                  lambda guide: _refined_rows(name, field_, grid, config, yardstick, "lpnn-batched",
-                                                              guide)))
-    if log is not None:
-        log(f"{name}: lpnn-batched done")
+    rows: list[BenchRow] = []
+    if config.wants("lpnn-guided"):
+        rows.extend(_guided_tier_rows(name, "lpnn-guided", scores, inference, features, failures, insertion_rows,
+                                      lambda guide: _ranking_rows(name, field_, _insertion_method("lpnn-guided", field_,
+                                                                                                  grid, guide),
+                                                                  config, yardstick)))
+        if log is not None:
+            log(f"{name}: lpnn-guided done")
+    if config.wants("lpnn-batched"):
+        rows.extend(_guided_tier_rows(name, "lpnn-batched", scores, inference, features, failures, refined_rows,
+                                      lambda guide: _refined_rows(name, field_, grid, config, yardstick, "lpnn-batched",
+                                                                  guide)))
+        if log is not None:
+            log(f"{name}: lpnn-batched done")
     for method, options, repeats in tiers:
         for policy, parameter, chosen in policies:
             try:
@@ -431,14 +471,15 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
         if partial is not None:
             partial(rows)
     try:
-        rows.extend(_refined_rows(name, field_, grid, config, yardstick))
-        if log is not None:
-            log(f"{name}: insertion-refined done")
-        if partial is not None:
-            partial(rows)
+        if config.wants("insertion-refined"):
+            rows.extend(_refined_rows(name, field_, grid, config, yardstick))
+            if log is not None:
+                log(f"{name}: insertion-refined done")
+            if partial is not None:
+                partial(rows)
     except Exception as error:  # recorded; the others go on
         failures.append(BenchFailure(name, "insertion-refined", failure_reason(error)))
-    if scorer is not None:
+    if scorer is not None and any(config.wants(tier) for tier in LPNN_TIERS):
         rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures,
                                [row for row in rows if row.method == "insertion"],
                                [row for row in rows if row.method == "insertion-refined"]))

@@ -101,6 +101,7 @@ def time_plot(result: CaptureResult, path: str | os.PathLike) -> Path:
     axes.set_ylabel("time to place (ms, log)")
     axes.set_title(f"{result.name}: time vs probes (stars: tolerance policy)")
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=7)
+    if axes.get_legend_handles_labels()[0]:  # tolerance rows alone (--no-budgets) have no labelled line
+        axes.legend(fontsize=7)
     figure.tight_layout()
     return save_png(plt, figure, Path(path))
