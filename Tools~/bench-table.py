@@ -210,6 +210,8 @@ def trade(specs, notes, given) -> int:
     sets = []
     for spec in specs:
         label, path = _split_spec(spec, "set") if "=" in spec else (Path(spec).parent.name, spec)
+        if not Path(path).is_file():
+            sys.exit(f"set {label!r}: no file {path}")
         sets.append((label, Path(path), demo_rows(path) if path.endswith(".json") else read_rows(path)))
     extra = {}
     for note in notes:
@@ -241,14 +243,18 @@ def trade(specs, notes, given) -> int:
         methods = [m for m in METHOD_ORDER if m != "faithful-reference" or any(r["method"] == m for r in rows)]
         methods = [m for m in methods if m != "blockwise-reference" or "blockwise-reference" in yardsticks]
         methods += [m for m in ordered_methods(rows) if m not in methods]
+        methods += [m for (on, m) in extra if on == label and m not in methods]  # a note names it: show its row
         name = f"{label} ({len(captures)} captures)" if len(captures) > 1 else (
             f"{label} ({int(rows[0]['points']):,} points)" if rows else label)
-        for method in methods:
+        for number, method in enumerate(methods):
+            shown = name if number == 0 else ""  # the set's name on its first row only
             notes_here = list(extra.get((label, method), []))
             if not any(r["method"] == method for r in rows):
                 cells = ["–"] * (len(header) - 1)
-                notes_here.insert(0, _why_not_run(method, rows, failures))
-                print(f"| {name} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")
+                why = _why_not_run(method, rows, failures)
+                if why != "not run" or not notes_here:  # a bare "not run" gives way to the note that says why
+                    notes_here.insert(0, why)
+                print(f"| {shown} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")
                 continue
             cells = []
             for budget in budgets:
@@ -271,7 +277,7 @@ def trade(specs, notes, given) -> int:
             for guided, plain in (("lpnn-guided", "insertion"), ("lpnn-batched", "insertion-refined")):
                 if method == guided and _same_answers(rows, guided, plain) and min(int(r["points"]) for r in rows) > GUIDED_POINT_LIMIT:
                     notes_here.insert(0, f"{plain}'s answers (no guide above {GUIDED_POINT_LIMIT:,} points) + the inference")
-            print(f"| {name} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")
+            print(f"| {shown} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")
     if yardstick_counts:
         print("\n† probes over the yardstick's count given with --given-yardstick (" +
               ", ".join(f"{label}: {count:,}" for label, count in yardstick_counts.items()) + ").")

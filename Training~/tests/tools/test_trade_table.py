@@ -35,8 +35,16 @@ def _run(*args: str) -> list[str]:
 
 
 def _cells(lines: list[str], set_label: str, method: str) -> list[str]:
-    line = next(line for line in lines if line.startswith(f"| {set_label}") and f"| {method} |" in line)
-    return [cell.strip() for cell in line.split("|")[3:-1]]
+    """A method's cells in a set (the set's name stands on its first row only)."""
+    current = None
+    for line in lines[2:]:
+        if not line.startswith("| "):
+            continue
+        first = line.split("|")[1].strip()
+        current = first or current
+        if current == set_label and line.split("|")[2].strip() == method:
+            return [cell.strip() for cell in line.split("|")[3:-1]]
+    raise AssertionError(f"no row {method} in {set_label}")
 
 
 def test_the_trade_table_of_crops_a_level_without_reference_and_the_demo(tmp_path: Path) -> None:
@@ -59,7 +67,8 @@ def test_the_trade_table_of_crops_a_level_without_reference_and_the_demo(tmp_pat
         "insertion-refined": {"probes": 313, "mean_error": 0.05, "seconds": {"selection": 0.3, "refinement": 0.5}},
         "fast-reference": {"probes": 310, "mean_error": 0.05, "seconds": {"reference": 1.7}}}}), encoding="utf-8")
     lines = _run("--trade", f"crops={crops / 'bench.csv'}", f"whole={level / 'bench.csv'}", f"the demo={demo}",
-                 "--given-yardstick", "whole=4,000", "--note", "whole:lpnn-refine=skipped: hours at this size")
+                 "--given-yardstick", "whole=4,000", "--note", "whole:lpnn-refine=skipped: hours at this size",
+                 "--note", "whole:blockwise-reference=not re-run: hours")
     assert lines[0].startswith("| set | method | error ×ref @1 % | error ×ref @20 % | probes ×ref @τ=0.05 | median s @20 % "
                                "| median s @τ | note |")
     # Geometric means over the crops (sqrt(1 x 4 x 1) = 1.59) and the median seconds per crop.
@@ -75,6 +84,8 @@ def test_the_trade_table_of_crops_a_level_without_reference_and_the_demo(tmp_pat
     assert _cells(lines, whole, "lpnn-batched")[-1].startswith("insertion-refined's answers (no guide above 32,768 points)")
     assert "skipped: hours at this size" in _cells(lines, whole, "lpnn-refine")[-1]
     assert _cells(lines, whole, "fast reference (exact)")[-1] == "not run: no reference (lpnn bench --no-reference)"
+    assert _cells(lines, whole, "blockwise reference")[-1] == "not re-run: hours"  # a note says why instead of "not run"
+    assert _cells(lines, whole, "uniform")[-1] == "not run"
     # make demo's answers at tau.
     assert _cells(lines, "the demo (607 points)", "**insertion-refined** (default)") == ["–", "–", "1.01", "–", "0.80", ""]
     assert _cells(lines, "the demo (607 points)", "apv")[-1] == "not among make demo's methods"
