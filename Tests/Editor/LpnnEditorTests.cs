@@ -280,6 +280,31 @@ namespace Lpnn.Probes.Editor.Tests
             Object.DestroyImmediate(block);
         }
 
+        /// <summary>The same block with its primitive BoxCollider (the Corridor sample's case, issue 31): rays that start inside a
+        /// box do not report it, so the overlap query of Core.Features.InsideColliders finds those points; they get back-face
+        /// fraction 1 and are invalid.</summary>
+        [Test]
+        public void PointsInsideABoxColliderAreInvalid()
+        {
+            var block = GameObject.CreatePrimitive(PrimitiveType.Cube);  // keeps its BoxCollider
+            block.transform.position = new Vector3(0, 1.5f, 0);
+            block.transform.localScale = new Vector3(2.2f, 1.2f, 1.2f);
+            var features = (FeaturesResult)RunUpTo(PipelineStep.Features).Last();
+            var grid = _session.Grid;
+            int inside = 0;
+            for (int n = 0; n < grid.Count; n++)
+            {
+                var p = grid.GetPosition(n);
+                bool inBlock = System.Math.Abs(p.X) < 1.1 && p.Y > 0.9 && p.Y < 2.1 && System.Math.Abs(p.Z) < 0.6;
+                if (inBlock) inside++;
+                Assert.That(ProbeValidity.IsInvalid(features.Features.BackFaceFractions[n]), Is.EqualTo(inBlock), "point " + n + " at " + p);
+            }
+            Assert.That(inside, Is.EqualTo(45));
+            Assert.That(features.Features.InsideColliderCount, Is.EqualTo(inside));
+            Assert.That(features.InvalidCount, Is.EqualTo(inside));
+            Object.DestroyImmediate(block);
+        }
+
         [Test]
         public void ApplyIsUndoable()
         {

@@ -113,7 +113,10 @@ namespace Lpnn.Probes.Editor
             var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
             {
-                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(volume.gameObject.scene), progress, cancel);
+                // The rays see meshes from inside (back faces); the overlap query sees the solid colliders rays started in
+                // cannot (Core.Features.InsideColliders).
+                var scene = volume.gameObject.scene;
+                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(scene), new PhysicsColliderQuery(scene), progress, cancel);
                 foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);

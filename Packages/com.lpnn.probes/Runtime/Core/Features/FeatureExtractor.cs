@@ -47,7 +47,13 @@ namespace Lpnn.Probes.Core.Features
         /// <summary>The full lpnn.features.v1 matrix (grid.Count × 19), the scene scale it is relative to, and each point's
         /// back-face fraction from the same rays (<see cref="ProbeValidity"/>).</summary>
         public static FeatureSet Extract(EvaluationGrid grid, float[] sh, IRaycaster raycaster, ProgressCallback progress = null,
-            CancellationToken cancel = default)
+            CancellationToken cancel = default) =>
+            Extract(grid, sh, raycaster, null, progress, cancel);
+
+        /// <summary>As the public overload, and with <paramref name="colliders"/> (null: none) the points inside solid colliders,
+        /// which the rays cannot see, get back-face fraction 1 (<see cref="InsideColliders"/>): invalid.</summary>
+        internal static FeatureSet Extract(EvaluationGrid grid, float[] sh, IRaycaster raycaster, IColliderQuery colliders, ProgressCallback progress,
+            CancellationToken cancel)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (sh == null || sh.Length != (long)grid.Count * ShMath.FloatsPerProbe)
@@ -59,7 +65,18 @@ namespace Lpnn.Probes.Core.Features
             LightingFeatures.Compute(grid, sh, scale, values, stride, progress, cancel);
             var backFaceFractions = new float[grid.Count];
             GeometryFeatures.Compute(grid, raycaster, values, stride, LightingFeatures.Count, backFaceFractions, progress, cancel);
-            return new FeatureSet(Schema, grid.Count, values, scale, backFaceFractions);
+            int insideColliders = 0;
+            if (colliders != null)
+            {
+                bool[] inside = InsideColliders.Find(grid, colliders, progress, cancel);
+                for (int n = 0; n < inside.Length; n++)
+                {
+                    if (!inside[n]) continue;
+                    backFaceFractions[n] = ProbeValidity.InsideColliderFraction;
+                    insideColliders++;
+                }
+            }
+            return new FeatureSet(Schema, grid.Count, values, scale, backFaceFractions, insideColliders);
         }
 
         private static void CheckFinite(EvaluationGrid grid, float[] sh)
