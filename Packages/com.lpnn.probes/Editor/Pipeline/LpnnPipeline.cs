@@ -109,7 +109,6 @@ namespace Lpnn.Probes.Editor
         public static FeaturesResult ExtractFeatures(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
             var grid = FreshGrid(volume, session);
-            if (session.Sh == null) throw new LpnnException("there is no lighting data for this grid; run the Lighting data step first");
             FeatureSet features;
             var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
@@ -117,11 +116,11 @@ namespace Lpnn.Probes.Editor
                 // The rays see meshes from inside (back faces); the overlap query sees the solid colliders rays started in
                 // cannot (Core.Features.InsideColliders).
                 var scene = volume.gameObject.scene;
-                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(scene), new PhysicsColliderQuery(scene), progress, cancel);
+                features = ApplySteps.ExtractFeatures(grid, session.Sh, new PhysicsRaycaster(scene), new PhysicsColliderQuery(scene), progress, cancel);
                 foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);
-            int invalid = ValidCandidates.CountInvalid(ValidCandidates.FromBackFaceFractions(features.BackFaceFractions));
+            int invalid = ValidCandidates.CountInvalid(ApplySteps.ValidPoints(features));
             return new FeaturesResult(features, invalid, uncovered);
         }
 
@@ -132,7 +131,7 @@ namespace Lpnn.Probes.Editor
                 throw new LpnnException("there are no features for this grid; run the Features step first");
             // Points inside geometry never reach the network (it was trained on clouds without them) and get score 0;
             // fewer than 4 non-coplanar valid points stop here with what to do.
-            bool[] valid = ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            bool[] valid = ApplySteps.ValidPoints(session.Features);
             ValidCandidates.Check(grid, valid);
             var outcome = LpnnScoring.Score(volume, session, ValidCandidates.ValidRows(session.Features, valid), grid.CellSize);
             float[] scores = ValidCandidates.Scatter(outcome.Scores, valid);

@@ -137,8 +137,8 @@ namespace Lpnn.Probes.Editor
         /// step has not run on it (then every point is a candidate: the inspector says so).</summary>
         public static bool[] ValidPoints(LpnnSession session, EvaluationGrid grid)
         {
-            if (session.Features == null || session.Grid != grid || session.Features.BackFaceFractions == null) return null;
-            return ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            if (session.Features == null || session.Grid != grid) return null;
+            return Core.Pipeline.ApplySteps.ValidPoints(session.Features);
         }
 
         /// <summary>Measures probe sets of this grid with Unity's tetrahedralisation.</summary>
