@@ -109,12 +109,19 @@ namespace Lpnn.Probes.Editor
             foreach (string path in ScoreStore.ToPrune(files)) File.Delete(path);
         }
 
-        /// <summary>A scene just saved gives its volumes stable ids: write the scores that waited for one (volumes of scenes still
-        /// unsaved keep waiting).</summary>
+        /// <summary>A scene just saved gives its volumes stable ids — a first save, or a Save As under a new scene GUID: write the
+        /// scores of its volumes that have no copy under their current id (volumes of scenes still unsaved keep waiting).</summary>
         private static void WriteUnwritten(Scene scene)
         {
-            foreach (var entry in LpnnSession.WithUnwrittenScores())
-                entry.Value.ScoresUnwritten = !Write(entry.Key, entry.Value.Scores);
+            foreach (var entry in LpnnSession.WithScores())
+            {
+                var volume = entry.Key;
+                var session = entry.Value;
+                if (volume.gameObject.scene.path != scene.path) continue;
+                string path = PathOf(volume, out _);
+                if (session.ScoresUnwritten || (path != null && !File.Exists(path)))
+                    session.ScoresUnwritten = !Write(volume, session.Scores);
+            }
         }
     }
 

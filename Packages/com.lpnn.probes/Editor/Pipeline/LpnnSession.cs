@@ -120,14 +120,14 @@ namespace Lpnn.Probes.Editor
             }
         }
 
-        /// <summary>The live volumes whose scores wait to be written (LpnnScores, when a scene is saved).</summary>
-        internal static List<KeyValuePair<LpnnVolume, LpnnSession>> WithUnwrittenScores()
+        /// <summary>The live volumes whose session holds scores (LpnnScores writes them when their scene is saved).</summary>
+        internal static List<KeyValuePair<LpnnVolume, LpnnSession>> WithScores()
         {
-            var waiting = new List<KeyValuePair<LpnnVolume, LpnnSession>>();
+            var holding = new List<KeyValuePair<LpnnVolume, LpnnSession>>();
             foreach (var session in Sessions.Values)
-                if (session.ScoresUnwritten && session.Scores != null && session._volume != null)
-                    waiting.Add(new KeyValuePair<LpnnVolume, LpnnSession>(session._volume, session));
-            return waiting;
+                if (session.Scores != null && !session.Scores.IsEmpty && session._volume != null)
+                    holding.Add(new KeyValuePair<LpnnVolume, LpnnSession>(session._volume, session));
+            return holding;
         }
 
         /// <summary>How many volumes have a session (for tests of the release).</summary>
