@@ -4,6 +4,7 @@ using System.Threading;
 using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Captures;
 using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Scoring;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Selection;
@@ -306,26 +307,43 @@ namespace Lpnn.Probes.Editor.Tests
             Assert.Throws<LpnnException>(() => LpnnPipeline.FreshGrid(_volume, _session), "a moved seed changes the walk");
         }
 
+        /// <summary>Scores outlive the session through the project's Library (LpnnScores, issue 31): with the scene saved the
+        /// volume has a stable GlobalObjectId, the Scoring result is written under Library/LpnnProbes/Scores, and a new session
+        /// (as after a script reload) reads it back and finds the scored in-use points again without casting the rule's rays.</summary>
         [Test]
         public void StoredScoresOfTheInUsePointsFindTheirGridAgainAfterTheSessionIsLost()
         {
-            _volume.SetInUseRule(InUseRule.Band);
-            LpnnPipeline.BuildGrid(_volume, _session);
-            var grid = _session.Grid;
-            var record = _volume.LastScores;
-            record.Set(grid.CopyIds(), new float[grid.Count], grid.CellSize, "test", "test", null);
-            record.SetGridSignature(_session.GridSignature);
+            const string scenePath = "Assets/LpnnScoresTest.unity";
+            Assert.That(EditorSceneManager.SaveScene(_volume.gameObject.scene, scenePath), Is.True);
+            try
+            {
+                _volume.SetInUseRule(InUseRule.Band);
+                LpnnPipeline.BuildGrid(_volume, _session);
+                var grid = _session.Grid;
+                var record = new ScoreRecord();
+                record.Set(grid.CopyIds(), new float[grid.Count], grid.CellSize, "test", "test", null);
+                record.SetGridSignature(_session.GridSignature);
+                LpnnScores.Store(_volume, record);
+                Assert.That(_session.ScoresUnwritten, Is.False, "a saved scene: the record went to the Library");
 
-            LpnnSession.Forget(_volume);  // as a script reload drops it
-            _session = LpnnSession.For(_volume);
-            var rebuilt = LpnnPipeline.ScoredGrid(_volume, _session);
-            Assert.That(rebuilt.CopyIds(), Is.EqualTo(grid.CopyIds()));
-            Assert.That(_session.InUse.PointsBefore, Is.EqualTo(AllPoints));
+                LpnnSession.Forget(_volume);  // as a script reload drops it
+                _session = LpnnSession.For(_volume);
+                Assert.That(LpnnScores.For(_volume), Is.Not.SameAs(record), "read back from the Library, not kept in memory");
+                Assert.That(LpnnScores.For(_volume).Ids, Is.EqualTo(record.Ids));
+                var rebuilt = LpnnPipeline.ScoredGrid(_volume, _session);
+                Assert.That(rebuilt.CopyIds(), Is.EqualTo(grid.CopyIds()));
+                Assert.That(_session.InUse.PointsBefore, Is.EqualTo(AllPoints));
 
-            LpnnSession.Forget(_volume);
-            _session = LpnnSession.For(_volume);
-            _volume.SetInUseParameters(2.5f, 45, 0.5f);
-            StringAssert.Contains("the volume changed since scoring", Assert.Throws<LpnnException>(() => LpnnPipeline.ScoredGrid(_volume, _session)).Message);
+                LpnnSession.Forget(_volume);
+                _session = LpnnSession.For(_volume);
+                _volume.SetInUseParameters(2.5f, 45, 0.5f);
+                StringAssert.Contains("the volume changed since scoring", Assert.Throws<LpnnException>(() => LpnnPipeline.ScoredGrid(_volume, _session)).Message);
+            }
+            finally
+            {
+                LpnnScores.DeleteStoredCopy(_volume);
+                AssetDatabase.DeleteAsset(scenePath);
+            }
         }
 
         /// <summary>Lighting that changes along x and y, so insertion has something to place; no bake.</summary>

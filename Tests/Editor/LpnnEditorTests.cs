@@ -82,7 +82,7 @@ namespace Lpnn.Probes.Editor.Tests
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step),
                 Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Placement }));
-            Assert.That(_room.Volume.LastScores.IsEmpty, Is.True, "no scores for the insertion method");
+            Assert.That(LpnnScores.For(_room.Volume).IsEmpty, Is.True, "no scores for the insertion method");
             var placed = (PlacementResult)results.Last();
             Assert.That(_room.Volume.TargetGroup.probePositions.Length, Is.EqualTo(placed.Positions.Length));
         }
@@ -160,7 +160,7 @@ namespace Lpnn.Probes.Editor.Tests
                 PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Scoring, PipelineStep.Placement,
             }));
             var grid = _session.Grid;
-            float[] scores = _room.Volume.LastScores.Scores;
+            float[] scores = LpnnScores.For(_room.Volume).Scores;
             Assert.That(LpnnPipeline.GuideScores(_room.Volume), Is.SameAs(scores));
             Assert.That(LpnnPipeline.PlacementGrid(_room.Volume, _session), Is.SameAs(grid));
             bool[] valid = PlacementInputs.ValidPoints(_session, grid);
@@ -226,7 +226,7 @@ namespace Lpnn.Probes.Editor.Tests
         public void FullPipelineOnTheCpuPlacesProbesInTheGroup()
         {
             RunUpToScores();
-            var record = _room.Volume.LastScores;
+            var record = LpnnScores.For(_room.Volume);
             Assert.That(record.Count, Is.EqualTo(_session.Grid.Count));
             Assert.That(record.Backend, Is.EqualTo("CPU"));
             Assert.That(record.Scores.All(s => !float.IsNaN(s) && s >= 0 && s <= 1), Is.True, "importance must lie in [0, 1]");
@@ -254,7 +254,7 @@ namespace Lpnn.Probes.Editor.Tests
             block.transform.position = new Vector3(0, 1.5f, 0);
             block.transform.localScale = new Vector3(2.2f, 1.2f, 1.2f); // interior: |x| < 1.1, 0.9 < y < 2.1, |z| < 0.6
             RunUpToScores();
-            var record = _room.Volume.LastScores;
+            var record = LpnnScores.For(_room.Volume);
             var grid = _session.Grid;
             Assert.That(record.Valid, Is.Not.Null);
             int inside = 0;
@@ -278,6 +278,46 @@ namespace Lpnn.Probes.Editor.Tests
                 Assert.That(selection.Indices.All(index => record.Valid[index]), Is.True, settings.Policy + " selected a point inside the block");
             }
             Object.DestroyImmediate(block);
+        }
+
+        /// <summary>The same block with its primitive BoxCollider (the Corridor sample's case, issue 31): rays that start inside a
+        /// box do not report it, so the overlap query of Core.Features.InsideColliders finds those points; they get back-face
+        /// fraction 1 and are invalid.</summary>
+        [Test]
+        public void PointsInsideABoxColliderAreInvalid()
+        {
+            var block = GameObject.CreatePrimitive(PrimitiveType.Cube);  // keeps its BoxCollider
+            block.transform.position = new Vector3(0, 1.5f, 0);
+            block.transform.localScale = new Vector3(2.2f, 1.2f, 1.2f);
+            var features = (FeaturesResult)RunUpTo(PipelineStep.Features).Last();
+            var grid = _session.Grid;
+            int inside = 0;
+            for (int n = 0; n < grid.Count; n++)
+            {
+                var p = grid.GetPosition(n);
+                bool inBlock = System.Math.Abs(p.X) < 1.1 && p.Y > 0.9 && p.Y < 2.1 && System.Math.Abs(p.Z) < 0.6;
+                if (inBlock) inside++;
+                Assert.That(ProbeValidity.IsInvalid(features.Features.BackFaceFractions[n]), Is.EqualTo(inBlock), "point " + n + " at " + p);
+            }
+            Assert.That(inside, Is.EqualTo(45));
+            Assert.That(features.Features.InsideColliderCount, Is.EqualTo(inside));
+            Assert.That(features.InvalidCount, Is.EqualTo(inside));
+            Object.DestroyImmediate(block);
+        }
+
+        /// <summary>Scores are editor data outside the volume (LpnnScores, issue 31): the session holds them; the test room's
+        /// scene was never saved, so the volume has no stable GlobalObjectId and nothing is written to the Library yet.</summary>
+        [Test]
+        public void ScoresAreKeptOutsideTheSerializedVolume()
+        {
+            RunUpToScores();
+            Assert.That(LpnnScores.For(_room.Volume).Count, Is.EqualTo(_session.Grid.Count));
+            Assert.That(_session.Scores, Is.SameAs(LpnnScores.For(_room.Volume)));
+            Assert.That(_session.ScoresUnwritten, Is.True, "an unsaved scene: the scores wait for its first save");
+            foreach (var field in typeof(LpnnVolume).GetFields(System.Reflection.BindingFlags.Instance | System.Reflection.BindingFlags.NonPublic |
+                                                                System.Reflection.BindingFlags.Public))
+                Assert.That(field.FieldType.Name.Contains("Score"), Is.False, "a serialized field of scores: " + field.Name);
+            Assert.That(LegacyScoreOverrides.Count(_room.Volume), Is.EqualTo(0), "not a prefab instance");
         }
 
         [Test]
@@ -324,7 +364,7 @@ namespace Lpnn.Probes.Editor.Tests
             var error = Assert.Throws<ModelCardException>(() => LpnnPipeline.Score(_room.Volume, _session));
             StringAssert.Contains("lpnn.features.v1", error.Message);
             StringAssert.Contains("lpnn.thesis30", error.Message);
-            Assert.That(_room.Volume.LastScores.IsEmpty, Is.True, "nothing is stored when scoring is refused");
+            Assert.That(LpnnScores.For(_room.Volume).IsEmpty, Is.True, "nothing is stored when scoring is refused");
         }
 
         [Test]
@@ -381,7 +421,7 @@ namespace Lpnn.Probes.Editor.Tests
             Selection.activeGameObject = _room.Volume.gameObject;
             SceneView.RepaintAll();
             yield return null;
-            Assert.That(_room.Volume.LastScores.Count, Is.EqualTo(_session.Grid.Count));
+            Assert.That(LpnnScores.For(_room.Volume).Count, Is.EqualTo(_session.Grid.Count));
         }
 
         /// <summary>The real thing: Unity's baker lights the evaluation points (Unity 6: LightTransport on the GPU;

@@ -10,8 +10,8 @@ namespace Lpnn.Probes
 {
     /// <summary>An LPNN volume: the boxes where light probes may go, the grid and selection settings, the model to
     /// score with and the LightProbeGroup the chosen probes are written to. All work happens in the editor
-    /// (Lpnn.Probes.Editor); this component only holds settings and the last scores, so it works in prefabs and
-    /// costs nothing in a player build.</summary>
+    /// (Lpnn.Probes.Editor); this component only holds settings (the last scores are editor data kept outside it), so it
+    /// works in prefabs and costs nothing in a player build.</summary>
     [AddComponentMenu("Rendering/LPNN Probes Volume")]
     [DisallowMultipleComponent]
     public sealed class LpnnVolume : MonoBehaviour
@@ -162,7 +162,9 @@ namespace Lpnn.Probes
                  "keeps an agent radius from walls, so points within it of a wall have no floor below them.")]
         [SerializeField] private bool useNavMesh = true;
 
-        [SerializeField, HideInInspector] private LpnnScoreRecord lastScores = new LpnnScoreRecord();
+        // Up to 0.1.0 the last scores were serialized here (field "lastScores", ~5 values per point in every scene, prefab
+        // override and player build). They are editor data now (Editor: LpnnScores, issue 31); Unity skips the old field's
+        // data when it loads a volume and leaves it out at the next save.
 
         public IReadOnlyList<LpnnBox> Boxes => boxes ?? new LpnnBox[0];
         public float CellSize => cellSize;
@@ -189,7 +191,6 @@ namespace Lpnn.Probes
 
         /// <summary>Pins these world positions (the caller records Undo first), replacing the pins so far.</summary>
         public void SetPinnedProbes(Vector3[] positions) => pinnedProbes = positions == null ? new Vector3[0] : (Vector3[])positions.Clone();
-        public LpnnScoreRecord LastScores => lastScores ?? (lastScores = new LpnnScoreRecord());
 
         /// <summary>Which evaluation points are in use (<see cref="InUseRules.Default"/> for a new volume).</summary>
         public InUseRule InUseRule => inUseRule;

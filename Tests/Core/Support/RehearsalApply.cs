@@ -30,25 +30,28 @@ namespace Lpnn.Probes.Core.Tests.Support
                 new RecordingWriter(writes), progress, cancel);
         }
 
+        /// <summary>The capture's SH at the points asked for (the Lighting step asks in batches of grid points: each position is
+        /// found back as its grid point, so a point the capture does not hold is an error, not a wrong answer).</summary>
         private sealed class CaptureLighting : ILightSampler
         {
             private readonly Capture _capture;
-            private readonly EvaluationGrid _grid;
+            private readonly Dictionary<Vector3, int> _index = new Dictionary<Vector3, int>();
 
             public CaptureLighting(Capture capture, EvaluationGrid grid)
             {
+                if (grid.Count != capture.PointCount)
+                    throw new InvalidOperationException("the grid has " + grid.Count + " points, the capture " + capture.PointCount);
                 _capture = capture;
-                _grid = grid;
+                for (int n = 0; n < grid.Count; n++) _index[grid.GetPosition(n)] = n;
             }
 
             public void Sample(Vector3[] positions, float[] sh)
             {
-                if (positions.Length != _capture.PointCount)
-                    throw new InvalidOperationException("the lighting was asked for " + positions.Length + " points, the capture has " + _capture.PointCount);
-                for (int n = 0; n < positions.Length; n++)
+                for (int p = 0; p < positions.Length; p++)
                 {
-                    if (Vector3.Distance(positions[n], _grid.GetPosition(n)) > 1e-4f) throw new InvalidOperationException("the lighting was asked for another point " + n);
-                    Array.Copy(_capture.Sh, 27 * n, sh, 27 * n, 27);
+                    if (!_index.TryGetValue(positions[p], out int n))
+                        throw new InvalidOperationException("the lighting was asked for a point the capture does not hold: " + positions[p]);
+                    Array.Copy(_capture.Sh, 27 * n, sh, 27 * p, 27);
                 }
             }
         }

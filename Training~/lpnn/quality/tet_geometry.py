@@ -50,8 +50,23 @@ def orient_and_invert(points: np.ndarray, tets: np.ndarray
         out[negative, 2], out[negative, 3] = tets[keep][negative, 3], tets[keep][negative, 2]
         e2, e3 = np.where(negative[:, None], e3, e2), np.where(negative[:, None], e2, e3)
         det = np.abs(det)
-    inverse = np.stack([_cross(e2, e3), _cross(e3, e1), _cross(e1, e2)], axis=1) / det[:, None, None]
-    return out, inverse, det, keep
+    return out, _adjugate_inverse(e1, e2, e3, det), det, keep
+
+
+def edge_inverse(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """Inverses (T, 3, 3) of positively oriented tetrahedra's edge matrices, as orient_and_invert computes them (the C#
+    core's TetrahedralMesh too); a tetrahedron of zero volume gets the identity instead of a division by zero."""
+    e1, e2, e3, det = edge_frames(points, tets)
+    zero = det == 0.0
+    if np.any(zero):
+        e1, e2, e3 = (np.where(zero[:, None], axis, e) for axis, e in zip(np.eye(3), (e1, e2, e3)))
+        det = np.where(zero, 1.0, det)
+    return _adjugate_inverse(e1, e2, e3, det)
+
+
+def _adjugate_inverse(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray, det: np.ndarray) -> np.ndarray:
+    """The inverse of the edge matrix [e1 e2 e3] with 6 x volume det: rows (e2 x e3, e3 x e1, e1 x e2) / det."""
+    return np.stack([_cross(e2, e3), _cross(e3, e1), _cross(e1, e2)], axis=1) / det[:, None, None]
 
 
 def barycentric_in(points: np.ndarray, tets: np.ndarray, inverse: np.ndarray, query: np.ndarray) -> np.ndarray:

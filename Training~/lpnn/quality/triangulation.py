@@ -24,7 +24,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ..errors import InvalidInputError
-from .tet_geometry import edge_frames, is_flat
+from .tet_geometry import edge_inverse, orient_and_invert
 
 DUPLICATE_TOLERANCE = 1e-7  # two probes closer than this fraction of the extent are duplicates
 FLAT_TOLERANCE = 1e-7  # a set thinner than this fraction of its length is coplanar/collinear
@@ -199,15 +199,6 @@ def _adjacency(tets: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndar
     return neighbours.reshape(count, 4), faces[boundary], boundary // 4
 
 
-def barycentric_inverse(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Edge matrices' inverses (T, 3, 3) and signed volumes x6 (T,) of tetrahedra."""
-    base = points[tets[:, 0]]
-    edges = np.stack([points[tets[:, 1]] - base, points[tets[:, 2]] - base, points[tets[:, 3]] - base], axis=2)
-    determinant = np.linalg.det(edges)
-    safe = np.where(determinant[:, None, None] != 0.0, edges, np.eye(3))
-    return np.linalg.inv(safe), determinant
-
-
 def lower_hull(lifted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Lower-hull facets of lifted points (M, 4): tetrahedra (T, 4) and their hyperplanes (T, 5),
     unit normals pointing down-and-out (n.x + d > 0 below a facet). Raises GeometryError on failure."""
@@ -230,16 +221,6 @@ def lower_hull_tets(lifted: np.ndarray) -> np.ndarray:
     return lower_hull(lifted)[0]
 
 
-def oriented_tets(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
-    """Drop flat tetrahedra (vertical facets that slipped through) and orient the rest positively."""
-    e1, e2, e3, determinant = edge_frames(points, tets)
-    keep = ~is_flat(e1, e2, e3, determinant)
-    out = tets[keep].copy()
-    negative = determinant[keep] < 0.0
-    out[negative, 2], out[negative, 3] = tets[keep][negative, 3], tets[keep][negative, 2]
-    return out
-
-
 def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedralization:
     """Tetrahedralise probe positions (K, 3). Raises GeometryError for < 4, duplicate or flat sets."""
     positions = checked_positions(world, "probe positions")
@@ -251,14 +232,15 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedral
     local = used_frame.to_local(positions)
     _check_not_duplicate(local, positions)
     _check_not_flat(local)
-    tets = oriented_tets(local, lower_hull_tets(used_frame.lifted(positions)))
+    # Flat tetrahedra (vertical facets that slipped through) dropped, the rest oriented positively and inverted.
+    tets, inverse, _, _ = orient_and_invert(local, lower_hull_tets(used_frame.lifted(positions)))
     used = np.zeros(count, dtype=bool)
     used[tets.reshape(-1)] = True
     if not np.all(used):
         missing = int(np.flatnonzero(~used)[0])
         raise GeometryError(f"probe {missing} at {positions[missing].tolist()} was dropped by the tetrahedralisation "
                             f"({int(np.count_nonzero(~used))} probes dropped); it is (nearly) a duplicate of another probe")
-    return _assembled(used_frame, positions, local, tets)
+    return _assembled(used_frame, positions, local, tets, inverse)
 
 
 def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedralization:
@@ -269,8 +251,10 @@ def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedrali
     return _assembled(frame, positions, frame.to_local(positions), np.asarray(tets, dtype=np.int64).reshape(-1, 4))
 
 
-def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray) -> Tetrahedralization:
+def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray,
+               inverse: np.ndarray | None = None) -> Tetrahedralization:
     neighbours, hull_faces, hull_face_tets = _adjacency(tets, positions.shape[0])
-    inverse, _ = barycentric_inverse(local, tets)
+    if inverse is None:
+        inverse = edge_inverse(local, tets)
     return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,
                               inverse=inverse, hull_faces=hull_faces, hull_face_tets=hull_face_tets)

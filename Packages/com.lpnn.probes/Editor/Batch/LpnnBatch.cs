@@ -153,8 +153,8 @@ namespace Lpnn.Probes.Editor
             source.Set("method", JsonValue.From(BatchOptions.MethodName(volume.Method)));
             if (PlacementMethods.NeedsScores(volume.Method))
             {
-                source.Set("backend", JsonValue.From(volume.LastScores.Backend));
-                source.Set("model", JsonValue.From(volume.LastScores.Model));
+                source.Set("backend", JsonValue.From(LpnnScores.For(volume).Backend));
+                source.Set("model", JsonValue.From(LpnnScores.For(volume).Model));
             }
             string path = Path.Combine(folder, stem + ProbePositionsFile.Extension);
             ProbePositionsFile.Save(path, positions, source);

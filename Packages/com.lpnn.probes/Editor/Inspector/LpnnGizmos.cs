@@ -2,6 +2,7 @@ using System.Collections.Generic;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEngine;
+using Lpnn.Probes.Core.Scoring;
 
 namespace Lpnn.Probes.Editor
 {
@@ -84,7 +85,7 @@ namespace Lpnn.Probes.Editor
 
         private static void DrawScores(LpnnVolume volume)
         {
-            var record = volume.LastScores;
+            var record = LpnnScores.For(volume);
             if (record.IsEmpty) return;
             var cloud = CloudOf(volume, record);
             var size = Vector3.one * (float)(record.CellSize * 0.15);
@@ -105,7 +106,7 @@ namespace Lpnn.Probes.Editor
             Gizmos.color = NotInUseColor;
             var small = Vector3.one * (cell * 0.06f);
             foreach (var position in cloud.Other) Gizmos.DrawCube(position, small);
-            if (!volume.LastScores.IsEmpty) return;
+            if (!LpnnScores.For(volume).IsEmpty) return;
             Gizmos.color = InUseColor;
             var size = Vector3.one * (cell * 0.12f);
             foreach (var position in cloud.InUse) Gizmos.DrawCube(position, size);
@@ -127,7 +128,7 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>Positions and colours are recomputed only when the scores array changes.</summary>
-        private static ScoreCloud CloudOf(LpnnVolume volume, LpnnScoreRecord record)
+        private static ScoreCloud CloudOf(LpnnVolume volume, ScoreRecord record)
         {
             var key = ObjectKey.Of(volume);
             if (Clouds.TryGetValue(key, out var cloud) && cloud.Source == record.Scores) return cloud;

@@ -20,6 +20,9 @@ namespace Lpnn.Probes.Editor
         private readonly PlacementPanel _placement = new PlacementPanel();
         private LpnnVolumeProperties _properties;
         private int _uncoveredMeshes = -1;
+        /// <summary>Score overrides a 0.1.0 prefab instance left in the scene (counted once per inspector: reading every
+        /// modification of a bloated instance on each repaint would be the cost this removes).</summary>
+        private int _legacyScoreOverrides;
 
         private LpnnVolume Volume => (LpnnVolume)target;
         private LpnnSession Session => LpnnSession.For(Volume);
@@ -29,6 +32,7 @@ namespace Lpnn.Probes.Editor
         {
             _properties = new LpnnVolumeProperties(serializedObject);
             _uncoveredMeshes = ColliderAudit.StaticMeshesWithoutColliders(Volume.gameObject.scene).Count;
+            _legacyScoreOverrides = LegacyScoreOverrides.Count(Volume);
         }
 
         public override void OnInspectorGUI()
@@ -164,11 +168,24 @@ namespace Lpnn.Probes.Editor
                 }
             }
             InspectorLayout.Status(Steps[PipelineStep.Scoring]);
-            var record = Volume.LastScores;
+            LegacyScoreOverridesBox();
+            var record = LpnnScores.For(Volume);
             if (record.IsEmpty) return;
             EditorGUILayout.LabelField(LpnnVolumeStyles.StoredScores, InvariantFormat.Count(record.Count) + " points, " + record.Backend + ", model '" + record.Model + "'");
             EditorGUILayout.LabelField(LpnnVolumeStyles.InvalidPoints, record.Valid == null ? LpnnVolumeStyles.ValidityUnknownSinceScoring
                 : InvariantFormat.Count(record.InvalidCount) + " inside geometry (never probes)");
+        }
+
+        /// <summary>A prefab instance saved by 0.1.0 carries its scores as prefab overrides of a field that no longer exists
+        /// (LegacyScoreOverrides): say so and offer to remove just those (one Undo step).</summary>
+        private void LegacyScoreOverridesBox()
+        {
+            if (_legacyScoreOverrides == 0) return;
+            EditorGUILayout.HelpBox(InvariantFormat.Count(_legacyScoreOverrides) + LpnnVolumeStyles.LegacyScoreOverrides, MessageType.Info);
+            if (!GUILayout.Button(LpnnVolumeStyles.RemoveLegacyScoreOverrides)) return;
+            int removed = LegacyScoreOverrides.Remove(Volume);
+            _legacyScoreOverrides = LegacyScoreOverrides.Count(Volume);
+            Debug.Log("[LPNN] removed " + removed + " old score overrides from '" + Volume.name + "' (save the scene to keep the change)");
         }
 
         // ------------------------------------------------------------------------------------------ running steps

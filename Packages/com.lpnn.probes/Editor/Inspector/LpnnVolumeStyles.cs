@@ -27,6 +27,11 @@ namespace Lpnn.Probes.Editor
         public const string CollidersAdded = "Temporary mesh colliders will be added while rays are cast and removed afterwards.";
         public const string CollidersMissing = "Add colliders, or enable 'Add Temporary Colliders'.";
         public const string StoredScores = "Stored scores";
+        public const string LegacyScoreOverrides =
+            " prefab overrides of this instance hold scores saved by LPNN Probes 0.1.0 (the old serialized field 'lastScores'). " +
+            "Scores are editor data now, kept outside the scene (Library/LpnnProbes/Scores); these overrides are no longer read " +
+            "but stay in the scene file until removed.";
+        public const string RemoveLegacyScoreOverrides = "Remove the old score overrides";
         public const string InvalidPoints = "Invalid points";
         public const string ValidityUnknownSinceScoring = "unknown (scored before validity): run Features and Scoring again";
 

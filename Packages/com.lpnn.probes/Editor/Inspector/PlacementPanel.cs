@@ -8,6 +8,7 @@ using Lpnn.Probes.Core.Placement;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEngine;
+using Lpnn.Probes.Core.Scoring;
 
 namespace Lpnn.Probes.Editor
 {
@@ -58,7 +59,7 @@ namespace Lpnn.Probes.Editor
                 EditorStyles.wordWrappedMiniLabel);
             using (new EditorGUILayout.HorizontalScope())
             {
-                using (new EditorGUI.DisabledScope((needsScores && volume.LastScores.IsEmpty) || (byInsertion && session.Sh == null)))
+                using (new EditorGUI.DisabledScope((needsScores && LpnnScores.For(volume).IsEmpty) || (byInsertion && session.Sh == null)))
                 {
                     // Each heavy button asks HeavyOperationPolicy first; after a dialog or a long step the GUI pass ends, since the
                     // HorizontalScope's layout group is gone by then (InspectorLayout.EndGuiAfterModal, as ExportPanel does).
@@ -189,7 +190,7 @@ namespace Lpnn.Probes.Editor
         private SelectionResult PreviewCount(LpnnVolume volume, LpnnSession session)
         {
             bool byInsertion = PlacementMethods.RanksByInsertion(volume.Method);
-            var record = volume.LastScores;
+            var record = LpnnScores.For(volume);
             if (PlacementMethods.NeedsScores(volume.Method) && record.IsEmpty)
             {
                 EditorGUILayout.HelpBox(byInsertion ? LpnnVolumeStyles.NoGuideScoresYet : LpnnVolumeStyles.NoScoresYet, MessageType.None);
@@ -258,7 +259,7 @@ namespace Lpnn.Probes.Editor
         }
 
         /// <summary>The preview's line on invalid points (Documentation~/features.md "Probe validity").</summary>
-        private static string ValidityLine(LpnnScoreRecord record)
+        private static string ValidityLine(ScoreRecord record)
         {
             if (record.Valid == null) return "\n" + LpnnVolumeStyles.ScoresValidityUnknown;
             int invalid = record.InvalidCount;
@@ -290,7 +291,7 @@ namespace Lpnn.Probes.Editor
             // The search reads the insertion order only up to the prefixes it evaluates, as Apply does, instead of ranking
             // every point first (issue 31: ~99 rounds over up to 10⁵ probes at 10⁵ points for an answer of a few thousand).
             var result = !PlacementMethods.RanksByInsertion(volume.Method)
-                ? _preview.Search(grid, volume.LastScores, settings, measure)
+                ? _preview.Search(grid, LpnnScores.For(volume), settings, measure)
                 : ranking != null
                     ? _preview.SearchRanked(grid, ranking, valid, settings, measure)
                     : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide), valid, settings, measure, progress, cancel);

@@ -60,7 +60,7 @@ namespace Lpnn.Probes.Editor
                 case PipelineStep.Grid: return session.Grid;
                 case PipelineStep.Lighting: return session.Sh;
                 case PipelineStep.Features: return session.Features;
-                case PipelineStep.Scoring: return volume.LastScores.IsEmpty ? null : volume.LastScores.Scores;
+                case PipelineStep.Scoring: return LpnnScores.For(volume).IsEmpty ? null : LpnnScores.For(volume).Scores;  // the Library copy once per session
                 default: return null;
             }
         }

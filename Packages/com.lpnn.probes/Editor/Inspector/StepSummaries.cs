@@ -22,7 +22,10 @@ namespace Lpnn.Probes.Editor
                 return "SH at " + InvariantFormat.Count(lighting.PointCount) + " points, " + lighting.Source;
             if (result is FeaturesResult features)
                 return InvariantFormat.Count(features.Features.PointCount) + " × " + features.Features.Schema.Count + " features (" +
-                       features.Features.Schema.Id + ")" + InvalidNote(features.InvalidCount);
+                       features.Features.Schema.Id + ")" + InvalidNote(features.InvalidCount) +
+                       (features.Features.InsideColliderCount > 0
+                           ? " (" + InvariantFormat.Count(features.Features.InsideColliderCount) + " of them inside solid colliders)"
+                           : "");
             if (result is ScoringResult scoring)
                 return InvariantFormat.Count(scoring.Outcome.Scores.Length) + " scores on " + scoring.Outcome.DeviceName + InvalidNote(scoring.InvalidCount) +
                        (scoring.Outcome.Fallback.Length > 0 ? " (after: " + scoring.Outcome.Fallback + ")" : "");

@@ -8,6 +8,7 @@ using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Pipeline;
 using Lpnn.Probes.Core.Quality;
+using Lpnn.Probes.Core.Scoring;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using NumericsVector3 = System.Numerics.Vector3;
@@ -108,16 +109,18 @@ namespace Lpnn.Probes.Editor
         public static FeaturesResult ExtractFeatures(LpnnVolume volume, LpnnSession session, ProgressCallback progress, CancellationToken cancel)
         {
             var grid = FreshGrid(volume, session);
-            if (session.Sh == null) throw new LpnnException("there is no lighting data for this grid; run the Lighting data step first");
             FeatureSet features;
             var uncovered = new List<string>();
             using (var physics = new RaycastScope(volume, volume.AddTemporaryColliders))
             {
-                features = FeatureExtractor.Extract(grid, session.Sh, new PhysicsRaycaster(volume.gameObject.scene), progress, cancel);
+                // The rays see meshes from inside (back faces); the overlap query sees the solid colliders rays started in
+                // cannot (Core.Features.InsideColliders).
+                var scene = volume.gameObject.scene;
+                features = ApplySteps.ExtractFeatures(grid, session.Sh, new PhysicsRaycaster(scene), new PhysicsColliderQuery(scene), progress, cancel);
                 foreach (var renderer in physics.Uncovered) uncovered.Add(renderer.name);
             }
             session.SetFeatures(features);
-            int invalid = ValidCandidates.CountInvalid(ValidCandidates.FromBackFaceFractions(features.BackFaceFractions));
+            int invalid = ValidCandidates.CountInvalid(ApplySteps.ValidPoints(features));
             return new FeaturesResult(features, invalid, uncovered);
         }
 
@@ -128,26 +131,24 @@ namespace Lpnn.Probes.Editor
                 throw new LpnnException("there are no features for this grid; run the Features step first");
             // Points inside geometry never reach the network (it was trained on clouds without them) and get score 0;
             // fewer than 4 non-coplanar valid points stop here with what to do.
-            bool[] valid = ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            bool[] valid = ApplySteps.ValidPoints(session.Features);
             ValidCandidates.Check(grid, valid);
             var outcome = LpnnScoring.Score(volume, session, ValidCandidates.ValidRows(session.Features, valid), grid.CellSize);
             float[] scores = ValidCandidates.Scatter(outcome.Scores, valid);
             string model = volume.Model != null ? volume.Model.name : "";
-            // Undo.RecordObject: Editor/Mono/Undo/Undo.bindings.cs — scores are serialized with the volume.
-            Undo.RecordObject(volume, "Score LPNN evaluation points");
-            volume.LastScores.Set(grid.CopyIds(), scores, grid.CellSize, outcome.DeviceName, model, valid);
-            volume.LastScores.SetGridSignature(session.GridSignature);
-            // On a prefab instance a direct field write is lost at the next prefab reload unless recorded as an override
-            // (UnityCsReference Editor/Mono/Prefabs/PrefabUtility.bindings.cs RecordPrefabInstancePropertyModifications).
-            PrefabUtility.RecordPrefabInstancePropertyModifications(volume);
-            EditorUtility.SetDirty(volume);
+            // The scores are editor data outside the volume (LpnnScores: session + Library, issue 31): nothing is written
+            // into the scene or a prefab override, so scoring neither dirties the scene nor records an Undo step.
+            var record = new ScoreRecord();
+            record.Set(grid.CopyIds(), scores, grid.CellSize, outcome.DeviceName, model, valid);
+            record.SetGridSignature(session.GridSignature);
+            LpnnScores.Store(volume, record);
             // The spread ranking (behind the default Tolerance policy and Spread) costs O(N log N): computed here, under the
             // step's progress bar, rather than on the inspector's first repaint (the Network method's; guided insertion only
             // reads the scores as its guide).
             var policy = volume.GetSelectionSettings().Policy;
             if (!PlacementMethods.RanksByInsertion(volume.Method) && (policy == SelectionPolicy.Spread || policy == SelectionPolicy.Tolerance))
-                PlacementInputs.ComputeSpreadOrder(grid, volume.LastScores);
-            return new ScoringResult(outcome, volume.LastScores.InvalidCount);
+                PlacementInputs.ComputeSpreadOrder(grid, record);
+            return new ScoringResult(outcome, record.InvalidCount);
         }
 
         /// <summary>The selection the current settings give (the volume's method: the last scores, or the insertion ranking,
@@ -177,7 +178,7 @@ namespace Lpnn.Probes.Editor
             var pins = PinsOf(volume, session, grid);
             selection = PlacementMethods.RanksByInsertion(volume.Method)
                 ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel, pins)
-                : ProbeSelector.Select(PlacementInputs.Scored(grid, volume.LastScores), settings, measure);
+                : ProbeSelector.Select(PlacementInputs.Scored(grid, LpnnScores.For(volume)), settings, measure);
             return ApplySteps.PositionsOf(grid, selection, pins);
         }
 
@@ -215,7 +216,7 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the
         /// grid <see cref="PlacementGrid"/> returned), else null (plain insertion, or the Network method).</summary>
-        public static float[] GuideScores(LpnnVolume volume) => PlacementMethods.GuidesInsertion(volume.Method) ? volume.LastScores.Scores : null;
+        public static float[] GuideScores(LpnnVolume volume) => PlacementMethods.GuidesInsertion(volume.Method) ? LpnnScores.For(volume).Scores : null;
 
         /// <summary>Writes the selected probes into the target LightProbeGroup (one Undo step).</summary>
         public static PlacementResult Apply(LpnnVolume volume, LpnnSession session) => Apply(volume, session, null, CancellationToken.None);
@@ -302,7 +303,7 @@ namespace Lpnn.Probes.Editor
         /// domain reload) when its ids are exactly the scored ids.</summary>
         public static EvaluationGrid ScoredGrid(LpnnVolume volume, LpnnSession session)
         {
-            var record = volume.LastScores;
+            var record = LpnnScores.For(volume);
             if (record.IsEmpty) throw new LpnnException("the volume has no scores yet; run the Scoring step first");
             string signature = GridSignature.Of(volume);
             var grid = session.Grid != null && session.GridSignature == signature ? session.Grid : null;
@@ -317,7 +318,7 @@ namespace Lpnn.Probes.Editor
             return grid;
         }
 
-        private static LpnnException ScoredOnAnotherGrid(LpnnScoreRecord record) =>
+        private static LpnnException ScoredOnAnotherGrid(ScoreRecord record) =>
             new LpnnException("the stored scores belong to another grid (" + InvariantFormat.Count(record.Count) + " points at cell size " +
                               InvariantFormat.Number(record.CellSize) + "); the volume changed since scoring: build the grid and run Lighting, " +
                               "Features and Scoring again");
@@ -326,7 +327,7 @@ namespace Lpnn.Probes.Editor
         /// those of them the scores were stored for (Band, Reachable: the in-use points when scored, found again without
         /// casting the rule's rays; the stored signature says the settings are the same). All's report mask is not kept
         /// across a reload: the error at the points in use shows again once the grid is built again.</summary>
-        private static EvaluationGrid RebuildScoredGrid(LpnnVolume volume, LpnnSession session, LpnnScoreRecord record, string signature)
+        private static EvaluationGrid RebuildScoredGrid(LpnnVolume volume, LpnnSession session, ScoreRecord record, string signature)
         {
             var all = GridBuilder.Build(volume.GetWorldBoxes(), volume.CellSize, volume.PointLimit);
             var grid = all;

@@ -2,15 +2,17 @@ using System;
 using System.Collections.Generic;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Scoring;
 using UnityEditor;
 using UnityEditor.SceneManagement;
 
 namespace Lpnn.Probes.Editor
 {
     /// <summary>The transient results of one volume in this editor session: the grid, the lighting at its points, the
-    /// features and the model runner — data only (what the inspector shows about each step is in StepStates). Large, so never serialized: a domain reload drops them (the scores, which
-    /// are small and needed for gizmos and placement, live on the volume). Results are replaced only when a step
-    /// succeeds, so a cancelled or failed step leaves the previous state intact.</summary>
+    /// features, the scores and the model runner — data only (what the inspector shows about each step is in StepStates).
+    /// Never serialized: a domain reload drops them (the scores are also kept in the project's Library folder, LpnnScores,
+    /// so they come back). Results are replaced only when a step succeeds, so a cancelled or failed step leaves the
+    /// previous state intact.</summary>
     public sealed class LpnnSession : IDisposable
     {
         private static readonly Dictionary<ObjectKey, LpnnSession> Sessions = new Dictionary<ObjectKey, LpnnSession>();
@@ -45,6 +47,12 @@ namespace Lpnn.Probes.Editor
         /// <summary>The stored scores already matched against <see cref="Grid"/> (so the inspector's live preview does not
         /// compare every id on every repaint).</summary>
         internal float[] ScoresVerifiedForGrid { get; set; }
+
+        /// <summary>The volume's last scores (LpnnScores.For reads them, from the Library after a reload); null until asked.</summary>
+        internal ScoreRecord Scores { get; set; }
+
+        /// <summary>The scores wait for the volume's scene to be saved before they can be written to the Library.</summary>
+        internal bool ScoresUnwritten { get; set; }
 
         /// <summary>The cached model runner (a Sentis worker), owned by this session.</summary>
         public IDisposable ModelRunner { get; set; }
@@ -110,6 +118,16 @@ namespace Lpnn.Probes.Editor
                 Sessions[key].Dispose();
                 Sessions.Remove(key);
             }
+        }
+
+        /// <summary>The live volumes whose session holds scores (LpnnScores writes them when their scene is saved).</summary>
+        internal static List<KeyValuePair<LpnnVolume, LpnnSession>> WithScores()
+        {
+            var holding = new List<KeyValuePair<LpnnVolume, LpnnSession>>();
+            foreach (var session in Sessions.Values)
+                if (session.Scores != null && !session.Scores.IsEmpty && session._volume != null)
+                    holding.Add(new KeyValuePair<LpnnVolume, LpnnSession>(session._volume, session));
+            return holding;
         }
 
         /// <summary>How many volumes have a session (for tests of the release).</summary>

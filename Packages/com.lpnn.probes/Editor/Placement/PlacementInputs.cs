@@ -5,6 +5,7 @@ using Lpnn.Probes.Core;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Scoring;
 
 namespace Lpnn.Probes.Editor
 {
@@ -45,7 +46,7 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The grid's stored scores and valid points with their rankings (computed on first use, then kept; the
         /// record replaces its validity flags together with its scores, so the scores' identity is the key).</summary>
-        public static ScoredPoints Scored(EvaluationGrid grid, LpnnScoreRecord record)
+        internal static ScoredPoints Scored(EvaluationGrid grid, ScoreRecord record)
         {
             var scores = record.Scores;
             if (Rankings.TryGetValue(scores, out var points) && points.Grid == grid) return points;
@@ -57,7 +58,7 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>Computes (and keeps) the spread ranking of the stored scores now, e.g. under a step's progress bar, so that
         /// the inspector's first repaint does not pay for it.</summary>
-        public static void ComputeSpreadOrder(EvaluationGrid grid, LpnnScoreRecord record) => _ = Scored(grid, record).SpreadOrder;
+        internal static void ComputeSpreadOrder(EvaluationGrid grid, ScoreRecord record) => _ = Scored(grid, record).SpreadOrder;
 
         /// <summary>The lighting the placement error compares against: the Lighting step's SH at the session's grid.</summary>
         public static ReferenceLighting Reference(LpnnSession session, EvaluationGrid grid)
@@ -136,8 +137,8 @@ namespace Lpnn.Probes.Editor
         /// step has not run on it (then every point is a candidate: the inspector says so).</summary>
         public static bool[] ValidPoints(LpnnSession session, EvaluationGrid grid)
         {
-            if (session.Features == null || session.Grid != grid || session.Features.BackFaceFractions == null) return null;
-            return ValidCandidates.FromBackFaceFractions(session.Features.BackFaceFractions);
+            if (session.Features == null || session.Grid != grid) return null;
+            return Core.Pipeline.ApplySteps.ValidPoints(session.Features);
         }
 
         /// <summary>Measures probe sets of this grid with Unity's tetrahedralisation.</summary>

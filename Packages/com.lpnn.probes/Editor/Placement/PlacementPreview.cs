@@ -1,6 +1,7 @@
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Selection;
+using Lpnn.Probes.Core.Scoring;
 
 namespace Lpnn.Probes.Editor
 {
@@ -19,10 +20,10 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The result, or null with <paramref name="error"/> set when the settings cannot be applied (or, for the
         /// tolerance policy, when no search has run for them yet).</summary>
-        public SelectionResult Get(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, out string error) =>
+        public SelectionResult Get(EvaluationGrid grid, ScoreRecord record, SelectionSettings settings, out string error) =>
             Get(grid, record.Scores, settings, () => ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, null), out error);
 
-        /// <summary>As <see cref="Get(EvaluationGrid, LpnnScoreRecord, SelectionSettings, out string)"/> over a ranking that is
+        /// <summary>As <see cref="Get(EvaluationGrid, ScoreRecord, SelectionSettings, out string)"/> over a ranking that is
         /// not made of scores (the insertion ranking), taking only the valid points (null: all).</summary>
         public SelectionResult GetRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, out string error) =>
             Get(grid, ranking, settings, () => ProbeSelector.SelectFromRanking(grid, ranking, settings, null, valid), out error);
@@ -46,8 +47,8 @@ namespace Lpnn.Probes.Editor
             return _result;
         }
 
-        /// <summary>Runs the tolerance search for these inputs and keeps its result for <see cref="Get(EvaluationGrid, LpnnScoreRecord, SelectionSettings, out string)"/> and Apply.</summary>
-        public SelectionResult Search(EvaluationGrid grid, LpnnScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure) =>
+        /// <summary>Runs the tolerance search for these inputs and keeps its result for <see cref="Get(EvaluationGrid, ScoreRecord, SelectionSettings, out string)"/> and Apply.</summary>
+        public SelectionResult Search(EvaluationGrid grid, ScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure) =>
             Keep(grid, record.Scores, settings, ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, measure));
 
         /// <summary>The tolerance search over a ranking that is not made of scores (the insertion ranking), valid points only.</summary>

@@ -300,6 +300,20 @@ namespace UnityEditor
 namespace UnityEditor
 {
     using System;
+    using System.Runtime.InteropServices;
+    // Editor/Mono/GlobalObjectId.bindings.cs:14
+    public partial struct GlobalObjectId
+    {
+        // Editor/Mono/GlobalObjectId.bindings.cs:27
+        public static GlobalObjectId GetGlobalObjectIdSlow(UnityEngine.Object targetObject) { throw null; }
+        // Editor/Mono/GlobalObjectId.bindings.cs:50
+        override public string ToString() { throw null; }
+    }
+}
+
+namespace UnityEditor
+{
+    using System;
     using System.Collections.Generic;
     using System.Runtime.InteropServices;
     using UnityEngine;
@@ -382,8 +396,30 @@ namespace UnityEditor
     // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:21
     public sealed partial class PrefabUtility
     {
+        // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:95
+        public static PropertyModification[] GetPropertyModifications(Object targetPrefab) { throw null; }
+        // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:99
+        public static void SetPropertyModifications(Object targetPrefab, PropertyModification[] modifications) { throw null; }
         // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:117
         public static void RecordPrefabInstancePropertyModifications(Object targetObject) { throw null; }
+        // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:362
+        public static bool IsPartOfPrefabInstance(Object componentOrGameObject) { throw null; }
+        // Editor/Mono/Prefabs/PrefabUtility.bindings.cs:401
+        public static GameObject GetOutermostPrefabInstanceRoot(Object componentOrGameObject) { throw null; }
+    }
+}
+
+namespace UnityEditor
+{
+    using Object = UnityEngine.Object;
+    using System.Runtime.InteropServices;
+    // Editor/Mono/Prefabs/PropertyModification.bindings.cs:17
+    public sealed partial class PropertyModification
+    {
+        // Editor/Mono/Prefabs/PropertyModification.bindings.cs:20
+        public Object target;
+        // Editor/Mono/Prefabs/PropertyModification.bindings.cs:22
+        public string propertyPath;
     }
 }
 
@@ -687,8 +723,12 @@ namespace UnityEditor.SceneManagement
     {
         // Editor/Mono/SceneManagement/EditorSceneManager.cs:18
         public delegate void SceneClosedCallback(Scene scene);
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:20
+        public delegate void SceneSavedCallback(Scene scene);
         // Editor/Mono/SceneManagement/EditorSceneManager.cs:58
         public static event SceneClosedCallback sceneClosed { add { } remove { } }
+        // Editor/Mono/SceneManagement/EditorSceneManager.cs:70
+        public static event SceneSavedCallback sceneSaved { add { } remove { } }
     }
     // Editor/Mono/EditorSceneManager.cs:15
     public enum NewSceneMode

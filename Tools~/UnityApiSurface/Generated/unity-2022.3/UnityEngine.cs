@@ -172,6 +172,10 @@ namespace UnityEngine
         // Runtime/Export/Graphics/GraphicsComponents.bindings.cs:127
         public Mesh sharedMesh { get { throw null; } set { } }
     }
+    // Modules/TerrainPhysics/TerrainPhysics.bindings.cs:12
+    public partial class TerrainCollider : Collider
+    {
+    }
 }
 
 namespace UnityEngine
@@ -181,17 +185,29 @@ namespace UnityEngine
     using System.Runtime.InteropServices;
     using Unity.Collections;
     using UnityEngine.SceneManagement;
+    // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:416
+    public partial class BoxCollider : Collider
+    {
+    }
+    // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:403
+    public partial class CapsuleCollider : Collider
+    {
+    }
     // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:320
     public partial class Collider : Component
     {
         // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:322
         public bool enabled { get { throw null; } set { } }
+        // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:327
+        public Vector3 ClosestPoint(Vector3 position) { throw null; }
     }
     // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:393
     public partial class MeshCollider : Collider
     {
         // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:395
         public Mesh sharedMesh { get { throw null; } set { } }
+        // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:396
+        public bool convex { get { throw null; } set { } }
     }
     // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:948
     public partial class Physics
@@ -222,6 +238,83 @@ namespace UnityEngine
         public Vector3 normal { get { throw null; } set { } }
         // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:52
         public float distance { get { throw null; } set { } }
+    }
+    // Modules/Physics/ScriptBindings/Dynamics.bindings.cs:424
+    public partial class SphereCollider : Collider
+    {
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
+    using System.Collections;
+    // Runtime/Export/Scripting/MonoBehaviour.bindings.cs:20
+    public partial class MonoBehaviour : Behaviour
+    {
+    }
+    // Runtime/Transform/ScriptBindings/Transform.bindings.cs:21
+    public partial class Transform : Component
+    {
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:26
+        public Vector3 position { get { throw null; } set { } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:29
+        public Vector3 localPosition { get { throw null; } set { } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:57
+        public Quaternion rotation { get { throw null; } set { } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:78
+        public Vector3 localScale { get { throw null; } set { } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:81
+        public Transform parent { get { throw null; } set { } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:106
+        public void SetParent(Transform parent, bool worldPositionStays) { throw null; }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:109
+        public Matrix4x4 worldToLocalMatrix { get { throw null; } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:111
+        public Matrix4x4 localToWorldMatrix { get { throw null; } }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:114
+        public void SetPositionAndRotation(Vector3 position, Quaternion rotation) { throw null; }
+        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:338
+        public Vector3 TransformPoint(Vector3 position) { throw null; }
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
+    using System.Collections.Generic;
+    using System.Runtime.InteropServices;
+    using Unity.Collections;
+    using Unity.Jobs;
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:37
+    public partial struct ColliderHit
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:44
+        public Collider collider { get { throw null; } }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:328
+    public partial struct OverlapSphereCommand
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:338
+        public OverlapSphereCommand(PhysicsScene physicsScene, Vector3 point, float radius, QueryParameters queryParameters) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:351
+        public static JobHandle ScheduleBatch(NativeArray<OverlapSphereCommand> commands, NativeArray<ColliderHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:18
+    public partial struct QueryParameters
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:25
+        public QueryParameters(int layerMask = Physics.DefaultRaycastLayers, bool hitMultipleFaces = false, QueryTriggerInteraction hitTriggers = QueryTriggerInteraction.UseGlobal, bool hitBackfaces = false) { throw null; }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:49
+    public partial struct RaycastCommand
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
+        public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:60
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:75
+        public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
 }
 
@@ -601,40 +694,6 @@ namespace UnityEngine
 namespace UnityEngine
 {
     using System;
-    using System.Collections;
-    // Runtime/Export/Scripting/MonoBehaviour.bindings.cs:20
-    public partial class MonoBehaviour : Behaviour
-    {
-    }
-    // Runtime/Transform/ScriptBindings/Transform.bindings.cs:21
-    public partial class Transform : Component
-    {
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:26
-        public Vector3 position { get { throw null; } set { } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:29
-        public Vector3 localPosition { get { throw null; } set { } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:57
-        public Quaternion rotation { get { throw null; } set { } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:78
-        public Vector3 localScale { get { throw null; } set { } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:81
-        public Transform parent { get { throw null; } set { } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:106
-        public void SetParent(Transform parent, bool worldPositionStays) { throw null; }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:109
-        public Matrix4x4 worldToLocalMatrix { get { throw null; } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:111
-        public Matrix4x4 localToWorldMatrix { get { throw null; } }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:114
-        public void SetPositionAndRotation(Vector3 position, Quaternion rotation) { throw null; }
-        // Runtime/Transform/ScriptBindings/Transform.bindings.cs:338
-        public Vector3 TransformPoint(Vector3 position) { throw null; }
-    }
-}
-
-namespace UnityEngine
-{
-    using System;
     using System.Collections.Generic;
     using System.Runtime.InteropServices;
     using Unity.Collections;
@@ -650,31 +709,6 @@ namespace UnityEngine
         public bool enabled { get { throw null; } set { } }
         // Runtime/Export/Graphics/GraphicsRenderers.bindings.cs:166
         public Material sharedMaterial { get { throw null; } set { } }
-    }
-}
-
-namespace UnityEngine
-{
-    using System;
-    using System.Collections.Generic;
-    using System.Runtime.InteropServices;
-    using Unity.Collections;
-    using Unity.Jobs;
-    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:18
-    public partial struct QueryParameters
-    {
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:25
-        public QueryParameters(int layerMask = Physics.DefaultRaycastLayers, bool hitMultipleFaces = false, QueryTriggerInteraction hitTriggers = QueryTriggerInteraction.UseGlobal, bool hitBackfaces = false) { throw null; }
-    }
-    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:49
-    public partial struct RaycastCommand
-    {
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
-        public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:60
-        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:75
-        public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
 }
 

@@ -111,6 +111,8 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/MeshCollider.bindings.cs:26
         public Mesh sharedMesh { get { throw null; } set { } }
+        // Modules/Physics/ScriptBindings/MeshCollider.bindings.cs:27
+        public bool convex { get { throw null; } set { } }
     }
     // Runtime/Export/BaseClass.cs:19
     public enum PrimitiveType
@@ -161,11 +163,21 @@ namespace UnityEngine
         // Runtime/Export/Scripting/Behaviour.bindings.cs:18
         public bool enabled { get { throw null; } set { } }
     }
+    // Modules/Physics/ScriptBindings/BoxCollider.bindings.cs:11
+    public partial class BoxCollider : Collider
+    {
+    }
+    // Modules/Physics/ScriptBindings/CapsuleCollider.bindings.cs:11
+    public partial class CapsuleCollider : Collider
+    {
+    }
     // Modules/Physics/ScriptBindings/Collider.bindings.cs:11
     public partial class Collider : Component
     {
         // Modules/Physics/ScriptBindings/Collider.bindings.cs:13
         public bool enabled { get { throw null; } set { } }
+        // Modules/Physics/ScriptBindings/Collider.bindings.cs:18
+        public Vector3 ClosestPoint(Vector3 position) { throw null; }
     }
     // Modules/Physics/ScriptBindings/RaycastHit.bindings.cs:14
     public partial struct RaycastHit
@@ -179,6 +191,53 @@ namespace UnityEngine
         public Vector3 normal { get { throw null; } set { } }
         // Modules/Physics/ScriptBindings/RaycastHit.bindings.cs:33
         public float distance { get { throw null; } set { } }
+    }
+    // Modules/Physics/ScriptBindings/SphereCollider.bindings.cs:11
+    public partial class SphereCollider : Collider
+    {
+    }
+    // Modules/TerrainPhysics/TerrainPhysics.bindings.cs:11
+    public partial class TerrainCollider : Collider
+    {
+    }
+}
+
+namespace UnityEngine
+{
+    using System;
+    using System.Collections.Generic;
+    using System.Runtime.InteropServices;
+    using Unity.Collections;
+    using Unity.Jobs;
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:37
+    public partial struct ColliderHit
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:44
+        public Collider collider { get { throw null; } }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:329
+    public partial struct OverlapSphereCommand
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:339
+        public OverlapSphereCommand(PhysicsScene physicsScene, Vector3 point, float radius, QueryParameters queryParameters) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:352
+        public static JobHandle ScheduleBatch(NativeArray<OverlapSphereCommand> commands, NativeArray<ColliderHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:18
+    public partial struct QueryParameters
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:25
+        public QueryParameters(int layerMask = Physics.DefaultRaycastLayers, bool hitMultipleFaces = false, QueryTriggerInteraction hitTriggers = QueryTriggerInteraction.UseGlobal, bool hitBackfaces = false) { throw null; }
+    }
+    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:49
+    public partial struct RaycastCommand
+    {
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
+        public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:61
+        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
+        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:76
+        public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
 }
 
@@ -709,31 +768,6 @@ namespace UnityEngine
     {
         // Modules/Physics/ScriptBindings/PhysicsScene.bindings.cs:356
         public static PhysicsScene GetPhysicsScene(this Scene scene) { throw null; }
-    }
-}
-
-namespace UnityEngine
-{
-    using System;
-    using System.Collections.Generic;
-    using System.Runtime.InteropServices;
-    using Unity.Collections;
-    using Unity.Jobs;
-    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:18
-    public partial struct QueryParameters
-    {
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:25
-        public QueryParameters(int layerMask = Physics.DefaultRaycastLayers, bool hitMultipleFaces = false, QueryTriggerInteraction hitTriggers = QueryTriggerInteraction.UseGlobal, bool hitBackfaces = false) { throw null; }
-    }
-    // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:49
-    public partial struct RaycastCommand
-    {
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:51
-        public RaycastCommand(Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:61
-        public RaycastCommand(PhysicsScene physicsScene, Vector3 from, Vector3 direction, QueryParameters queryParameters, float distance = float.MaxValue) { throw null; }
-        // Modules/Physics/ScriptBindings/QueryCommand.bindings.cs:76
-        public static JobHandle ScheduleBatch(NativeArray<RaycastCommand> commands, NativeArray<RaycastHit> results, int minCommandsPerJob, int maxHits, JobHandle dependsOn = new JobHandle()) { throw null; }
     }
 }
 

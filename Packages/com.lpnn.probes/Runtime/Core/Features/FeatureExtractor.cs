@@ -14,6 +14,9 @@ namespace Lpnn.Probes.Core.Features
 
         private const int PointsPerSampleBatch = 4096;
 
+        /// <summary>The progress stage of <see cref="SampleLighting"/> (the Lighting step's, in the editor and the rehearsal).</summary>
+        internal const string LightingStage = "sampling lighting";
+
         /// <summary>Asks the light sampler for the SH at every evaluation point (in batches, with progress and
         /// cancel) and checks every value is finite.</summary>
         public static float[] SampleLighting(EvaluationGrid grid, ILightSampler sampler, ProgressCallback progress = null,
@@ -27,8 +30,10 @@ namespace Lpnn.Probes.Core.Features
             var batchSh = new float[batch * ShMath.FloatsPerProbe];
             for (int first = 0; first < grid.Count; first += batch)
             {
+                // Progress, then cancel: the editor reads its Cancel button inside the progress call, so the check right after
+                // it stops before any further work (Tests/Core/ApplyCancelTests).
+                progress?.Invoke(LightingStage, first, grid.Count);
                 cancel.ThrowIfCancellationRequested();
-                progress?.Invoke("sampling lighting", first, grid.Count);
                 int count = Math.Min(batch, grid.Count - first);
                 if (count != positions.Length)
                 {
@@ -39,7 +44,8 @@ namespace Lpnn.Probes.Core.Features
                 sampler.Sample(positions, batchSh);
                 Array.Copy(batchSh, 0, sh, (long)first * ShMath.FloatsPerProbe, (long)count * ShMath.FloatsPerProbe);
             }
-            progress?.Invoke("sampling lighting", grid.Count, grid.Count);
+            progress?.Invoke(LightingStage, grid.Count, grid.Count);
+            cancel.ThrowIfCancellationRequested();
             CheckFinite(grid, sh);
             return sh;
         }
@@ -47,7 +53,13 @@ namespace Lpnn.Probes.Core.Features
         /// <summary>The full lpnn.features.v1 matrix (grid.Count × 19), the scene scale it is relative to, and each point's
         /// back-face fraction from the same rays (<see cref="ProbeValidity"/>).</summary>
         public static FeatureSet Extract(EvaluationGrid grid, float[] sh, IRaycaster raycaster, ProgressCallback progress = null,
-            CancellationToken cancel = default)
+            CancellationToken cancel = default) =>
+            Extract(grid, sh, raycaster, null, progress, cancel);
+
+        /// <summary>As the public overload, and with <paramref name="colliders"/> (null: none) the points inside solid colliders,
+        /// which the rays cannot see, get back-face fraction 1 (<see cref="InsideColliders"/>): invalid.</summary>
+        internal static FeatureSet Extract(EvaluationGrid grid, float[] sh, IRaycaster raycaster, IColliderQuery colliders, ProgressCallback progress,
+            CancellationToken cancel)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (sh == null || sh.Length != (long)grid.Count * ShMath.FloatsPerProbe)
@@ -59,7 +71,19 @@ namespace Lpnn.Probes.Core.Features
             LightingFeatures.Compute(grid, sh, scale, values, stride, progress, cancel);
             var backFaceFractions = new float[grid.Count];
             GeometryFeatures.Compute(grid, raycaster, values, stride, LightingFeatures.Count, backFaceFractions, progress, cancel);
-            return new FeatureSet(Schema, grid.Count, values, scale, backFaceFractions);
+            cancel.ThrowIfCancellationRequested();
+            int insideColliders = 0;
+            if (colliders != null)
+            {
+                bool[] inside = InsideColliders.Find(grid, colliders, progress, cancel);
+                for (int n = 0; n < inside.Length; n++)
+                {
+                    if (!inside[n]) continue;
+                    backFaceFractions[n] = ProbeValidity.InsideColliderFraction;
+                    insideColliders++;
+                }
+            }
+            return new FeatureSet(Schema, grid.Count, values, scale, backFaceFractions, insideColliders);
         }
 
         private static void CheckFinite(EvaluationGrid grid, float[] sh)

@@ -31,8 +31,8 @@ namespace Lpnn.Probes.Core.Features
             var hits = new RayHit[batchPoints * rays];
             for (int first = 0; first < grid.Count; first += batchPoints)
             {
-                cancel.ThrowIfCancellationRequested();
                 progress?.Invoke("casting rays", first, grid.Count);
+                cancel.ThrowIfCancellationRequested();
                 int points = Math.Min(batchPoints, grid.Count - first);
                 int batchRays = points * rays;
                 if (batchRays != origins.Length)
@@ -59,6 +59,7 @@ namespace Lpnn.Probes.Core.Features
                 }
             }
             progress?.Invoke("casting rays", grid.Count, grid.Count);
+            cancel.ThrowIfCancellationRequested();
         }
 
         private static void Summarise(EvaluationGrid grid, int point, RayHit[] hits, int offset, int rays, Vector3[] directions,

@@ -27,8 +27,8 @@ namespace Lpnn.Probes.Core.Features
             {
                 if ((n & 4095) == 0)
                 {
-                    cancel.ThrowIfCancellationRequested();
                     progress?.Invoke("lighting features", n, count);
+                    cancel.ThrowIfCancellationRequested();
                 }
                 PointFeatures(sh, irradiance, n, scale, features);
                 NeighbourFeatures(grid, irradiance, n, floorTerm, features);
@@ -36,6 +36,7 @@ namespace Lpnn.Probes.Core.Features
                 for (int f = 0; f < Count; f++) output[o + f] = (float)features[f];
             }
             progress?.Invoke("lighting features", count, count);
+            cancel.ThrowIfCancellationRequested();
         }
 
         /// <summary>E(p, d) for every point and every D14 direction (RGB), cached once: each point is read by up
@@ -47,8 +48,8 @@ namespace Lpnn.Probes.Core.Features
             {
                 if ((n & 8191) == 0)
                 {
-                    cancel.ThrowIfCancellationRequested();
                     progress?.Invoke("evaluating lighting", n, count);
+                    cancel.ThrowIfCancellationRequested();
                 }
                 int o = n * ShMath.FloatsPerProbe;
                 for (int d = 0; d < Directions; d++)

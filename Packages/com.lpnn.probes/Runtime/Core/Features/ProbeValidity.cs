@@ -20,6 +20,11 @@ namespace Lpnn.Probes.Core.Features
         /// (Documentation~/file-formats.md; Python: lpnn.core.validity.CAPTURE_SECTION).</summary>
         public const string CaptureSection = "back_face_fraction";
 
+        /// <summary>The back-face fraction a point inside a solid collider gets (<see cref="InsideColliders"/>): as if the
+        /// box, sphere, capsule, convex mesh or terrain were the closed triangle mesh Python's importer sees, every ray
+        /// leaving it through a back face. The rays themselves cannot tell: they do not report a collider they start in.</summary>
+        public const float InsideColliderFraction = 1f;
+
         /// <summary>Share of back-face hits among one point's rays.</summary>
         public static double BackFaceFraction(Vector3[] directions, bool[] hits, Vector3[] normals)
         {

@@ -22,14 +22,47 @@ namespace Lpnn.Probes.Core.Pipeline
     internal delegate FeatureSet FeatureStep(EvaluationGrid grid, float[] sh, ProgressCallback progress, CancellationToken cancel);
 
     /// <summary>The order of the Apply steps between Unity calls (Documentation~/index.md "Apply rehearsal"): lighting through
-    /// an <see cref="ILightSampler"/> → features → valid points → the insertion selection with the tolerance policy and the
-    /// batched refinement → the positions handed to an <see cref="IProbeGroupWriter"/>. <see cref="SelectByInsertion"/> is
-    /// the code the editor's <c>LpnnPipeline</c> runs for the Insertion methods; <see cref="Rehearse"/> chains the steps
-    /// the way <c>LpnnPipeline.Run</c> does, without the editor's session, so it runs under Mono. Every step honours
-    /// <c>cancel</c>; a cancel throws <see cref="OperationCanceledException"/> before the writer is called.</summary>
+    /// an <see cref="ILightSampler"/> (<see cref="SampleLighting"/>) → features (<see cref="ExtractFeatures"/>: the rays and the
+    /// solid colliders) → valid points (<see cref="ValidPoints"/>) → the insertion selection with the tolerance policy and the
+    /// batched refinement (<see cref="SelectByInsertion"/>) → the positions handed to an <see cref="IProbeGroupWriter"/>. The
+    /// editor's <c>LpnnPipeline</c> runs these same methods for its Features and Placement steps (its lighting implementations
+    /// sample through <see cref="FeatureExtractor.SampleLighting"/>, as <see cref="SampleLighting"/> does); <see cref="Rehearse"/>
+    /// chains them the way <c>LpnnPipeline.Run</c> does, and <see cref="Place"/> is the Placement step alone (the inspector's
+    /// Apply), both publishing into an <see cref="ApplyState"/> that stands in for the editor's session, so they run under Mono.
+    /// Every step honours <c>cancel</c>; a cancel throws <see cref="OperationCanceledException"/> before the writer is called
+    /// and before the cancelled step publishes anything.</summary>
     internal static class ApplySteps
     {
-        public const string LightingStage = "Lighting: sampling the evaluation points";
+        public const string LightingStage = FeatureExtractor.LightingStage;
+
+        /// <summary>The Lighting step: the SH at every grid point, in batches with progress and cancel, every value checked finite
+        /// (<see cref="FeatureExtractor.SampleLighting"/>, which the editor's lighting implementations call too).</summary>
+        public static float[] SampleLighting(EvaluationGrid grid, ILightSampler lighting, ProgressCallback progress, CancellationToken cancel)
+        {
+            if (lighting == null) throw new ArgumentNullException(nameof(lighting));
+            return FeatureExtractor.SampleLighting(grid, lighting, progress, cancel);
+        }
+
+        /// <summary>The Features step (the editor's LpnnPipeline.ExtractFeatures): the lpnn.features.v1 matrix and each point's
+        /// back-face fraction from <paramref name="raycaster"/>'s rays, the points inside solid colliders of
+        /// <paramref name="colliders"/> (null: none) made invalid (features.md "Probe validity").</summary>
+        public static FeatureSet ExtractFeatures(EvaluationGrid grid, float[] sh, IRaycaster raycaster, IColliderQuery colliders, ProgressCallback progress,
+            CancellationToken cancel)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            if (sh == null) throw new LpnnException("there is no lighting data for this grid; run the Lighting data step first");
+            if (raycaster == null) throw new ArgumentNullException(nameof(raycaster));
+            return FeatureExtractor.Extract(grid, sh, raycaster, colliders, progress, cancel);
+        }
+
+        /// <summary>The Features step as a <see cref="FeatureStep"/> (the rehearsal's: a raycaster and collider query of a test scene).</summary>
+        public static FeatureStep Features(IRaycaster raycaster, IColliderQuery colliders) =>
+            (grid, sh, progress, cancel) => ExtractFeatures(grid, sh, raycaster, colliders, progress, cancel);
+
+        /// <summary>Which points may become probes: those the Features step found outside geometry; null (every point) when
+        /// there are no features or they carry no back-face fractions (a capture's).</summary>
+        public static bool[] ValidPoints(FeatureSet features) =>
+            features == null || features.BackFaceFractions == null ? null : ValidCandidates.FromBackFaceFractions(features.BackFaceFractions);
 
         /// <summary>The insertion methods' selection, reading the insertion order only as far as the policy needs (a budget's
         /// points, the tolerance search's prefixes), or the whole ranking when it is already known (<paramref name="known"/>,
@@ -101,31 +134,47 @@ namespace Lpnn.Probes.Core.Pipeline
         }
 
         /// <summary>The whole Apply of the plain Insertion method (the volume's default: Insertion, Refine in batches) on a
-        /// grid: <paramref name="lighting"/> samples the SH, <paramref name="features"/> gives the features (their back-face
-        /// fractions say which points are valid), <paramref name="tetrahedralizer"/> stands in for Unity's, and the positions
-        /// go to <paramref name="writer"/> only after every step finished uncancelled.</summary>
+        /// grid — the inspector's Run all steps: <paramref name="lighting"/> samples the SH, <paramref name="features"/> gives the
+        /// features (their back-face fractions say which points are valid), <paramref name="tetrahedralizer"/> stands in for
+        /// Unity's, and the positions go to <paramref name="writer"/> only after every step finished uncancelled. Each step
+        /// publishes its result into <paramref name="state"/> (null: a fresh one) only when it completed, as the editor's
+        /// steps do into the session: a cancel leaves the previous state.</summary>
         public static SelectionResult Rehearse(EvaluationGrid grid, ILightSampler lighting, FeatureStep features, ITetrahedralizer tetrahedralizer,
-            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel)
+            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, ApplyState state = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (writer == null) throw new ArgumentNullException(nameof(writer));
+            if (features == null) throw new ArgumentNullException(nameof(features));
+            state = state ?? new ApplyState();
             cancel.ThrowIfCancellationRequested();
             // Lighting step (LpnnPipeline.SampleLighting).
-            var positions = new Vector3[grid.Count];
-            for (int n = 0; n < positions.Length; n++) positions[n] = grid.GetPosition(n);
-            progress?.Invoke(LightingStage, 0, grid.Count);
-            var sh = new float[ShMath.FloatsPerProbe * grid.Count];
-            lighting.Sample(positions, sh);
-            progress?.Invoke(LightingStage, grid.Count, grid.Count);
+            var sh = SampleLighting(grid, lighting, progress, cancel);
             cancel.ThrowIfCancellationRequested();
+            state.PublishLighting(grid, sh);
             // Features step (LpnnPipeline.ExtractFeatures); its back-face fractions make the valid points (PlacementInputs.ValidPoints).
             var set = features(grid, sh, progress, cancel);
             cancel.ThrowIfCancellationRequested();
-            bool[] valid = set == null || set.BackFaceFractions == null ? null : ValidCandidates.FromBackFaceFractions(set.BackFaceFractions);
-            // Placement step (LpnnPipeline.Apply → SelectedPositions → SelectByInsertion; PlacementInputs.InsertionOrder/Evaluator).
-            var reference = ReferenceLighting.FromGrid(grid, sh);
-            var evaluator = new PlacementEvaluator(reference, tetrahedralizer);
-            var order = InsertionOrder.OfValid(grid, sh, reference.SceneScale, valid, tetrahedralizer);
+            state.PublishFeatures(set);
+            // Placement step (LpnnPipeline.Apply).
+            return Place(state, tetrahedralizer, settings, refine, writer, progress, cancel);
+        }
+
+        /// <summary>The Placement step alone on what <paramref name="state"/> holds (the inspector's Apply: LpnnPipeline.Apply →
+        /// SelectedPositions → SelectByInsertion, with PlacementInputs' kept insertion order, reused however far an earlier —
+        /// possibly cancelled — run computed it). Writes once, at the end.</summary>
+        public static SelectionResult Place(ApplyState state, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
+            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel)
+        {
+            if (state == null) throw new ArgumentNullException(nameof(state));
+            if (writer == null) throw new ArgumentNullException(nameof(writer));
+            if (state.Grid == null || state.Sh == null)
+                throw new LpnnException("the insertion method ranks points by the lighting at every evaluation point, and there is none for this grid: " +
+                                        "run the Lighting data step");
+            cancel.ThrowIfCancellationRequested();
+            var grid = state.Grid;
+            bool[] valid = ValidPoints(state.Features);
+            var evaluator = new PlacementEvaluator(state.Reference, tetrahedralizer);
+            var order = state.InsertionOrder(tetrahedralizer);
             var measure = settings.Policy == SelectionPolicy.Tolerance ? ReportingMeasure.Wrap(evaluator, grid.Count, progress, cancel) : null;
             var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel);
             cancel.ThrowIfCancellationRequested();

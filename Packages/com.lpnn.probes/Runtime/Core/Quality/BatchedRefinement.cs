@@ -170,6 +170,7 @@ namespace Lpnn.Probes.Core.Quality
                 }
                 state = following;
                 progress?.Invoke(Stage, seeded - state.Probes.Length, seeded - goal);
+                cancel.ThrowIfCancellationRequested();  // a Cancel pressed in the progress call stops before the next round
             }
             return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, rounds, stop);
         }

@@ -137,8 +137,8 @@ namespace Lpnn.Probes.Core.Quality
             {
                 while (_order.Count < count && !_exhausted)
                 {
-                    cancel.ThrowIfCancellationRequested();
                     progress?.Invoke(Stage, _order.Count, count);
+                    cancel.ThrowIfCancellationRequested();  // after the call, where the editor reads its Cancel button: no round starts
                     int[] probes = _order.ToArray();
                     int[] batch = _rounds.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide,
                         _candidates);
@@ -154,6 +154,7 @@ namespace Lpnn.Probes.Core.Quality
                     for (int n = 0; n < _chosen.Length; n++)
                         if (!_chosen[n] && (_candidates == null || _candidates[n])) _order.Add(n);
                 progress?.Invoke(Stage, count, count);
+                cancel.ThrowIfCancellationRequested();
             }
             var ranked = new int[_order.Count];
             for (int r = 0; r < ranked.Length; r++) ranked[r] = _rows == null ? _order[r] : _rows[_order[r]];

@@ -42,6 +42,7 @@ namespace Lpnn.Probes.Core.Selection
         {
             _cancel.ThrowIfCancellationRequested();
             _progress?.Invoke(Stage, Math.Min(_done, _total), _total);
+            _cancel.ThrowIfCancellationRequested();  // a Cancel pressed in the progress call stops before the evaluation
             double error = _inner.MeanError(probeIndices);
             _done++;
             return error;
