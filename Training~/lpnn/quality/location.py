@@ -20,7 +20,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import inside_stencils, kept_cells, most_inside, run_rows, walk
+from .metric_kernel import chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, run_rows, walk
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
@@ -63,18 +63,24 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     """Visibility walk for all points at once. Returns cell (-1 = outside; on a shared boundary the tie rule's
     tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
     bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
-    or with `coherent` (points in grid order) where the previous point's walk ended."""
+    or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
+    from its nearest centroid)."""
+    m = query.shape[0]
     centroids = tri.points[tri.tets].mean(axis=1)
-    first = query[:1] if coherent else query
+    if coherent:
+        chunks = chunk_count(m) if m else 0
+        first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
+    else:
+        first = query
     workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
     start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
-    result = np.empty(query.shape[0], dtype=np.int64)
-    resolved = np.empty(query.shape[0], dtype=bool)
-    coordinates = np.empty((query.shape[0], 4))
-    # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin; ties settled there).
-    # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
-    walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
-         INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
+    result = np.empty(m, dtype=np.int64)
+    resolved = np.empty(m, dtype=bool)
+    coordinates = np.empty((m, 4))
+    # Point by point in parallel slices (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin; ties
+    # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
+             WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
     return result, resolved, coordinates
 
 

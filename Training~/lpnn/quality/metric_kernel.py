@@ -166,48 +166,52 @@ def boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, start, toleran
     return lowest
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
          coherent):
-    """The visibility walk of location.py for each query point from its start tetrahedron (coherent:
-    start[0] for the first point, then the tetrahedron where the previous point's walk ended): cell[m] is
-    the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest is
+    """The visibility walk of location.py for each query point from its start tetrahedron (coherent: start[c] for the
+    first point of slice c of chunk_count's slices, then the tetrahedron where the previous point's walk ended): cell[m]
+    is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest is
     within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
     coordinates there (-1 when the walk leaves through a hull face: resolved, outside), resolved[m] False after
-    step_limit steps or a tie with too many candidates (the brute force settles those)."""
-    lam = np.empty(4)
-    trial = np.empty(4)
-    visited = np.empty(BOUNDARY_SEARCH_LIMIT, dtype=np.int64)
-    current = start[0] if query.shape[0] else 0
-    for m in range(query.shape[0]):
-        if not coherent:
-            current = start[m]
-        cell[m] = -1
-        resolved[m] = False
-        qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
-        for _ in range(step_limit):
-            barycentric_into(points, tets, inverse, current, qx, qy, qz, lam)
-            worst = 0
-            for i in range(1, 4):
-                if lam[i] < lam[worst]:
-                    worst = i
-            if lam[worst] >= -inside_tolerance:
-                if lam[worst] <= inside_tolerance:  # on the boundary: the tie rule's tetrahedron
-                    owner = boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, current, inside_tolerance,
-                                           visited, lam, trial)
-                    if owner < 0:
-                        break
-                    current = owner
-                cell[m] = current
-                resolved[m] = True
-                for i in range(4):
-                    coordinates[m, i] = lam[i]
-                break
-            step = neighbours[current, worst]
-            if step < 0:  # beyond that hull face's plane: outside the hull
-                resolved[m] = True
-                break
-            current = step
+    step_limit steps or a tie with too many candidates (the brute force settles those). Slices in parallel: with the tie
+    rule a point's cell does not depend on where its walk started, so neither on the slicing."""
+    chunks = chunk_count(query.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        lam = np.empty(4)
+        trial = np.empty(4)
+        visited = np.empty(BOUNDARY_SEARCH_LIMIT, dtype=np.int64)
+        current = start[chunk] if coherent else 0
+        for m in range(lo, hi):
+            if not coherent:
+                current = start[m]
+            cell[m] = -1
+            resolved[m] = False
+            qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+            for _ in range(step_limit):
+                barycentric_into(points, tets, inverse, current, qx, qy, qz, lam)
+                worst = 0
+                for i in range(1, 4):
+                    if lam[i] < lam[worst]:
+                        worst = i
+                if lam[worst] >= -inside_tolerance:
+                    if lam[worst] <= inside_tolerance:  # on the boundary: the tie rule's tetrahedron
+                        owner = boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, current,
+                                               inside_tolerance, visited, lam, trial)
+                        if owner < 0:
+                            break
+                        current = owner
+                    cell[m] = current
+                    resolved[m] = True
+                    for i in range(4):
+                        coordinates[m, i] = lam[i]
+                    break
+                step = neighbours[current, worst]
+                if step < 0:  # beyond that hull face's plane: outside the hull
+                    resolved[m] = True
+                    break
+                current = step
 
 
 @njit(cache=True, parallel=True)
