@@ -62,8 +62,8 @@ namespace Lpnn.Probes.Core.Tests
                         Guide = guide,
                     });
                 }
-                Assert.That(cases.Select(c => c.Name), Is.EqualTo(new[] { "enclosed", "outside", "plane", "guided" }));
-                Assert.That(cases.Select(c => c.Scores != null), Is.EqualTo(new[] { false, false, false, true }));
+                Assert.That(cases.Select(c => c.Name), Is.EqualTo(new[] { "enclosed", "outside", "plane", "guided", "ties" }));
+                Assert.That(cases.Select(c => c.Scores != null), Is.EqualTo(new[] { false, false, false, true, false }));
                 return cases;
             }
         }
@@ -108,7 +108,8 @@ namespace Lpnn.Probes.Core.Tests
         {
             foreach (var c in GoldenCase.ReadAll())
             {
-                if (!c.Json.TryGet("rounds", out var list)) continue;
+                // The ties case's lattice has no unique Delaunay tetrahedralisation: its tetrahedra are given (Python's).
+                if (c.Name == "ties" || !c.Json.TryGet("rounds", out var list)) continue;
                 foreach (var round in list.Items)
                 {
                     int[] probes = Ints(round.Get("probes"));
@@ -117,6 +118,40 @@ namespace Lpnn.Probes.Core.Tests
                         Is.EqualTo(TetrahedronKeys(round.Get("tetrahedra").Items.SelectMany(Ints).ToArray())), c.Name);
                 }
             }
+        }
+
+        /// <summary>Documentation~/quality.md §1 "Ties" on the golden's lattice: a point on a face, edge or vertex shared by
+        /// several tetrahedra takes the lowest-index one, a point outside with several nearest hull triangles the lowest
+        /// owner's, its nearest point snapped onto the edge or vertex they share. The golden's cells and weights come from the
+        /// generator's brute-force enumeration in exact rationals, not from either language's locator.</summary>
+        [Test]
+        public void TheTiesCaseGivesEveryPointTheExactTieRulesCellAndWeights()
+        {
+            var c = GoldenCase.ReadAll().Single(g => g.Name == "ties");
+            var round = c.Json.Get("rounds").Items.Single();
+            int[] probes = Ints(round.Get("probes"));
+            int[] tetrahedra = round.Get("tetrahedra").Items.SelectMany(Ints).ToArray();
+            int[] cells = Ints(round.Get("cells"));
+            var stencils = round.Get("stencils").Items.ToArray();
+            int outside = 0, located = 0;
+            for (int n = 0; n < c.Reference.Count; n++)
+            {
+                if (cells[n] < 0) continue;
+                var stencil = PlacementError.StencilOf(c.Reference, probes, tetrahedra, n);
+                Assert.That(stencil.Cell, Is.EqualTo(cells[n]), "the cell of point " + n);
+                var ours = new double[probes.Length];
+                ours[stencil.Probe0] += stencil.Weight0;
+                ours[stencil.Probe1] += stencil.Weight1;
+                ours[stencil.Probe2] += stencil.Weight2;
+                ours[stencil.Probe3] += stencil.Weight3;
+                var expected = new double[probes.Length];
+                foreach (var pair in stencils[n].Items) expected[(int)pair.Items.First().AsNumber] = pair.Items.Last().AsNumber;
+                Assert.That(ours, Is.EqualTo(expected).Within(1e-12), "the weights of point " + n);
+                if (stencil.Outside) outside++;
+                located++;
+            }
+            Assert.That(outside, Is.GreaterThan(10));
+            Assert.That(located, Is.EqualTo(c.Reference.Count - probes.Length));
         }
 
         private static List<string> TetrahedronKeys(int[] tetrahedra)

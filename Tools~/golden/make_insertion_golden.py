@@ -15,6 +15,9 @@ script CERTIFIES each case with exact integer arithmetic before writing it (else
   > 1e-9, or tie exactly in identical IEEE arithmetic (the "plane" case: lattice coordinates, exact zeros).
 - guided insertion (the "guided" case, quality.md §5.2): per cell the largest error x guide weight among the points
   above EXACT beats the next by > 1e-9 (relative); the weights come from float32 scores through guide_weights.
+The "ties" case is the opposite: a lattice round whose answer exists only through the tie rules (quality.md §1 "Ties",
+§5.1 "Equal errors"); its expected cells, weights and batch are derived independently in exact rational arithmetic
+(ties_case), and each rule is shown to matter (the opposite choice changes the answer).
 
     PYTHONPATH=Training~ python Tools~/golden/make_insertion_golden.py Tests/Data
 """
@@ -33,7 +36,7 @@ import numpy as np
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import (EXACT, INSERTION_GROWTH, guide_weights, insertion_batch, insertion_ranking,
+from lpnn.quality.insertion import (EXACT, INSERTION_GROWTH, TIE, guide_weights, insertion_batch, insertion_ranking,
                                     typical_tetrahedron)
 from lpnn.quality.metric import POINT_ERRORS, ReferenceField, probe_stencil
 from lpnn.quality.triangulation import tetrahedralize
@@ -280,6 +283,189 @@ def plane_case() -> dict[str, Any]:
             "typical_tetrahedron": start.tolist()}
 
 
+def closest_weights_exact(p, a, b, c) -> tuple[Fraction, Fraction, Fraction]:
+    """Ericson's closest point on triangle abc (Real-Time Collision Detection §5.1.5) in exact rationals: its weights."""
+    def sub(x, y):
+        return [Fraction(x[i]) - Fraction(y[i]) for i in range(3)]
+
+    def dot(x, y):
+        return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
+
+    ab, ac, ap, bp, cp = sub(b, a), sub(c, a), sub(p, a), sub(p, b), sub(p, c)
+    d1, d2, d3, d4, d5, d6 = dot(ab, ap), dot(ac, ap), dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
+    vc, vb, va = d1 * d4 - d3 * d2, d5 * d2 - d1 * d6, d3 * d6 - d5 * d4
+    one, zero = Fraction(1), Fraction(0)
+    if d1 <= 0 and d2 <= 0:
+        return one, zero, zero
+    if d3 >= 0 and d4 <= d3:
+        return zero, one, zero
+    if vc <= 0 and d1 >= 0 and d3 <= 0:
+        t = d1 / (d1 - d3)
+        return 1 - t, t, zero
+    if d6 >= 0 and d5 <= d6:
+        return zero, zero, one
+    if vb <= 0 and d2 >= 0 and d6 <= 0:
+        t = d2 / (d2 - d6)
+        return 1 - t, zero, t
+    if va <= 0 and d4 - d3 >= 0 and d5 - d6 >= 0:
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        return zero, 1 - t, t
+    v, w = vb / (va + vb + vc), vc / (va + vb + vc)
+    return 1 - v - w, v, w
+
+
+def exact_cells(ids: np.ndarray, probes: np.ndarray, tets: np.ndarray, prefer=min
+                ) -> tuple[dict[int, int], dict[int, dict[int, Fraction]], dict[str, int]] | None:
+    """The tie rules of quality.md §1 by brute-force enumeration in exact rationals, independent of both languages' code:
+    each other point's cell and weights (probe-list index -> weight), and how many points each rule decided. Inside:
+    the tetrahedra it is inside (every exact barycentric >= 0); clearly inside one (all > 0): that one; else the lowest
+    index (`prefer`). Outside: the hull triangles (faces of exactly one tetrahedron) at exactly the smallest distance; the
+    lowest owner (`prefer`), then the smallest sorted corners; the nearest point snapped onto the corners every tied
+    triangle holds. None when a point lies near, not on, a boundary (within 1e-6 of a decision), so float rounding in
+    the ±1e-9 and relative-1e-9 bands of both languages meets exactly these ties."""
+    pts = [tuple(int(v) for v in ids[p]) for p in probes]
+    faces: dict[tuple[int, ...], list[tuple[tuple[int, int, int], int]]] = {}
+    for t, tet in enumerate(tets):
+        for skip in range(4):
+            face = tuple(int(tet[k]) for k in range(4) if k != skip)
+            faces.setdefault(tuple(sorted(face)), []).append((face, t))
+    hull = [(face, owners[0][1]) for face, owners in ((key, value) for key, value in faces.items()) if len(owners) == 1]
+    cells: dict[int, int] = {}
+    weights: dict[int, dict[int, Fraction]] = {}
+    decided = {"inside": 0, "outside": 0}
+    for point in range(ids.shape[0]):
+        if point in set(probes.tolist()):
+            continue
+        q = tuple(int(v) for v in ids[point])
+        candidates = []
+        for t, tet in enumerate(tets):
+            a, b, c, d = (pts[int(v)] for v in tet)
+            whole = orient(a, b, c, d)
+            lam = [Fraction(orient(q, b, c, d), whole), Fraction(orient(a, q, c, d), whole),
+                   Fraction(orient(a, b, q, d), whole), Fraction(orient(a, b, c, q), whole)]
+            if -INSIDE < min(lam) < 0 or 0 < min(lam) < INSIDE:
+                return None
+            if min(lam) >= 0:
+                candidates.append((t, lam))
+        if candidates:
+            clear = [(t, lam) for t, lam in candidates if min(lam) > 0]
+            t, lam = clear[0] if clear else (prefer(t for t, _ in candidates), None)
+            lam = lam if lam is not None else dict(candidates)[t]
+            decided["inside"] += len(candidates) > 1
+            cells[point] = t
+            weights[point] = {int(v): w for v, w in zip(tets[t], lam) if w}
+            continue
+        distances = []
+        for (key, owner) in hull:
+            face, _ = next(entry for entry in faces[key] if entry[1] == owner)
+            a, b, c = (pts[v] for v in face)
+            w = closest_weights_exact(q, a, b, c)
+            x = [w[0] * a[i] + w[1] * b[i] + w[2] * c[i] for i in range(3)]
+            distances.append((sum((x[i] - q[i]) ** 2 for i in range(3)), face, owner, w))
+        nearest = min(d for d, *_ in distances)
+        if any(nearest < d < nearest * (1 + INSIDE) for d, *_ in distances):
+            return None
+        tied = [(face, owner, w) for d, face, owner, w in distances if d == nearest]
+        best = prefer(owner for _, owner, _ in tied)
+        face, owner, w = min((entry for entry in tied if entry[1] == best), key=lambda entry: sorted(entry[0]))
+        common = set(face).intersection(*(set(f) for f, _, _ in tied))
+        decided["outside"] += len(tied) > 1
+        cells[point] = owner
+        if len(common) == 1:
+            weights[point] = {next(iter(common)): Fraction(1)}
+        elif len(common) == 2:
+            s, e = sorted(common)
+            edge = [pts[e][i] - pts[s][i] for i in range(3)]
+            t = Fraction(sum((q[i] - pts[s][i]) * edge[i] for i in range(3)), sum(v * v for v in edge))
+            t = min(max(t, Fraction(0)), Fraction(1))
+            weights[point] = {v: x for v, x in ((s, 1 - t), (e, t)) if x}
+        else:
+            weights[point] = {int(v): x for v, x in zip(face, w) if x}
+    return cells, weights, decided
+
+
+def batch_by_counts(cells: dict[int, int], layer: np.ndarray, growth: float, probe_count: int, worst=min, order=min
+                    ) -> list[int]:
+    """The batch of quality.md §5.1 step 2 when every point of the middle layer has one same error e > 0 and every other
+    point 0 (ties_case's lighting): a cell's worst point is its lowest-index (`worst`) middle-layer point, its sum is e x
+    its middle-layer count, and the cells go by count, equal counts by their worst point's index (`order`)."""
+    members: dict[int, list[int]] = {}
+    for point, cell in cells.items():
+        if layer[point] == 1:
+            members.setdefault(cell, []).append(point)
+    ranked = sorted(((len(points), worst(points)) for points in members.values()),
+                    key=lambda entry: (-entry[0], entry[1] if order is min else -entry[1]))
+    return [point for _, point in ranked[:max(1, math.ceil(growth * probe_count))]]
+
+
+def ties_case(seed: int) -> dict[str, Any] | None:
+    """One round on a lattice (6 x 5 x 3 points, cell 0.25) whose probes are a few random columns at layers 0 and 2,
+    lit by layer only: every point of the middle layer, inside the probes' prism or outside it, interpolates the two
+    outer layers half and half, so all of them have one same error and the other points none. Most middle points lie on
+    faces and edges shared by several tetrahedra, and the outside ones' nearest hull points on shared edges and
+    vertices: every cell, every worst point and the order of cells with equal counts come from the tie rules alone.
+    Growth 1 puts every cell's candidate in the batch, so the batch pins the whole order."""
+    rng = np.random.default_rng(seed)
+    k, j, i = np.meshgrid(np.arange(3), np.arange(5), np.arange(6), indexing="ij")
+    ids = np.stack([i.ravel(), j.ravel(), k.ravel()], axis=1)  # grid order
+    columns = rng.choice(30, int(rng.integers(5, 8)), replace=False)
+    footprint = np.stack([columns % 6, columns // 6], axis=1)
+    if np.linalg.matrix_rank(footprint[1:] - footprint[0]) < 2:
+        return None
+    probes = np.asarray([int(np.flatnonzero((ids == [x, y, z]).all(axis=1))[0]) for z in (0, 2) for x, y in footprint])
+    probes = probes[rng.permutation(probes.shape[0])]  # insertion order
+    sh = np.zeros((ids.shape[0], 27))
+    for c, level in zip((0, 9, 18), (1.0, 0.8, 0.6)):
+        sh[:, c] = level * np.array([1.0, 1.6, 1.2])[ids[:, 2]]
+    sh[:, 1] = 0.3 * np.array([0.2, -0.1, 0.4])[ids[:, 2]]
+    grid, sh32, scale, field = _field(ids, sh)
+    tri = tetrahedralize(field.world[probes], field.frame)
+    exact_answer = exact_cells(ids, probes, tri.tets)
+    if exact_answer is None:
+        return None
+    cells, weights, decided = exact_answer
+    indices, others, stencil = probe_stencil(field, probes)
+    errors = POINT_ERRORS["irradiance"](
+        np.einsum("mk,mkv->mv", stencil.weights, field.light[indices][stencil.vertices]), field.light[others], field.scale)
+    middle = ids[others, 2] == 1
+    if not (np.all(errors[~middle] < 1e-14) and errors[middle].min() > 1e-6
+            and np.ptp(errors[middle]) < 1e-3 * TIE):  # equal errors, a few ulps apart at most
+        return None
+    growth = 1.0
+    batch = insertion_batch(field, probes, growth=growth)
+    expected = batch_by_counts(cells, ids[:, 2], growth, probes.shape[0])
+    if batch.tolist() != expected or not np.array_equal(stencil.cell, [cells[int(p)] for p in others]):
+        raise AssertionError(f"seed {seed}: the Python answer is not the exact tie rules' ({batch.tolist()} vs {expected})")
+    for row, point in enumerate(others.tolist()):
+        ours = np.zeros(probes.shape[0])
+        np.add.at(ours, stencil.vertices[row], stencil.weights[row])
+        theirs = np.zeros(probes.shape[0])
+        for v, w in weights[point].items():
+            theirs[v] = float(w)
+        if np.max(np.abs(ours - theirs)) > 1e-12:
+            raise AssertionError(f"seed {seed}: point {point}'s weights {ours} are not the exact rule's {theirs}")
+    # Each rule matters: the opposite choice (highest index, highest owner) changes the cells or the batch.
+    opposite = exact_cells(ids, probes, tri.tets, prefer=max)
+    if opposite is None or decided["inside"] == 0 or decided["outside"] == 0:
+        return None
+    flipped = {p: cells[p] != opposite[0][p] for p in cells}
+    outside = set(np.asarray(others)[stencil.outside].tolist())
+    if not (any(flipped[p] for p in cells if p not in outside) and any(flipped[p] for p in outside)
+            and batch_by_counts(opposite[0], ids[:, 2], growth, probes.shape[0]) != expected
+            and batch_by_counts(cells, ids[:, 2], growth, probes.shape[0], worst=max) != expected
+            and batch_by_counts(cells, ids[:, 2], growth, probes.shape[0], order=max) != expected):
+        return None
+    stencils = [[[int(v), float(w)] for v, w in sorted(weights[int(p)].items())] for p in others]
+    return {"name": "ties", "note": f"6 x 5 x 3 lattice lit by layer, {probes.shape[0]} probes on {footprint.shape[0]} "
+            f"columns at layers 0 and 2, growth 1; {decided['inside']} points inside lie on boundaries shared by several "
+            f"tetrahedra and {decided['outside']} outside have several nearest hull triangles; every middle-layer point has "
+            "the same error", "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions), "sh": exact(sh32),
+            "lighting_scale": scale, "growth": growth,
+            "rounds": [{"probes": probes.tolist(), "tetrahedra": tri.tets.tolist(), "batch": batch.tolist(),
+                        "cells": [cells.get(p, -1) for p in range(ids.shape[0])],
+                        "stencils": [stencils[list(others).index(p)] if p in cells else [] for p in range(ids.shape[0])]}]}
+
+
 def first_certified(make, seeds) -> dict[str, Any]:
     for seed in seeds:
         print(make.__name__, seed, flush=True)
@@ -296,7 +482,7 @@ def main(out_dir: str) -> None:
         "tolerance": "exact: typical tetrahedra, batches and rankings equal index for index",
         "exact_threshold": EXACT,
         "cases": [first_certified(enclosed_case, range(1, 200)), first_certified(outside_round_case, range(1, 400)), plane_case(),
-                  first_certified(guided_case, range(1, 400))],
+                  first_certified(guided_case, range(1, 400)), first_certified(ties_case, range(1, 400))],
     }
     text = json.dumps(golden, indent=None, separators=(",", ":"))
     write_text_atomic(Path(out_dir) / "insertion_golden.json", text + "\n")

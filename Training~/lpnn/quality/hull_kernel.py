@@ -9,6 +9,8 @@ order of operations, so that results are bit-identical to the numpy formulation 
 - the region tests are taken in np.select's order (vertex a, vertex b, edge ab, vertex c, edge ac, edge bc, face);
 - the anchor is einsum's sum over the three corners, and the distance sqrt((dx^2 + dy^2) + dz^2);
 - the best candidate is the first of the smallest distances (numpy's argmin).
+settle_ties applies the tie rule of quality.md §1 to those answers (hull_projection.lowest_owner_at_ties); the test
+file compares it with a numpy formulation over every hull triangle.
 Compiled with numba and cached on disk (core/cache.py).
 """
 
@@ -78,6 +80,16 @@ def closest_weights(px, py, pz, a, b, c, out):
     out[0], out[1], out[2] = u / total, v / total, w / total
 
 
+@njit(cache=True)
+def _point_and_distance(px, py, pz, a, b, c, w):
+    """The point w[0] a + w[1] b + w[2] c (einsum's order) and its distance to p."""
+    x = (w[0] * a[0] + w[1] * b[0]) + w[2] * c[0]
+    y = (w[0] * a[1] + w[1] * b[1]) + w[2] * c[1]
+    z = (w[0] * a[2] + w[1] * b[2]) + w[2] * c[2]
+    dx, dy, dz = x - px, y - py, z - pz
+    return x, y, z, math.sqrt((dx * dx + dy * dy) + dz * dz)
+
+
 @njit(cache=True, parallel=True)
 def nearest_among(query, corners, candidates, allowed, use_allowed, face, weights, anchor, distance):
     """For each point m: the candidate triangle candidates[m, j] (among those allowed) whose closest point is nearest,
@@ -97,11 +109,7 @@ def nearest_among(query, corners, candidates, allowed, use_allowed, face, weight
                 f = candidates[m, j]
                 a, b, c = corners[f, 0], corners[f, 1], corners[f, 2]
                 closest_weights(px, py, pz, a, b, c, trial)
-                x = (trial[0] * a[0] + trial[1] * b[0]) + trial[2] * c[0]
-                y = (trial[0] * a[1] + trial[1] * b[1]) + trial[2] * c[1]
-                z = (trial[0] * a[2] + trial[1] * b[2]) + trial[2] * c[2]
-                dx, dy, dz = x - px, y - py, z - pz
-                d = math.sqrt((dx * dx + dy * dy) + dz * dz)
+                x, y, z, d = _point_and_distance(px, py, pz, a, b, c, trial)
                 if use_allowed and not allowed[f]:
                     d = np.inf
                 if d < distance[m] or face[m] < 0:
@@ -133,3 +141,91 @@ def certified(query, anchor, distance, vertices, tolerance, out):
                     ok = False
                     break
             out[m] = ok
+
+
+@njit(cache=True)
+def _before(faces, owners, f, g):
+    """The tie rule's order of hull triangles: lower owning tetrahedron, then smaller sorted corners."""
+    if owners[f] != owners[g]:
+        return owners[f] < owners[g]
+    x, y = np.sort(faces[f]), np.sort(faces[g])
+    for k in range(3):
+        if x[k] != y[k]:
+            return x[k] < y[k]
+    return False
+
+
+@njit(cache=True, parallel=True)
+def settle_ties(points, faces, owners, faces_at_start, faces_at, edge_over_area, query, reach, tie, face, weights,
+                anchor, distance):
+    """quality.md §1 "Ties" outside the hull, in place, for points whose nearest hull point (face, weights, anchor,
+    distance: hull_projection's answer) lies within reach x distance of one of its triangle's edge lines (weight x
+    altitude, the altitude being 1 / edge_over_area[face, corner]: an upper bound of its distance to the boundary; no
+    other point can tie). The tie set: the hull triangles at the nearest triangle's corners (faces_at[faces_at_start[v] ..
+    faces_at_start[v + 1]]) whose distance is within a relative `tie` of the nearest. The point takes the one owned by
+    the lowest tetrahedron (then smallest sorted corners), with its nearest point snapped onto the hull edge or vertex
+    every tied triangle holds (the exact nearest point lies there; the edge's ends ordered by probe index), so the
+    weights do not depend on which of them is chosen; with one triangle, or none held by all, its own weights. Points
+    in parallel."""
+    chunks = chunk_count(query.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        trial = np.empty(3)
+        for m in range(lo, hi):
+            f0 = face[m]
+            near = reach * distance[m]
+            if not (weights[m, 0] <= near * edge_over_area[f0, 0] or weights[m, 1] <= near * edge_over_area[f0, 1]
+                    or weights[m, 2] <= near * edge_over_area[f0, 2]):
+                continue
+            px, py, pz = query[m, 0], query[m, 1], query[m, 2]
+            limit = distance[m] * (1.0 + tie)
+            chosen = f0
+            held = np.ones(3, dtype=np.bool_)  # which of f0's corners every tied triangle holds
+            for k in range(3):
+                v = faces[f0, k]
+                for j in range(faces_at_start[v], faces_at_start[v + 1]):
+                    f = faces_at[j]
+                    a, b, c = points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]]
+                    closest_weights(px, py, pz, a, b, c, trial)
+                    if _point_and_distance(px, py, pz, a, b, c, trial)[3] > limit:
+                        continue
+                    for corner in range(3):
+                        if faces[f0, corner] != faces[f, 0] and faces[f0, corner] != faces[f, 1] and \
+                                faces[f0, corner] != faces[f, 2]:
+                            held[corner] = False
+                    if _before(faces, owners, f, chosen):
+                        chosen = f
+            common = 0
+            for corner in range(3):
+                if held[corner]:
+                    common += 1
+            if common == 3:
+                continue  # no tie: no other triangle holds all of f0's corners
+            a, b, c = points[faces[chosen, 0]], points[faces[chosen, 1]], points[faces[chosen, 2]]
+            closest_weights(px, py, pz, a, b, c, trial)
+            if common == 1 or common == 2:
+                # The corners of `chosen` on the common vertex or edge, that edge's ends by probe index.
+                first, second = -1, -1
+                for k in range(3):
+                    for corner in range(3):
+                        if held[corner] and faces[chosen, k] == faces[f0, corner]:
+                            if first < 0:
+                                first = k
+                            else:
+                                second = k
+                trial[0] = trial[1] = trial[2] = 0.0
+                if second < 0:
+                    trial[first] = 1.0
+                else:
+                    if faces[chosen, second] < faces[chosen, first]:
+                        first, second = second, first
+                    s, e = points[faces[chosen, first]], points[faces[chosen, second]]
+                    ex, ey, ez = e[0] - s[0], e[1] - s[1], e[2] - s[2]
+                    t = _ratio(((px - s[0]) * ex + (py - s[1]) * ey) + (pz - s[2]) * ez, (ex * ex + ey * ey) + ez * ez)
+                    t = min(max(t, 0.0), 1.0)
+                    trial[first], trial[second] = 1.0 - t, t
+            x, y, z, d = _point_and_distance(px, py, pz, a, b, c, trial)
+            face[m] = chosen
+            weights[m, 0], weights[m, 1], weights[m, 2] = trial[0], trial[1], trial[2]
+            anchor[m, 0], anchor[m, 1], anchor[m, 2] = x, y, z
+            distance[m] = d

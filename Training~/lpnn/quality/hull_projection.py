@@ -9,21 +9,34 @@ Exact and vectorised: each point takes the best of its k nearest triangles (by c
 cKDTree); the answer p for point q is then certified by the supporting-plane test of convex
 projection (p is the nearest point of the hull iff (q - p).(x - p) <= 0 for every hull vertex x);
 the few points that fail it are settled against every triangle.
+
+Ties (quality.md §1 "Ties"): a nearest point on a hull edge or vertex lies on every hull triangle there, at the same
+distance, and near one (within ~1e-10 of the extent, as float32 positions put many lattice points) the distances differ
+by less than their rounding. For point location (project_to_hull with the triangles' owners) a point takes, among the
+triangles within a relative HULL_TIE of the smallest distance, the one owned by the lowest-index tetrahedron, its
+nearest point snapped onto the edge or vertex they share, as the C# core's HullProjector does, so its cell and weights
+do not hang on rounding.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .hull_kernel import certified, nearest_among
+from .hull_kernel import certified, nearest_among, settle_ties
 from .metric_kernel import run_rows
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS
 
 INITIAL_CANDIDATES = 8
 PROJECTION_TOLERANCE = 4e-12  # supporting-plane slack per unit distance (local units, extent ~1)
+# Hull triangles within this relative distance of the nearest one are a tie (quality.md §1 "Ties"); their closest points
+# then lie within TIE_REACH / 2 x the distance of the nearest point (convexity), so a nearest point farther than
+# TIE_REACH x the distance from its triangle's edges has no tie.
+HULL_TIE = 1e-9
+TIE_REACH = 2.0 * math.sqrt(2.0 * HULL_TIE + HULL_TIE ** 2)
 CHUNK_PAIRS = 1 << 20  # point-triangle or point-vertex pairs per pass (bounds temporaries)
 
 
@@ -136,6 +149,36 @@ def _is_projection(query: np.ndarray, anchor: np.ndarray, distance: np.ndarray, 
     return ok
 
 
-def project_to_hull(points: np.ndarray, faces: np.ndarray, query: np.ndarray) -> HullProjection:
-    """Nearest point on the triangles `faces` (H, 3) over `points` (K, 3) for each query (M, 3)."""
-    return HullIndex(points, faces).nearest(query)
+def project_to_hull(points: np.ndarray, faces: np.ndarray, query: np.ndarray, owners: np.ndarray | None = None
+                    ) -> HullProjection:
+    """Nearest point on the triangles `faces` (H, 3) over `points` (K, 3) for each query (M, 3). With the triangles'
+    owning tetrahedra `owners` (H,), a nearest point on a hull edge or vertex takes the tie rule's triangle
+    (lowest_owner_at_ties)."""
+    projection = HullIndex(points, faces).nearest(query)
+    return projection if owners is None else lowest_owner_at_ties(points, faces, owners, query, projection)
+
+
+def lowest_owner_at_ties(points: np.ndarray, faces: np.ndarray, owners: np.ndarray, query: np.ndarray,
+                         projection: HullProjection) -> HullProjection:
+    """quality.md §1 "Ties" outside the hull (hull_kernel.settle_ties): among the hull triangles whose distance is within
+    a relative HULL_TIE of the smallest, the one of the lowest owning tetrahedron (then of the smallest sorted corners),
+    its nearest point snapped onto the hull edge or vertex they all hold. Such triangles pass within TIE_REACH / 2 x the
+    distance of the nearest point (convexity), so only points nearer than TIE_REACH x the distance to their triangle's
+    edges are looked at again, against the hull triangles at that triangle's corners (any triangle that near the nearest
+    point has one of them as a corner, unless the hull has triangles narrower than that)."""
+    flat = faces.reshape(-1)
+    by_corner = np.argsort(flat, kind="stable")
+    faces_at = (by_corner // 3).astype(np.int64)  # the hull triangles at each probe, ascending
+    faces_at_start = np.searchsorted(flat[by_corner], np.arange(points.shape[0] + 1)).astype(np.int64)
+    # Per triangle and corner: the opposite edge's length over twice the area (1 / the corner's altitude).
+    corners = points[faces]
+    opposite = corners[:, [2, 0, 1]] - corners[:, [1, 2, 0]]
+    twice_area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    edge_over_area = np.linalg.norm(opposite, axis=2) / twice_area[:, None]
+    face, weights, anchor, distance = (projection.face.copy(), projection.weights.copy(), projection.anchor.copy(),
+                                       projection.distance.copy())
+    run_rows(settle_ties, face.shape[0], points, np.ascontiguousarray(faces, dtype=np.int64),
+             np.ascontiguousarray(owners, dtype=np.int64), faces_at_start, faces_at, edge_over_area,
+             np.ascontiguousarray(np.asarray(query, dtype=np.float64).reshape(-1, 3)), TIE_REACH, HULL_TIE, face,
+             weights, anchor, distance)
+    return HullProjection(face=face, weights=weights, anchor=anchor, distance=distance)

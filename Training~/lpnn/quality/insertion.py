@@ -59,6 +59,10 @@ INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the curren
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
 STARTING_SPREAD = 64  # of the candidates' farthest-point ranking, the head computed first (typical_tetrahedron)
 EXACT = 1e-12  # per-point errors at or below this are exact interpolation (nothing to fix there)
+# Errors (and guided keys, and cell sums) within this of each other count as equal, ties going to the lower point index
+# (quality.md §5.1): two languages (or two summation orders) compute equal errors a few ulps apart, ~1e-16 (sums of
+# 10^5 errors ~1e-11); errors that differ by less than this are equally good to fix.
+TIE = 1e-9
 # Guided insertion uses the network's scores only on volumes of at most this many points (quality.md §5.2: chosen on
 # whole training and validation levels; larger clouds than the network ever saw make its guide worse than none).
 GUIDED_POINT_LIMIT = 32_768
@@ -75,7 +79,7 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
     deviation = POINT_ERRORS[metric](np.broadcast_to(median, values.shape), values, field.scale)
     n = field.point_count
     count = min(n, max(4, int(math.ceil(TYPICAL_FRACTION * n))))
-    candidates = np.lexsort((np.arange(n), deviation))[:count]  # nearest the median first, ties by index
+    candidates = largest_first(-deviation, np.arange(n))[:count]  # nearest the median first, ties (within TIE) by index
     local = field.local[candidates]
     first = int(np.argmax(np.linalg.norm(local - local.mean(axis=0), axis=1)))
     # Only the ranking's head is read unless its first points are flat: rank STARTING_SPREAD of them, and all only
@@ -140,21 +144,32 @@ def batch_of(others: np.ndarray, errors: np.ndarray, cell: np.ndarray, probe_cou
              guide: np.ndarray | None, candidates: np.ndarray | None) -> np.ndarray:
     """insertion_batch's choice given the other points (ascending), their errors and stencil cells, from a set of
     `probe_count` probes (guide and candidates already checked)."""
-    # Per cell the candidate first, ties by index. Unguided, the key is the error itself; guided, points at
-    # or below EXACT never become candidates (key -1), so a cell needs a point exactly when it does unguided.
+    # Per cell the candidate first, ties (within TIE of the cell's largest key) by index. Unguided, the key is the error
+    # itself; guided, points at or below EXACT never become candidates (key -1), so a cell needs a point exactly when it
+    # does unguided.
     key = errors if guide is None else np.where(errors > EXACT, errors * guide[others], -1.0)
     if candidates is not None:  # pinned probes (pins.py): a point near a pin is never a cell's candidate
         key = np.where(candidates[others], key, -np.inf)
     cell_count = int(cell.max()) + 1
-    first = first_per_cell(cell, np.ascontiguousarray(key), cell_count)  # others ascend: first = lowest index
+    first = first_per_cell(cell, np.ascontiguousarray(key), cell_count, TIE)  # others ascend: first = lowest index
     worst = first[errors[first] > EXACT]
     if candidates is not None:
         worst = worst[candidates[others[worst]]]
     if worst.shape[0] == 0:
         return np.zeros(0, dtype=np.int64)
     cell_error = np.bincount(cell, errors, minlength=cell_count)
-    worst = worst[np.lexsort((others[worst], -cell_error[cell[worst]]))]
+    worst = worst[largest_first(cell_error[cell[worst]], others[worst])]
     return others[worst[:max(1, int(math.ceil(growth * probe_count)))]]
+
+
+def largest_first(values: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """Positions of `values`, largest first, where a value within TIE of the next larger one counts as equal to it: each
+    run of such values goes by `index`, lowest first (quality.md §5.1; the C# core's InsertionRanking.LargestFirst)."""
+    by_value = np.argsort(-values, kind="stable")
+    ordered = values[by_value]
+    run = np.zeros(ordered.shape[0], dtype=np.int64)  # runs numbered by the gaps above TIE before them
+    run[1:] = np.cumsum(ordered[:-1] - ordered[1:] > TIE)
+    return by_value[np.lexsort((index[by_value], run))]
 
 
 class InsertionOrder:
@@ -224,8 +239,7 @@ class InsertionOrder:
 
     def mean_error(self, count: int, probes: np.ndarray) -> float:
         """metric.mean_placement_error(field, probes) for `probes` = selection()(count), located from the last kept round
-        at or below `count` (insertion_state.with_inserted; equal to a fresh location but for points on faces shared
-        by several tetrahedra, whose errors agree to ~1e-15), else from scratch."""
+        at or below `count` (insertion_state.with_inserted: a fresh location's stencils), else from scratch."""
         rounds = [(done, placed) for done, placed in self._placed if done <= count]
         ordered = np.sort(probes)
         if not rounds or count > self._order.shape[0] or not np.array_equal(ordered, np.sort(self._order[:count])):

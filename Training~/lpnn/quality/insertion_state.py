@@ -7,13 +7,14 @@ other point, carried from one round to the next.
 
 Why only there. Inserting probes re-triangulates only the tetrahedra they break (triangulation.py: the tie-broken
 Delaunay is unique); every other tetrahedron is in the new tetrahedralisation too, with the same four vertices. A point
-inside such a tetrahedron is still inside it, so it needs no walk: only its barycentric coordinates are recomputed in
-the new tetrahedralisation (the same numbers a walk computes on arriving there), then every stencil's error. The walk
-(from the nearest tetrahedron centroid, as a fresh location) runs only for the points whose tetrahedron broke and the
-points outside the hull (the hull may have grown). On whole levels a round of growth 0.1 leaves 60-67 % of the points
-in unbroken tetrahedra (ctf_compromise, validation). The result equals a fresh location but for points on a face or
-edge shared by several tetrahedra, which keep the one they had where a fresh walk may reach another (the same weights
-up to rounding; the insertion golden file certifies that its points have no such ties).
+clearly inside such a tetrahedron (smallest coordinate > location.INSIDE_TOLERANCE) is still inside it and in no other,
+so it needs no walk: only its barycentric coordinates are computed in the new tetrahedralisation (the same numbers a
+walk computes on arriving there), then every stencil's error. A point on its boundary (a face, edge or vertex it may
+share) takes the tie rule's tetrahedron (quality.md §1 "Ties": the lowest-index one holding it, which an insertion can
+change), searched from there as a walk's end is. The walk (from the nearest tetrahedron centroid, as a fresh location)
+runs only for the points whose tetrahedron broke and the points outside the hull (the hull may have grown). So every
+point gets exactly a fresh location's stencil, as in the C# core's InsertionRounds. On whole levels a round of growth
+0.1 leaves 60-67 % of the points in unbroken tetrahedra (ctf_compromise, validation).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .batched_state import tet_keys
-from .location import Stencil, locate_cells, stencils_of_cells
+from .location import Stencil, keep_located, locate_cells, stencils_of_cells
 from .metric import ReferenceField, probe_mesh, stencil_point_errors
 from .triangulation import Tetrahedralization, tetrahedralize
 
@@ -82,13 +83,12 @@ def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, met
     others = located.others[staying]
     before = located.inside[staying]
     cell = np.where(before >= 0, survivor[np.maximum(before, 0)], -1)
-    walked = np.zeros(others.shape[0], dtype=bool)  # kept cells: coordinates recomputed in the new tetrahedron
-    coordinates = np.empty((others.shape[0], 4))
+    local = np.ascontiguousarray(field.local[others])
+    walked, coordinates = keep_located(mesh, local, cell)  # kept cells, or the tie rule's around them
     again = np.flatnonzero(cell < 0)  # broken tetrahedra and points outside the hull
     if again.shape[0]:
-        cell[again], walked[again], coordinates[again] = locate_cells(
-            mesh, np.ascontiguousarray(field.local[others[again]]))
-    stencil = stencils_of_cells(mesh, np.ascontiguousarray(field.local[others]), cell, walked, coordinates)
+        cell[again], walked[again], coordinates[again] = locate_cells(mesh, np.ascontiguousarray(local[again]))
+    stencil = stencils_of_cells(mesh, local, cell, walked, coordinates)
     return _finished(field, probes, mesh, others, stencil, metric)
 
 

@@ -4,6 +4,12 @@ Inside the hull: the tetrahedron containing the point (vectorised visibility wal
 tetrahedron whose centroid is nearest, with a brute-force fallback), barycentric weights clamped
 to >= 0 and renormalised (they are >= -1e-9 before clamping). Outside: the nearest point on the
 hull surface and its triangle's weights (hull_projection.py); the fourth weight is 0.
+
+Ties (quality.md §1): a point on a face, edge or vertex shared by several tetrahedra (smallest coordinate within
+INSIDE_TOLERANCE of 0) belongs to the lowest-index one, and a point outside whose nearest hull point lies on a hull edge
+or vertex to the hull triangle there of the lowest-index owner (snapped onto that edge or vertex); so a point's stencil
+does not depend on where a walk started, nor on the language (the C# core's TetrahedronLocator and HullProjector apply
+the same rule).
 """
 
 from __future__ import annotations
@@ -14,10 +20,10 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import inside_stencils, most_inside, run_rows, walk
+from .metric_kernel import chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, run_rows, walk
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
-INSIDE_TOLERANCE = 1e-9  # barycentric coordinates >= -this count as inside
+INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
 BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
 WALK_STEP_LIMIT = 10_000
 
@@ -43,32 +49,38 @@ def barycentric(tri: Tetrahedralization, cells: np.ndarray, query: np.ndarray) -
 
 
 def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Most-inside tetrahedron (max of min barycentric, the first of equals) for each point, and that minimum
-    (metric_kernel.most_inside: `barycentric`'s numbers)."""
+    """Most-inside tetrahedron (max of min barycentric, the first of equals; on a shared boundary the tie rule's) for
+    each point, and that largest minimum (metric_kernel.most_inside: `barycentric`'s numbers)."""
     best_cell = np.empty(query.shape[0], dtype=np.int64)
     best_min = np.empty(query.shape[0])
     run_rows(most_inside, query.shape[0] * max(1, tri.tets.shape[0] // 64), tri.points, tri.tets, tri.inverse,
-             np.ascontiguousarray(query, dtype=np.float64), best_cell, best_min)
+             np.ascontiguousarray(query, dtype=np.float64), INSIDE_TOLERANCE, best_cell, best_min)
     return best_cell, best_min
 
 
 def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Visibility walk for all points at once. Returns cell (-1 = outside), a 'resolved' mask and the
-    barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for bit; rows of points
-    not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
-    or with `coherent` (points in grid order) where the previous point's walk ended."""
+    """Visibility walk for all points at once. Returns cell (-1 = outside; on a shared boundary the tie rule's
+    tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
+    bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
+    or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
+    from its nearest centroid)."""
+    m = query.shape[0]
     centroids = tri.points[tri.tets].mean(axis=1)
-    first = query[:1] if coherent else query
+    if coherent:
+        chunks = chunk_count(m) if m else 0
+        first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
+    else:
+        first = query
     workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
     start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
-    result = np.empty(query.shape[0], dtype=np.int64)
-    resolved = np.empty(query.shape[0], dtype=bool)
-    coordinates = np.empty((query.shape[0], 4))
-    # One point at a time (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin).
-    # Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
-    walk(tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start, WALK_STEP_LIMIT,
-         INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
+    result = np.empty(m, dtype=np.int64)
+    resolved = np.empty(m, dtype=bool)
+    coordinates = np.empty((m, 4))
+    # Point by point in parallel slices (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin; ties
+    # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
+             WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
     return result, resolved, coordinates
 
 
@@ -76,8 +88,8 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
     (points in grid order, each near the previous one) starts each walk where the previous one ended
     instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
-    10^6 points): the same tetrahedron for every point inside one; a point on a face or edge shared
-    by several may get another of them, with the same weights up to rounding (quality.md §1)."""
+    10^6 points): the same stencils, since a point on a boundary shared by several tetrahedra gets the tie rule's
+    (module text) wherever its walk arrived."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent))
 
@@ -98,6 +110,19 @@ def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
     return cell, walked, coordinates
 
 
+def keep_located(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For points (M, 3) known to lie in tetrahedra `cell` of `tri` (-1: unknown), modified in place: the tetrahedron
+    location would give them, without a walk (metric_kernel.kept_cells): the same one when the point is clearly inside it
+    (smallest coordinate > INSIDE_TOLERANCE), else the tie rule's (module text), searched from it (-1 in the rare case the
+    search overflows: to be located). Returns `walked` (the points settled) and their coordinates, in locate_cells'
+    form."""
+    walked = np.zeros(q.shape[0], dtype=bool)
+    coordinates = np.empty((q.shape[0], 4))
+    run_rows(kept_cells, q.shape[0], tri.points, tri.tets, tri.inverse, tri.neighbours, q, INSIDE_TOLERANCE, cell, walked,
+             coordinates)
+    return walked, coordinates
+
+
 def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, walked: np.ndarray,
                       coordinates: np.ndarray) -> Stencil:
     """The second half of locate_local: stencils from each point's tetrahedron (cell >= 0; its barycentric coordinates
@@ -111,7 +136,7 @@ def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, 
     outside = cell < 0
     far = np.flatnonzero(outside)
     if far.shape[0]:
-        projection = project_to_hull(tri.points, tri.hull_faces, q[far])
+        projection = project_to_hull(tri.points, tri.hull_faces, q[far], owners=tri.hull_face_tets)
         owner = tri.hull_face_tets[projection.face]
         vertices[far, :3] = tri.hull_faces[projection.face]
         # The owner's fourth vertex, weight 0, keeps every stencil 4 wide.

@@ -11,6 +11,9 @@ metric and on walks through real tetrahedralisations):
   (its two-way unrolled sum of three products, measured: tests/quality/test_quality_metric_kernel.py),
   and lambda_0 = 1 - ((rest_0 + rest_1) + rest_2); the walk leaves through the first most negative
   coordinate, as numpy's argmin.
+A point on a face, edge or vertex shared by several tetrahedra (its smallest coordinate within the inside tolerance of
+0) belongs to the lowest-index one of them (quality.md §1 "Ties"), wherever the walk reached it: only such points take
+the extra search (boundary_owner), so the walk costs the same elsewhere.
 Compiled with numba and cached on disk (core/cache.py).
 """
 
@@ -106,45 +109,117 @@ def barycentric_into(points, tets, inverse, t, qx, qy, qz, lam):
     lam[0] = 1.0 - total
 
 
+BOUNDARY_SEARCH_LIMIT = 512  # tetrahedra a tie's search may visit (an edge's ring is ~5-20): beyond, the brute force
+# A tie's search crosses the faces the point lies within this of, and goes on through the tetrahedra it is inside within
+# this: a candidate (inside within the tolerance) may be reached only through such a near one, where float32 lattices
+# put points a few 1e-9 off an edge (ctf_compromise).
+BOUNDARY_REACH = 1e-6
+
+
 @njit(cache=True)
-def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
-         coherent):
-    """The visibility walk of location.py for each query point from its start tetrahedron (coherent:
-    start[0] for the first point, then the tetrahedron where the previous point's walk ended): cell[m] is
-    the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, and
-    coordinates[m] those coordinates (-1 when the walk leaves through a hull face: resolved, outside),
-    resolved[m] False after step_limit steps."""
-    lam = np.empty(4)
-    current = start[0] if query.shape[0] else 0
-    for m in range(query.shape[0]):
-        if not coherent:
-            current = start[m]
-        cell[m] = -1
-        resolved[m] = False
-        qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
-        for _ in range(step_limit):
-            barycentric_into(points, tets, inverse, current, qx, qy, qz, lam)
-            worst = 0
-            for i in range(1, 4):
-                if lam[i] < lam[worst]:
-                    worst = i
-            if lam[worst] >= -inside_tolerance:
-                cell[m] = current
-                resolved[m] = True
+def _smallest(lam):
+    return min(min(lam[0], lam[1]), min(lam[2], lam[3]))
+
+
+@njit(cache=True)
+def boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, start, tolerance, visited, lam, trial):
+    """quality.md §1 "Ties" for a point whose smallest coordinate in tetrahedron `start` lies in [-tolerance, tolerance]
+    (on a face, edge or vertex it may share): its candidates are the tetrahedra it is inside within the tolerance. They
+    are searched from `start` across the faces the point lies within BOUNDARY_REACH of, through every tetrahedron it is
+    inside within BOUNDARY_REACH. The point belongs to the candidate it is clearly inside (smallest coordinate >
+    tolerance: at most one) if there is one, else to the lowest-index candidate. Returns that tetrahedron with lam[0..3]
+    the point's coordinates there (trial: scratch), or -1 when more than visited.shape[0] tetrahedra are near (the caller
+    settles the point by brute force)."""
+    visited[0] = start
+    count = 1
+    lowest = start
+    done = 0
+    while done < count:
+        t = visited[done]
+        done += 1
+        barycentric_into(points, tets, inverse, t, qx, qy, qz, lam)
+        for face in range(4):
+            u = neighbours[t, face]
+            if lam[face] > BOUNDARY_REACH or u < 0:
+                continue
+            seen = False
+            for k in range(count):
+                if visited[k] == u:
+                    seen = True
+                    break
+            if seen:
+                continue
+            barycentric_into(points, tets, inverse, u, qx, qy, qz, trial)
+            smallest = _smallest(trial)
+            if smallest > tolerance:  # clearly inside u, hence inside no other tetrahedron
                 for i in range(4):
-                    coordinates[m, i] = lam[i]
-                break
-            step = neighbours[current, worst]
-            if step < 0:  # beyond that hull face's plane: outside the hull
-                resolved[m] = True
-                break
-            current = step
+                    lam[i] = trial[i]
+                return u
+            if smallest >= -BOUNDARY_REACH:
+                if count == visited.shape[0]:
+                    return -1
+                visited[count] = u
+                count += 1
+                if smallest >= -tolerance:
+                    lowest = min(lowest, u)
+    barycentric_into(points, tets, inverse, lowest, qx, qy, qz, lam)
+    return lowest
 
 
 @njit(cache=True, parallel=True)
-def most_inside(points, tets, inverse, query, best_cell, best_min):
+def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
+         coherent):
+    """The visibility walk of location.py for each query point from its start tetrahedron (coherent: start[c] for the
+    first point of slice c of chunk_count's slices, then the tetrahedron where the previous point's walk ended): cell[m]
+    is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest is
+    within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
+    coordinates there (-1 when the walk leaves through a hull face: resolved, outside), resolved[m] False after
+    step_limit steps or a tie with too many candidates (the brute force settles those). Slices in parallel: with the tie
+    rule a point's cell does not depend on where its walk started, so neither on the slicing."""
+    chunks = chunk_count(query.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        lam = np.empty(4)
+        trial = np.empty(4)
+        visited = np.empty(BOUNDARY_SEARCH_LIMIT, dtype=np.int64)
+        current = start[chunk] if coherent else 0
+        for m in range(lo, hi):
+            if not coherent:
+                current = start[m]
+            cell[m] = -1
+            resolved[m] = False
+            qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+            for _ in range(step_limit):
+                barycentric_into(points, tets, inverse, current, qx, qy, qz, lam)
+                worst = 0
+                for i in range(1, 4):
+                    if lam[i] < lam[worst]:
+                        worst = i
+                if lam[worst] >= -inside_tolerance:
+                    if lam[worst] <= inside_tolerance:  # on the boundary: the tie rule's tetrahedron
+                        owner = boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, current,
+                                               inside_tolerance, visited, lam, trial)
+                        if owner < 0:
+                            break
+                        current = owner
+                    cell[m] = current
+                    resolved[m] = True
+                    for i in range(4):
+                        coordinates[m, i] = lam[i]
+                    break
+                step = neighbours[current, worst]
+                if step < 0:  # beyond that hull face's plane: outside the hull
+                    resolved[m] = True
+                    break
+                current = step
+
+
+@njit(cache=True, parallel=True)
+def most_inside(points, tets, inverse, query, tolerance, best_cell, best_min):
     """For each query point, the tetrahedron of largest smallest barycentric coordinate (the first of equals, as
-    numpy's argmax) and that coordinate: location.py's brute force, in the walk's arithmetic; points in parallel."""
+    numpy's argmax) and that coordinate, except that a point whose largest is within `tolerance` of 0 (on a face, edge
+    or vertex) takes the lowest-index tetrahedron whose smallest is >= -tolerance (quality.md §1 "Ties"): location.py's
+    brute force, in the walk's arithmetic; points in parallel."""
     chunks = chunk_count(query.shape[0] * max(1, tets.shape[0] // 64))
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
@@ -153,12 +228,46 @@ def most_inside(points, tets, inverse, query, best_cell, best_min):
             qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
             best_cell[m] = 0
             best_min[m] = -np.inf
+            lowest = -1
             for t in range(tets.shape[0]):
                 barycentric_into(points, tets, inverse, t, qx, qy, qz, lam)
-                smallest = min(min(lam[0], lam[1]), min(lam[2], lam[3]))
+                smallest = _smallest(lam)
                 if smallest > best_min[m] or t == 0:
                     best_cell[m] = t
                     best_min[m] = smallest
+                if lowest < 0 and smallest >= -tolerance:
+                    lowest = t
+            if lowest >= 0 and best_min[m] <= tolerance:
+                best_cell[m] = lowest
+
+
+@njit(cache=True, parallel=True)
+def kept_cells(points, tets, inverse, neighbours, query, tolerance, cell, walked, coordinates):
+    """For each point known to lie in tetrahedron cell[m] (>= 0; insertion's incremental rounds, insertion_state.py):
+    its coordinates there when it is clearly inside it (smallest > tolerance: no other tetrahedron holds it, as a
+    location would find), else, on its boundary, the tie rule's tetrahedron searched from there (boundary_owner) and
+    the coordinates in it (walked[m] set either way); cell[m] = -1 when that search overflows (to be located). Points
+    in parallel."""
+    chunks = chunk_count(query.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
+        lam = np.empty(4)
+        trial = np.empty(4)
+        visited = np.empty(BOUNDARY_SEARCH_LIMIT, dtype=np.int64)
+        for m in range(lo, hi):
+            t = cell[m]
+            if t < 0:
+                continue
+            qx, qy, qz = query[m, 0], query[m, 1], query[m, 2]
+            barycentric_into(points, tets, inverse, t, qx, qy, qz, lam)
+            if _smallest(lam) <= tolerance:
+                t = boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, t, tolerance, visited, lam, trial)
+                cell[m] = t
+                if t < 0:
+                    continue
+            walked[m] = True
+            for i in range(4):
+                coordinates[m, i] = lam[i]
 
 
 @njit(cache=True, parallel=True)

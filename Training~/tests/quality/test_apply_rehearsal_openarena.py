@@ -1,9 +1,10 @@
 """The editor-free rehearsal of the whole Apply on a real level (issue 31, Deliver 4; Documentation~/ci.md "Apply rehearsal").
 
-Imports oa_dm1 (openarena-081-maps, never committed) at a 0.85 m cell (about 10^4 points), writes the capture and
-`lpnn place --method insertion-refined --tolerance 0.05`'s answer to a temporary folder, and runs the C# fixture
-Tests/Core/ApplyRehearsalTests.cs on it under Mono through nunit-console, with Python's tetrahedralisation served by
-rehearsal_tetrahedralizer.py. The default nunit-console run of Tools~/test.sh excludes that fixture's category: this
+Imports oa_dm1 (openarena-081-maps, never committed) at a 0.85 m cell (about 10^4 points), writes the capture,
+`lpnn place --method insertion-refined --tolerance 0.05`'s answer and Python's whole insertion order to a temporary
+folder, and runs the C# fixture Tests/Core/ApplyRehearsalTests.cs on it under Mono through nunit-console, with
+Python's tetrahedralisation served by rehearsal_tetrahedralizer.py: the same tetrahedra, so the same order and probes
+(quality.md §1 "Ties", §5.1 "Equal errors"). The default nunit-console run of Tools~/test.sh excludes that fixture's category: this
 test is where `make test` runs it.
 """
 
@@ -19,7 +20,10 @@ import pytest
 
 from lpnn.cli.main import main as lpnn_main
 from lpnn.core.capture_file import write_capture
+from lpnn.core.grid import EvaluationGrid
 from lpnn.core.validity import valid_points, without_invalid
+from lpnn.quality.insertion import insertion_ranking
+from lpnn.quality.metric import ReferenceField
 from lpnn.scenes.importer import import_level
 from lpnn.scenes.levels import load_pak_member
 
@@ -41,6 +45,8 @@ def _rehearsal_folder(pak: Path, folder: Path) -> int:
     assert lpnn_main(["place", str(folder / "level.lpnncap"), "--method", "insertion-refined", "--tolerance", str(TOLERANCE),
                       "--out", str(folder / "place.probes.json")]) == 0
     (folder / "tolerance.txt").write_text(f"{TOLERANCE}\n", encoding="utf-8")
+    ranking = insertion_ranking(ReferenceField.from_capture(capture), EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids))
+    (folder / "insertion_order.txt").write_text("".join(f"{p}\n" for p in ranking.tolist()), encoding="utf-8")
     server = Path(__file__).with_name("rehearsal_tetrahedralizer.py")
     (folder / "tetrahedralizer.sh").write_text(
         f"#!/bin/sh\nPYTHONPATH='{REPO / 'Training~'}' exec '{sys.executable}' '{server}' '{folder / 'level.lpnncap'}'\n",
@@ -59,5 +65,5 @@ def test_the_whole_apply_rehearsed_under_mono_matches_lpnn_place(openarena_pak: 
                             cwd=TESTS_DLL.parent, env={**os.environ, FOLDER_VARIABLE: str(tmp_path)},
                             capture_output=True, text=True, timeout=NUNIT_SECONDS)
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "Tests run: 2, Errors: 0, Failures: 0" in result.stdout, result.stdout
+    assert "Tests run: 3, Errors: 0, Failures: 0" in result.stdout, result.stdout
     assert "nothing written" in result.stdout and "mean error: rehearsal" in result.stdout, result.stdout

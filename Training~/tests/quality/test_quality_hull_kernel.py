@@ -1,13 +1,16 @@
 """The compiled nearest-triangle loop (hull_kernel.py) gives the numpy formulation's numbers bit for bit: on points
 around a lattice's hull (projections onto faces, edges and vertices; ties between triangles sharing them) and on
-random triangles (every region of Ericson's test), with and without a mask of allowed triangles."""
+random triangles (every region of Ericson's test), with and without a mask of allowed triangles; and so does its tie
+rule (quality.md §1 "Ties"), against a numpy formulation over every hull triangle."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from lpnn.quality.hull_projection import PROJECTION_TOLERANCE, _is_projection, _nearest_among, project_to_hull
+from lpnn.quality.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, HullIndex, _is_projection, _nearest_among,
+                                         lowest_owner_at_ties, project_to_hull)
+from lpnn.quality import location
 from lpnn.quality.triangulation import tetrahedralize
 
 
@@ -122,3 +125,74 @@ def test_the_certificate_accepts_exactly_the_nearest_hull_points() -> None:
         np.testing.assert_array_equal(_is_projection(query, anchor, distance, vertices), expected)
     assert _is_projection(query, nearest, np.linalg.norm(query - nearest, axis=1), vertices).all()
     assert not _is_projection(query[:1], nearest[:1], np.array([np.inf]), vertices)[0]
+
+
+def _numpy_ties(points, faces, owners, query, projection):
+    """hull_projection.lowest_owner_at_ties over every hull triangle at once (no prefilter, no ring): the tie set (within a
+    relative HULL_TIE of the nearest distance), its lowest owner (then smallest sorted corners), the nearest point
+    snapped onto the corners of the nearest triangle that every tied triangle holds (one: that vertex; two: the edge,
+    its ends by probe index; three: no tie; none: the chosen triangle's own weights)."""
+    m, h = query.shape[0], faces.shape[0]
+    every = np.broadcast_to(np.arange(h), (m, h))
+    tri = points[faces][every]  # (m, h, 3, 3)
+    p = query[:, None, :]
+    weights = _numpy_closest(p, tri[:, :, 0], tri[:, :, 1], tri[:, :, 2])
+    anchor = np.einsum("rkv,rkvx->rkx", weights, tri)
+    distance = np.sqrt(np.sum((anchor - p) ** 2, axis=-1))
+    tied = distance <= projection.distance[:, None] * (1.0 + HULL_TIE)
+    ordered = np.sort(faces, axis=1)
+    rank = np.empty(h, dtype=np.int64)
+    rank[np.lexsort((ordered[:, 2], ordered[:, 1], ordered[:, 0], owners))] = np.arange(h)
+    chosen = np.argmin(np.where(tied, rank[None, :], h), axis=1)
+    nearest_corners = faces[projection.face]  # (m, 3)
+    holds = (faces[None, :, :, None] == nearest_corners[:, None, None, :]).any(axis=2)  # (m, h, 3)
+    held = np.all(holds | ~tied[:, :, None], axis=1)  # (m, 3): corners of the nearest triangle every tied one holds
+    common = held.sum(axis=1)
+    row = np.arange(m)
+    own = weights[row, chosen]
+    on_common = (faces[chosen][:, :, None] == np.where(held, nearest_corners, -1)[:, None, :]).any(axis=2)  # (m, 3)
+    first = np.argmax(on_common, axis=1)
+    second = 2 - np.argmax(on_common[:, ::-1], axis=1)
+    swap = faces[chosen, second] < faces[chosen, first]
+    first, second = np.where(swap, second, first), np.where(swap, first, second)
+    start, end = points[faces[chosen, first]], points[faces[chosen, second]]
+    edge = end - start
+    t = np.clip(_safe_ratio(np.sum((query - start) * edge, axis=-1), np.sum(edge * edge, axis=-1)), 0.0, 1.0)
+    snapped = np.zeros((m, 3))
+    snapped[row, first] = np.where(common == 1, 1.0, 1.0 - t)
+    snapped[row, second] += np.where(common == 1, 0.0, t)
+    result = np.where((common == 0)[:, None], own, snapped)
+    result = np.where((common == 3)[:, None], projection.weights, result)
+    face = np.where(common == 3, projection.face, chosen)
+    corners = points[faces[face]]
+    result_anchor = np.einsum("rv,rvx->rx", result, corners)
+    result_distance = np.sqrt(np.sum((result_anchor - query) ** 2, axis=-1))
+    keep = common == 3
+    result_anchor[keep], result_distance[keep] = projection.anchor[keep], projection.distance[keep]
+    return face, result, result_anchor, result_distance
+
+
+@pytest.mark.parametrize("offset, cell", [(0.0, 0.5), (-2300.6, 0.85), (1000.37, 0.3)])
+def test_ties_go_to_the_lowest_owner_snapped_as_numpy_finds_them_over_every_triangle(offset: float, cell: float) -> None:
+    """The hull of 40 points of a lattice, and the lattice's other points outside it (and random ones): near the origin
+    nearest points fall exactly on shared edges and vertices; in float32 far from the origin the corners bend the hull by
+    their rounding, and nearest points fall a hair off an edge, where the distances differ by about their rounding. The
+    kernel's choice and weights are the numpy formulation's, which looks at every hull triangle, so the kernel's
+    prefilter and its search around the nearest triangle's corners miss no tie."""
+    axes = [np.arange(9.0), np.arange(8.0), np.arange(6.0)]
+    lattice = offset + cell * np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    lattice = lattice.astype(np.float32).astype(np.float64)
+    rng = np.random.default_rng(3)
+    probes = rng.choice(lattice.shape[0], 40, replace=False)
+    tri = tetrahedralize(lattice[probes])
+    others = np.delete(lattice, probes, axis=0)
+    query = tri.frame.to_local(np.concatenate([others, offset + rng.uniform(-cell, 9.0 * cell, (300, 3))]))
+    query = query[location.locate_cells(tri, np.ascontiguousarray(query))[0] < 0]
+    plain = HullIndex(tri.points, tri.hull_faces).nearest(query)
+    ruled = lowest_owner_at_ties(tri.points, tri.hull_faces, tri.hull_face_tets, query, plain)
+    expected = _numpy_ties(tri.points, tri.hull_faces, tri.hull_face_tets, query, plain)
+    _assert_same(expected, (ruled.face, ruled.weights, ruled.anchor, ruled.distance))
+    assert np.count_nonzero(tri.hull_face_tets[ruled.face] != tri.hull_face_tets[plain.face]) > 0  # ties decided
+    snapped = np.abs(ruled.distance - plain.distance)
+    assert np.all(snapped <= 1e-9 * plain.distance)
+    assert offset == 0.0 or np.count_nonzero(snapped) > 0  # near-ties snapped onto their edge or vertex

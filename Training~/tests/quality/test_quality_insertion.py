@@ -11,8 +11,8 @@ import pytest
 
 from lpnn.core import sh as shmath
 from lpnn.quality import insertion
-from lpnn.quality.insertion import (EXACT, InsertionOrder, guide_weights, insertion_batch, insertion_ranking,
-                                    typical_tetrahedron)
+from lpnn.quality.insertion import (EXACT, TIE, InsertionOrder, guide_weights, insertion_batch, insertion_ranking,
+                                    largest_first, typical_tetrahedron)
 from lpnn.quality.insertion_kernel import first_per_cell
 from lpnn.quality.metric import POINT_ERRORS, MetricError, ReferenceField, placement_error, probe_stencil
 from lpnn.quality.policies import budget_count, place_tolerance, prefix_selection
@@ -194,15 +194,28 @@ def test_the_lazy_selection_completes_a_flat_head_of_the_start_as_the_whole_rank
     assert place_tolerance(field, lazy, 0.05).indices.shape[0] >= 4  # the search starts at 4 probes: no flat error
 
 
-def test_the_compiled_per_cell_candidate_is_the_lexsorts() -> None:
-    """insertion_kernel.first_per_cell gives the rows numpy's lexsort by (cell, -key, row) puts first per cell,
-    with many equal keys (ties to the lowest row) and cells without rows."""
+def test_the_compiled_per_cell_candidate_is_the_numpy_formulations() -> None:
+    """insertion_kernel.first_per_cell gives, per cell, the lowest row whose key is within TIE of the cell's largest (a
+    numpy formulation), with many equal keys, keys a hair below the largest (within TIE: ties) or a little more (not),
+    and cells without rows."""
     rng = np.random.default_rng(4)
     cell = rng.integers(0, 300, 5000)
     key = rng.integers(0, 6, 5000).astype(np.float64) / 4.0  # few distinct values: ties everywhere
-    by_cell = np.lexsort((np.arange(5000), -key, cell))
-    expected = by_cell[np.concatenate([[True], np.diff(cell[by_cell]) != 0])]
-    np.testing.assert_array_equal(first_per_cell(cell, key, 400), expected)
+    key -= rng.choice([0.0, 0.3 * TIE, 3.0 * TIE], 5000)
+    largest = np.full(400, -np.inf)
+    np.maximum.at(largest, cell, key)
+    within = np.flatnonzero(key >= largest[cell] - TIE)
+    expected = within[np.unique(cell[within], return_index=True)[1]]
+    np.testing.assert_array_equal(first_per_cell(cell, key, 400, TIE), expected)
+    assert np.any(key[expected] < largest[cell[expected]])  # some candidates are not the strict largest
+
+
+def test_largest_first_joins_values_within_tie_and_orders_them_by_index() -> None:
+    values = np.array([1.0, 2.0, 1.0 + 0.5 * TIE, 2.0 - 0.4 * TIE, 2.0 - 0.8 * TIE, 1.0 - 2.0 * TIE, 0.0])
+    index = np.array([7, 5, 3, 9, 1, 0, 2])
+    # 2 and 2 - 0.4 TIE and 2 - 0.8 TIE chain into one run (each within TIE of the next larger), ordered by index;
+    # 1 + 0.5 TIE and 1 likewise; 1 - 2 TIE is a run of its own.
+    assert index[largest_first(values, index)].tolist() == [1, 5, 9, 3, 7, 0, 2]
 
 
 @pytest.mark.parametrize("head", [4, 5])
@@ -229,11 +242,13 @@ def test_the_start_reads_only_the_spread_head_yet_equals_the_whole_rankings(monk
     np.testing.assert_array_equal(start(slab, slab_grid, head), whole)
 
 
-def test_rounds_located_incrementally_equal_fresh_locations_without_ties(medium_capture: Capture) -> None:
-    """InsertionOrder locates each round incrementally (insertion_state.py); where no point lies on a face shared by
-    two tetrahedra (jittered positions) its order is insertion_batch's, every round located from scratch, exactly."""
+@pytest.mark.parametrize("jitter", [0.0, 0.03])
+def test_rounds_located_incrementally_equal_fresh_locations(medium_capture: Capture, jitter: float) -> None:
+    """InsertionOrder locates each round incrementally (insertion_state.py); on the lattice (points on faces, edges and
+    hull vertices shared by several tetrahedra: the tie rule) and on jittered positions (no ties) its order is
+    insertion_batch's, every round located from scratch, exactly."""
     positions = medium_capture.positions.astype(np.float64)
-    positions = positions + np.random.default_rng(2).uniform(-0.03, 0.03, positions.shape) * medium_capture.cell_size
+    positions = positions + np.random.default_rng(2).uniform(-jitter, jitter, positions.shape) * medium_capture.cell_size
     field = ReferenceField.from_sh(positions, medium_capture.sh, medium_capture.lighting_scale)
     grid = _grid(medium_capture)
     incremental = InsertionOrder(field, grid).prefix(600)

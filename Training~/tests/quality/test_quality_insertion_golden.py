@@ -1,7 +1,9 @@
 """Tests/Data/insertion_golden.json (written by Tools~/golden/make_insertion_golden.py; contract quality.md §5):
 the Python insertion ranking still gives its typical tetrahedra, every round's batch given the mesh, and the whole
-ranking, and the golden's tetrahedra are still the (unique, certified) Delaunay ones ours produce. The C# port
-(InsertionRankingTests) reads the same file."""
+ranking, and the golden's tetrahedra are still the (unique, certified) Delaunay ones ours produce; on the "ties" case's
+lattice (tetrahedra not unique: the golden's, numbered as ours) every point's cell and weights are the tie rules' the
+generator derived in exact arithmetic (quality.md §1 "Ties"). The C# port (InsertionRankingTests) reads the same
+file."""
 
 from __future__ import annotations
 
@@ -14,7 +16,7 @@ import pytest
 
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.insertion import EXACT, guide_weights, insertion_batch, insertion_ranking, typical_tetrahedron
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.metric import ReferenceField, probe_stencil
 from lpnn.quality.triangulation import tetrahedralize
 
 GOLDEN_NAME = "insertion_golden.json"
@@ -48,7 +50,7 @@ def _tet_keys(tets) -> list[tuple[int, ...]]:
 def test_the_golden_lists_the_certified_cases(golden: dict[str, Any]) -> None:
     assert golden["tolerance"].startswith("exact")
     assert golden["exact_threshold"] == EXACT
-    assert [c["name"] for c in golden["cases"]] == ["enclosed", "outside", "plane", "guided"]
+    assert [c["name"] for c in golden["cases"]] == ["enclosed", "outside", "plane", "guided", "ties"]
 
 
 def test_typical_tetrahedra_are_reproduced(golden: dict[str, Any]) -> None:
@@ -66,6 +68,8 @@ def test_every_round_given_its_mesh_is_reproduced(golden: dict[str, Any]) -> Non
             probes = np.asarray(round_["probes"], dtype=np.int64)
             tri = tetrahedralize(field.world[probes], field.frame)
             assert _tet_keys(tri.tets) == _tet_keys(round_["tetrahedra"]), case["name"]
+            if case["name"] == "ties":  # the tie rules read the tetrahedra's numbering: the same, index for index
+                assert tri.tets.tolist() == round_["tetrahedra"]
             np.testing.assert_array_equal(insertion_batch(field, probes, growth=case["growth"], guide=_guide(case)),
                                           round_["batch"], err_msg=case["name"])
             rounds += 1
@@ -99,3 +103,24 @@ def test_the_plane_case_needs_the_tetrahedron_guarantee(golden: dict[str, Any]) 
     assert len(start) == 5 and start[-1] == 0
     assert all(ids[p][2] == 2 for p in start[:4])
     assert all(p < 50 + 13 for p in start[:4])
+
+
+def test_the_ties_case_gives_every_point_the_exact_tie_rules_cell_and_weights(golden: dict[str, Any]) -> None:
+    """quality.md §1 "Ties": points on faces, edges and vertices shared by several tetrahedra take the lowest-index one,
+    points outside with several nearest hull triangles take the lowest owner's, snapped onto the shared edge or vertex;
+    the golden's cells and weights come from the generator's brute-force enumeration in exact rationals."""
+    case = next(c for c in golden["cases"] if c["name"] == "ties")
+    _, field = _case(case)
+    round_ = case["rounds"][0]
+    probes = np.asarray(round_["probes"], dtype=np.int64)
+    indices, others, stencil = probe_stencil(field, probes)
+    np.testing.assert_array_equal(indices, probes)  # stencil vertices are positions in the probes list
+    np.testing.assert_array_equal(stencil.cell, np.asarray(round_["cells"])[others])
+    for row, point in enumerate(others.tolist()):
+        ours = np.zeros(probes.shape[0])
+        np.add.at(ours, stencil.vertices[row], stencil.weights[row])
+        expected = np.zeros(probes.shape[0])
+        for vertex, weight in round_["stencils"][point]:
+            expected[vertex] = weight
+        np.testing.assert_allclose(ours, expected, rtol=0.0, atol=1e-12, err_msg=f"point {point}")
+    assert np.count_nonzero(stencil.outside) > 10

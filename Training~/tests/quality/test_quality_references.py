@@ -253,6 +253,8 @@ def test_a_decimation_never_holds_a_set_in_one_plane() -> None:
         for count in range(decimation.smallest_count, decimation.start_count + 1):
             held = decimation.prefix(count)
             assert flatness(field.local[held]) is None, (seed, count)
-            assert decimation.error_curve[count] == pytest.approx(placement_error(field, held).mean, abs=1e-12)
+            # (1e-10: the metric snaps a nearest hull point within float32 rounding of a hull vertex onto it, quality.md
+            # §1 "Ties"; the decimation's own incremental projection does not)
+            assert decimation.error_curve[count] == pytest.approx(placement_error(field, held).mean, abs=1e-10)
         assert decimation.smallest_count_within(np.inf) == decimation.smallest_count
     assert flattened >= 1  # the case is exercised, not only avoided by the greedy order

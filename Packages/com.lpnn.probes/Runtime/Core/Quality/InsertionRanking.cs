@@ -37,6 +37,12 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Per-point errors at or below this are exact interpolation: nothing to fix there.</summary>
         public const double Exact = 1e-12;
 
+        /// <summary>Errors (and guided keys, and cell sums) within this of each other count as equal, ties going to the lower
+        /// point index (Documentation~/quality.md §5.1): two languages (or two summation orders) compute equal errors a few ulps
+        /// apart (~1e-16; sums of 10^5 errors ~1e-11), and errors that differ by less are equally good to fix. Python's
+        /// insertion.TIE.</summary>
+        public const double Tie = 1e-9;
+
         /// <summary>Every grid point once, most important first (<see cref="InsertionOrder"/> read to its end).</summary>
         /// <param name="reference">The dense lighting of exactly this grid's points.</param>
         /// <param name="tetrahedralizer">Unity's in the editor; tests use a Delaunay of their own.</param>
@@ -74,9 +80,10 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>One round given the mesh: the points to insert next, in insertion order — per cell its candidate (its
         /// worst interpolated point; guided, its point of largest error × <paramref name="guide"/> weight among those with
-        /// error above <see cref="Exact"/>; ties: lower index), those with error above <see cref="Exact"/>, by summed cell
-        /// error (unweighted, largest first; ties: lower index), the first max(1, ceil(growth × probes)). Empty when every
-        /// other point is interpolated exactly.</summary>
+        /// error above <see cref="Exact"/>; ties within <see cref="Tie"/> of the largest: lower index), those with error above
+        /// <see cref="Exact"/>, by summed cell error (unweighted, largest first; ties within <see cref="Tie"/>: lower index,
+        /// <see cref="LargestFirst"/>), the first max(1, ceil(growth × probes)). Empty when every other point is interpolated
+        /// exactly.</summary>
         /// <param name="probes">The probes so far (evaluation point indices, in insertion order).</param>
         /// <param name="tetrahedra">4 indices into <paramref name="probes"/> per tetrahedron.</param>
         /// <param name="guide">Null (plain insertion), or one weight per point of <paramref name="reference"/>, each finite and
@@ -102,27 +109,35 @@ namespace Lpnn.Probes.Core.Quality
             Action<PlacementError.PointVisitor> interpolate)
         {
             var cellError = new double[cells];
-            var worst = new int[cells];
-            var worstKey = new double[cells];
-            for (int c = 0; c < cells; c++) worst[c] = -1;
-            var errors = new double[reference.Count];
+            var largestKey = new double[cells];
+            for (int c = 0; c < cells; c++) largestKey[c] = double.NegativeInfinity;
+            int count = reference.Count;
+            var errors = new double[count];
+            var keys = new double[count];
+            var cellOf = new int[count];
+            for (int n = 0; n < count; n++) cellOf[n] = -1;
             interpolate((int n, ref Stencil stencil, double[] interpolated) =>
             {
                 double e = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
                 errors[n] = e;
                 int cell = stencil.Cell;
+                cellOf[n] = cell;
                 cellError[cell] += e;
                 // The candidate's key: the error itself, or (guided) error × weight, with points at or below Exact never
                 // candidates (key -1), so a cell needs a point exactly when it does unguided.
                 double key = guide == null ? e : e > Exact ? e * guide[n] : -1.0;
                 if (allowed != null && !allowed[n]) key = double.NegativeInfinity;
-                // Points arrive in ascending index order, so a strict > keeps the lower index among equal keys.
-                if (worst[cell] < 0 || key > worstKey[cell])
-                {
-                    worst[cell] = n;
-                    worstKey[cell] = key;
-                }
+                keys[n] = key;
+                largestKey[cell] = Math.Max(largestKey[cell], key);
             });
+            // Per cell its candidate: the lowest index whose key is within Tie of the cell's largest.
+            var worst = new int[cells];
+            for (int c = 0; c < cells; c++) worst[c] = -1;
+            for (int n = 0; n < count; n++)
+            {
+                int cell = cellOf[n];
+                if (cell >= 0 && worst[cell] < 0 && keys[n] >= largestKey[cell] - Tie) worst[cell] = n;
+            }
             var candidates = new List<int>();
             var candidateError = new List<double>();
             for (int c = 0; c < cells; c++)
@@ -131,17 +146,38 @@ namespace Lpnn.Probes.Core.Quality
                 candidates.Add(worst[c]);
                 candidateError.Add(cellError[c]);
             }
-            var byCellError = new int[candidates.Count];
-            for (int k = 0; k < byCellError.Length; k++) byCellError[k] = k;
-            Array.Sort(byCellError, (a, b) =>
-            {
-                int bySum = candidateError[b].CompareTo(candidateError[a]);
-                return bySum != 0 ? bySum : candidates[a].CompareTo(candidates[b]);
-            });
+            int[] byCellError = LargestFirst(candidateError.ToArray(), candidates.ToArray());
             int take = Math.Min(byCellError.Length, Math.Max(1, (int)Math.Ceiling(growth * probeCount)));
             var batch = new int[take];
             for (int k = 0; k < take; k++) batch[k] = candidates[byCellError[k]];
             return batch;
+        }
+
+        /// <summary>Positions of <paramref name="values"/>, largest first, where a value within <see cref="Tie"/> of the next
+        /// larger one counts as equal to it: each run of such values goes by <paramref name="index"/>, lowest first
+        /// (Documentation~/quality.md §5.1; Python's insertion.largest_first).</summary>
+        internal static int[] LargestFirst(double[] values, int[] index)
+        {
+            int count = values.Length;
+            var byValue = new int[count];
+            var negated = new double[count];
+            for (int k = 0; k < count; k++)
+            {
+                byValue[k] = k;
+                negated[k] = -values[k];
+            }
+            // A sort on primitive keys (fast at 10^6 values); each run is then a segment of it, put in index order.
+            Array.Sort(negated, byValue);
+            var indexOf = new int[count];
+            for (int k = 0; k < count; k++) indexOf[k] = index[byValue[k]];
+            for (int start = 0; start < count;)
+            {
+                int end = start + 1;
+                while (end < count && negated[end] - negated[end - 1] <= Tie) end++;
+                if (end - start > 1) Array.Sort(indexOf, byValue, start, end - start);
+                start = end;
+            }
+            return byValue;
         }
 
         /// <summary>The start (quality.md §5): among the ceil(<see cref="TypicalFraction"/> × N) points (at least 4) whose
@@ -204,7 +240,7 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The <paramref name="count"/> points whose 42 values are nearest the per-value median (irradiance error),
-        /// nearest first, ties to the lower index.</summary>
+        /// nearest first, ties (within <see cref="Tie"/>) to the lower index.</summary>
         private static int[] NearestMedian(ReferenceLighting reference, int count)
         {
             const int values = ReferenceLighting.LightValues;
@@ -216,24 +252,17 @@ namespace Lpnn.Probes.Core.Quality
                 for (int p = 0; p < n; p++) column[p] = reference.Light[values * p + i];
                 median[i] = Statistics.Median(column);
             }
-            var deviation = new double[n];
+            // Nearest first: the largest negated deviation (the irradiance error to the median), ties within Tie by index.
+            var negatedDeviation = new double[n];
             var points = new int[n];
             for (int p = 0; p < n; p++)
             {
-                deviation[p] = PointErrorMetrics.Irradiance(median, reference.Light, values * p, reference.SceneScale);
+                negatedDeviation[p] = -PointErrorMetrics.Irradiance(median, reference.Light, values * p, reference.SceneScale);
                 points[p] = p;
             }
-            // A sort on primitive keys (fast), then equal deviations back into index order (that sort is not stable).
-            Array.Sort(deviation, points);
-            for (int start = 0; start < n;)
-            {
-                int end = start + 1;
-                while (end < n && deviation[end] == deviation[start]) end++;
-                if (end - start > 1) Array.Sort(points, start, end - start);
-                start = end;
-            }
+            int[] order = LargestFirst(negatedDeviation, points);
             var nearest = new int[count];
-            Array.Copy(points, nearest, count);
+            Array.Copy(order, nearest, count);
             return nearest;
         }
 

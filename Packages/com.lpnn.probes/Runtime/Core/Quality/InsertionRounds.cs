@@ -11,11 +11,11 @@ namespace Lpnn.Probes.Core.Quality
     /// not located again: only its barycentric weights are computed in the new tetrahedralisation (the numbers a location
     /// that finds it there computes). Only the points whose tetrahedron broke, the points outside the hull (it may have
     /// grown) and the points on their tetrahedron's boundary (within <see cref="TetrahedronLocator.ClearlyInside"/> of a face:
-    /// a face or edge it may share with another tetrahedron, where a location takes the one the point is most inside, ties
-    /// to the lower index) are located as NextBatch locates every point. Every point thus gets the stencil NextBatch gives
-    /// it, and the batch is chosen exactly as NextBatch chooses it (<see cref="InsertionRanking.BatchOf"/>): the same rounds.
-    /// (Python's incremental rounds keep a point on a shared face in its old tetrahedron instead; the same weights up to
-    /// rounding, but the cell may differ, so on a lattice its rounds can differ from fresh ones.)
+    /// a face, edge or vertex it may share with another tetrahedron, where location's tie rule gives the lowest-index one,
+    /// which an insertion can change; Documentation~/quality.md §1 "Ties") are located as NextBatch locates every point.
+    /// Every point thus gets the stencil NextBatch gives it, and the batch is chosen exactly as NextBatch chooses it
+    /// (<see cref="InsertionRanking.BatchOf"/>): the same rounds. Python's incremental rounds (insertion_state.py) follow
+    /// the same rule, so both languages' rounds are a fresh location's.
     ///
     /// Each round's probes must include the previous round's (tetrahedra are matched by their four point indices, so their
     /// order is free; <see cref="InsertionOrder"/> passes them in insertion order, as a fresh round).</summary>

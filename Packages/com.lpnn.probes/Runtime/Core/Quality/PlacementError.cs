@@ -47,7 +47,7 @@ namespace Lpnn.Probes.Core.Quality
             ProbeIndices.Check(probes, reference.Count);
             var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
             var locator = new TetrahedronLocator(mesh);
-            var hull = new HullProjector(mesh.Points, mesh.HullFaces);
+            var hull = new HullProjector(mesh.Points, mesh.HullFaces, mesh.HullFaceOwners);
 
             var interpolated = new double[ReferenceLighting.LightValues];
             var weights = new double[4];
@@ -99,7 +99,7 @@ namespace Lpnn.Probes.Core.Quality
                     InsideStencil(mesh, t, weights, ref stencil);
                 else
                 {
-                    if (hull == null) hull = new HullProjector(mesh.Points, mesh.HullFaces);
+                    if (hull == null) hull = new HullProjector(mesh.Points, mesh.HullFaces, mesh.HullFaceOwners);
                     Locate(mesh, locator, hull, local, n, weights, ref stencil);
                     located++;
                 }
@@ -118,7 +118,7 @@ namespace Lpnn.Probes.Core.Quality
                 throw new ArgumentOutOfRangeException(nameof(point), point, "point index must be in 0.." + (reference.Count - 1));
             var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
             var stencil = new Stencil();
-            Locate(mesh, new TetrahedronLocator(mesh), new HullProjector(mesh.Points, mesh.HullFaces), reference.Local, point, new double[4], ref stencil);
+            Locate(mesh, new TetrahedronLocator(mesh), new HullProjector(mesh.Points, mesh.HullFaces, mesh.HullFaceOwners), reference.Local, point, new double[4], ref stencil);
             return stencil;
         }
 

@@ -6,9 +6,12 @@ namespace Lpnn.Probes.Core.Quality
     /// boxes: each bucket lists the tetrahedra whose (slightly padded) box overlaps it, so a query tests only the few
     /// tetrahedra near the point instead of scanning them all (the linear scan that cost LumiProbes 76–95 % of its time).
     ///
-    /// Among the candidates the point takes the one it is most inside (largest smallest barycentric weight; ties to the
-    /// lower tetrahedron): a point on a shared face gets the same interpolated value from either side, and a point
-    /// a rounding error outside every tetrahedron still finds the right one.</summary>
+    /// Among the candidates the point takes the one it is clearly inside (smallest barycentric weight above
+    /// <see cref="ClearlyInside"/>: at most one), else — on a face, edge or vertex shared by several, within
+    /// <see cref="InsideTolerance"/> — the lowest-index tetrahedron it is inside within that tolerance (Documentation~/quality.md §1
+    /// "Ties", as the Python reference's walk): a point on a shared face gets the same interpolated value from either side
+    /// but the cell the insertion ranking groups it by must not hang on rounding, and a point a rounding error outside every
+    /// tetrahedron still finds the right one.</summary>
     internal sealed class TetrahedronLocator
     {
         /// <summary>A barycentric weight ≥ −this counts as inside (Documentation~/quality.md §1).</summary>
@@ -104,39 +107,52 @@ namespace Lpnn.Probes.Core.Quality
 
         private int Cell(double v, double min, int cells) => Math.Min(cells - 1, Math.Max(0, (int)Math.Floor((v - min) / _bucket)));
 
-        /// <summary>The tetrahedron containing (x, y, z) (local frame) and its barycentric weights clamped to ≥ 0 and
-        /// renormalised; false when the point is outside every tetrahedron.</summary>
+        /// <summary>The tetrahedron containing (x, y, z) (local frame) by the class text's rule, and its barycentric weights
+        /// clamped to ≥ 0 and renormalised; false when the point is outside every tetrahedron.</summary>
         public bool TryLocate(double x, double y, double z, double[] weights, out int tetrahedron)
         {
             tetrahedron = -1;
             if (x < _minX || x > _maxX || y < _minY || y > _maxY || z < _minZ || z > _maxZ) return false;
             int bucket = (Cell(z, _minZ, _nz) * _ny + Cell(y, _minY, _ny)) * _nx + Cell(x, _minX, _nx);
             double best = double.NegativeInfinity;
-            double b0 = 0, b1 = 0, b2 = 0, b3 = 0;
+            int lowest = -1;
+            double b0 = 0, b1 = 0, b2 = 0, b3 = 0, c0 = 0, c1 = 0, c2 = 0, c3 = 0;
+            // The bucket lists its tetrahedra in ascending order, so the first one within the tolerance is the lowest.
             for (int i = _start[bucket]; i < _start[bucket + 1]; i++)
             {
                 int t = _items[i];
                 Barycentric(t, x, y, z, out double l0, out double l1, out double l2, out double l3);
                 double smallest = Math.Min(Math.Min(l0, l1), Math.Min(l2, l3));
+                if (lowest < 0 && smallest >= -InsideTolerance)
+                {
+                    lowest = t;
+                    c0 = l0; c1 = l1; c2 = l2; c3 = l3;
+                }
                 if (!(smallest > best)) continue;
                 best = smallest;
                 tetrahedron = t;
                 b0 = l0; b1 = l1; b2 = l2; b3 = l3;
             }
             if (!(best >= -InsideTolerance)) return false;
-            Normalised(b0, b1, b2, b3, weights);
+            if (best > ClearlyInside) Normalised(b0, b1, b2, b3, weights);
+            else
+            {
+                tetrahedron = lowest;  // on a shared boundary: the tie rule
+                Normalised(c0, c1, c2, c3, weights);
+            }
             return true;
         }
 
         /// <summary>A point whose smallest barycentric weight in a tetrahedron is above this lies in no other tetrahedron
-        /// (they do not overlap, and rounding stays far below it): <see cref="TryLocate"/> finds it there.</summary>
-        public const double ClearlyInside = 1e-9;
+        /// (they do not overlap, and rounding stays far below it): <see cref="TryLocate"/> finds it there. At or below it
+        /// (and ≥ −<see cref="InsideTolerance"/>) the point is on the tetrahedron's boundary, where the tie rule decides.</summary>
+        public const double ClearlyInside = InsideTolerance;
 
         /// <summary>The weights of (x, y, z) in tetrahedron <paramref name="t"/>, as <see cref="TryLocate"/> gives them (the
         /// same numbers), when the point is clearly inside it (<see cref="ClearlyInside"/>): then TryLocate would find it
-        /// there. False for a point on or near its boundary (a face or edge it may share with another tetrahedron, where
-        /// TryLocate takes the one it is most inside, ties to the lower index): locate that one. For an insertion round's
-        /// point whose tetrahedron survived the insertion (<see cref="InsertionRounds"/>).</summary>
+        /// there. False for a point on or near its boundary (a face, edge or vertex it may share with another tetrahedron,
+        /// where TryLocate takes the lowest-index one): locate that one. For an insertion round's point whose tetrahedron
+        /// survived the insertion (<see cref="InsertionRounds"/>).</summary>
         public bool TryWeightsIn(int t, double x, double y, double z, double[] weights)
         {
             Barycentric(t, x, y, z, out double b0, out double b1, out double b2, out double b3);
