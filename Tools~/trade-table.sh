@@ -52,6 +52,7 @@ if want level5; then
   # 136,512 points: the exact reference stopped at 2τ (its curve covers every budget from 1,365 probes and τ's answer,
   # ~650) took 1,118 s in §7.5; run down to 4 probes it would add its dearest tail (35-40 % on crops). lpnn-refine is
   # skipped by --refine-limit (636 s at τ alone, §7.5: ~1 hour for its 6 rows).
+  # Measured 2026-11-27: 2,188 s, of which the reference 678 s and insertion-refined's 20 % and 30 % rows 371 + 744 s.
   run ctf_compromise "~30-40 min (reference ~19 min stopped at 2τ, then the methods' 6 rows each)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
     --out "$OUT/ctf_compromise"
@@ -85,5 +86,6 @@ if want table; then
     --note "suspended at 1.3 m (held out):fast-reference=infeasible: hours and ~25 GB at 10⁶ points (§7.5: ~23 kB a point)" \
     --note "suspended at 1.3 m (held out):blockwise-reference=not re-run (~2 hours on 2 processes, §7.5): its 4,066 probes at τ (landing at 1.20τ) are the † yardstick" \
     --note "ctf_compromise (validation):fast-reference=stopped at 2τ (lpnn bench --reference-stop 0.1): the full curve down to there" \
+    --note "ctf_compromise (validation):lpnn-refine=its τ answer alone took 636 s in §7.5" \
     | tee "$OUT/table.md"
 fi
