@@ -35,8 +35,8 @@ from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.bench import BENCH_METHODS
-    from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT
+    from ..quality.policy_rules import (BENCH_METHODS, DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT,
+                                        REFINE_BENCH_LIMIT)
     from .arguments import add_engine_arguments, fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
 
 def method_names(text: str) -> frozenset[str]:
     """argparse type: comma-separated names of `lpnn bench` methods."""
-    from ..quality.bench import BENCH_METHODS
+    from ..quality.policy_rules import BENCH_METHODS
 
     names = [name.strip() for name in text.split(",") if name.strip()]
     unknown = [name for name in names if name not in BENCH_METHODS]

@@ -68,9 +68,6 @@ CSV_COLUMNS = (
     "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error", "leaking",
 )
 T = TypeVar("T")
-# Every method `lpnn bench` can run (`methods` names a subset; the yardstick, fast or blockwise reference, always runs).
-BENCH_METHODS = ("uniform", "random", "heuristic", "apv", "insertion", "insertion-refined", "lpnn-topk", "lpnn",
-                 "lpnn-guided", "lpnn-batched", "lpnn-refine", "faithful-reference")
 LPNN_TIERS = ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched", "lpnn-refine")
 
 

@@ -24,6 +24,10 @@ FULL_REFERENCE_LIMIT = 150_000
 # Points above which `lpnn bench` skips the lpnn-refine tier: each of its rows decimates again (a seeded greedy, or the
 # full reference for seeds above 0.4 N), minutes per row on a whole level, about the reference's time each.
 REFINE_BENCH_LIMIT = 20_000
+# Every method `lpnn bench` can run (its --methods names a subset; the yardstick, fast or blockwise reference, always
+# runs). Here, not in bench.py, so that building the CLI parser imports no numerical library.
+BENCH_METHODS = ("uniform", "random", "heuristic", "apv", "insertion", "insertion-refined", "lpnn-topk", "lpnn",
+                 "lpnn-guided", "lpnn-batched", "lpnn-refine", "faithful-reference")
 # The tolerance search's bisection stops once the last failing count is within 1/SEARCH_RESOLUTION of the first
 # passing one (quality.md §4): the answer passes tau and keeps at most 1/256 more probes than a unit-resolution
 # search would (within the error's own non-monotonic noise), for about log2(256) fewer error evaluations, each a
