@@ -200,10 +200,11 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
             reuse: bool = False) -> MeshState:
     """The state of state.probes minus `removed`, re-evaluating only the points whose stencil touched a removed probe
     (and the removed themselves). `reuse`: update the state's per-point arrays in place instead of copying them (~70 MB
-    a round at 10^6 points); the old state is then only valid again after restore(new state). Exact: the tie-broken Delaunay is unique, so every tetrahedron outside the removed
-    probes' stars survives, and a point outside the hull keeps its nearest hull point unless that point's triangle had
-    a removed vertex (the new hull lies inside the old one and keeps every triangle without a removed vertex). With the
-    round's `trial` (removed among its candidates), the tetrahedralisation comes from refilled instead of Qhull."""
+    a round at 10^6 points); the old state is then only valid again after restore(new state). Exact: the tie-broken
+    Delaunay is unique, so every tetrahedron outside the removed probes' stars survives, and a point outside the hull
+    keeps its nearest hull point unless that point's triangle had a removed vertex (the new hull lies inside the old one
+    and keeps every triangle without a removed vertex). With the round's `trial` (removed among its candidates), the
+    tetrahedralisation comes from refilled instead of Qhull."""
     affected = stencils_using(state, removed, state.touched)
     probes = np.setdiff1d(state.probes, removed)
     tets = None if trial is None else refilled(field, state, trial, removed)

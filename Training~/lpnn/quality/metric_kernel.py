@@ -171,8 +171,8 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
          coherent):
     """The visibility walk of location.py for each query point from its start tetrahedron (coherent: start[c] for the
     first point of slice c of chunk_count's slices, then the tetrahedron where the previous point's walk ended): cell[m]
-    is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest is
-    within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
+    is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest
+    is within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
     coordinates there (-1 when the walk leaves through a hull face: resolved, outside), resolved[m] False after
     step_limit steps or a tie with too many candidates (the brute force settles those). Slices in parallel: with the tie
     rule a point's cell does not depend on where its walk started, so neither on the slicing."""
