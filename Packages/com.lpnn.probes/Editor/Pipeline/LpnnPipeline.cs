@@ -234,7 +234,7 @@ namespace Lpnn.Probes.Editor
         /// <summary>The placed probes' error at the points in use (one evaluation with Unity's tetrahedralisation against the
         /// Lighting step's SH): for Band and Reachable over the grid, which holds only them; for All over the session's mask.
         /// Null with the reason when there is no lighting for this grid or the points in use are unknown.</summary>
-        private static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
+        internal static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
         {
             if (session.Sh == null || session.Grid != grid)
             {
