@@ -177,6 +177,44 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         [Test]
+        public void WithPinnedProbesThePreviewIsWhatApplyPlacesAndHoldsThePins()
+        {
+            // Insertion without refinement: Apply writes the policy's own selection, which the preview shows (pins.md "Where").
+            _room.Volume.SetRefineInBatches(false);
+            var settings = SelectionSettings.Budget(24);
+            _room.Volume.SetSelection(settings);
+            RunUpToFeatures();
+            var grid = _session.Grid;
+            bool[] valid = PlacementInputs.ValidPoints(_session, grid);
+            // Three valid evaluation points, a quarter cell off, pinned and kept.
+            var artist = Enumerable.Range(0, grid.Count).Where(n => valid == null || valid[n]).Where((n, k) => k % 41 == 0).Take(3)
+                .Select(n => grid.GetPosition(n)).Select(v => new Vector3(v.X + 0.25f * (float)grid.CellSize, v.Y, v.Z)).ToArray();
+            _room.Volume.SetPinnedProbes(artist);
+            _room.Volume.SetKeepPinnedProbes(true);
+            var pins = LpnnPipeline.PinsOf(_room.Volume, _session, grid);
+            Assert.That(pins.Count, Is.EqualTo(3));
+            Assert.That(LpnnPipeline.PinsOf(_room.Volume, _session, grid), Is.SameAs(pins), "snapped once per grid, validity and positions");
+
+            int[] ranking = PlacementInputs.RankByInsertion(_session, grid, null, CancellationToken.None, null, pins);
+            Assert.That(PlacementInputs.KnownInsertionRanking(_session, grid, null, pins), Is.SameAs(ranking));
+            Assert.That(PlacementInputs.KnownInsertionRanking(_session, grid), Is.Null, "the pin-free ranking is another one");
+            var preview = Core.Pipeline.ApplySteps.PreviewByInsertion(grid, valid, ranking, settings, pins);
+            Assert.That(preview.Indices.Length, Is.EqualTo(24), "the pins count in the budget");
+            Assert.That(pins.Indices.Except(preview.Indices), Is.Empty);
+
+            var placed = LpnnPipeline.Apply(_room.Volume, _session);
+            Assert.That(placed.Selection.Indices, Is.EqualTo(preview.Indices));
+            var written = _room.Volume.TargetGroup.probePositions.Select(p => _room.Volume.TargetGroup.transform.TransformPoint(p)).ToArray();
+            foreach (var position in artist)
+                Assert.That(written.Any(w => Vector3.Distance(w, position) < 1e-4f), Is.True, "a pin is written at the artist's position " + position);
+
+            // The Network method cannot keep pins: Apply and the preview both refuse by the same message.
+            _room.Volume.SetMethod(PlacementMethod.Network);
+            var refusal = Assert.Throws<Core.Quality.PinException>(() => LpnnPipeline.PinsOf(_room.Volume, _session, grid));
+            Assert.That(refusal.Message, Is.EqualTo(Core.Quality.Pins.NeedsInsertionMethod));
+        }
+
+        [Test]
         public void ShippedModelAndCardAreAssignedByTheMenuItem()
         {
             Assert.That(AssetDatabase.LoadAssetAtPath<Object>(LpnnPaths.ShippedModel), Is.Not.Null, "missing " + LpnnPaths.ShippedModel);

@@ -191,6 +191,8 @@ namespace Lpnn.Probes
 
         /// <summary>Pins these world positions (the caller records Undo first), replacing the pins so far.</summary>
         public void SetPinnedProbes(Vector3[] positions) => pinnedProbes = positions == null ? new Vector3[0] : (Vector3[])positions.Clone();
+        /// <summary>Whether Apply keeps the pinned probes (the inspector's Keep Pinned Probes; the caller records Undo first).</summary>
+        public void SetKeepPinnedProbes(bool keep) => keepPinnedProbes = keep;
 
         /// <summary>Which evaluation points are in use (<see cref="InUseRules.Default"/> for a new volume).</summary>
         public InUseRule InUseRule => inUseRule;

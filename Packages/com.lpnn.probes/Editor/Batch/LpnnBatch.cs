@@ -15,7 +15,8 @@ namespace Lpnn.Probes.Editor
 {
     /// <summary>Batch-mode entry point: <c>Unity -batchmode -projectPath P -executeMethod Lpnn.Probes.Editor.LpnnBatch.Run
     /// -lpnnScene Assets/…/Scene.unity [-lpnnMode place|export] [-lpnnOut folder] [-lpnnBake] …</c>
-    /// (arguments: Core.Batch.BatchOptions, Documentation~/ci.md). Runs the pipeline on every LPNN volume of the scene
+    /// (arguments: Core.Batch.BatchOptions, Documentation~/ci.md). Runs the pipeline on every LPNN volume of the scene,
+    /// logs per volume what the inspector reports (in place mode also the pinned probes and the leak line, Core.Batch.BatchPlacementReport)
     /// and exits with EditorApplication.Exit (Editor/Mono/EditorApplication.bindings.cs): 0 when every volume succeeded,
     /// 1 when a volume failed, 2 when the arguments or the scene are unusable.</summary>
     public static class LpnnBatch
@@ -126,6 +127,7 @@ namespace Lpnn.Probes.Editor
             bool export = options.Mode == BatchMode.Export;
             System.Numerics.Vector3[] positions;
             SelectionResult selection;
+            BatchPlacementReport report;
             string stem = CaptureExport.DefaultStem(volume);
             using (var progress = new EditorProgressScope("LPNN batch " + volume.name))
             {
@@ -144,6 +146,7 @@ namespace Lpnn.Probes.Editor
                     return string.Join("; ", log);
                 }
                 positions = LpnnPipeline.SelectedPositions(volume, session, progress.Callback, progress.Token, out selection);
+                report = PlacementReport(volume, session, selection, progress);
             }
             // The positions file is the batch result; the group is filled too when the volume has one.
             if (volume.TargetGroup != null) ProbeGroupWriter.Apply(volume.TargetGroup, positions, "Place LPNN probes");
@@ -156,10 +159,39 @@ namespace Lpnn.Probes.Editor
                 source.Set("backend", JsonValue.From(LpnnScores.For(volume).Backend));
                 source.Set("model", JsonValue.From(LpnnScores.For(volume).Model));
             }
+            report.AddTo(source);
             string path = Path.Combine(folder, stem + ProbePositionsFile.Extension);
             ProbePositionsFile.Save(path, positions, source);
-            log.Add(positions.Length + " probes" + StepSummaries.Extras(selection) + " → " + path);
+            // The inspector's ✓ line after Apply: the count, the error at the points in use, then its leak line.
+            var error = LpnnPipeline.ErrorAtPointsInUseOf(session, LpnnPipeline.PlacementGrid(volume, session), selection, out string errorUnknown);
+            log.Add(positions.Length + " probes" + StepSummaries.Extras(selection) + "; " + (error != null ? error.Describe() : errorUnknown) + "; " +
+                    report.Describe() + " → " + path);
             return string.Join("; ", log);
+        }
+
+        /// <summary>What the inspector reports after Apply, for the batch log and the probes file (Core.Batch.BatchPlacementReport):
+        /// the pinned probes among the placed ones and the leak report of the placed probes (Documentation~/leaks.md "What is
+        /// reported": Unity's tetrahedralisation and physics rays, as LeaksAtPointsInUse computes it for the inspector). A
+        /// leak report that cannot be made says why and does not fail the volume: its probes are placed either way.</summary>
+        private static BatchPlacementReport PlacementReport(LpnnVolume volume, LpnnSession session, SelectionResult selection, EditorProgressScope progress)
+        {
+            var grid = LpnnPipeline.PlacementGrid(volume, session);
+            var pins = LpnnPipeline.PinsOf(volume, session, grid);
+            int pinned = pins == null ? 0 : pins.Count;
+            try
+            {
+                var leaks = LeaksAtPointsInUse.Compute(volume, session, grid, selection.Indices, progress.Callback, progress.Token);
+                return BatchPlacementReport.Of(pinned, leaks, LeaksAtPointsInUse.CountedNote(session.InUse));
+            }
+            catch (LpnnException e)
+            {
+                return BatchPlacementReport.WithoutLeaks(pinned, e.Message);
+            }
+            catch (Exception e) when (!(e is OperationCanceledException))
+            {
+                Debug.LogException(e);
+                return BatchPlacementReport.WithoutLeaks(pinned, "unexpected " + e.GetType().Name + " (" + e.Message + "); the log has the stack trace");
+            }
         }
 
         private static LightProbeGroup FindGroundTruth(string name)

@@ -115,15 +115,18 @@ namespace Lpnn.Probes.Editor
         /// without a report mask the share is over every point, and says so.</summary>
         public static string Describe(LeakReport report, InUsePoints inUse)
         {
-            string text = "Leaks: " + report.Describe();
-            if (inUse != null && !inUse.Filters && !inUse.Known) text += " (every point counted: " + inUse.Unavailable + ")";
+            string text = report.Sentence(CountedNote(inUse));
             if (report.TetrahedronCount > 0)
-                text += ", in " + InvariantFormat.Count(report.TetrahedronCount) + " tetrahedra" +
-                        (report.TetrahedronCount > MaxDrawnTetrahedra
-                            ? " (the Scene view draws the first " + InvariantFormat.Count(MaxDrawnTetrahedra) + ")"
-                            : " (drawn in the Scene view)");
+                text += report.TetrahedronCount > MaxDrawnTetrahedra
+                    ? " (the Scene view draws the first " + InvariantFormat.Count(MaxDrawnTetrahedra) + ")"
+                    : " (drawn in the Scene view)";
             return text + ".";
         }
+
+        /// <summary>" (every point counted: …)" when the rule is All and its report mask is unknown, so the share is over every
+        /// point rather than the points in use; "" otherwise.</summary>
+        public static string CountedNote(InUsePoints inUse) =>
+            inUse != null && !inUse.Filters && !inUse.Known ? " (every point counted: " + inUse.Unavailable + ")" : "";
 
         private static Vector3[] Corners(LeakReport report, ReferenceLighting reference, int[] probes)
         {

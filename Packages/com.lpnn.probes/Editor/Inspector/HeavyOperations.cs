@@ -19,8 +19,9 @@ namespace Lpnn.Probes.Editor
         public static string ApplyLine(LpnnVolume volume, SelectionPolicy policy, long points, bool rankingKnown, bool previewKnown) =>
             HeavyOperationPolicy.ApplyLine(points, volume.Method, policy, volume.RefineInBatches, RankingUsed(volume, rankingKnown), previewKnown);
 
-        /// <summary>A known ranking spares Apply the rounds unless it keeps pinned probes (a fresh order starts from them).</summary>
-        private static bool RankingUsed(LpnnVolume volume, bool rankingKnown) => rankingKnown && !volume.KeepPinnedProbes;
+        /// <summary>A known ranking spares Apply the rounds (with pinned probes kept, the known ranking is the pinned order's:
+        /// PlacementPanel asks PlacementInputs with the pins).</summary>
+        private static bool RankingUsed(LpnnVolume volume, bool rankingKnown) => rankingKnown;
 
         /// <summary>Run all: every step the volume's method needs, then its placement.</summary>
         public static List<HeavyOperation> RunAll(LpnnVolume volume)

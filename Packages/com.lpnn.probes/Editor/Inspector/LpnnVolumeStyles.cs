@@ -93,5 +93,10 @@ namespace Lpnn.Probes.Editor
         public const string PinGroupButton = "Pin the group's probes";
         public const string ClearPinsButton = "Clear pins";
         public static string PinnedCount(int count) => count == 1 ? "1 pinned probe" : count + " pinned probes";
+        /// <summary>The preview count's note on the pins among the probes Apply would place ("" when none are kept).</summary>
+        public static string PinnedAmong(int count) => count == 0 ? "" : ", " + count + " of them pinned";
+        public const string PinnedNotRankedYet =
+            "Keep Pinned Probes is on: the insertion ranking starts from the pinned probes and skips the points within a cell of one, " +
+            "so it is ranked once more for them (about a second per 1,000 points): press 'Rank by insertion' (Apply and Find probes also rank first).";
     }
 }

@@ -5,6 +5,7 @@ using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Placement;
+using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using UnityEditor;
 using UnityEngine;
@@ -45,7 +46,8 @@ namespace Lpnn.Probes.Editor
             }
             InspectorLayout.Field(properties.KeepBoundsCorners);
             if (byInsertion) InspectorLayout.Field(properties.RefineInBatches);
-            if (byInsertion) InspectorLayout.Field(properties.KeepPinnedProbes);
+            // Shown for the Network method too while it is on, so the toggle Apply's refusal names can be turned off there.
+            if (byInsertion || volume.KeepPinnedProbes) InspectorLayout.Field(properties.KeepPinnedProbes);
             edited.ApplyModifiedProperties();
             if (byInsertion) PinButtons(volume, edited);
             // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
@@ -204,26 +206,29 @@ namespace Lpnn.Probes.Editor
             string error;
             SelectionResult result;
             EvaluationGrid grid = null;
+            Pins pins = null;
             try
             {
                 grid = LpnnPipeline.PlacementGrid(volume, session);
+                // The pins Apply keeps (or its refusal: the Network method, a pin outside the points), so the count is Apply's.
+                pins = LpnnPipeline.PinsOf(volume, session, grid);
                 if (!byInsertion)
                 {
                     result = _preview.Get(grid, record, volume.GetSelectionSettings(), out error);
                 }
                 else
                 {
-                    int[] ranking = KnownInsertionRanking(volume, session);
+                    int[] ranking = PlacementInputs.KnownInsertionRanking(session, grid, LpnnPipeline.GuideScores(volume), pins);
                     if (ranking != null)
                     {
-                        result = _preview.GetRanked(grid, ranking, PlacementInputs.ValidPoints(session, grid), volume.GetSelectionSettings(), out error);
+                        result = _preview.GetRanked(grid, ranking, PlacementInputs.ValidPoints(session, grid), volume.GetSelectionSettings(), pins, out error);
                     }
                     else
                     {
                         // A tolerance search made over the order's prefixes (Find probes) is shown without the whole ranking.
-                        result = _preview.Kept(grid, PlacementInputs.KnownInsertionOrder(session, grid, LpnnPipeline.GuideScores(volume)),
+                        result = _preview.Kept(grid, PlacementInputs.KnownInsertionOrder(session, grid, LpnnPipeline.GuideScores(volume), pins),
                             volume.GetSelectionSettings());
-                        error = LpnnVolumeStyles.InsertionNotRankedYet;
+                        error = pins == null ? LpnnVolumeStyles.InsertionNotRankedYet : LpnnVolumeStyles.PinnedNotRankedYet;
                     }
                 }
             }
@@ -240,7 +245,7 @@ namespace Lpnn.Probes.Editor
             string count = (byInsertion && volume.RefineInBatches ? "Before refinement, Apply would place " : "Apply would place ") +
                            InvariantFormat.Count(result.Indices.Length) + " of " +
                            InvariantFormat.Count(grid.Count) + (session.InUse != null && session.InUse.Filters ? " points in use" : " points") +
-                           StepSummaries.Extras(result) + "." +
+                           LpnnVolumeStyles.PinnedAmong(pins == null ? 0 : pins.Count) + StepSummaries.Extras(result) + "." +
                            (byInsertion && volume.RefineInBatches ? "\n" + LpnnVolumeStyles.RefinedOnApply : "") +
                            (byInsertion ? InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)) : ValidityLine(record));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
@@ -286,25 +291,27 @@ namespace Lpnn.Probes.Editor
             var settings = volume.GetSelectionSettings();
             var guide = LpnnPipeline.GuideScores(volume);
             var valid = PlacementInputs.ValidPoints(session, grid);
-            int[] ranking = PlacementInputs.KnownInsertionRanking(session, grid, guide);
+            var pins = LpnnPipeline.PinsOf(volume, session, grid);
+            int[] ranking = PlacementInputs.KnownInsertionRanking(session, grid, guide, pins);
             var measure = ReportingMeasure.Wrap(PlacementInputs.Evaluator(session, grid), grid.Count, progress, cancel);
             // The search reads the insertion order only up to the prefixes it evaluates, as Apply does, instead of ranking
             // every point first (issue 31: ~99 rounds over up to 10⁵ probes at 10⁵ points for an answer of a few thousand).
             var result = !PlacementMethods.RanksByInsertion(volume.Method)
                 ? _preview.Search(grid, LpnnScores.For(volume), settings, measure)
                 : ranking != null
-                    ? _preview.SearchRanked(grid, ranking, valid, settings, measure)
-                    : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide), valid, settings, measure, progress, cancel);
+                    ? _preview.SearchRanked(grid, ranking, valid, settings, measure, pins)
+                    : _preview.SearchPrefixes(grid, PlacementInputs.InsertionOrder(session, grid, guide, pins), valid, settings, measure, pins, progress, cancel);
             return InvariantFormat.Count(result.Indices.Length) + " probes are within the tolerance" + StepSummaries.Extras(result);
         }
 
-        /// <summary>The insertion ranking of the current lighting (guided by the stored scores for Guided insertion) if already
-        /// computed (never computes during a repaint).</summary>
+        /// <summary>The insertion ranking of the current lighting (guided by the stored scores for Guided insertion; from the
+        /// pinned probes when the volume keeps them) if already computed (never computes during a repaint).</summary>
         private static int[] KnownInsertionRanking(LpnnVolume volume, LpnnSession session)
         {
             try
             {
-                return PlacementInputs.KnownInsertionRanking(session, LpnnPipeline.PlacementGrid(volume, session), LpnnPipeline.GuideScores(volume));
+                var grid = LpnnPipeline.PlacementGrid(volume, session);
+                return PlacementInputs.KnownInsertionRanking(session, grid, LpnnPipeline.GuideScores(volume), LpnnPipeline.PinsOf(volume, session, grid));
             }
             catch (LpnnException)
             {
@@ -316,8 +323,10 @@ namespace Lpnn.Probes.Editor
         {
             var grid = LpnnPipeline.PlacementGrid(volume, session);
             float[] guide = LpnnPipeline.GuideScores(volume);
-            PlacementInputs.RankByInsertion(session, grid, progress, cancel, guide);
-            return InvariantFormat.Count(grid.Count) + " points ranked by " + (guide == null ? "insertion" : "guided insertion");
+            var pins = LpnnPipeline.PinsOf(volume, session, grid);
+            PlacementInputs.RankByInsertion(session, grid, progress, cancel, guide, pins);
+            return InvariantFormat.Count(grid.Count) + " points ranked by " + (guide == null ? "insertion" : "guided insertion") +
+                   (pins == null ? "" : " from " + LpnnVolumeStyles.PinnedCount(pins.Count));
         }
     }
 }

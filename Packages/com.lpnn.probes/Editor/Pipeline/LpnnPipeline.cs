@@ -191,28 +191,19 @@ namespace Lpnn.Probes.Editor
         {
             // The step itself is the core's (Core.Pipeline.ApplySteps), so the editor-free rehearsal runs this code.
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
-            // With pins the order starts from them (a fresh order: the cached ones are pin-free).
-            int[] known = pins == null ? PlacementInputs.KnownInsertionRanking(session, grid, guideScores) : null;
-            var order = pins != null
-                ? Core.Quality.InsertionOrder.OfValid(grid, session.Sh, PlacementInputs.Evaluator(session, grid).Reference.SceneScale, valid,
-                    new UnityTetrahedralizer(), pins, InsertionRanking.DefaultGrowth, guideScores)
-                : known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores) : null;
+            // With pins the order starts from them: the kept pinned order (the one the preview and Rank by insertion read),
+            // reused however far it was computed, as the pin-free one is.
+            int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores, pins);
+            var order = known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores, pins) : null;
             var evaluator = refine ? PlacementInputs.Evaluator(session, grid) : null;
             return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel, pins);
         }
 
         /// <summary>The volume's pinned probes snapped to <paramref name="grid"/>'s valid points (Documentation~/pins.md), or null
-        /// when it keeps none. The Network method cannot keep them: an error says to choose an insertion method.</summary>
-        internal static Pins PinsOf(LpnnVolume volume, LpnnSession session, EvaluationGrid grid)
-        {
-            if (!volume.KeepPinnedProbes) return null;
-            if (!PlacementMethods.RanksByInsertion(volume.Method))
-                throw new PinException("Keep Pinned Probes works with the insertion methods: set Method to Insertion (or turn the toggle off)");
-            var world = volume.PinnedProbes;
-            var positions = new Double3[world.Length];
-            for (int p = 0; p < world.Length; p++) positions[p] = new Double3(world[p].x, world[p].y, world[p].z);
-            return Pins.Snap(grid, positions, null, PlacementInputs.ValidPoints(session, grid));
-        }
+        /// when it keeps none. The Network method cannot keep them: an error says to choose an insertion method. Core's
+        /// Pins.KeptBy decides, for Apply, the inspector's preview and batch mode alike.</summary>
+        internal static Pins PinsOf(LpnnVolume volume, LpnnSession session, EvaluationGrid grid) =>
+            PlacementInputs.KeptPins(session, grid, volume.Method, volume.KeepPinnedProbes, volume.PinnedProbes);
 
         /// <summary>The scores that guide the volume's insertion ranking: the stored scores for Guided insertion (valid on the
         /// grid <see cref="PlacementGrid"/> returned), else null (plain insertion, or the Network method).</summary>
@@ -243,7 +234,7 @@ namespace Lpnn.Probes.Editor
         /// <summary>The placed probes' error at the points in use (one evaluation with Unity's tetrahedralisation against the
         /// Lighting step's SH): for Band and Reachable over the grid, which holds only them; for All over the session's mask.
         /// Null with the reason when there is no lighting for this grid or the points in use are unknown.</summary>
-        private static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
+        internal static ErrorAtPointsInUse ErrorAtPointsInUseOf(LpnnSession session, EvaluationGrid grid, SelectionResult selection, out string unknown)
         {
             if (session.Sh == null || session.Grid != grid)
             {

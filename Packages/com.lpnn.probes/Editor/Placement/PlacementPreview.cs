@@ -1,5 +1,7 @@
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Pipeline;
+using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using Lpnn.Probes.Core.Scoring;
 
@@ -23,10 +25,12 @@ namespace Lpnn.Probes.Editor
         public SelectionResult Get(EvaluationGrid grid, ScoreRecord record, SelectionSettings settings, out string error) =>
             Get(grid, record.Scores, settings, () => ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, null), out error);
 
-        /// <summary>As <see cref="Get(EvaluationGrid, ScoreRecord, SelectionSettings, out string)"/> over a ranking that is
-        /// not made of scores (the insertion ranking), taking only the valid points (null: all).</summary>
-        public SelectionResult GetRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, out string error) =>
-            Get(grid, ranking, settings, () => ProbeSelector.SelectFromRanking(grid, ranking, settings, null, valid), out error);
+        /// <summary>As <see cref="Get(EvaluationGrid, ScoreRecord, SelectionSettings, out string)"/> over the insertion ranking
+        /// (the valid points only; null <paramref name="valid"/>: all), as Apply selects before its refinement (Core's
+        /// ApplySteps.PreviewByInsertion): with <paramref name="pins"/> the ranking must be the pinned one, and the pins are kept
+        /// and counted in the policy's probes.</summary>
+        public SelectionResult GetRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, Pins pins, out string error) =>
+            Get(grid, ranking, settings, () => ApplySteps.PreviewByInsertion(grid, valid, ranking, settings, pins), out error);
 
         private SelectionResult Get(EvaluationGrid grid, object source, SelectionSettings settings, System.Func<SelectionResult> select, out string error)
         {
@@ -51,15 +55,18 @@ namespace Lpnn.Probes.Editor
         public SelectionResult Search(EvaluationGrid grid, ScoreRecord record, SelectionSettings settings, IPlacementErrorMeasure measure) =>
             Keep(grid, record.Scores, settings, ProbeSelector.Select(PlacementInputs.Scored(grid, record), settings, measure));
 
-        /// <summary>The tolerance search over a ranking that is not made of scores (the insertion ranking), valid points only.</summary>
-        public SelectionResult SearchRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, IPlacementErrorMeasure measure) =>
-            Keep(grid, ranking, settings, ProbeSelector.SelectFromRanking(grid, ranking, settings, measure, valid));
+        /// <summary>The tolerance search over the insertion ranking (valid points only), as Apply searches before its
+        /// refinement (Core's ApplySteps.SelectByInsertion): with <paramref name="pins"/> the answer holds every pin.</summary>
+        public SelectionResult SearchRanked(EvaluationGrid grid, int[] ranking, bool[] valid, SelectionSettings settings, IPlacementErrorMeasure measure,
+            Pins pins) =>
+            Keep(grid, ranking, settings, ApplySteps.SelectByInsertion(grid, valid, ranking, null, settings, measure, false, null, null, default, pins));
 
         /// <summary>The tolerance search over an insertion order read only as far as the search's prefixes (as Apply does,
-        /// LpnnPipeline.SelectByInsertion), not the whole ranking; kept under the order for <see cref="Kept"/>.</summary>
-        public SelectionResult SearchPrefixes(EvaluationGrid grid, Core.Quality.InsertionOrder order, bool[] valid, SelectionSettings settings,
-            IPlacementErrorMeasure measure, ProgressCallback progress, System.Threading.CancellationToken cancel) =>
-            Keep(grid, order, settings, ProbeSelector.SelectFromPrefixes(grid, order.Count, count => order.Prefix(count, progress, cancel), settings, measure, valid));
+        /// LpnnPipeline.SelectByInsertion), not the whole ranking; kept under the order for <see cref="Kept"/>. With
+        /// <paramref name="pins"/> the order must start from them (PlacementInputs' pinned order).</summary>
+        public SelectionResult SearchPrefixes(EvaluationGrid grid, InsertionOrder order, bool[] valid, SelectionSettings settings,
+            IPlacementErrorMeasure measure, Pins pins, ProgressCallback progress, System.Threading.CancellationToken cancel) =>
+            Keep(grid, order, settings, ApplySteps.SelectByInsertion(grid, valid, null, order, settings, measure, false, null, progress, cancel, pins));
 
         /// <summary>The result kept for exactly these inputs, or null (never computes).</summary>
         public SelectionResult Kept(EvaluationGrid grid, object source, SelectionSettings settings) =>

@@ -4,6 +4,7 @@ using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
+using Lpnn.Probes.Core.Numerics;
 using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using Lpnn.Probes.Core.Sh;
@@ -81,8 +82,15 @@ namespace Lpnn.Probes.Core.Pipeline
             if (known != null)
             {
                 candidates = valid == null ? grid.Count : grid.Count - ValidCandidates.CountInvalid(valid);
-                prefix = count => known;
-                selection = ProbeSelector.SelectFromRanking(grid, known, settings, measure, valid);
+                // The editor keeps the order's own ranking (InsertionOrder.All): the valid points only — with pins, only those
+                // not blocked — so shorter than the grid whenever a point is invalid or blocked; a ranking of every grid point
+                // (InsertionRanking.RankValid) is taken too, without its invalid tail. Read as prefixes, as the lazy order is.
+                int[] ranking = valid != null && known.Length == grid.Count ? ValidCandidates.Filter(known, valid) : known;
+                if (pins != null && !pins.Heads(ranking))
+                    throw new PinException("the insertion ranking was made without these " + InvariantFormat.Count(pins.Count) + " pinned probes " +
+                                           "(it does not start with them): rank the points again with the pins (Rank by insertion)");
+                prefix = count => ranking;
+                selection = ProbeSelector.SelectFromPrefixes(grid, candidates, prefix, settings, measure, valid);
             }
             else
             {
@@ -93,12 +101,37 @@ namespace Lpnn.Probes.Core.Pipeline
             }
             if (pins != null)
             {
-                if (settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(selection.Indices.Length);
+                // The policy's own count holds the pins (what the artist asked for, as `lpnn place` checks it), not the
+                // completed selection, which the bounds corners or the tetrahedron guarantee may have grown past it.
+                if (settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(PolicyCount(settings, candidates));
                 selection = WithPins(selection, pins);
             }
             if (!refine) return selection;
             return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, null, valid, progress, cancel, pins);
         }
+
+        /// <summary>The inspector's preview of the insertion methods (Documentation~/pins.md "Where"): the selection Apply makes
+        /// before its refinement — the one it writes when Refine in batches is off — from the whole insertion ranking already
+        /// computed (<paramref name="ranking"/>; never runs an insertion round, so a repaint stays fast). With
+        /// <paramref name="pins"/> the ranking must be the one made with them (<see cref="InsertionOrder.OfValid"/> with the pins):
+        /// the pins head it, count in the policy's probes (a budget below them is a <see cref="PinException"/>), and no point
+        /// within the keep distance of one is a new probe. The Tolerance policy has no preview here: its search measures the
+        /// error many times (<see cref="SelectByInsertion"/> with a measure: the inspector's Find probes).</summary>
+        public static SelectionResult PreviewByInsertion(EvaluationGrid grid, bool[] valid, int[] ranking, SelectionSettings settings, Pins pins)
+        {
+            if (ranking == null) throw new ArgumentNullException(nameof(ranking), "the preview needs the insertion ranking (Rank by insertion)");
+            if (settings.Policy == SelectionPolicy.Tolerance)
+                throw new SelectionException("the tolerance policy measures the placement error of many probe counts, which a preview does not: " +
+                                             "run the search (Find probes) or Apply");
+            return SelectByInsertion(grid, valid, ranking, null, settings, null, false, null, null, CancellationToken.None, pins);
+        }
+
+        /// <summary>The probes a count policy keeps of <paramref name="candidates"/> before the completion (as
+        /// ProbeSelector reads the ranking's head): PercentileCount for Percentile, the budget (at most the candidates) otherwise.</summary>
+        private static int PolicyCount(SelectionSettings settings, int candidates) =>
+            settings.Policy == SelectionPolicy.Percentile
+                ? ProbeSelector.PercentileCount(settings.Value, candidates)
+                : (int)Math.Min(settings.Value, candidates);
 
         /// <summary>The selection with every pin it lacks added (sorted indices, as the selector returns them).</summary>
         internal static SelectionResult WithPins(SelectionResult selection, Pins pins)

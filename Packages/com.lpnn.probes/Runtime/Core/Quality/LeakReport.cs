@@ -38,6 +38,13 @@ namespace Lpnn.Probes.Core.Quality
             InvariantFormat.Count(Leaking) + " of " + InvariantFormat.Count(Points) + " points in use leak (" +
             InvariantFormat.Number(Math.Round(100.0 * Fraction, 2)) + " %)";
 
+        /// <summary>"Leaks: 12 of 3,456 points in use leak (0.35 %), in 9 tetrahedra" — the line the inspector shows after Apply
+        /// and batch mode logs (no final period: the inspector adds where the tetrahedra are drawn).
+        /// <paramref name="countedNote"/> (e.g. " (every point counted: …)") follows the share when the points counted are
+        /// not the points in use.</summary>
+        public string Sentence(string countedNote = "") =>
+            "Leaks: " + Describe() + (countedNote ?? "") + (TetrahedronCount > 0 ? ", in " + InvariantFormat.Count(TetrahedronCount) + (TetrahedronCount == 1 ? " tetrahedron" : " tetrahedra") : "");
+
         /// <summary>Which points of <paramref name="reference"/> leak under the placement, over the points in use only
         /// (<paramref name="inUse"/>: one flag per evaluation point; null: every point), with the tetrahedra holding them.</summary>
         /// <param name="probes">Evaluation point indices of the probes.</param>

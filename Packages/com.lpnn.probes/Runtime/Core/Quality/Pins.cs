@@ -114,6 +114,35 @@ namespace Lpnn.Probes.Core.Quality
             return new Pins(pins, indices, blocked, distance);
         }
 
+        /// <summary>The message when a volume keeps pinned probes but places with a method that cannot (the Network method).</summary>
+        public const string NeedsInsertionMethod =
+            "Keep Pinned Probes works with the insertion methods: set Method to Insertion (or turn the toggle off)";
+
+        /// <summary>The pins a volume's Apply keeps (Documentation~/pins.md "Every method"): null when <paramref name="keep"/>
+        /// is off (the positions are then ignored, even if some are stored); a <see cref="PinException"/> when
+        /// <paramref name="method"/> is not an insertion method (the Network method's spread ranking has no start the pins
+        /// could head); otherwise <see cref="Snap"/> with the default minimum distance. Apply, its preview and batch mode ask
+        /// this one question, so they agree on which probes are kept.</summary>
+        public static Pins KeptBy(PlacementMethod method, bool keep, IReadOnlyList<Double3> positions, EvaluationGrid grid, bool[] valid)
+        {
+            if (!keep) return null;
+            if (!PlacementMethods.RanksByInsertion(method)) throw new PinException(NeedsInsertionMethod);
+            return Snap(grid, positions, null, valid);
+        }
+
+        /// <summary>Whether <paramref name="ranking"/> (grid indices, most important first) is an order made with these pins:
+        /// it starts with them, in their order, and ranks no other blocked point. A pin-free ranking fails this (its start is
+        /// the typical tetrahedron), so a selection from it cannot pass for one that keeps the pins.</summary>
+        public bool Heads(int[] ranking)
+        {
+            if (ranking == null || ranking.Length < Count) return false;
+            for (int p = 0; p < Count; p++)
+                if (ranking[p] != Indices[p]) return false;
+            for (int r = Count; r < ranking.Length; r++)
+                if ((uint)ranking[r] < (uint)Blocked.Length && Blocked[ranking[r]]) return false;
+            return true;
+        }
+
         /// <summary>These pins on a subset of the grid (<paramref name="rows"/>: the grid index of each point of the subset, e.g.
         /// the valid points), which must hold every pinned point (<see cref="Snap"/> with the subset's valid flags does).</summary>
         public Pins OfRows(int[] rows)
