@@ -1,4 +1,4 @@
-"""Helpers of the Tools~ script tests: load a script as a module, write a model card with a level split."""
+"""Helpers of the Tools~/experiments script tests: load a script as a module, write a model card with a level split."""
 
 from __future__ import annotations
 
@@ -7,13 +7,13 @@ import json
 from pathlib import Path
 from types import ModuleType
 
-TOOLS_DIR = Path(__file__).resolve().parents[3] / "Tools~"
+EXPERIMENTS_DIR = Path(__file__).resolve().parents[3] / "Tools~" / "experiments"
 
 
 def load_tool(script: str) -> ModuleType:
-    """The script Tools~/<script> as a module (its file name has dashes, so it cannot be imported by name)."""
-    spec = importlib.util.spec_from_file_location(script.removesuffix(".py").replace("-", "_"), TOOLS_DIR / script)
-    assert spec is not None and spec.loader is not None, f"cannot load {TOOLS_DIR / script}"
+    """The script Tools~/experiments/<script> as a module (its file name has dashes, so it cannot be imported by name)."""
+    spec = importlib.util.spec_from_file_location(script.removesuffix(".py").replace("-", "_"), EXPERIMENTS_DIR / script)
+    assert spec is not None and spec.loader is not None, f"cannot load {EXPERIMENTS_DIR / script}"
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

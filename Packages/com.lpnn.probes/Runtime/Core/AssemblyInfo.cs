@@ -6,5 +6,5 @@ using System.Runtime.CompilerServices;
 [assembly: InternalsVisibleTo("Lpnn.Probes.Editor")]
 [assembly: InternalsVisibleTo("Lpnn.Probes.Core.Tests")]
 [assembly: InternalsVisibleTo("Lpnn.Probes.Editor.Tests")]
-// The selection benchmark (Tools~/csharp-selection-bench.sh) times internal selection paths, as the tests reach them.
+// The selection benchmark (Tools~/experiments/csharp-selection-bench.sh) times internal selection paths, as the tests reach them.
 [assembly: InternalsVisibleTo("SelectionBench")]

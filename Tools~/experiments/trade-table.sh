@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # The measurements behind Documentation~/benchmarks.md "The speed/accuracy trade, every method" (issue 30 item 3), then
-# the table (Tools~/bench-table.py --trade). Every run is `lpnn bench` (or `make demo`), niced; each prints its expected
+# the table (Tools~/experiments/bench-table.py --trade). Every run is `lpnn bench` (or `make demo`), niced; each prints its expected
 # time first. Wall times on the shared 2-core machine: run it when nothing else measures.
-#   bash Tools~/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]   (default: all)
+#   bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]   (default: all)
 # Captures: the 14 held-out and 10 validation crops of benchmarks.md §7.1 / §11.0 ($HELD_CROPS, $VAL_CROPS: folders of
 # *.lpnncap cut by `lpnn recipe run`'s crops_of_level), ctf_compromise ($CTF, 136,512 points, `lpnn scene import
 # ctf_compromise --in-use all`), suspended at 1.3 m ($SUSPENDED, 1,078,164 points, `lpnn scene import suspended --cell 1.3
 # --point-limit 3000000 --in-use all`); oa_dm1 is imported here.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
-[ $# -ge 1 ] || die "usage: bash Tools~/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]"
+[ $# -ge 1 ] || die "usage: bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]"
 OUT=$1; shift
 parts=("$@")
 want() { [ ${#parts[@]} -eq 0 ] && return 0; local p; for p in "${parts[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
@@ -75,7 +75,7 @@ if want demo; then
 fi
 
 if want table; then
-  python3 "Tools~/bench-table.py" --trade \
+  python3 "Tools~/experiments/bench-table.py" --trade \
     "held-out crops=$OUT/heldcrops/bench.csv" "validation crops=$OUT/valcrops/bench.csv" \
     "oa_dm1, the demo's level (held out)=$OUT/oa_dm1/bench.csv" \
     "ctf_compromise (validation)=$OUT/ctf_compromise/bench.csv" \

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Proves `lpnn scene lights` on every level of the OpenArena maps pak (Documentation~/benchmarks.md §8):
 # runs the command on each level and lists those it cannot do, with the command's own reason.
-#   bash Tools~/lights-pack.sh [SCHEME] [OUT_DIR]      (default: quick = one 20-iteration L-BFGS phase)
+#   bash Tools~/experiments/lights-pack.sh [SCHEME] [OUT_DIR]      (default: quick = one 20-iteration L-BFGS phase)
 # Exit code 0 when every level with baked light succeeds; levels without baked light are listed, not failed.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
 PY=$(bash "Tools~/setup-python.sh")
 export LPNN_OPENARENA_PAK

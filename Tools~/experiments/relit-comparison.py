@@ -1,6 +1,6 @@
 """A reduced with/without comparison of relit variants (benchmarks.md §9, issue [relight] item 5).
 
-    PYTHONPATH=Training~ python Tools~/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
+    PYTHONPATH=Training~ python Tools~/experiments/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
 
 Runs the recipe twice in DIR/without and DIR/with-N on the *quick* recipe's levels (QUICK.levels, its
 split: held-out oa_dm1 and oa_dm5, validation aggressor, training oa_dm2, oa_dm4, oa_dm6) with more crops

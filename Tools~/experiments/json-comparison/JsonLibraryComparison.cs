@@ -1,5 +1,5 @@
 // Measures whether Newtonsoft.Json (Json.NET) can replace Runtime/Core/Json (issue 17 item 18). Not part of the package or of
-// make test; run with Tools~/json-comparison/run.sh after `apt-get install libnewtonsoft-json-cil-dev` (Json.NET 6.0.8 on Debian).
+// make test; run with Tools~/experiments/json-comparison/run.sh after `apt-get install libnewtonsoft-json-cil-dev` (Json.NET 6.0.8 on Debian).
 // Prints: (1) every number of the golden files and the model card parsed by both libraries, round trips, parse times, in
 // en-US and de-DE; (2) what Json.NET's reader accepts that the cross-language contracts forbid; (3) whether Json.NET's writer
 // reproduces the capture header that Python's json.dumps wrote (the C# encoder must, byte for byte).

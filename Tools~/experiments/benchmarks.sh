@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Reproduces the figures of Documentation~/benchmarks.md on this machine (about 15 minutes on 2 cores;
 # run it on an otherwise idle machine). Writes everything under Build~/benchmarks/ and prints the figures.
-#   bash Tools~/benchmarks.sh [scenes] [reference] [model] [bench] [report]   (default: all)
-source "$(dirname "$0")/lib.sh"
+#   bash Tools~/experiments/benchmarks.sh [scenes] [reference] [model] [bench] [report]   (default: all)
+source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
 PY=$(bash "Tools~/setup-python.sh")
 PAK=$(bash "Tools~/install-openarena.sh")
@@ -54,7 +54,7 @@ if want bench; then
     captures+=("$OUT/held_$level.lpnncap")
   done
   lpnn bench "${captures[@]}" --model "$MODEL" --tolerance 0.05 --out "$OUT/bench"
-  python3 "Tools~/bench-table.py" "$OUT/bench/bench.csv"
+  python3 "Tools~/experiments/bench-table.py" "$OUT/bench/bench.csv"
 fi
 
 if want report; then
