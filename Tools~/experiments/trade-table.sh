@@ -6,7 +6,8 @@
 # Captures: the 14 held-out and 10 validation crops of benchmarks.md §7.1 / §11.0 ($HELD_CROPS, $VAL_CROPS: folders of
 # *.lpnncap cut by `lpnn recipe run`'s crops_of_level), ctf_compromise ($CTF, 136,512 points, `lpnn scene import
 # ctf_compromise --in-use all`), suspended at 1.3 m ($SUSPENDED, 1,078,164 points, `lpnn scene import suspended --cell 1.3
-# --point-limit 3000000 --in-use all`); oa_dm1 is imported here.
+# --point-limit 3000000 --in-use all`); oa_dm1 is imported here (at $LEVEL3_CELL when set: the smoke test's tiny
+# inputs, tests/tools/test_trade_table_sh.py).
 source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
 [ $# -ge 1 ] || die "usage: bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]"
@@ -43,7 +44,7 @@ fi
 
 if want level3; then
   # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~10 s (§11.2).
-  lpnn scene import oa_dm1 --in-use all --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
+  lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
   run oa_dm1 "~2-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
 fi
@@ -70,8 +71,8 @@ if want level6; then
 fi
 
 if want demo; then
-  run demo "~0.5-1 min (make demo)" nice -n 10 make demo
-  cp "$BUILD_DIR/demo/summary.json" "$BUILD_DIR/demo/table.txt" "$OUT/"
+  run demo "~0.5-1 min (make demo's script, writing to OUT/demo)" nice -n 10 bash "Tools~/demo.sh" --out "$OUT/demo"
+  cp "$OUT/demo/summary.json" "$OUT/demo/table.txt" "$OUT/"
 fi
 
 if want table; then

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -201,7 +202,8 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
     if args.method == "fast":
         update, close = progress_bar(f"{Path(args.capture).name}: fast reference")
         try:
-            decimation = run_reference(field, "fast", args.capture, args.workers, update)
+            # Without the surfaces: the reference casts no rays, and its second process cannot receive Embree's scene.
+            decimation = run_reference(replace(field, geometry=None), "fast", args.capture, args.workers, update)
         finally:
             close()
         placement = (reference_count(decimation, budget_count(args.budget, n)) if args.budget is not None

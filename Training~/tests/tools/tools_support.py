@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 from types import ModuleType
 
-EXPERIMENTS_DIR = Path(__file__).resolve().parents[3] / "Tools~" / "experiments"
+REPO = Path(__file__).resolve().parents[3]
+EXPERIMENTS_DIR = REPO / "Tools~" / "experiments"
 
 
 def load_tool(script: str) -> ModuleType:
@@ -24,3 +28,16 @@ def card_with_held_out(tmp_path: Path, held_out: list[str]) -> Path:
     path = tmp_path / "card.json"
     path.write_text(json.dumps({"training": {"recipe": {"levels": {"held_out": held_out}}}}), encoding="utf-8")
     return path
+
+
+def run_experiment(script: str, *arguments: str, env: dict[str, str] | None = None,
+                   timeout: float = 600) -> subprocess.CompletedProcess[str]:
+    """Runs Tools~/experiments/<script> as the docs do (`bash` for .sh, this Python with Training~ on the path for .py)
+    from the repository root, with `env` added to the environment; fails the test on a non-zero exit code."""
+    path = EXPERIMENTS_DIR / script
+    command = ["bash", str(path)] if script.endswith(".sh") else [sys.executable, str(path)]
+    environment = {**os.environ, "PYTHONPATH": str(REPO / "Training~"), **(env or {})}
+    result = subprocess.run([*command, *arguments], cwd=REPO, env=environment, capture_output=True, text=True,
+                            timeout=timeout)
+    assert result.returncode == 0, f"{script} exited with {result.returncode}:\n{result.stdout}\n{result.stderr}"
+    return result
