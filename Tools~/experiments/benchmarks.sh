@@ -18,7 +18,7 @@ MODEL_BENCH_OPTIONS="${MODEL_BENCH_OPTIONS:-}"
 HELD_LEVELS="${HELD_LEVELS:-oa_dm1:1.6256 oa_dm6:1.6256 dm4ish:1.6256 oa_rpg3dm2:1.6256 czest1dm:3.2512}"
 MODEL="Packages/com.lpnn.probes/Models/lpnn_default.onnx"
 mkdir -p "$OUT"
-lpnn() { PYTHONPATH="$TRAINING_DIR" "$PY" -m lpnn.cli.main "$@"; }
+lpnn() { "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
 parts=("$@")
 want() { [ ${#parts[@]} -eq 0 ] && return 0; local p; for p in "${parts[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
 

@@ -16,7 +16,7 @@ fi
 SCHEME="${1:-quick}"
 OUT="${2:-$BUILD_DIR/lights-pack}"
 mkdir -p "$OUT"
-lpnn() { PYTHONPATH="$TRAINING_DIR" nice -n 10 "$PY" -m lpnn.cli.main "$@"; }
+lpnn() { nice -n 10 "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
 levels=$(PYTHONPATH="$TRAINING_DIR" "$PY" -c \
   "from lpnn.scenes.levels import default_pak, pak_members; print(' '.join(m[5:-4] for m in pak_members(default_pak())))")
 done=0; unlit=(); failed=()

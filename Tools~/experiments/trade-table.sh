@@ -14,7 +14,6 @@ cd "$REPO_ROOT"
 OUT=$1; shift
 parts=("$@")
 want() { [ ${#parts[@]} -eq 0 ] && return 0; local p; for p in "${parts[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
-PY=$(bash "Tools~/setup-python.sh")
 MODEL="Packages/com.lpnn.probes/Models/lpnn_default.onnx"
 HELD_CROPS=${HELD_CROPS:-/work/data/heldcrops}
 VAL_CROPS=${VAL_CROPS:-/work/data/valcrops}
@@ -23,7 +22,7 @@ SUSPENDED=${SUSPENDED:-/work/data/suspended@1.3.lpnncap}
 TAU=0.05
 BUDGETS=0.01,0.05,0.1,0.2,0.3
 mkdir -p "$OUT"
-lpnn() { PYTHONPATH="$TRAINING_DIR" nice -n 10 "$PY" -m lpnn.cli.main "$@"; }
+lpnn() { nice -n 10 "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
 # One run: its expected time, then the command with its wall time (the log keeps both).
 run() {
   local name=$1 expected=$2; shift 2
