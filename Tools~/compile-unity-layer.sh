@@ -36,7 +36,7 @@ build() {  # build OUTPUT.dll "description" mcs-args... : compiles, counts, repo
 # Mono 6.8's mcs reads a digit separator as a zero (250_000 compiles to 2500000; Unity's Roslyn reads 250000), so the
 # same literal would mean one thing in Unity and another in every Mono test: refuse them in our sources.
 if separators=$(grep -rnE '(^|[^A-Za-z0-9_"])[0-9]+(_[0-9]+)+([^A-Za-z0-9_]|$)' --include='*.cs' \
-    "$PKG/Runtime" "$PKG/Editor" "$REPO_ROOT/Tests" "$REPO_ROOT/Samples~" "$REPO_ROOT/Tools~/SelectionBench" "$REPO_ROOT/Tools~/golden" \
+    "$PKG/Runtime" "$PKG/Editor" "$REPO_ROOT/Tests" "$REPO_ROOT/Samples~" "$REPO_ROOT/Tools~/experiments/SelectionBench" "$REPO_ROOT/Tools~/golden" \
     | grep -v '"[^"]*[0-9]_[0-9][^"]*"'); then
   die "digit separators in numeric literals (mcs reads 250_000 as 2500000; write 250000):
 $separators"

@@ -4,8 +4,7 @@
 # Installs what is missing (Python environment, OpenArena levels) first. Extra arguments go to `lpnn demo`.
 source "$(dirname "$0")/lib.sh"
 cd "$REPO_ROOT"
-PY=$(bash "Tools~/setup-python.sh")
 PAK=$(bash "Tools~/install-openarena.sh")
 mkdir -p "$BUILD_DIR/demo"
-PYTHONPATH="$TRAINING_DIR" exec "$PY" -m lpnn.cli.main demo --pak "$PAK" \
+exec "Tools~/bin/lpnn" demo --pak "$PAK" \
   --model "Packages/com.lpnn.probes/Models/lpnn_default.onnx" --out "$BUILD_DIR/demo" "$@"

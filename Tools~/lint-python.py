@@ -8,12 +8,14 @@ Layers (Documentation~/training.md "Package layout"): each subpackage of `lpnn` 
 layers listed before it, never one after it, and TensorFlow (with keras and tf2onnx) only inside
 `lpnn.train`. Ruff's banned-api rule (TID251) enforces both, relative imports included: this script
 runs it once per layer with that layer's banned modules, so the order below is the one place the
-rule is written.
+rule is written. Within a layer, modules may not import each other in a cycle (imports inside functions
+included): the shared piece belongs in a module both import. The cycle check reads the imports with `ast`.
 """
 
 from __future__ import annotations
 
 import argparse
+import ast
 import json
 import subprocess
 import sys
@@ -40,6 +42,58 @@ def banned_modules(layer: str | None) -> dict[str, str]:
     return banned
 
 
+def module_imports(package: Path) -> dict[str, set[str]]:
+    """Module -> the package's modules it imports anywhere in its file (`lpnn.a.b`; a package is its __init__)."""
+    modules: dict[str, Path] = {}
+    for path in package.rglob("*.py"):
+        parts = path.relative_to(package.parent).with_suffix("").parts
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        here = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        imported: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+            if isinstance(node, ast.Import):
+                imported.update(alias.name for alias in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                base = ".".join(here[:len(here) - node.level + 1] + [node.module or ""]).strip(".") if node.level \
+                    else node.module or ""
+                # `from pkg import mod` imports the module pkg.mod; `from mod import name` the module mod
+                imported.update(f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                                for alias in node.names)
+        graph[name] = {m for m in imported if m in modules and m != name}
+    return graph
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    cycles: list[list[str]] = []
+
+    def visit(module: str) -> None:
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for other in sorted(graph[module]):
+            if other not in index:
+                visit(other)
+                low[module] = min(low[module], low[other])
+            elif other in stack:
+                low[module] = min(low[module], index[other])
+        if low[module] == index[module]:
+            component = []
+            while not component or component[-1] != module:
+                component.append(stack.pop())
+            if len(component) > 1:
+                cycles.append(sorted(component))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return sorted(cycles)
+
+
 def ruff(root: Path, paths: list[Path], *options: str) -> int:
     command = [sys.executable, "-m", "ruff", "check", "--no-cache", "--output-format", "concise", *options,
                *(str(p) for p in paths if p.exists())]
@@ -64,6 +118,10 @@ def main(argv: list[str] | None = None) -> int:
             continue
         failed |= ruff(root, paths, "--quiet", "--select", "TID251", "--config",
                        f"lint.flake8-tidy-imports.banned-api = {{{table}}}") != 0
+    for cycle in import_cycles(module_imports(package)):
+        print(f"lint-python: modules import each other in a cycle: {', '.join(cycle)} "
+              "(move what they share into a module both import)")
+        failed = True
     present = sorted(p.name for p in package.iterdir() if p.is_dir() and (p / "__init__.py").exists())
     unlisted = sorted(set(present) - set(LAYERS))
     if unlisted:

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Creates (or reuses) the Python environment for Training~ and prints its python executable.
 # The venv lives outside the checkout, keyed by a hash of the pinned requirements, so clean
-# clones and CI reuse it; project code is used through PYTHONPATH, never installed into it.
+# clones and CI reuse it; project code is used through PYTHONPATH, never installed into it (a shared venv would
+# otherwise run whichever checkout installed last): each checkout's Tools~/bin/lpnn runs that checkout's code.
 source "$(dirname "$0")/lib.sh"
 command -v python3.11 >/dev/null 2>&1 || command -v python3 >/dev/null 2>&1 || die "Python 3.11 is required"
 PY=$(command -v python3.11 || command -v python3)

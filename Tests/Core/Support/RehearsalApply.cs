@@ -16,7 +16,7 @@ namespace Lpnn.Probes.Core.Tests.Support
     /// <see cref="ApplySteps.Rehearse"/> with fakes of Unity's light sampler (the capture's SH), features (the capture's:
     /// their rays were cast by the importer) and probe group (the writes are recorded). The tetrahedraliser is the caller's:
     /// <see cref="PythonTetrahedralizer"/>, or a wrapper of it. Shared by Tests/Core/ApplyRehearsalTests.cs and the Apply
-    /// benchmark (Tools~/SelectionBench, <c>csharp-selection-bench.sh --apply</c>).</summary>
+    /// benchmark (Tools~/experiments/SelectionBench, <c>csharp-selection-bench.sh --apply</c>).</summary>
     public static class RehearsalApply
     {
         /// <summary>ApplySteps.Rehearse on <paramref name="capture"/> (its grid: <paramref name="grid"/>, Capture.ToGrid()),

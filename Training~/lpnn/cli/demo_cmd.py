@@ -44,7 +44,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..scenes.importer import DEFAULT_CELL, import_level
     from ..scenes.levels import load_pak_member
     from ..train.onnx_scoring import OnnxScorer
-    from .scene_cmd import existing_pak, level_user_errors
+    from .level_args import existing_pak, level_user_errors
 
     pak = existing_pak(args.pak)
     scorer = OnnxScorer(args.model)

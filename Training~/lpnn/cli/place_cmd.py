@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -146,7 +147,7 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
     from ..quality.insertion import GUIDED_POINT_LIMIT, guide_applies
     from ..quality.lpnn_placement import lpnn_placement
-    from .progress import progress_bar
+    from .progress import rounds_bar
 
     if args.model is not None:
         from ..train.onnx_scoring import OnnxScorer
@@ -157,7 +158,7 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
 
         scores = read_scores_csv(args.scores, all_ids)
         scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
-    update, close_bar = progress_bar(f"{Path(args.capture).name}: guided insertion rounds") if args.guided else (None, None)
+    update, close_bar = rounds_bar(f"{Path(args.capture).name}: guided insertion") if args.guided else (None, None)
     try:
         placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
                                    refine=args.refine, topk=args.topk, guided=args.guided, batched=args.batched,
@@ -193,7 +194,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
     from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
                                     reference_tolerance)
     from ..quality.reference import run_reference
-    from .progress import progress_bar
+    from .progress import progress_bar, rounds_bar
 
     field = field_with_geometry(capture)  # with the level's surfaces when known: the report names leaks
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
@@ -201,7 +202,8 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
     if args.method == "fast":
         update, close = progress_bar(f"{Path(args.capture).name}: fast reference")
         try:
-            decimation = run_reference(field, "fast", args.capture, args.workers, update)
+            # Without the surfaces: the reference casts no rays, and its second process cannot receive Embree's scene.
+            decimation = run_reference(replace(field, geometry=None), "fast", args.capture, args.workers, update)
         finally:
             close()
         placement = (reference_count(decimation, budget_count(args.budget, n)) if args.budget is not None
@@ -216,7 +218,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             from ..quality.refined_insertion import refined_insertion
 
             name = Path(args.capture).name
-            ranked, close_ranked = progress_bar(f"{name}: insertion rounds")
+            ranked, close_ranked = rounds_bar(f"{name}: insertion")
             removed, close_removed = progress_bar(f"{name}: batched refinement")
             try:
                 refined = refined_insertion(field, grid, budget=args.budget, tolerance=args.tolerance,
@@ -230,7 +232,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
                    "insertion refined in batches", {}, timing, pins=pins)
             return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
-            update, close_bar = progress_bar(f"{Path(args.capture).name}: insertion rounds")
+            update, close_bar = rounds_bar(f"{Path(args.capture).name}: insertion")
             order = InsertionOrder(field, grid, progress=update, pins=pins)
             select, error_of = order.selection(), order.mean_error
             what = "insertion (coarse-to-fine, error-driven)"

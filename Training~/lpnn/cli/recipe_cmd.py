@@ -51,7 +51,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..recipe.config import QUICK, RecipeConfig
     from ..recipe.run import run_recipe
     from .errors import UserError
-    from .scene_cmd import existing_pak
+    from .level_args import existing_pak
 
     pak = existing_pak(args.pak)
     config = QUICK if args.quick else RecipeConfig()

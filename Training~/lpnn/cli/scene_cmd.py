@@ -22,9 +22,7 @@ from typing import Any, Iterator
 from ..core import in_use_defaults as in_use
 from ..scenes.defaults import DEFAULT_CELL, DEFAULT_POINT_LIMIT
 from ..errors import UserError
-
-LEVEL_HELP = "a .bsp file, PAK.pk3:maps/NAME.bsp, or a map name in the default pak (LPNN_OPENARENA_PAK or the Debian path)"
-
+from .level_args import LEVEL_HELP, level_user_errors
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     scene = subparsers.add_parser("scene", help="OpenArena / Quake III levels as captures (no Unity needed)",
@@ -76,7 +74,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     check.add_argument("--out", type=Path, metavar="FOLDER", help="also append every capture to this dataset folder")
     check.set_defaults(handler=_check_pack)
 
-    from .lights_cmd import register as register_lights  # issue 15: the light rig from baked lighting
+    from .scene_lights import register as register_lights  # issue 15: the light rig from baked lighting
 
     register_lights(actions)
 
@@ -226,29 +224,6 @@ def _parse_bounds(values: list[str]) -> tuple[list[Any] | None, str]:
         except GridError as exc:
             raise UserError(f"--bounds {text!r}: {exc}") from exc
     return boxes, " ".join(values)
-
-
-def existing_pak(value: str | None) -> Path:
-    """--pak, or the default pak ($LPNN_OPENARENA_PAK, else the Debian path); UserError if it is missing."""
-    from ..scenes.levels import INSTALL_HINT, default_pak
-
-    pak = Path(value) if value else default_pak()
-    if not pak.is_file():
-        raise UserError(f"{pak}: openarena maps pak not found; {INSTALL_HINT}")
-    return pak
-
-
-@contextmanager
-def level_user_errors() -> Iterator[None]:
-    """Level, grid and feature problems are the user's to fix: one line, no traceback."""
-    from ..core.features import FeatureError
-    from ..core.grid import GridError
-    from ..scenes.errors import BspError
-
-    try:
-        yield
-    except (BspError, GridError, FeatureError) as exc:
-        raise UserError(str(exc)) from exc
 
 
 @contextmanager

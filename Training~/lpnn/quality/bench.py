@@ -117,7 +117,7 @@ class BenchRow:
     yardstick: str = "fast-reference"  # or "blockwise-reference" (module text)
     in_use_error: float = math.nan  # mean error at the points in use (in-use.md); NaN when the capture cannot say
     leaking: float = math.nan  # share of the points in use that leak (leaks.md); NaN without the scene's geometry
-    pinned: int = 0  # of `probes`, pinned (pins.md); the benchmark places without pins, Tools~/pins-bench.py with them
+    pinned: int = 0  # of `probes`, pinned (pins.md); the benchmark places without pins, Tools~/experiments/pins-bench.py with them
 
 
 @dataclass(frozen=True)

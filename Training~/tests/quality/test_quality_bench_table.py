@@ -1,4 +1,4 @@
-"""Tools~/bench-table.py: geometric means with the count of the ratios they leave out (issue 17, item 11)."""
+"""Tools~/experiments/bench-table.py: geometric means with the count of the ratios they leave out (issue 17, item 11)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 from lpnn.quality.bench import BenchRow, rows_csv
 
-SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "bench-table.py"
+SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "experiments" / "bench-table.py"
 METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
 
 

@@ -1,4 +1,4 @@
-"""Tools~/csharp-selection-bench.sh (benchmarks.md §7.4, §11.3) runs: one batched round on a tiny lattice, and the whole
+"""Tools~/experiments/csharp-selection-bench.sh (benchmarks.md §7.4, §11.3) runs: one batched round on a tiny lattice, and the whole
 default selection under Mono (--apply) on a small synthetic capture with Python's tetrahedraliser over a pipe. It prints
 figures and asserts nothing; this checks that each mode still builds, runs and prints its table (Mono is installed by
 Tools~/install-system.sh for the C# tests of make test)."""
@@ -12,7 +12,7 @@ from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.capture_file import write_capture
 
 ROOT = Path(__file__).resolve().parents[3]
-BENCH = ROOT / "Tools~" / "csharp-selection-bench.sh"
+BENCH = ROOT / "Tools~" / "experiments" / "csharp-selection-bench.sh"
 
 def _bench(*arguments: str) -> str:
     result = subprocess.run(["bash", str(BENCH), *arguments], cwd=ROOT, capture_output=True, text=True, timeout=600)

@@ -1,4 +1,4 @@
-"""Tools~/guided-vs-insertion.py: guided against plain insertion per capture; held-out levels refused."""
+"""Tools~/experiments/guided-vs-insertion.py: guided against plain insertion per capture; held-out levels refused."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tools~/in-use-bench.py (benchmarks.md "Points in use") on a real level: one row per rule, each placement within the
+"""Tools~/experiments/in-use-bench.py (benchmarks.md "Points in use") on a real level: one row per rule, each placement within the
 tolerance on its own points, the reachable one also at the reachable points of the common yardstick."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Tools~/leak-variants.py: the leak-aware variants' rows and table, on an analytic room with a wall."""
+"""Tools~/experiments/leak-variants.py: the leak-aware variants' rows and table, on an analytic room with a wall."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""The layer rules of Tools~/lint-python.py catch what they forbid (the real tree is linted by `make test`)."""
+"""The layer and import-cycle rules of Tools~/lint-python.py catch what they forbid (the real tree is linted by
+`make test`)."""
 
 from __future__ import annotations
 
@@ -57,3 +58,23 @@ def test_a_subpackage_without_a_layer_fails(tmp_path: Path) -> None:
     result = lint(tmp_path, {"plugins/a.py": "x = 1\n"})
     assert result.returncode == 1
     assert "['plugins'] have no layer" in result.stdout
+
+
+def test_modules_importing_each_other_fail_even_inside_functions(tmp_path: Path) -> None:
+    result = lint(tmp_path, {
+        "cli/scene_cmd.py": "LEVEL_HELP = 'a level'\n\ndef register():\n    from .lights_cmd import run\n    run()\n",
+        "cli/lights_cmd.py": "from .scene_cmd import LEVEL_HELP\n\ndef run():\n    print(LEVEL_HELP)\n",
+        "cli/other.py": "from . import scene_cmd\nprint(scene_cmd)\n",  # importing one of them is no cycle
+    })
+    assert result.returncode == 1
+    assert "modules import each other in a cycle: lpnn.cli.lights_cmd, lpnn.cli.scene_cmd (" in result.stdout
+
+
+def test_a_longer_cycle_across_packages_fails(tmp_path: Path) -> None:
+    result = lint(tmp_path, {
+        "core/a.py": "from . import b\nprint(b)\n",
+        "core/b.py": "import lpnn.core.sub.c\nprint(lpnn)\n",
+        "core/sub/c.py": "from ..a import x\nprint(x)\n",
+    })
+    assert result.returncode == 1
+    assert "cycle: lpnn.core.a, lpnn.core.b, lpnn.core.sub.c (" in result.stdout

@@ -1,4 +1,4 @@
-"""Tools~/pins-bench.py (benchmarks.md "Pinned probes") on a synthetic room: a row per pin set, every pin kept and the
+"""Tools~/experiments/pins-bench.py (benchmarks.md "Pinned probes") on a synthetic room: a row per pin set, every pin kept and the
 tolerance met, the rows written to its CSV."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ def test_a_row_per_pin_set_within_the_tolerance(tmp_path: Path) -> None:
     capture = AnalyticScene.random(3, cell_size=0.5).capture(name="room")
     path = write_capture(tmp_path / "room.lpnncap", capture)
     out = tmp_path / "rows.csv"
-    result = subprocess.run([sys.executable, str(ROOT / "Tools~" / "pins-bench.py"), str(path), "--out", str(out)],
+    result = subprocess.run([sys.executable, str(ROOT / "Tools~" / "experiments" / "pins-bench.py"), str(path), "--out", str(out)],
                             cwd=ROOT, capture_output=True, text=True, timeout=600,
                             env={**os.environ, "PYTHONPATH": str(ROOT / "Training~")})
     assert result.returncode == 0, result.stdout + result.stderr

@@ -1,4 +1,4 @@
-"""Tools~/recipe-crops.py: crops of the training or validation split only; held-out levels are refused."""
+"""Tools~/experiments/recipe-crops.py: crops of the training or validation split only; held-out levels are refused."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tools~/refine-trade.py: the refine tier's ratios to the reference and time fractions, by seed factor."""
+"""Tools~/experiments/refine-trade.py: the refine tier's ratios to the reference and time fractions, by seed factor."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tools~/score-ceilings.py: ceilings of per-point scores on training/validation crops; held-out levels refused."""
+"""Tools~/experiments/score-ceilings.py: ceilings of per-point scores on training/validation crops; held-out levels refused."""
 
 from __future__ import annotations
 

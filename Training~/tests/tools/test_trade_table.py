@@ -1,4 +1,4 @@
-"""Tools~/bench-table.py --trade (benchmarks.md "The speed/accuracy trade, every method") on tiny bench.csv files: a row
+"""Tools~/experiments/bench-table.py --trade (benchmarks.md "The speed/accuracy trade, every method") on tiny bench.csv files: a row
 per set and method with the geometric means and median times, a reason for every method without rows, a yardstick given
 from elsewhere, make demo's summary.json; and --summary keeps every method (issue 34: insertion-refined and lpnn-batched
 were left out)."""
@@ -12,7 +12,7 @@ from pathlib import Path
 
 from lpnn.quality.bench import BenchRow, rows_csv
 
-SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "bench-table.py"
+SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "experiments" / "bench-table.py"
 
 
 def _row(capture: str, method: str, policy: str, parameter: float, ratio: float, seconds: float, points: int = 900,

@@ -6,5 +6,8 @@ using System.Runtime.CompilerServices;
 [assembly: InternalsVisibleTo("Lpnn.Probes.Editor")]
 [assembly: InternalsVisibleTo("Lpnn.Probes.Core.Tests")]
 [assembly: InternalsVisibleTo("Lpnn.Probes.Editor.Tests")]
-// The selection benchmark (Tools~/csharp-selection-bench.sh) times internal selection paths, as the tests reach them.
+// The selection benchmark (Tools~/experiments/csharp-selection-bench.sh) times internal selection paths, as the tests reach them.
 [assembly: InternalsVisibleTo("SelectionBench")]
+// The JSON library comparison (Tools~/experiments/json-comparison/run.sh, Documentation~/file-formats.md) reads with the
+// internal Core/Json reader and writer.
+[assembly: InternalsVisibleTo("JsonLibraryComparison")]

@@ -2,7 +2,7 @@
 """Points in use, measured (Documentation~/benchmarks.md "Points in use"): per level, the default placement (insertion
 refined in batches, tolerance 0.05) on all points, on the band and on the reachable points (in-use.md).
 
-    PYTHONPATH=Training~ <venv python> "Tools~/in-use-bench.py" LEVEL [LEVEL ...] --out rows.csv [--cell M]
+    PYTHONPATH=Training~ <venv python> "Tools~/experiments/in-use-bench.py" LEVEL [LEVEL ...] --out rows.csv [--cell M]
 
 Each level is imported once per rule (the import's own time, lighting and features included). Every placement is
 then also evaluated on the `all` capture's field (same SH at the same points, one scene scale) at the reachable

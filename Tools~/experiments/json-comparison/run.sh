@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Compiles and runs JsonLibraryComparison.cs against the built core and Debian's Json.NET (see the .cs file's header).
-source "$(dirname "$0")/../lib.sh"
+source "$(dirname "$0")/../../lib.sh"
 NEWTONSOFT=/usr/lib/cli/Newtonsoft.Json-5.0/Newtonsoft.Json.dll
 [ -f "$NEWTONSOFT" ] || die "Json.NET not found at $NEWTONSOFT (apt-get install libnewtonsoft-json-cil-dev)"
 bash "$REPO_ROOT/Tools~/build-csharp.sh" >/dev/null

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Iterator
 
 from ..errors import UserError
-from .scene_cmd import LEVEL_HELP, level_user_errors
+from .level_args import LEVEL_HELP, level_user_errors
 
 
 def register(actions: argparse._SubParsersAction) -> None:

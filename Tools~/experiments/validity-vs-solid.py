@@ -15,7 +15,7 @@ with the level's oriented triangle normals, as far as RAY_LENGTH ("long") and as
 and, for the open points the long rule flags, the surfaces whose back faces their rays met (face kind and shader),
 which is where the disagreement comes from. Measurement only.
 
-    PYTHONPATH=Training~ python Tools~/validity-vs-solid.py PAK LEVEL [LEVEL ...] [--cell 1.0]
+    PYTHONPATH=Training~ python Tools~/experiments/validity-vs-solid.py PAK LEVEL [LEVEL ...] [--cell 1.0]
 """
 from __future__ import annotations
 

@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
 # The measurements behind Documentation~/benchmarks.md "The speed/accuracy trade, every method" (issue 30 item 3), then
-# the table (Tools~/bench-table.py --trade). Every run is `lpnn bench` (or `make demo`), niced; each prints its expected
+# the table (Tools~/experiments/bench-table.py --trade). Every run is `lpnn bench` (or `make demo`), niced; each prints its expected
 # time first. Wall times on the shared 2-core machine: run it when nothing else measures.
-#   bash Tools~/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]   (default: all)
+#   bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]   (default: all)
 # Captures: the 14 held-out and 10 validation crops of benchmarks.md §7.1 / §11.0 ($HELD_CROPS, $VAL_CROPS: folders of
 # *.lpnncap cut by `lpnn recipe run`'s crops_of_level), ctf_compromise ($CTF, 136,512 points, `lpnn scene import
 # ctf_compromise --in-use all`), suspended at 1.3 m ($SUSPENDED, 1,078,164 points, `lpnn scene import suspended --cell 1.3
-# --point-limit 3000000 --in-use all`); oa_dm1 is imported here.
-source "$(dirname "$0")/lib.sh"
+# --point-limit 3000000 --in-use all`); oa_dm1 is imported here (at $LEVEL3_CELL when set: the smoke test's tiny
+# inputs, tests/tools/test_trade_table_sh.py).
+source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
-[ $# -ge 1 ] || die "usage: bash Tools~/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]"
+[ $# -ge 1 ] || die "usage: bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]"
 OUT=$1; shift
 parts=("$@")
 want() { [ ${#parts[@]} -eq 0 ] && return 0; local p; for p in "${parts[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
-PY=$(bash "Tools~/setup-python.sh")
 MODEL="Packages/com.lpnn.probes/Models/lpnn_default.onnx"
 HELD_CROPS=${HELD_CROPS:-/work/data/heldcrops}
 VAL_CROPS=${VAL_CROPS:-/work/data/valcrops}
@@ -22,7 +22,7 @@ SUSPENDED=${SUSPENDED:-/work/data/suspended@1.3.lpnncap}
 TAU=0.05
 BUDGETS=0.01,0.05,0.1,0.2,0.3
 mkdir -p "$OUT"
-lpnn() { PYTHONPATH="$TRAINING_DIR" nice -n 10 "$PY" -m lpnn.cli.main "$@"; }
+lpnn() { nice -n 10 "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
 # One run: its expected time, then the command with its wall time (the log keeps both).
 run() {
   local name=$1 expected=$2; shift 2
@@ -43,7 +43,7 @@ fi
 
 if want level3; then
   # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~10 s (§11.2).
-  lpnn scene import oa_dm1 --in-use all --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
+  lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
   run oa_dm1 "~2-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
 fi
@@ -70,12 +70,12 @@ if want level6; then
 fi
 
 if want demo; then
-  run demo "~0.5-1 min (make demo)" nice -n 10 make demo
-  cp "$BUILD_DIR/demo/summary.json" "$BUILD_DIR/demo/table.txt" "$OUT/"
+  run demo "~0.5-1 min (make demo's script, writing to OUT/demo)" nice -n 10 bash "Tools~/demo.sh" --out "$OUT/demo"
+  cp "$OUT/demo/summary.json" "$OUT/demo/table.txt" "$OUT/"
 fi
 
 if want table; then
-  python3 "Tools~/bench-table.py" --trade \
+  python3 "Tools~/experiments/bench-table.py" --trade \
     "held-out crops=$OUT/heldcrops/bench.csv" "validation crops=$OUT/valcrops/bench.csv" \
     "oa_dm1, the demo's level (held out)=$OUT/oa_dm1/bench.csv" \
     "ctf_compromise (validation)=$OUT/ctf_compromise/bench.csv" \

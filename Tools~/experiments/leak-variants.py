@@ -13,7 +13,7 @@ the share of points that leak (leaks.md) and their mean error, and the time. Var
   aware8-r1/-r3    aware8 with 1 or 3 repair rounds instead of REPAIR_ROUNDS
   count-of-aware8  refined_insertion(field, grid, budget=K/N) with K = aware8's probes (the control: the count alone)
 
-  PYTHONPATH=Training~ python Tools~/leak-variants.py LEVEL [LEVEL ...] [--pak PAK] [--tolerance 0.05]
+  PYTHONPATH=Training~ python Tools~/experiments/leak-variants.py LEVEL [LEVEL ...] [--pak PAK] [--tolerance 0.05]
                                                       [--variants default,aware4] [--in-use all|band|reachable]
 
 Prints one JSON line per level x variant as it goes, then a markdown table. Levels are chosen on training/validation

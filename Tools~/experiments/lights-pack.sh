@@ -1,18 +1,22 @@
 #!/usr/bin/env bash
 # Proves `lpnn scene lights` on every level of the OpenArena maps pak (Documentation~/benchmarks.md §8):
 # runs the command on each level and lists those it cannot do, with the command's own reason.
-#   bash Tools~/lights-pack.sh [SCHEME] [OUT_DIR]      (default: quick = one 20-iteration L-BFGS phase)
+#   [PAK=FILE] bash Tools~/experiments/lights-pack.sh [SCHEME] [OUT_DIR]   (default: quick = one 20-iteration L-BFGS phase)
 # Exit code 0 when every level with baked light succeeds; levels without baked light are listed, not failed.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
 PY=$(bash "Tools~/setup-python.sh")
 export LPNN_OPENARENA_PAK
-LPNN_OPENARENA_PAK=$(bash "Tools~/install-openarena.sh")
-bash "Tools~/install-openarena-textures.sh" >/dev/null  # shader scripts and textures of the forward model (lights.md §1)
+if [ -n "${PAK:-}" ]; then  # PAK=FILE: that pak's levels, nothing installed (the smoke test's synthetic pak)
+  LPNN_OPENARENA_PAK=$PAK
+else
+  LPNN_OPENARENA_PAK=$(bash "Tools~/install-openarena.sh")
+  bash "Tools~/install-openarena-textures.sh" >/dev/null  # shader scripts and textures of the forward model (lights.md §1)
+fi
 SCHEME="${1:-quick}"
 OUT="${2:-$BUILD_DIR/lights-pack}"
 mkdir -p "$OUT"
-lpnn() { PYTHONPATH="$TRAINING_DIR" nice -n 10 "$PY" -m lpnn.cli.main "$@"; }
+lpnn() { nice -n 10 "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
 levels=$(PYTHONPATH="$TRAINING_DIR" "$PY" -c \
   "from lpnn.scenes.levels import default_pak, pak_members; print(' '.join(m[5:-4] for m in pak_members(default_pak())))")
 done=0; unlit=(); failed=()

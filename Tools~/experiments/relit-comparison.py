@@ -1,6 +1,7 @@
 """A reduced with/without comparison of relit variants (benchmarks.md §9, issue [relight] item 5).
 
-    PYTHONPATH=Training~ python Tools~/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
+    PYTHONPATH=Training~ python Tools~/experiments/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
+        [--levels A,B,...] [--crops-per-level N] [--epochs N]   (defaults: the documented run; smaller ones smoke-test it)
 
 Runs the recipe twice in DIR/without and DIR/with-N on the *quick* recipe's levels (QUICK.levels, its
 split: held-out oa_dm1 and oa_dm5, validation aggressor, training oa_dm2, oa_dm4, oa_dm6) with more crops
@@ -35,10 +36,14 @@ def main() -> int:
     parser.add_argument("--variants", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--scheme", default="quick", help="rig recovery scheme for the training levels")
+    parser.add_argument("--levels", default=",".join(QUICK.levels),
+                        help="levels, split as the quick recipe splits them (default: its six)")
+    parser.add_argument("--crops-per-level", type=int, default=CROPS_PER_LEVEL)
+    parser.add_argument("--epochs", type=int, default=EPOCHS)
     args = parser.parse_args()
-    base = replace(QUICK, seed=args.seed, crops_per_level=CROPS_PER_LEVEL, workers=1,
-                   train=TrainConfig(epochs=EPOCHS, patience=PATIENCE, steps_per_epoch=STEPS, batch_clouds=4,
-                                     seed=args.seed))
+    base = replace(QUICK, levels=tuple(args.levels.split(",")), seed=args.seed, crops_per_level=args.crops_per_level,
+                   workers=1, train=TrainConfig(epochs=args.epochs, patience=PATIENCE, steps_per_epoch=STEPS,
+                                                batch_clouds=4, seed=args.seed))
     runs = {"without": base,
             f"with-{args.variants}": replace(base, variants_per_crop=args.variants, variant_rig_scheme=args.scheme)}
     print("| run | training crops | held-out crops | ROC-AUC | PR-AUC | LPNN error / reference at 10 / 20 / 30 % | "

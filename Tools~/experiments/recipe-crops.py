@@ -2,7 +2,7 @@
 """Cut the crops `lpnn recipe run` cuts, from the TRAINING or VALIDATION levels of a model's split (its card's
 `training.recipe.levels`), to benchmark or select on them. Held-out levels are refused: they only report.
 
-  PYTHONPATH=Training~ python Tools~/recipe-crops.py --role validation --crops 2 --out crops/
+  PYTHONPATH=Training~ python Tools~/experiments/recipe-crops.py --role validation --crops 2 --out crops/
   lpnn bench crops/*.lpnncap --model Packages/com.lpnn.probes/Models/lpnn_default.onnx --tolerance 0.05 --out bench
 
 Crops are those of `lpnn.recipe.crops.crops_of_level` with the card's recipe options (the same boxes, seeds and
@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-DEFAULT_CARD = Path(__file__).resolve().parents[1] / "Packages" / "com.lpnn.probes" / "Models" / "lpnn_default.card.json"
+DEFAULT_CARD = Path(__file__).resolve().parents[2] / "Packages" / "com.lpnn.probes" / "Models" / "lpnn_default.card.json"
 ROLES = ("train", "validation")
 
 

@@ -5,9 +5,9 @@ reference's count, and the LPNN / refinement / reference times; then the geometr
 and, beside it, how many ratios it left out (non-finite or zero: the worst cases, e.g. a reference
 error of 0; a missing row counts too).
 
-    python3 Tools~/bench-table.py Build~/benchmarks/bench/bench.csv [--budget 0.2]
-    python3 Tools~/bench-table.py bench.csv --summary    # one row per method: every budget and the tolerance
-    python3 Tools~/bench-table.py --trade "held-out crops=heldbench/bench.csv" "ctf_compromise=ctf/bench.csv" \
+    python3 Tools~/experiments/bench-table.py Build~/benchmarks/bench/bench.csv [--budget 0.2]
+    python3 Tools~/experiments/bench-table.py bench.csv --summary    # one row per method: every budget and the tolerance
+    python3 Tools~/experiments/bench-table.py --trade "held-out crops=heldbench/bench.csv" "ctf_compromise=ctf/bench.csv" \
         "the demo=Build~/demo/summary.json" ...
 
 --trade prints the speed/accuracy trade on one page (benchmarks.md "The speed/accuracy trade, every method"): for each

@@ -1,5 +1,6 @@
-// Measures whether Newtonsoft.Json (Json.NET) can replace Runtime/Core/Json (issue 17 item 18). Not part of the package or of
-// make test; run with Tools~/json-comparison/run.sh after `apt-get install libnewtonsoft-json-cil-dev` (Json.NET 6.0.8 on Debian).
+// Measures whether Newtonsoft.Json (Json.NET) can replace Runtime/Core/Json (issue 17 item 18). Not part of the package;
+// run with Tools~/experiments/json-comparison/run.sh (Json.NET 6.0.8 from Debian, installed by Tools~/install-system.sh;
+// make test smoke-tests it: Training~/tests/tools/test_json_comparison.py).
 // Prints: (1) every number of the golden files and the model card parsed by both libraries, round trips, parse times, in
 // en-US and de-DE; (2) what Json.NET's reader accepts that the cross-language contracts forbid; (3) whether Json.NET's writer
 // reproduces the capture header that Python's json.dumps wrote (the C# encoder must, byte for byte).

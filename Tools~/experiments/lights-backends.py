@@ -9,7 +9,7 @@ and the shadow rays of one visibility refresh with Embree (embreex, shipped) and
 Prints time per objective + gradient (median of REPEATS warm runs), the largest gradient difference
 to numpy, and rays/s. Libraries that are not installed are reported as such.
 
-    PYTHONPATH=Training~ $PY Tools~/lights-backends.py LEVEL
+    PYTHONPATH=Training~ $PY Tools~/experiments/lights-backends.py LEVEL
 (Mitsuba is not a project dependency: to include it, run with a Python that has `mitsuba` installed
 and the project's packages on its path; Dr.Jit needs libLLVM >= 15 that can compile for this CPU,
 see Documentation~/lights.md §3.)

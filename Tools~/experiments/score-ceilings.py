@@ -3,8 +3,8 @@
 network" (benchmarks.md §10, quality.md §5.2), on crops of TRAINING or VALIDATION levels (held-out levels are refused:
 they only report).
 
-  PYTHONPATH=Training~ python Tools~/recipe-crops.py --role validation --crops 4 --out crops/
-  PYTHONPATH=Training~ python Tools~/score-ceilings.py crops/*.lpnncap [--model M.onnx] [--workers 2]
+  PYTHONPATH=Training~ python Tools~/experiments/recipe-crops.py --role validation --crops 4 --out crops/
+  PYTHONPATH=Training~ python Tools~/experiments/score-ceilings.py crops/*.lpnncap [--model M.onnx] [--workers 2]
 
 For every crop, the fast reference (quality.md §3.2) gives every point's rank r (0 = kept longest); the "oracle
 score" is 1 - r / N, whose top-K IS the reference's placement at every K. Rankings compared (error at 1/5/10/20/30 %
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-DEFAULT_CARD = Path(__file__).resolve().parents[1] / "Packages" / "com.lpnn.probes" / "Models" / "lpnn_default.card.json"
+DEFAULT_CARD = Path(__file__).resolve().parents[2] / "Packages" / "com.lpnn.probes" / "Models" / "lpnn_default.card.json"
 DEFAULT_MODEL = DEFAULT_CARD.with_name("lpnn_default.onnx")
 BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 TOLERANCE = 0.05
@@ -129,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
     refused = sorted({level_of(p) for p in args.captures} & held_out_levels(args.card))
     if refused:
         raise SystemExit(f"held-out level(s) {', '.join(refused)}: never used to select or tune (they only report); "
-                         "cut crops of training or validation levels with Tools~/recipe-crops.py")
+                         "cut crops of training or validation levels with Tools~/experiments/recipe-crops.py")
     from lpnn.core.engine import Engine
 
     tasks = [(str(p), None if args.no_model else str(args.model)) for p in args.captures]

@@ -5,7 +5,7 @@ quality.md §5.2 lifted: this is the measurement the limit was chosen from). Who
 held-out levels are refused (they only report).
 
   lpnn scene import fan --out whole/fan.lpnncap            # whole levels, the importer's defaults
-  PYTHONPATH=Training~ python Tools~/guided-vs-insertion.py whole/*.lpnncap [--model M.onnx]
+  PYTHONPATH=Training~ python Tools~/experiments/guided-vs-insertion.py whole/*.lpnncap [--model M.onnx]
 """
 
 from __future__ import annotations

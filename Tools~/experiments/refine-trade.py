@@ -4,7 +4,7 @@ tolerance), the guided tier (factor 1: no refinement) and `lpnn_placement(..., r
 fast reference (error at a budget, probes at tau) and as fractions of the reference's time (selection + refinement
 against the full reference in the same process; each timed `--repeats` times, the fastest run kept).
 
-  PYTHONPATH=Training~ python Tools~/refine-trade.py crops/*.lpnncap [--factors 1.1,1.25,1.5,2] [--repeats 2]
+  PYTHONPATH=Training~ python Tools~/experiments/refine-trade.py crops/*.lpnncap [--factors 1.1,1.25,1.5,2] [--repeats 2]
 
 Prints one JSON line per capture x policy x factor as it goes, then a table of geometric means (largest ratio in
 brackets; non-finite or zero ratios left out and counted) and of the median and largest time fraction. The factor is chosen on validation crops; held-out crops report.
@@ -24,7 +24,7 @@ from pathlib import Path
 TOLERANCE = 0.05
 DEFAULT_FACTORS = "1.1,1.25,1.5,2"
 DEFAULT_BUDGETS = "0.01,0.05,0.1,0.2,0.3"
-DEFAULT_MODEL = Path(__file__).resolve().parents[1] / "Packages/com.lpnn.probes/Models/lpnn_default.onnx"
+DEFAULT_MODEL = Path(__file__).resolve().parents[2] / "Packages/com.lpnn.probes/Models/lpnn_default.onnx"
 
 
 def _numbers(text: str) -> list[float]:

@@ -4,7 +4,7 @@
 point along each axis, on the grid) and with a random 5 % of the points pinned, each moved a quarter cell in a random
 direction (off the grid, as an artist's probes are; they still stand for the point they were moved from, pins.md).
 
-    PYTHONPATH=Training~ <venv python> "Tools~/pins-bench.py" CAPTURE [CAPTURE ...] --out rows.csv [--stride 4]
+    PYTHONPATH=Training~ <venv python> "Tools~/experiments/pins-bench.py" CAPTURE [CAPTURE ...] --out rows.csv [--stride 4]
 
 Rows are written as they finish (temp file + rename). Only training and validation levels belong here (never the
 held-out ones, training.md).
