@@ -19,8 +19,9 @@ fixed V and ignores the movement of shadow edges.
 
 Objective: area-weighted relative squared error (the mass-lumped L2 norm of the seed's target),
     L = sum_i A_i |m_i - r_i|^2 / sum_i A_i |r_i|^2      (1 with no light, 0 at a perfect fit).
-Gradients are analytic, accumulated over chunks of points so memory stays bounded, and evaluated
-only on the (point, light) pairs with V_ij = 1.
+Gradients are analytic and evaluated only on the (point, light) pairs with V_ij = 1: one compiled pass
+over them (objective_kernel.py); objective_numpy is the same formula over chunks of (pairs, 3) arrays, the
+reference the pass is tested against.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import numpy as np
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
+from . import objective_kernel
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -85,8 +87,13 @@ class ForwardModel:
         # lights of a compile, emitters.py), added before the 255 clamp like the ambient
         self.fixed = np.zeros_like(self.points)
         self.rays = 0
+        # threads of the compiled objective: 1, since a second thread waiting for a busy core made it 3x slower
+        # on this shared 2-core machine (lights.md §3); the numbers do not depend on it
+        self.threads = 1
         self._pairs_of: np.ndarray | None = None  # the visibility matrix whose pairs are cached
         self._pairs: list = []
+        self._csr_of: np.ndarray | None = None  # the visibility matrix whose CSR pairs are cached
+        self._csr: tuple[np.ndarray, np.ndarray] = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64))
 
     @property
     def point_count(self) -> int:
@@ -173,8 +180,41 @@ class ForwardModel:
         return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0))
 
     def objective(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
-        """L and dL / d(every light parameter and the ambient), visibility fixed. `visible` is read,
-        never modified: its pairs are cached until another matrix is passed."""
+        """L and dL / d(every light parameter and the ambient), visibility fixed: the compiled pass of
+        objective_kernel.py (the formula of objective_numpy, one loop over the visible pairs). `visible` is
+        read, never modified: its pairs are cached until another matrix is passed."""
+        if visible.shape != (self.point_count, lights.count):
+            raise ValueError(f"visibility of shape {visible.shape} does not match {self.point_count} target points "
+                             f"x {lights.count} lights")
+        if self._csr_of is not visible:
+            self._csr_of, self._csr = visible, objective_kernel.csr(visible)
+        starts, pair_lights = self._csr
+        chunks = objective_kernel.chunks_for(self.point_count)
+        values = np.zeros(chunks)
+        grad_pos = np.zeros((chunks, lights.count, 3))
+        grad_emitted = np.zeros((chunks, lights.count, 3))
+        grad_ambient = np.zeros((chunks, 3))
+        emitted = np.ascontiguousarray(lights.colours * lights.intensities[:, None], dtype=np.float64)
+        objective_kernel.run(min(self.threads, objective_kernel.threads_for(self.point_count)),
+                             *(_f64(a) for a in (self.points, self.normals, self.albedo, self.radiance,
+                                                 self.weights, self.fixed)),
+                             np.asarray(lights.ambient, dtype=np.float64),
+                             np.ascontiguousarray(lights.positions, dtype=np.float64), emitted, starts, pair_lights,
+                             POINT_SCALE, MIN_DISTANCE, BYTE_MAX, LINEAR_PER_BYTE, self.norm, with_gradient,
+                             values, grad_pos, grad_emitted, grad_ambient)
+        # the slices summed in slice order: the same bits on any number of threads
+        emitted_sum = _ordered_sum(grad_emitted)
+        return Gradient(
+            value=float(_ordered_sum(values)) / self.norm,
+            positions=_ordered_sum(grad_pos),
+            colours=emitted_sum * lights.intensities[:, None],
+            intensities=np.einsum("jk,jk->j", emitted_sum, lights.colours),
+            ambient=_ordered_sum(grad_ambient),
+        )
+
+    def objective_numpy(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
+        """objective() in numpy, chunk by chunk over (pairs, 3) arrays: the reference the compiled pass is
+        tested against (and the former implementation, lights.md §3)."""
         value = 0.0
         grad_pos = np.zeros((lights.count, 3))
         grad_emitted = np.zeros((lights.count, 3))
@@ -247,6 +287,18 @@ class _Transfer:
     d: np.ndarray  # (P, 3)
     q: np.ndarray  # (P,)
     ndot: np.ndarray  # (P,) n.d where the light is in front, else 0
+
+
+def _f64(array: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(array, dtype=np.float64)
+
+
+def _ordered_sum(slices: np.ndarray) -> np.ndarray:
+    """The sum over the first axis, one slice after another (not numpy's pairwise order: fixed, simple)."""
+    total = np.zeros(slices.shape[1:])
+    for part in slices:
+        total = total + part
+    return total
 
 
 def _sum_by(index: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:
