@@ -56,6 +56,8 @@ class Lights:
     colours: np.ndarray  # (J, 3) in [0, 1]
     intensities: np.ndarray  # (J,) >= 0
     ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) bytes added everywhere
+    # (S,) q3map_surfacelight value of each surface light of the model (ForwardModel.surface_basis), >= 0
+    surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def count(self) -> int:
@@ -69,6 +71,7 @@ class Gradient:
     colours: np.ndarray  # (J, 3)
     intensities: np.ndarray  # (J,)
     ambient: np.ndarray  # (3,)
+    surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (S,)
 
 
 class ForwardModel:
@@ -86,6 +89,9 @@ class ForwardModel:
         # bytes every point receives from light elements held fixed in a fit (spotlights and surface
         # lights of a compile, emitters.py), added before the 255 clamp like the ambient
         self.fixed = np.zeros_like(self.points)
+        # (S, N, 3) bytes each surface light (a shader's emitting surfaces, emitters.py) adds at every point per
+        # unit of its q3map_surfacelight value: linear in the value, so the fit recovers the value (rig.py)
+        self.surface_basis = np.zeros((0, len(self.points), 3))
         self.rays = 0
         # threads of the compiled objective: 1, since a second thread waiting for a busy core made it 3x slower
         # on this shared 2-core machine (lights.md §3); the numbers do not depend on it
@@ -98,6 +104,19 @@ class ForwardModel:
     @property
     def point_count(self) -> int:
         return len(self.points)
+
+    @property
+    def surface_count(self) -> int:
+        return len(self.surface_basis)
+
+    def fixed_bytes(self, lights: Lights) -> np.ndarray:
+        """(N, 3) bytes of the elements that are not point lights: the fixed emitters and the surface lights."""
+        if self.surface_count == 0:
+            return self.fixed
+        values = np.asarray(lights.surface_values, dtype=np.float64)
+        if values.shape != (self.surface_count,):
+            raise ValueError(f"{values.size} surface light values for the model's {self.surface_count} surface lights")
+        return self.fixed + np.einsum("s,snk->nk", values, self.surface_basis)
 
     # ------------------------------------------------------------------------------ visibility
 
@@ -134,9 +153,10 @@ class ForwardModel:
         """(N, 3) modelled radiance m_i."""
         out = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]  # (J, 3)
+        fixed = self.fixed_bytes(lights)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
-            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(
+            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(
                 pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light], chunk.stop - chunk.start)
             out[chunk] = self.albedo[chunk] * LINEAR_PER_BYTE * saturate(light)
         return out
@@ -194,14 +214,17 @@ class ForwardModel:
         grad_pos = np.zeros((chunks, lights.count, 3))
         grad_emitted = np.zeros((chunks, lights.count, 3))
         grad_ambient = np.zeros((chunks, 3))
+        fixed = self.fixed_bytes(lights)
+        # dL/dE per point, for the surface lights' gradient (written only when they exist)
+        upstream = np.zeros((self.point_count if self.surface_count and with_gradient else 0, 3))
         emitted = np.ascontiguousarray(lights.colours * lights.intensities[:, None], dtype=np.float64)
         objective_kernel.run(min(self.threads, objective_kernel.threads_for(self.point_count)),
                              *(_f64(a) for a in (self.points, self.normals, self.albedo, self.radiance,
-                                                 self.weights, self.fixed)),
+                                                 self.weights, fixed)),
                              np.asarray(lights.ambient, dtype=np.float64),
                              np.ascontiguousarray(lights.positions, dtype=np.float64), emitted, starts, pair_lights,
                              POINT_SCALE, MIN_DISTANCE, BYTE_MAX, LINEAR_PER_BYTE, self.norm, with_gradient,
-                             values, grad_pos, grad_emitted, grad_ambient)
+                             values, grad_pos, grad_emitted, grad_ambient, upstream)
         # the slices summed in slice order: the same bits on any number of threads
         emitted_sum = _ordered_sum(grad_emitted)
         return Gradient(
@@ -210,7 +233,14 @@ class ForwardModel:
             colours=emitted_sum * lights.intensities[:, None],
             intensities=np.einsum("jk,jk->j", emitted_sum, lights.colours),
             ambient=_ordered_sum(grad_ambient),
+            surface_values=self._surface_gradient(upstream),
         )
+
+    def _surface_gradient(self, upstream: np.ndarray) -> np.ndarray:
+        """dL/d(value) of every surface light from dL/dE (N, 3): sum_i dL/dE_i . basis_s(i)."""
+        if self.surface_count == 0 or len(upstream) == 0:
+            return np.zeros(self.surface_count)
+        return np.einsum("snk,nk->s", self.surface_basis, upstream)
 
     def objective_numpy(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
         """objective() in numpy, chunk by chunk over (pairs, 3) arrays: the reference the compiled pass is
@@ -219,12 +249,14 @@ class ForwardModel:
         grad_pos = np.zeros((lights.count, 3))
         grad_emitted = np.zeros((lights.count, 3))
         grad_ambient = np.zeros(3)
+        upstream_all = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]
+        fixed = self.fixed_bytes(lights)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
             local = pairs.point - chunk.start
             albedo = self.albedo[chunk]
-            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
+            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
                                                                                len(albedo))
             residual = albedo * LINEAR_PER_BYTE * saturate(light) - self.radiance[chunk]
             weight = self.weights[chunk][:, None]
@@ -233,6 +265,7 @@ class ForwardModel:
                 continue
             upstream = saturate_backward(light, 2.0 * weight * residual * albedo * LINEAR_PER_BYTE / self.norm)  # dL/dE
             grad_ambient += upstream.sum(axis=0)
+            upstream_all[chunk] = upstream
             back = POINT_SCALE * upstream[local]  # dL/d(sum g e), per pair
             grad_emitted += _sum_by(pairs.light, t.g[:, None] * back, lights.count)
             u = np.einsum("pk,pk->p", back, emitted[pairs.light])  # dL/dg per pair
@@ -249,6 +282,7 @@ class ForwardModel:
             colours=grad_emitted * lights.intensities[:, None],
             intensities=np.einsum("jk,jk->j", grad_emitted, lights.colours),
             ambient=grad_ambient,
+            surface_values=self._surface_gradient(upstream_all) if with_gradient else np.zeros(self.surface_count),
         )
 
 

@@ -34,10 +34,12 @@ PARALLEL_CHUNKS = 64  # slices at most
 @njit(cache=True, parallel=True)
 def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, positions, emitted, starts, lights,
                    point_scale, min_distance, byte_max, linear_per_byte, norm, with_gradient,
-                   chunk_values, chunk_pos, chunk_emitted, chunk_ambient):
+                   chunk_values, chunk_pos, chunk_emitted, chunk_ambient, upstream_out):
     """Fills chunk_values (C,), chunk_pos (C, J, 3), chunk_emitted (C, J, 3), chunk_ambient (C, 3) with each
     slice's sum of w |m - r|^2 and of dL/d(position), dL/d(colour x intensity), dL/d(ambient) (all zero on entry);
-    C = chunks_for(N) slices of the points."""
+    C = chunks_for(N) slices of the points. With gradient, upstream_out (N, 3) receives every point's dL/dE when it
+    has N rows (the surface lights' gradient, model.py); give it 0 rows to skip that."""
+    keep_upstream = upstream_out.shape[0] == points.shape[0]
     n = points.shape[0]
     chunks = chunk_values.shape[0]
     min_sq = min_distance * min_distance
@@ -83,6 +85,8 @@ def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, p
                 upstream[top] -= scale * along
             for c in range(3):
                 chunk_ambient[chunk, c] += upstream[c]
+                if keep_upstream:
+                    upstream_out[i, c] = upstream[c]
                 upstream[c] *= point_scale
             for k in range(starts[i], starts[i + 1]):
                 j = lights[k]

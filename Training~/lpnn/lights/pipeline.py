@@ -138,9 +138,10 @@ def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> E
         light = shader_light(scripts, bsp.shader_name(index), image_colour)
         if light is not None:
             shaders[index] = light
-    areas, positions, colours, intensities = surface_emitters(bsp, shaders)
+    areas, positions, colours, intensities, splash_shader = surface_emitters(bsp, shaders)
     emitters.areas, emitters.shaders = areas, shaders
     emitters.splash_positions, emitters.splash_colours, emitters.splash_intensities = positions, colours, intensities
+    emitters.splash_shader = splash_shader
     return emitters
 
 

@@ -41,32 +41,34 @@ def tensorflow_objective(model: ForwardModel, lights: Lights, visible: np.ndarra
     pi, li = tf.constant(point), tf.constant(light)
     albedo, target = tf.constant(model.albedo), tf.constant(model.radiance)
     weight, fixed = tf.constant(model.weights[:, None]), tf.constant(model.fixed)
+    basis = tf.constant(model.surface_basis)  # (S, N, 3)
     n = model.point_count
     norm = float(model.norm)
 
     @tf.function(reduce_retracing=True)
-    def run(pos, col, inten, amb):
+    def run(pos, col, inten, amb, values):
         with tf.GradientTape() as tape:
-            tape.watch([pos, col, inten, amb])
+            tape.watch([pos, col, inten, amb, values])
             d = tf.gather(pos, li) - pts
             q = tf.maximum(tf.sqrt(tf.reduce_sum(d * d, 1)), 1e-9)
             ndot = tf.reduce_sum(d * nrm, 1)
             front = ndot > 0
             g = tf.where(front, tf.where(front, ndot, 0.0) / (q * tf.maximum(q * q, MIN_DISTANCE ** 2)), 0.0)
             e = tf.gather(col * inten[:, None], li)
-            light_bytes = amb + fixed + POINT_SCALE * tf.math.unsorted_segment_sum(g[:, None] * e, pi, n)
+            surfaces = tf.reduce_sum(values[:, None, None] * basis, 0)
+            light_bytes = amb + fixed + surfaces + POINT_SCALE * tf.math.unsorted_segment_sum(g[:, None] * e, pi, n)
             peak = tf.reduce_max(light_bytes, 1, keepdims=True)
             scale = tf.where(peak > BYTE_MAX, BYTE_MAX / tf.maximum(peak, BYTE_MAX), tf.ones_like(peak))
             residual = albedo * LINEAR_PER_BYTE * light_bytes * scale - target
             value = tf.reduce_sum(weight * residual * residual) / norm
-        return value, tape.gradient(value, [pos, col, inten, amb])
+        return value, tape.gradient(value, [pos, col, inten, amb, values])
 
     def call(now: Lights) -> Gradient:
         value, grads = run(*(tf.constant(np.asarray(a, dtype=np.float64))
-                             for a in (now.positions, now.colours, now.intensities, now.ambient)))
+                             for a in (now.positions, now.colours, now.intensities, now.ambient, now.surface_values)))
         grads = [tf.convert_to_tensor(g).numpy() for g in grads]  # gathers give IndexedSlices
         return Gradient(value=float(value), positions=grads[0], colours=grads[1], intensities=grads[2],
-                        ambient=grads[3])
+                        ambient=grads[3], surface_values=grads[4])
 
     return call
 
@@ -74,7 +76,7 @@ def tensorflow_objective(model: ForwardModel, lights: Lights, visible: np.ndarra
 def largest_difference(a: Gradient, b: Gradient) -> float:
     """The largest |a - b| over every gradient array, relative to that array's largest |b| (0 when b is 0)."""
     worst = abs(a.value - b.value) / max(abs(b.value), 1e-300)
-    for key in ("positions", "colours", "intensities", "ambient"):
+    for key in ("positions", "colours", "intensities", "ambient", "surface_values"):
         x, y = np.asarray(getattr(a, key)), np.asarray(getattr(b, key))
         scale = float(np.max(np.abs(y))) if y.size else 0.0
         if scale > 0:

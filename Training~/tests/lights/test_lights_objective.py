@@ -12,7 +12,7 @@ from lpnn.lights.model import BYTE_MAX, ForwardModel, Gradient, Lights
 from objective_bench import largest_difference, tensorflow_objective
 from synthetic_room import TRUE_LIGHTS, lit_room
 
-FIELDS = ("positions", "colours", "intensities", "ambient")
+FIELDS = ("positions", "colours", "intensities", "ambient", "surface_values")
 
 
 @pytest.fixture(scope="module")
@@ -20,6 +20,9 @@ def room() -> ForwardModel:
     model = lit_room(TRUE_LIGHTS, divisions=12)[0]
     # bytes of fixed emitters (spotlights, surface lights of a compile), added before the clamp
     model.fixed = np.outer(model.points[:, 2] / 256.0, [30.0, 20.0, 10.0])
+    # two surface lights: bytes per unit value, one warm and growing with x, one blue and growing with y
+    model.surface_basis = np.stack([np.outer(model.points[:, 0] / 256.0, [0.02, 0.01, 0.0]),
+                                    np.outer(model.points[:, 1] / 256.0, [0.0, 0.005, 0.02])])
     return model
 
 
@@ -28,7 +31,8 @@ def hard_lights() -> Lights:
     saturated luxels above it), one bright (saturation), colours whose largest channel differs."""
     return Lights(positions=np.array([[70.0, 60.0, 246.0], [190.0, 170.0, 100.0], [128.0, 40.0, 60.0]]),
                   colours=np.array([[1.0, 0.8, 0.6], [0.5, 0.7, 1.0], [0.3, 1.0, 0.2]]),
-                  intensities=np.array([260.0, 900.0, 120.0]), ambient=np.array([11.0, 9.0, 7.0]))
+                  intensities=np.array([260.0, 900.0, 120.0]), ambient=np.array([11.0, 9.0, 7.0]),
+                  surface_values=np.array([1500.0, 800.0]))
 
 
 def assert_close(a: Gradient, b: Gradient, tolerance: float) -> None:
@@ -96,10 +100,12 @@ def test_no_visible_pair_and_no_light(room: ForwardModel) -> None:
     lights = hard_lights()
     hidden = room.objective(lights, np.zeros((room.point_count, lights.count), dtype=bool))
     assert not np.any(hidden.positions) and not np.any(hidden.colours) and not np.any(hidden.intensities)
-    ambient_only = Lights(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), ambient=lights.ambient)
+    ambient_only = Lights(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), ambient=lights.ambient,
+                          surface_values=lights.surface_values)
     none = room.objective(ambient_only, np.zeros((room.point_count, 0), dtype=bool))
     assert none.value == pytest.approx(hidden.value, rel=1e-14)
     np.testing.assert_allclose(none.ambient, hidden.ambient, rtol=1e-14)
+    np.testing.assert_allclose(none.surface_values, hidden.surface_values, rtol=1e-14)
     assert none.positions.shape == (0, 3)
 
 
@@ -107,3 +113,10 @@ def test_a_visibility_of_the_wrong_shape_is_refused(room: ForwardModel) -> None:
     lights = hard_lights()
     with pytest.raises(ValueError, match=rf"shape \({room.point_count}, 2\).*{room.point_count} target points x 3"):
         room.objective(lights, np.ones((room.point_count, 2), dtype=bool))
+
+
+def test_surface_values_of_the_wrong_count_are_refused(room: ForwardModel) -> None:
+    lights = hard_lights()
+    lights.surface_values = np.array([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="3 surface light values for the model's 2 surface lights"):
+        room.objective(lights, room.visibility(lights))
