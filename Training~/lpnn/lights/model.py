@@ -32,7 +32,7 @@ import numpy as np
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
-from . import objective_kernel
+from . import objective_kernel, visibility_kernel
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -121,7 +121,32 @@ class ForwardModel:
     # ------------------------------------------------------------------------------ visibility
 
     def visibility(self, lights: Lights) -> np.ndarray:
-        """(N, J) bool: light j reaches point i (in front of it, within range, no occluder)."""
+        """(N, J) bool: light j reaches point i (in front of it, within range, no occluder). The candidate pairs
+        and their rays are chosen by a compiled pass (visibility_kernel.py), the rays cast by Embree."""
+        visible = np.zeros((self.point_count, lights.count), dtype=bool)
+        reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
+        max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
+        for start in range(0, self.point_count, POINTS_PER_CHUNK):
+            stop = min(start + POINTS_PER_CHUNK, self.point_count)
+            point, light, origins, directions, lengths = visibility_kernel.candidate_rays(
+                self.points, self.normals, lights.positions, max_squared, start, stop, RAY_OFFSET)
+            if point.size == 0:
+                continue
+            if self.raycaster is None:
+                visible[point, light] = True
+                continue
+            reachable = lengths > RAY_OFFSET
+            if not reachable.any():
+                continue
+            distances, _ = self.raycaster.cast(origins[reachable], directions[reachable],
+                                               float(lengths[reachable].max()))
+            self.rays += int(reachable.sum())
+            free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
+            visible[point[reachable][free], light[reachable][free]] = True
+        return visible
+
+    def visibility_numpy(self, lights: Lights) -> np.ndarray:
+        """visibility() over (points, lights, 3) numpy arrays: the reference the compiled selection is tested against."""
         visible = np.zeros((self.point_count, lights.count), dtype=bool)
         reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
         max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES

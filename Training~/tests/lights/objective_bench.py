@@ -9,7 +9,9 @@ area-weighted relative squared error) on one level, the same lights and visible 
   numpy       the analytic gradient over (pairs, 3) arrays (ForwardModel.objective_numpy), float64
   tensorflow  automatic differentiation (GradientTape in a tf.function, gather + unsorted_segment_sum), float64
 Prints the time per objective + gradient (median of REPEATS warm runs) and each one's largest gradient
-difference to TensorFlow's autodiff, relative to the largest component.
+difference to TensorFlow's autodiff, relative to the largest component; then the time of one visibility
+refresh (model.visibility: compiled pair selection, visibility_numpy: numpy's) with Embree on 1 thread and on
+all of them.
 
     PYTHONPATH=Training~ nice -n 19 $PY Training~/tests/lights/objective_bench.py LEVEL
 
@@ -135,6 +137,16 @@ def main(argv: list[str] | None = None) -> int:
     for name, seconds, out in rows:
         print(f"{name:32s} {seconds * 1000:7.1f} ms per objective + gradient; objective {out.value:.12f}; "
               f"largest difference to autodiff {largest_difference(out, reference):.1e}")
+    same = np.array_equal(m.visibility(lights), m.visibility_numpy(lights))
+    threads = m.raycaster.threads
+    for raycaster_threads in sorted({1, threads}):
+        m.raycaster.threads = raycaster_threads
+        for name, run in (("compiled", lambda: m.visibility(lights)), ("numpy", lambda: m.visibility_numpy(lights))):
+            seconds, _ = timed(run)
+            print(f"visibility refresh, {name} pair selection, Embree on {raycaster_threads} thread(s): "
+                  f"{seconds * 1000:7.0f} ms")
+    m.raycaster.threads = threads
+    print(f"compiled and numpy visibility {'identical' if same else 'DIFFER'}")
     return 0
 
 

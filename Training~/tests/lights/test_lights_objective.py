@@ -120,3 +120,20 @@ def test_surface_values_of_the_wrong_count_are_refused(room: ForwardModel) -> No
     lights.surface_values = np.array([1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match="3 surface light values for the model's 2 surface lights"):
         room.objective(lights, room.visibility(lights))
+
+
+def test_the_compiled_visibility_casts_the_numpy_rays(room: ForwardModel) -> None:
+    lights = hard_lights()
+    lights.positions = np.concatenate([lights.positions, [[128.0, 128.0, 170.0], [5.0, 250.0, 0.2]]])
+    lights.colours = np.concatenate([lights.colours, np.ones((2, 3))])
+    lights.intensities = np.concatenate([lights.intensities, [5.0, 50.0]])  # a short-range light, one on the floor
+    rays = room.rays
+    compiled = room.visibility(lights)
+    compiled_rays = room.rays - rays
+    reference = room.visibility_numpy(lights)
+    assert np.array_equal(compiled, reference)
+    assert room.rays - rays - compiled_rays == compiled_rays  # the same number of rays cast
+    assert compiled.any() and not compiled.all()  # shadows, range and backs all take some pairs out
+    free = ForwardModel.__new__(ForwardModel)
+    free.__dict__.update(room.__dict__, raycaster=None)  # no occluder: every candidate pair is visible
+    assert np.array_equal(free.visibility(lights), free.visibility_numpy(lights))
