@@ -71,3 +71,15 @@ def test_the_fit_recovers_the_panel_value_and_the_lights(room: ForwardModel) -> 
     # the objective reported is that of the rig with its own visibility
     assert result.objective == pytest.approx(room.objective(result.lights, room.visibility(result.lights)).value,
                                              rel=1e-9)
+
+
+def test_a_fit_with_surface_lights_is_deterministic(room: ForwardModel) -> None:
+    from lpnn.lights.settings import ALL, Phase
+
+    phases = (Phase("adam", ALL, 0.1, 8), Phase("lbfgs", ALL, 1.0, 8))
+    start = initial_grid(BOUNDS[0], BOUNDS[1], (2, 2, 2), inside_room)
+    first, second = (Fitter(room, BOUNDS, inside_room, room.points).fit(initial_intensity(room, start), phases)
+                     for _ in range(2))
+    assert np.array_equal(first.lights.surface_values, second.lights.surface_values)
+    assert np.array_equal(first.lights.positions, second.lights.positions)
+    assert [p.objective for p in first.curve] == [p.objective for p in second.curve]
