@@ -38,6 +38,10 @@ def register(actions: argparse._SubParsersAction) -> None:
     lights.add_argument("--refresh", type=int, default=DEFAULT_REFRESH, metavar="N",
                         help=f"recompute shadow rays every N iterations (default {DEFAULT_REFRESH})")
     lights.add_argument("--no-textures", action="store_true", help="albedo 0.5 everywhere instead of the pk3 textures")
+    lights.add_argument("--surfaces", action="store_true",
+                        help="also recover surface lights: one q3map_surfacelight value per shader that may emit "
+                             "(its script says so, or it is sky or named *light* without a script); the rig then "
+                             "holds them (lights.md §4-5; the probe baker does not bake them yet)")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -83,7 +87,7 @@ def _lights(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from ..lights.curves import write_curve_csv, write_curve_png
-    from ..lights.pipeline import fit_scene, load_scene, rig_of
+    from ..lights.pipeline import add_surface_lights, fit_scene, load_scene, rig_of
     from ..lights.rig import write_rig
     from ..scenes.levels import load_level
 
@@ -94,6 +98,10 @@ def _lights(args: argparse.Namespace) -> None:
     with rig_user_errors():
         level = load_level(args.level)
         scene = load_scene(level, max_edge=max_edge, textures=not args.no_textures)
+        if args.surfaces:
+            add_surface_lights(scene)
+            print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover "
+                  f"({scene.surface_emitters.areas.count:,} area lights) in {scene.seconds['surface lights']:.1f} s")
     print(f"{level.name}: {scene.target.point_count:,} target points (max edge "
           f"{scene.max_edge if scene.max_edge is not None else 'none'}), projection loss "
           f"{scene.target.projection_loss:.3f}, textures {scene.albedo.found} of {len(scene.albedo.images)} shaders")
@@ -118,6 +126,8 @@ def _lights(args: argparse.Namespace) -> None:
     write_curve_csv(stem.with_name(stem.name + ".curve.csv"), result.curve)
     write_curve_png(stem.with_name(stem.name + ".curve.png"), {args.scheme: result.curve}, f"{level.name}: {args.scheme}")
     casting = scene.model.raycaster.cast_seconds if scene.model.raycaster is not None else 0.0
+    if args.surfaces:
+        print(f"{path}: surface lights " + (", ".join(f"{s.shader} {s.value:.0f}" for s in rig.surfaces) or "none"))
     print(f"{path}: {rig.count} lights (of {result.lights.count} initial), objective {result.objective:.4f}, "
           f"{result.iterations} iterations in {result.seconds:.1f} s ({result.seconds / max(result.iterations, 1):.2f} s "
           f"an iteration), {result.rays:,} shadow rays ({result.rays / casting if casting > 0 else 0:,.0f} rays/s "
@@ -126,7 +136,7 @@ def _lights(args: argparse.Namespace) -> None:
 
 def _compare(args: argparse.Namespace) -> None:
     from ..lights.compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
-    from ..lights.pipeline import level_emitters, point_lights_of
+    from ..lights.pipeline import level_emitters, point_lights_of, rig_emitters, shader_power, surface_pieces
     from ..lights.rig import Rig, entity_lights, read_rig
     from ..scenes.solid import SolidTester
     from ..scenes.levels import load_level
@@ -138,15 +148,22 @@ def _compare(args: argparse.Namespace) -> None:
         level = load_level(args.level)
         real = entity_lights(level.bsp.entities, level.name)
         stored = stored_grid(level.bsp)
+        own_emitters = rig_emitters(level, rig) if rig.surfaces else None
     if rig.bsp_sha256 and rig.bsp_sha256 != level.sha256:
         print(f"warning: {args.compare} was recovered from a different file than {level.location} "
               f"(sha256 {rig.bsp_sha256[:12]}... vs {level.sha256[:12]}...)", file=sys.stderr)
-    if real.rig.count:
-        c = compare_rigs(rig, real.rig)
-        print(f"rig vs the level's {c.real_lights} point-light entities ({c.recovered_lights} recovered): "
-              f"{c.matched_share:.1%} of real intensity has a recovered light within 1 m; intensity-weighted "
-              f"distance real->recovered {c.real_to_recovered:.2f} m, recovered->real {c.recovered_to_real:.2f} m; "
-              f"total intensity recovered {c.recovered_power:,.0f} vs real {c.real_power:,.0f}")
+    real_emitters = level_emitters(level, real) if real.rig.count else None
+    if real_emitters is not None:
+        c = compare_rigs(rig, real.rig, real_surfaces=surface_pieces(level.bsp, real_emitters),
+                         shader_power=shader_power(level.bsp, own_emitters) if own_emitters is not None else {})
+        print(f"rig vs the level's {c.real_lights} light entities and {len(real_emitters.shaders)} surface-light "
+              f"shaders ({c.surface_share:.0%} of the real intensity; {c.recovered_lights} lights and "
+              f"{len(rig.surfaces)} surface lights recovered): {c.matched_share:.1%} of real intensity matched "
+              f"(a recovered light within 1 m, or a recovered surface light of the same shader; surface lights "
+              f"{c.surface_matched_share:.1%}); intensity-weighted distance real->recovered "
+              f"{c.real_to_recovered:.2f} m, recovered->real {c.recovered_to_real:.2f} m (lights only); total "
+              f"intensity recovered {c.recovered_power:,.0f} vs real {c.real_power:,.0f} (surface lights as the "
+              f"point light of equal flux)")
     else:
         print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
     geometry = ray_geometry(level.bsp)
@@ -156,12 +173,12 @@ def _compare(args: argparse.Namespace) -> None:
     def is_open(points):
         return ~solid.solid_or_outside(points)
 
-    sets = [("the rig", rig, None)]
-    if real.rig.count:
+    sets = [("the rig", rig, own_emitters)]
+    if real_emitters is not None:
         own = point_lights_of(real)
         sets.append(("the level's own lights, spotlights and surface lights (yardstick)",
                      Rig.from_quake(own.positions, own.colours, own.intensities, ambient=own.ambient),
-                     level_emitters(level, real)))
+                     real_emitters))
     for label, lights, emitters in sets:
         g = compare_grid(stored, relight_stored_grid(level.bsp, stored, lights, raycaster, is_open, emitters))
         print(f"light grid re-lit from {label} vs stored, {g.nodes:,} valid nodes: relative irradiance error mean "

@@ -34,7 +34,7 @@ from ..scenes.raycast import EmbreeRaycaster
 from .model import POINT_SCALE, ForwardModel, Lights, saturate
 from .pipeline import load_scene
 from .pointlight import visible_light
-from .rig import Rig
+from .rig import Rig, RigError
 from .target import RadianceTarget
 
 GATHER_DIRECTIONS = 128
@@ -117,6 +117,10 @@ def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
 def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: BakeSettings = DEFAULT_BAKE,
             progress: Callable[[int, int], None] | None = None) -> BakeResult:
     """SH (N, 27) at points (N, 3) in Unity metres lit by `rig` (module docstring)."""
+    if rig.surfaces:
+        raise RigError(f"the probe baker bakes a rig's point lights and ambient only; this rig has "
+                       f"{len(rig.surfaces)} surface light(s) ({', '.join(s.shader for s in rig.surfaces[:3])}...): "
+                       f"recover it without --surfaces")
     points = np.asarray(unity_points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] != 3 or not np.isfinite(points).all():
         raise ValueError(f"bake positions must be finite (N, 3) Unity metres, got shape {points.shape}")

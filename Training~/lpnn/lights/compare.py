@@ -6,6 +6,12 @@ Rig vs rig (positions in metres, "power" = intensity x largest colour component)
     same the other way (a rig that adds lights where there are none pays in the second figure);
   - matched share: the share of real power with a significant recovered light (at least
     SIGNIFICANT_SHARE of the recovered power) within `radius` (1 m).
+Surface lights (rig.py version 2) take part in the matched share: each emitting piece of a real surface
+light (q3map2's subdivided area light, emitters.py) carries the power of the point light of equal flux,
+add x area / (4 pi 7500) (an area light sends add x area byte-units^2 into its hemisphere, a point light
+7500 I x 4 pi into the sphere), and is matched when a significant recovered surface light of the same
+shader lies on it, or a significant recovered point light lies within `radius` of it (distance to the
+piece's polygon). A recovered surface light's power is its value's on every piece of its shader.
 
 Light grid re-lit from a rig vs the stored grid, at the stored grid's valid nodes (ambient > 0):
 every light visible from the node (an Embree shadow ray) contributes c = colour 7500 I / max(r, 16)^2
@@ -44,6 +50,41 @@ NODES_PER_CHUNK = 2048
 
 
 @dataclass(frozen=True)
+class SurfacePieces:
+    """The emitting pieces of surface lights (from emitters.AreaLights), in Unity metres."""
+    shader: list[str]  # (K,) the piece's shader name
+    corners: np.ndarray  # (K, P, 3) Unity metres, padded by repeating the last corner
+    normals: np.ndarray  # (K, 3) unit, Unity axes
+    power: np.ndarray  # (K,) the equal-flux point light's intensity x largest colour component
+
+    @property
+    def count(self) -> int:
+        return len(self.shader)
+
+
+def equal_flux_intensity(add: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """The q3map2 `light` intensity of the point light sending the same flux as an area light of `add`
+    bytes per unit form factor and `area` square units: add x area / (4 pi POINT_SCALE)."""
+    return np.asarray(add) * np.asarray(area) / (4.0 * np.pi * POINT_SCALE)
+
+
+def polygon_distance(points: np.ndarray, corners: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """(B, K) distance from each point (B, 3) to each convex planar polygon (K, P, 3) of unit normal (K, 3):
+    the distance to its plane when the point projects inside it, else to its nearest edge."""
+    if len(points) == 0 or len(corners) == 0:
+        return np.zeros((len(points), len(corners)))
+    rel = points[:, None, None, :] - corners[None]  # (B, K, P, 3)
+    height = np.einsum("bkd,kd->bk", rel[:, :, 0, :], normals)
+    edges = np.roll(corners, -1, axis=1) - corners  # (K, P, 3); padded corners give zero-length edges
+    side = np.einsum("bkpd,kpd->bkp", np.cross(edges[None], rel), np.broadcast_to(normals[:, None, :], edges.shape))
+    inside = np.all(side >= -1e-9, axis=2) | np.all(side <= 1e-9, axis=2)
+    length_sq = np.einsum("kpd,kpd->kp", edges, edges)
+    t = np.clip(np.einsum("bkpd,kpd->bkp", rel, edges) / np.where(length_sq > 0, length_sq, 1.0), 0.0, 1.0)
+    nearest = np.linalg.norm(rel - t[..., None] * edges[None], axis=3).min(axis=2)
+    return np.where(inside, np.abs(height), nearest)
+
+
+@dataclass(frozen=True)
 class RigComparison:
     real_lights: int
     recovered_lights: int
@@ -52,28 +93,54 @@ class RigComparison:
     matched_share: float  # of real power, with a significant recovered light within MATCH_RADIUS
     real_power: float
     recovered_power: float
+    surface_share: float = 0.0  # of real power, in surface lights
+    surface_matched_share: float = 0.0  # of real power, in matched surface lights
 
 
-def compare_rigs(recovered: Rig, real: Rig, radius: float = MATCH_RADIUS) -> RigComparison:
-    if real.count == 0 or recovered.count == 0:
+def compare_rigs(recovered: Rig, real: Rig, radius: float = MATCH_RADIUS, real_surfaces: SurfacePieces | None = None,
+                 shader_power: dict[str, float] | None = None) -> RigComparison:
+    """`real_surfaces`: the pieces of the real rig's surface lights; `shader_power`: a shader's equal-flux power
+    per unit of q3map_surfacelight value over all its pieces (for the recovered rig's surface lights)."""
+    real_has_surfaces = real_surfaces is not None and real_surfaces.count > 0
+    if (real.count == 0 and not real_has_surfaces) or (recovered.count == 0 and not recovered.surfaces):
         raise ValueError(f"cannot compare rigs of {recovered.count} recovered and {real.count} real lights: "
-                         f"both need at least one light")
-    real_power = real.intensities * real.colours.max(axis=1)
-    found_power = recovered.intensities * recovered.colours.max(axis=1)
+                         f"both need at least one light (or surface light)")
+    real_power = real.intensities * real.colours.max(axis=1) if real.count else np.zeros(0)
+    found_power = recovered.intensities * recovered.colours.max(axis=1) if recovered.count else np.zeros(0)
     distance = np.linalg.norm(real.positions[:, None, :] - recovered.positions[None, :, :], axis=2)  # (A, B)
+    unknown = [s.shader for s in recovered.surfaces if s.value > 0 and s.shader not in (shader_power or {})]
+    if unknown:
+        raise ValueError(f"recovered surface light(s) {unknown} have no emitting surface in the level to weigh them by")
+    found_surfaces = {s.shader: s.value * max(float(np.max(s.colour)), 0.0) * (shader_power or {})[s.shader]
+                      for s in recovered.surfaces if s.value > 0}
+    found_total = float(found_power.sum()) + sum(found_surfaces.values())
 
-    def weighted(nearest: np.ndarray, power: np.ndarray) -> float:
+    def weighted(axis: int, power: np.ndarray) -> float:
         total = float(power.sum())
-        return float(np.sum(power * nearest) / total) if total > 0 else float("nan")
+        if total <= 0 or distance.size == 0:  # no point light on one side: no distance to weigh
+            return float("nan")
+        return float(np.sum(power * distance.min(axis=axis)) / total)
 
-    significant = found_power >= SIGNIFICANT_SHARE * max(float(found_power.sum()), np.finfo(float).tiny)
-    near = np.any(distance[:, significant] <= radius, axis=1) if significant.any() else np.zeros(real.count, bool)
+    floor = SIGNIFICANT_SHARE * max(found_total, np.finfo(float).tiny)
+    significant = found_power >= floor
+    near = np.any(distance[:, significant] <= radius, axis=1) if significant.any() and real.count \
+        else np.zeros(real.count, bool)
+    matched = float(real_power[near].sum())
     total_real = float(real_power.sum())
+    surface_total = surface_matched = 0.0
+    if real_surfaces is not None and real_surfaces.count:
+        on_shader = np.array([found_surfaces.get(name, 0.0) >= floor for name in real_surfaces.shader])
+        close = polygon_distance(recovered.positions[significant], real_surfaces.corners, real_surfaces.normals)
+        piece_matched = on_shader | np.any(close <= radius, axis=0)
+        surface_total = float(real_surfaces.power.sum())
+        surface_matched = float(real_surfaces.power[piece_matched].sum())
+    everything = total_real + surface_total
     return RigComparison(real_lights=real.count, recovered_lights=recovered.count,
-                         real_to_recovered=weighted(distance.min(axis=1), real_power),
-                         recovered_to_real=weighted(distance.min(axis=0), found_power),
-                         matched_share=float(real_power[near].sum() / total_real) if total_real > 0 else float("nan"),
-                         real_power=total_real, recovered_power=float(found_power.sum()))
+                         real_to_recovered=weighted(1, real_power), recovered_to_real=weighted(0, found_power),
+                         matched_share=(matched + surface_matched) / everything if everything > 0 else float("nan"),
+                         real_power=everything, recovered_power=found_total,
+                         surface_share=surface_total / everything if everything > 0 else 0.0,
+                         surface_matched_share=surface_matched / everything if everything > 0 else 0.0)
 
 
 @dataclass(frozen=True)

@@ -226,6 +226,21 @@ class Emitters:
     splash_colours: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     splash_intensities: np.ndarray = field(default_factory=lambda: np.zeros(0))
     shaders: dict[int, ShaderLight] = field(default_factory=dict)  # BSP shader -> its surface light
+    splash_shader: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # (B,) BSP shader
+
+    def of_shader(self, shader: int, scale: float = 1.0) -> "Emitters":
+        """The area lights and backsplash lights of one shader (no spotlights), their values x `scale`."""
+        pick = self.areas.shader == shader
+        a = self.areas
+        areas = AreaLights(corners=a.corners[pick], normals=a.normals[pick], origins=a.origins[pick],
+                           areas=a.areas[pick], add=a.add[pick] * scale, colours=a.colours[pick],
+                           two_sided=a.two_sided[pick], shader=a.shader[pick])
+        splash = self.splash_shader == shader
+        return Emitters(areas=areas, splash_positions=self.splash_positions[splash],
+                        splash_colours=self.splash_colours[splash],
+                        splash_intensities=self.splash_intensities[splash] * scale,
+                        shaders={shader: self.shaders[shader]} if shader in self.shaders else {},
+                        splash_shader=self.splash_shader[splash])
 
 
 def spot_factor(points: np.ndarray, positions: np.ndarray, directions: np.ndarray,
@@ -265,6 +280,22 @@ def emitter_bytes(points: np.ndarray, normals: np.ndarray, emitters: Emitters,
                                                emitters.spots.intensities, emitters.spots, raycaster)
         out[chunk] += _areas_at_surface(p, n, emitters.areas, raycaster)
     return out
+
+
+def surface_bases(points: np.ndarray, normals: np.ndarray, emitters: Emitters,
+                  raycaster: EmbreeRaycaster | None) -> tuple[list[int], np.ndarray]:
+    """(shaders, (S, N, 3)): the bytes each emitting shader's surfaces (area lights and backsplash) add at the
+    points per unit of its q3map_surfacelight value: emitter_bytes of that shader at the value it was built with
+    (the skip of pairs under AREA_BOUND_BYTES is that value's), divided by the value. An element of the model is
+    linear in its value (add and backsplash both are), so value x basis is its light at any value."""
+    shaders = sorted(emitters.shaders)
+    basis = np.zeros((len(shaders), len(points), 3))
+    for index, shader in enumerate(shaders):
+        value = emitters.shaders[shader].value
+        if value <= 0:
+            raise ValueError(f"shader {shader}: surface light value {value!r} must be > 0 to build its basis")
+        basis[index] = emitter_bytes(points, normals, emitters.of_shader(shader), raycaster) / value
+    return shaders, basis
 
 
 def _point_lights_at_surface(p, n, positions, colours, intensities, spots: Spots | None, raycaster) -> np.ndarray:
@@ -414,16 +445,17 @@ def _area(polygon: np.ndarray) -> float:
                            for i in range(2, len(polygon))))
 
 
-def surface_emitters(bsp: Bsp, shaders: dict[int, ShaderLight]) -> tuple[AreaLights, np.ndarray, np.ndarray, np.ndarray]:
-    """Area lights and backsplash point lights (positions, colours, intensities) of every face whose
+def surface_emitters(bsp: Bsp, shaders: dict[int, ShaderLight]) -> tuple[AreaLights, np.ndarray, np.ndarray, np.ndarray,
+                                                                         np.ndarray]:
+    """Area lights and backsplash point lights (positions, colours, intensities, shaders) of every face whose
     shader emits (billboards excluded, as CreateSurfaceLights only handles planar, soup and patch)."""
     faces = np.flatnonzero(np.isin(bsp.faces["shader"], list(shaders)) &
                            np.isin(bsp.faces["type"], (FACE_POLYGON, FACE_PATCH, FACE_MESH)))
     if faces.size == 0:
-        return AreaLights.empty(), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
+        return AreaLights.empty(), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64)
     corners, vertex_normals, face = surface_triangles(bsp, faces)
     windings, normals, origins, areas, add, colours, sided, shader_of = [], [], [], [], [], [], [], []
-    splash_pos, splash_col, splash_int = [], [], []
+    splash_pos, splash_col, splash_int, splash_shader = [], [], [], []
     for triangle, triangle_normals, f in zip(corners, vertex_normals, face):
         shader = int(bsp.faces["shader"][f])
         light = shaders[shader]
@@ -451,11 +483,13 @@ def surface_emitters(bsp: Bsp, shaders: dict[int, ShaderLight]) -> tuple[AreaLig
                 splash_pos.append(origin + light.backsplash_distance * normal)
                 splash_col.append(light.colour)
                 splash_int.append(light.value * area * AREA_SCALE * light.backsplash_fraction / POINT_SCALE)
+                splash_shader.append(shader)
     if not windings:
-        return AreaLights.empty(), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
+        return AreaLights.empty(), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64)
     size = max(len(w) for w in windings)
     padded = np.stack([np.concatenate([w, np.repeat(w[-1:], size - len(w), axis=0)]) for w in windings])
     return (AreaLights(corners=padded, normals=np.array(normals), origins=np.array(origins), areas=np.array(areas),
                        add=np.array(add), colours=np.array(colours), two_sided=np.array(sided, bool),
                        shader=np.array(shader_of, np.int64)),
-            np.array(splash_pos).reshape(-1, 3), np.array(splash_col).reshape(-1, 3), np.array(splash_int))
+            np.array(splash_pos).reshape(-1, 3), np.array(splash_col).reshape(-1, 3), np.array(splash_int),
+            np.array(splash_shader, np.int64))

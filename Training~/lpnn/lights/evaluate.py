@@ -26,7 +26,8 @@ from ..scenes.levels import load_level
 from .compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
 from .emitters import emitter_bytes
-from .pipeline import fit_scene, level_emitters, load_scene, point_lights_of, rig_of
+from .pipeline import (add_surface_lights, fit_scene, level_emitters, load_scene, point_lights_of, rig_emitters,
+                       rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
 from .settings import DEFAULT_GRID, SCHEMES
 
@@ -34,17 +35,18 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
           "matched within 1 m | distance real→rec. | grid error mean (p95) |\n|---|---|---|---|---|---|---|---|---|---|---|")
 
 
-def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path) -> list[dict[str, Any]]:
+def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
+                   surfaces: bool = False) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
     real = entity_lights(level.bsp.entities, level.name)
     stored = stored_grid(level.bsp)
     rows: list[dict[str, Any]] = []
-    if real.rig.count:
-        started = time.perf_counter()
+    started = time.perf_counter()
+    emitters = level_emitters(level, real) if real.rig.count else None
+    if emitters is not None:
         lights = point_lights_of(real)
-        emitters = level_emitters(level, real)
         scene.model.fixed = emitter_bytes(scene.model.points, scene.model.normals, emitters, raycaster)
         objective = scene.model.objective(lights, scene.model.visibility(lights), with_gradient=False).value
         scene.model.fixed = np.zeros_like(scene.model.points)
@@ -56,6 +58,14 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         rows.append(dict(level=level.name, scheme="real rig", points=scene.target.point_count, lights=real.rig.count,
                          objective=objective, grid_mean=g.mean_error, grid_p95=g.p95_error,
                          grid_plain=g.plain_relative, ambient=real.rig.ambient.tolist()))
+    suffix = ""
+    basis_seconds = 0.0
+    if surfaces and schemes:
+        add_surface_lights(scene)
+        basis_seconds = scene.seconds["surface lights"]
+        suffix = "+surfaces"
+        print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
+              flush=True)
     curves = {}
     for scheme in schemes:
         rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
@@ -63,27 +73,31 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         result = fit_scene(scene, grid, scheme)
         seconds = time.perf_counter() - started
         rig = rig_of(scene, result, grid, scheme)
-        write_rig(out / f"{level.name}.{scheme}.json", rig)
-        write_curve_csv(out / f"{level.name}.{scheme}.curve.csv", result.curve)
+        write_rig(out / f"{level.name}.{scheme}{suffix}.json", rig)
+        write_curve_csv(out / f"{level.name}.{scheme}{suffix}.curve.csv", result.curve)
         curves[scheme] = result.curve
         cast = raycaster.cast_seconds - cast_before
-        row = dict(level=level.name, scheme=scheme, points=scene.target.point_count, lights=rig.count,
+        own = rig_emitters(level, rig) if rig.surfaces else None
+        row = dict(level=level.name, scheme=scheme + suffix, points=scene.target.point_count, lights=rig.count,
+                   surface_lights=len(rig.surfaces), basis_seconds=basis_seconds,
                    initial_lights=result.lights.count, objective=result.objective, iterations=result.iterations,
                    seconds=seconds, seconds_per_iteration=seconds / max(result.iterations, 1),
                    rays=scene.model.rays - rays_before,
                    rays_per_second=(scene.model.rays - rays_before) / cast if cast > 0 else 0.0,
                    ambient=rig.ambient.tolist())
-        if real.rig.count:
-            c = compare_rigs(rig, real.rig)
+        if emitters is not None:
+            c = compare_rigs(rig, real.rig, real_surfaces=surface_pieces(level.bsp, emitters),
+                             shader_power=shader_power(level.bsp, own) if own is not None else {})
             row.update(matched=c.matched_share, real_to_recovered=c.real_to_recovered,
-                       recovered_to_real=c.recovered_to_real)
-        g = compare_grid(stored, relight_stored_grid(level.bsp, stored, rig, raycaster, scene.is_open))
+                       recovered_to_real=c.recovered_to_real, surface_share=c.surface_share,
+                       surface_matched=c.surface_matched_share)
+        g = compare_grid(stored, relight_stored_grid(level.bsp, stored, rig, raycaster, scene.is_open, own))
         row.update(grid_mean=g.mean_error, grid_p95=g.p95_error, grid_plain=g.plain_relative)
         rows.append(row)
         print(table_row(row), flush=True)
     if not curves:
         return rows
-    write_curve_png(out / f"{level.name}.curves.png", curves, f"{level.name}: objective by scheme "
+    write_curve_png(out / f"{level.name}{suffix}.curves.png", curves, f"{level.name}: objective by scheme "
                     f"({'x'.join(map(str, grid))} initial grid)")
     return rows
 
@@ -104,13 +118,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--schemes", nargs="*", default=["adam", "lbfgs", "mixed"], choices=sorted(SCHEMES))
     parser.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM")
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
+    parser.add_argument("--surfaces", action="store_true", help="the fits also recover surface lights (lights.md §4)")
     args = parser.parse_args(argv)
     grid = tuple(int(p) for p in args.grid.split("x"))
     args.out.mkdir(parents=True, exist_ok=True)
     print(HEADER, flush=True)
     rows = []
     for name in args.levels:
-        level_rows = evaluate_level(name, args.schemes, grid, args.out)  # type: ignore[arg-type]
+        level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces)  # type: ignore[arg-type]
         rows += level_rows
         for row in level_rows:
             if row["scheme"] == "real rig":

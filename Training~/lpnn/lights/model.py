@@ -19,8 +19,9 @@ fixed V and ignores the movement of shadow edges.
 
 Objective: area-weighted relative squared error (the mass-lumped L2 norm of the seed's target),
     L = sum_i A_i |m_i - r_i|^2 / sum_i A_i |r_i|^2      (1 with no light, 0 at a perfect fit).
-Gradients are analytic, accumulated over chunks of points so memory stays bounded, and evaluated
-only on the (point, light) pairs with V_ij = 1.
+Gradients are analytic and evaluated only on the (point, light) pairs with V_ij = 1: one compiled pass
+over them (objective_kernel.py); objective_numpy is the same formula over chunks of (pairs, 3) arrays, the
+reference the pass is tested against.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import numpy as np
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
+from . import objective_kernel, visibility_kernel
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -54,6 +56,8 @@ class Lights:
     colours: np.ndarray  # (J, 3) in [0, 1]
     intensities: np.ndarray  # (J,) >= 0
     ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) bytes added everywhere
+    # (S,) q3map_surfacelight value of each surface light of the model (ForwardModel.surface_basis), >= 0
+    surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def count(self) -> int:
@@ -67,6 +71,7 @@ class Gradient:
     colours: np.ndarray  # (J, 3)
     intensities: np.ndarray  # (J,)
     ambient: np.ndarray  # (3,)
+    surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (S,)
 
 
 class ForwardModel:
@@ -84,18 +89,64 @@ class ForwardModel:
         # bytes every point receives from light elements held fixed in a fit (spotlights and surface
         # lights of a compile, emitters.py), added before the 255 clamp like the ambient
         self.fixed = np.zeros_like(self.points)
+        # (S, N, 3) bytes each surface light (a shader's emitting surfaces, emitters.py) adds at every point per
+        # unit of its q3map_surfacelight value: linear in the value, so the fit recovers the value (rig.py)
+        self.surface_basis = np.zeros((0, len(self.points), 3))
         self.rays = 0
+        # threads of the compiled objective: 1, since a second thread waiting for a busy core made it 3x slower
+        # on this shared 2-core machine (lights.md §3); the numbers do not depend on it
+        self.threads = 1
         self._pairs_of: np.ndarray | None = None  # the visibility matrix whose pairs are cached
         self._pairs: list = []
+        self._csr_of: np.ndarray | None = None  # the visibility matrix whose CSR pairs are cached
+        self._csr: tuple[np.ndarray, np.ndarray] = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64))
 
     @property
     def point_count(self) -> int:
         return len(self.points)
 
+    @property
+    def surface_count(self) -> int:
+        return len(self.surface_basis)
+
+    def fixed_bytes(self, lights: Lights) -> np.ndarray:
+        """(N, 3) bytes of the elements that are not point lights: the fixed emitters and the surface lights."""
+        if self.surface_count == 0:
+            return self.fixed
+        values = np.asarray(lights.surface_values, dtype=np.float64)
+        if values.shape != (self.surface_count,):
+            raise ValueError(f"{values.size} surface light values for the model's {self.surface_count} surface lights")
+        return self.fixed + np.einsum("s,snk->nk", values, self.surface_basis)
+
     # ------------------------------------------------------------------------------ visibility
 
     def visibility(self, lights: Lights) -> np.ndarray:
-        """(N, J) bool: light j reaches point i (in front of it, within range, no occluder)."""
+        """(N, J) bool: light j reaches point i (in front of it, within range, no occluder). The candidate pairs
+        and their rays are chosen by a compiled pass (visibility_kernel.py), the rays cast by Embree."""
+        visible = np.zeros((self.point_count, lights.count), dtype=bool)
+        reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
+        max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
+        for start in range(0, self.point_count, POINTS_PER_CHUNK):
+            stop = min(start + POINTS_PER_CHUNK, self.point_count)
+            point, light, origins, directions, lengths = visibility_kernel.candidate_rays(
+                self.points, self.normals, lights.positions, max_squared, start, stop, RAY_OFFSET)
+            if point.size == 0:
+                continue
+            if self.raycaster is None:
+                visible[point, light] = True
+                continue
+            reachable = lengths > RAY_OFFSET
+            if not reachable.any():
+                continue
+            distances, _ = self.raycaster.cast(origins[reachable], directions[reachable],
+                                               float(lengths[reachable].max()))
+            self.rays += int(reachable.sum())
+            free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
+            visible[point[reachable][free], light[reachable][free]] = True
+        return visible
+
+    def visibility_numpy(self, lights: Lights) -> np.ndarray:
+        """visibility() over (points, lights, 3) numpy arrays: the reference the compiled selection is tested against."""
         visible = np.zeros((self.point_count, lights.count), dtype=bool)
         reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
         max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
@@ -127,9 +178,10 @@ class ForwardModel:
         """(N, 3) modelled radiance m_i."""
         out = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]  # (J, 3)
+        fixed = self.fixed_bytes(lights)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
-            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(
+            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(
                 pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light], chunk.stop - chunk.start)
             out[chunk] = self.albedo[chunk] * LINEAR_PER_BYTE * saturate(light)
         return out
@@ -173,18 +225,63 @@ class ForwardModel:
         return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0))
 
     def objective(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
-        """L and dL / d(every light parameter and the ambient), visibility fixed. `visible` is read,
-        never modified: its pairs are cached until another matrix is passed."""
+        """L and dL / d(every light parameter and the ambient), visibility fixed: the compiled pass of
+        objective_kernel.py (the formula of objective_numpy, one loop over the visible pairs). `visible` is
+        read, never modified: its pairs are cached until another matrix is passed."""
+        if visible.shape != (self.point_count, lights.count):
+            raise ValueError(f"visibility of shape {visible.shape} does not match {self.point_count} target points "
+                             f"x {lights.count} lights")
+        if self._csr_of is not visible:
+            self._csr_of, self._csr = visible, objective_kernel.csr(visible)
+        starts, pair_lights = self._csr
+        chunks = objective_kernel.chunks_for(self.point_count)
+        values = np.zeros(chunks)
+        grad_pos = np.zeros((chunks, lights.count, 3))
+        grad_emitted = np.zeros((chunks, lights.count, 3))
+        grad_ambient = np.zeros((chunks, 3))
+        fixed = self.fixed_bytes(lights)
+        # dL/dE per point, for the surface lights' gradient (written only when they exist)
+        upstream = np.zeros((self.point_count if self.surface_count and with_gradient else 0, 3))
+        emitted = np.ascontiguousarray(lights.colours * lights.intensities[:, None], dtype=np.float64)
+        objective_kernel.run(min(self.threads, objective_kernel.threads_for(self.point_count)),
+                             *(_f64(a) for a in (self.points, self.normals, self.albedo, self.radiance,
+                                                 self.weights, fixed)),
+                             np.asarray(lights.ambient, dtype=np.float64),
+                             np.ascontiguousarray(lights.positions, dtype=np.float64), emitted, starts, pair_lights,
+                             POINT_SCALE, MIN_DISTANCE, BYTE_MAX, LINEAR_PER_BYTE, self.norm, with_gradient,
+                             values, grad_pos, grad_emitted, grad_ambient, upstream)
+        # the slices summed in slice order: the same bits on any number of threads
+        emitted_sum = _ordered_sum(grad_emitted)
+        return Gradient(
+            value=float(_ordered_sum(values)) / self.norm,
+            positions=_ordered_sum(grad_pos),
+            colours=emitted_sum * lights.intensities[:, None],
+            intensities=np.einsum("jk,jk->j", emitted_sum, lights.colours),
+            ambient=_ordered_sum(grad_ambient),
+            surface_values=self._surface_gradient(upstream),
+        )
+
+    def _surface_gradient(self, upstream: np.ndarray) -> np.ndarray:
+        """dL/d(value) of every surface light from dL/dE (N, 3): sum_i dL/dE_i . basis_s(i)."""
+        if self.surface_count == 0 or len(upstream) == 0:
+            return np.zeros(self.surface_count)
+        return np.einsum("snk,nk->s", self.surface_basis, upstream)
+
+    def objective_numpy(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
+        """objective() in numpy, chunk by chunk over (pairs, 3) arrays: the reference the compiled pass is
+        tested against (and the former implementation, lights.md §3)."""
         value = 0.0
         grad_pos = np.zeros((lights.count, 3))
         grad_emitted = np.zeros((lights.count, 3))
         grad_ambient = np.zeros(3)
+        upstream_all = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]
+        fixed = self.fixed_bytes(lights)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
             local = pairs.point - chunk.start
             albedo = self.albedo[chunk]
-            light = lights.ambient + self.fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
+            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
                                                                                len(albedo))
             residual = albedo * LINEAR_PER_BYTE * saturate(light) - self.radiance[chunk]
             weight = self.weights[chunk][:, None]
@@ -193,6 +290,7 @@ class ForwardModel:
                 continue
             upstream = saturate_backward(light, 2.0 * weight * residual * albedo * LINEAR_PER_BYTE / self.norm)  # dL/dE
             grad_ambient += upstream.sum(axis=0)
+            upstream_all[chunk] = upstream
             back = POINT_SCALE * upstream[local]  # dL/d(sum g e), per pair
             grad_emitted += _sum_by(pairs.light, t.g[:, None] * back, lights.count)
             u = np.einsum("pk,pk->p", back, emitted[pairs.light])  # dL/dg per pair
@@ -209,6 +307,7 @@ class ForwardModel:
             colours=grad_emitted * lights.intensities[:, None],
             intensities=np.einsum("jk,jk->j", grad_emitted, lights.colours),
             ambient=grad_ambient,
+            surface_values=self._surface_gradient(upstream_all) if with_gradient else np.zeros(self.surface_count),
         )
 
 
@@ -247,6 +346,18 @@ class _Transfer:
     d: np.ndarray  # (P, 3)
     q: np.ndarray  # (P,)
     ndot: np.ndarray  # (P,) n.d where the light is in front, else 0
+
+
+def _f64(array: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(array, dtype=np.float64)
+
+
+def _ordered_sum(slices: np.ndarray) -> np.ndarray:
+    """The sum over the first axis, one slice after another (not numpy's pairwise order: fixed, simple)."""
+    total = np.zeros(slices.shape[1:])
+    for part in slices:
+        total = total + part
+    return total
 
 
 def _sum_by(index: np.ndarray, values: np.ndarray, length: int) -> np.ndarray:

@@ -17,6 +17,9 @@ Penalties (the seed's future work), added to the objective with their gradients:
   - in walls / outside: at every refresh, a light whose position is in solid or outside the map
     (the importer's solid test) goes back to where it was at the previous refresh (open space);
   - inside the level: the position bounds above.
+The result is the best point met at a visibility refresh or at the end, each scored with its own visibility:
+a refresh can make the fit worse (a light on a shadow edge flips the pairs it sees), and the last point need
+not be the best one.
 Deterministic: no random numbers; the same level and settings give the same rig.
 """
 
@@ -27,7 +30,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import minimize
+from scipy.optimize import minimize, nnls
 from scipy.spatial import cKDTree
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
@@ -37,6 +40,8 @@ from .settings import COLOUR, DEFAULT_REFRESH, INTENSITY, POSITION, Phase
 POSITION_UNIT = 64.0  # Quake units per scaled position unit (one light grid cell)
 INTENSITY_UNIT = 1000.0
 AMBIENT_UNIT = 64.0  # bytes
+SURFACE_UNIT = 1000.0  # q3map_surfacelight value per scaled unit
+MAX_SURFACE_VALUE = 1e5
 CLEARANCE = 24.0  # Quake units (0.61 m)
 CLEARANCE_WEIGHT = 1e-3
 MAX_INTENSITY = 1e6
@@ -81,13 +86,19 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
 
 def initial_intensity(model: ForwardModel, positions: np.ndarray) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
-    scales to the target (closed form, without the byte clamp); the ambient is dropped if negative."""
-    unit = Lights(positions=positions, colours=np.ones((len(positions), 3)), intensities=np.ones(len(positions)))
+    scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
+    With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
+    all the scales (scipy's nnls)."""
+    surfaces = np.zeros(model.surface_count)
+    unit = Lights(positions=positions, colours=np.ones((len(positions), 3)), intensities=np.ones(len(positions)),
+                  surface_values=surfaces)
     visible = model.visibility(Lights(positions, unit.colours, np.full(len(positions), 1000.0)))
     lit = model.radiance_of(unit, visible).ravel()  # per unit intensity
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
     target = model.radiance.ravel()
+    if model.surface_count:
+        return _initial_with_surfaces(model, unit, lit, flat, weights, target)
     basis = np.stack([lit, flat], axis=1)
     gram = basis.T @ (weights[:, None] * basis)
     rhs = basis.T @ (weights * target)
@@ -99,9 +110,22 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray) -> Lights:
     return unit
 
 
+def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, flat: np.ndarray, weights: np.ndarray,
+                           target: np.ndarray) -> Lights:
+    per_value = (model.albedo[None] * LINEAR_PER_BYTE * model.surface_basis).reshape(model.surface_count, -1)
+    root = np.sqrt(weights)
+    basis = np.concatenate([np.stack([lit, flat], axis=1), per_value.T], axis=1) * root[:, None]
+    scales, _ = nnls(basis, target * root, maxiter=50 * basis.shape[1])
+    unit.intensities = np.full(unit.count, float(np.clip(scales[0], 1.0, MAX_INTENSITY)))
+    unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
+    unit.surface_values = np.clip(scales[2:], 0.0, MAX_SURFACE_VALUE)
+    return unit
+
+
 class Fitter:
-    """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled)
-    then the ambient (3, scaled); the ambient is optimised with the intensities."""
+    """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled), the
+    surface lights' values (S, scaled), then the ambient (3, scaled); the ambient and the surface values are
+    optimised with the intensities."""
 
     def __init__(self, model: ForwardModel, bounds: tuple[np.ndarray, np.ndarray], is_open: OpenTest,
                  surface_points: np.ndarray, refresh: int = DEFAULT_REFRESH,
@@ -119,39 +143,46 @@ class Fitter:
         self.evaluations = 0
         self.started = time.perf_counter()
         self.budget = 0
+        self._best: tuple[float, float, np.ndarray] | None = None  # objective, penalty, parameters
 
     # ------------------------------------------------------------------------ packing
 
-    @staticmethod
-    def _pack(lights: Lights) -> np.ndarray:
+    def _pack(self, lights: Lights) -> np.ndarray:
         rows = np.concatenate([lights.positions / POSITION_UNIT, lights.colours,
                                lights.intensities[:, None] / INTENSITY_UNIT], axis=1)
-        return np.concatenate([rows.ravel(), lights.ambient / AMBIENT_UNIT])
+        values = np.asarray(lights.surface_values, dtype=np.float64)
+        if values.shape != (self.surfaces_count,):
+            raise ValueError(f"{values.size} surface light values for the model's {self.surfaces_count} surface lights")
+        return np.concatenate([rows.ravel(), values / SURFACE_UNIT, lights.ambient / AMBIENT_UNIT])
 
-    @staticmethod
-    def _rows(x: np.ndarray) -> np.ndarray:
+    @property
+    def surfaces_count(self) -> int:
+        return self.model.surface_count
+
+    def _rows(self, x: np.ndarray) -> np.ndarray:
         """The lights' (J, 7) rows of a parameter vector (a view)."""
-        return x[:-3].reshape(-1, 7)
+        return x[:len(x) - 3 - self.surfaces_count].reshape(-1, 7)
 
-    @classmethod
-    def _unpack(cls, x: np.ndarray) -> Lights:
-        rows = cls._rows(x)
+    def _unpack(self, x: np.ndarray) -> Lights:
+        rows = self._rows(x)
         return Lights(positions=rows[:, 0:3] * POSITION_UNIT, colours=rows[:, 3:6].copy(),
-                      intensities=rows[:, 6] * INTENSITY_UNIT, ambient=x[-3:] * AMBIENT_UNIT)
+                      intensities=rows[:, 6] * INTENSITY_UNIT, ambient=x[-3:] * AMBIENT_UNIT,
+                      surface_values=x[len(x) - 3 - self.surfaces_count:-3] * SURFACE_UNIT)
 
-    @staticmethod
-    def _mask(parameters: tuple[str, ...], count: int) -> np.ndarray:
+    def _mask(self, parameters: tuple[str, ...], count: int) -> np.ndarray:
         columns = np.zeros(7, dtype=bool)
         columns[0:3] = POSITION in parameters
         columns[3:6] = COLOUR in parameters
         columns[6] = INTENSITY in parameters
-        return np.concatenate([np.tile(columns, count), np.full(3, INTENSITY in parameters)])
+        return np.concatenate([np.tile(columns, count), np.full(self.surfaces_count + 3, INTENSITY in parameters)])
 
     def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         low = np.concatenate([self.lower / POSITION_UNIT, np.zeros(3), [0.0]])
         high = np.concatenate([self.upper / POSITION_UNIT, np.ones(3), [MAX_INTENSITY / INTENSITY_UNIT]])
-        return (np.concatenate([np.tile(low, count), np.zeros(3)]),
-                np.concatenate([np.tile(high, count), np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
+        surfaces = self.surfaces_count
+        return (np.concatenate([np.tile(low, count), np.zeros(surfaces), np.zeros(3)]),
+                np.concatenate([np.tile(high, count), np.full(surfaces, MAX_SURFACE_VALUE / SURFACE_UNIT),
+                                np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
 
     # ---------------------------------------------------------------------- objective
 
@@ -168,7 +199,8 @@ class Fitter:
         safe = np.where(distance > 0, distance, 1.0)[:, None]
         rows[:, 0:3] += (-2.0 * CLEARANCE_WEIGHT * short / CLEARANCE)[:, None] * away / safe * POSITION_UNIT
         self.evaluations += 1
-        return fit.value, penalty, np.concatenate([rows.ravel(), fit.ambient * AMBIENT_UNIT])
+        return fit.value, penalty, np.concatenate([rows.ravel(), fit.surface_values * SURFACE_UNIT,
+                                                   fit.ambient * AMBIENT_UNIT])
 
     def _record(self, phase: int, algorithm: str, value: float, penalty: float) -> None:
         self.curve.append(CurvePoint(phase=phase, algorithm=algorithm, iteration=self.iterations,
@@ -178,27 +210,39 @@ class Fitter:
             self.progress(self.iterations, self.budget)
 
     def _refresh(self, x: np.ndarray, anchor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Lights in solid / outside go back to their anchor; new visibility."""
+        """Lights in solid / outside go back to their anchor; new visibility. The point is scored with its own
+        visibility (the true objective, not one of fixed visibility) and kept when it is the best so far."""
         blocked = ~self.is_open(self._unpack(x).positions)
         if blocked.any():
             x = x.copy()
             self._rows(x)[blocked, 0:3] = anchor[blocked]
-        return x, self.model.visibility(self._unpack(x))
+        visible = self.model.visibility(self._unpack(x))
+        self._keep_best(x, visible)
+        return x, visible
+
+    def _keep_best(self, x: np.ndarray, visible: np.ndarray) -> tuple[float, float]:
+        value, penalty, _ = self._evaluate(x, visible)
+        if self._best is None or value + penalty < self._best[0] + self._best[1]:
+            self._best = (value, penalty, x.copy())
+        return value, penalty
 
     # ------------------------------------------------------------------------ phases
 
     def fit(self, lights: Lights, phases: tuple[Phase, ...]) -> FitResult:
         self.budget = sum(p.iterations for p in phases)
         x = self._pack(lights)
-        visible = self.model.visibility(lights)
-        value, penalty, _ = self._evaluate(x, visible)
+        self._best = None
+        value, penalty = self._keep_best(x, self.model.visibility(lights))
         self._record(0, "start", value, penalty)
         for number, phase in enumerate(phases, start=1):
             run = self._adam if phase.algorithm == "adam" else self._lbfgs
             x = run(number, phase, x)
+        # the end point, scored with its own visibility; a visibility refresh can make the last point worse
+        # than one met earlier (a light on a shadow edge), so the best point scored that way is the result
+        self._keep_best(x, self.model.visibility(self._unpack(x)))
+        assert self._best is not None
+        value, penalty, x = self._best
         final = self._unpack(x)
-        visible = self.model.visibility(final)
-        value, penalty, _ = self._evaluate(x, visible)
         self._record(len(phases), "final", value, penalty)
         return FitResult(lights=final, objective=value, curve=self.curve,
                          seconds=time.perf_counter() - self.started, rays=self.model.rays,

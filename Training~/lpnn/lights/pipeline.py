@@ -14,10 +14,15 @@ from ..scenes.levels import Level, default_pak
 from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
 from ..scenes.surfaces import ray_geometry
-from .emitters import Emitters, Spots, read_shader_scripts, shader_light, surface_emitters
+from ..scenes.coords import quake_to_unity
+from ..scenes.surfaces import SURF_SKY
+from .compare import SurfacePieces, equal_flux_intensity
+from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEFAULT_LIGHT_SUBDIVIDE,
+                       FORM_FACTOR_VALUE_SCALE, Emitters, ShaderLight, Spots, read_shader_scripts, shader_light,
+                       surface_bases, surface_emitters)
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
-from .rig import EntityLights, Rig
+from .rig import EntityLights, Rig, RigError, SurfaceLight
 from .settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
@@ -26,6 +31,7 @@ from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
 # MAX_TARGET_POINTS bounds the cost of DEFAULT_MAX_EDGE's subdivision (settings.py) on big levels.
 MAX_TARGET_POINTS = 100_000
 BOX_MARGIN = 1.0  # Quake units inside the world box: positions on its faces are outside the map
+CANDIDATE_VALUE = 1000.0  # q3map_surfacelight a candidate surface light's basis is built at (script_lights)
 
 
 @dataclass
@@ -39,6 +45,9 @@ class LevelScene:
     bounds: tuple[np.ndarray, np.ndarray]  # Quake units: the lights' box
     max_edge: float | None  # the subdivision actually used (None: BSP vertices only)
     seconds: dict[str, float] = field(default_factory=dict)
+    # with add_surface_lights: the BSP shaders of model.surface_basis, and their emitters (values as built)
+    surface_shaders: list[int] = field(default_factory=list)
+    surface_emitters: Emitters = field(default_factory=Emitters)
 
 
 def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures: bool = True,
@@ -106,9 +115,15 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
+    surfaces = []
+    for shader, value in zip(scene.surface_shaders, lights.surface_values):
+        if value > 0:
+            light = scene.surface_emitters.shaders[shader]
+            surfaces.append(SurfaceLight(shader=scene.level.bsp.shader_name(shader), value=float(value),
+                                         colour=light.colour.copy()))
     return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit], ambient=lights.ambient,
                           level=scene.level.name, bsp_sha256=scene.level.sha256, scheme=scheme,
-                          objective=float(result.objective), extra=info)
+                          objective=float(result.objective), extra=info, surfaces=surfaces)
 
 
 def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> Emitters:
@@ -122,6 +137,18 @@ def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> E
     emitters = Emitters(spots=spots)
     if not surfaces:
         return emitters
+    surfaces_of = shader_emitters(level.bsp, script_lights(level))
+    surfaces_of.spots = spots
+    return surfaces_of
+
+
+def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLight]:
+    """BSP shader -> its surface light by the `scripts/*.shader` of the pk3s beside the level. With
+    `candidates`, also the shaders that may emit although no installed script says so (the fit recovers
+    their value, lights.md §4): those without any script whose faces are sky (SURF_SKY: q3map2's
+    CreateSurfaceLights makes area lights of any surface with a q3map_surfacelight, sky included) or whose
+    name has "light" in it; they get CANDIDATE_VALUE (the value their basis is built at), the colour of their
+    image (white without one) and q3map2's defaults."""
     bsp = level.bsp
     paks = texture_paks(level.pak, default_pak().parent)
     scripts = read_shader_scripts(paks)
@@ -135,13 +162,72 @@ def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> E
 
     shaders = {}
     for index in range(len(bsp.shaders)):
-        light = shader_light(scripts, bsp.shader_name(index), image_colour)
+        name = bsp.shader_name(index)
+        light = shader_light(scripts, name, image_colour)
         if light is not None:
             shaders[index] = light
-    areas, positions, colours, intensities = surface_emitters(bsp, shaders)
-    emitters.areas, emitters.shaders = areas, shaders
-    emitters.splash_positions, emitters.splash_colours, emitters.splash_intensities = positions, colours, intensities
-    return emitters
+        elif candidates and name.lower() not in scripts.blocks and \
+                (int(bsp.shaders["surface_flags"][index]) & SURF_SKY or "light" in name.lower()):
+            colour = image_colour(name)
+            colour = np.ones(3) if colour is None or not np.any(colour > 0) else colour / colour.max()
+            shaders[index] = ShaderLight(value=CANDIDATE_VALUE, colour=colour, subdivide=DEFAULT_LIGHT_SUBDIVIDE,
+                                         backsplash_fraction=BACKSPLASH_FRACTION,
+                                         backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
+                                         colour_source="candidate: " + ("image" if colour is not None else "white"))
+    return shaders
+
+
+def shader_emitters(bsp, shaders: dict[int, ShaderLight]) -> Emitters:
+    """The area lights and backsplash lights of the shaders' faces (emitters.surface_emitters)."""
+    areas, positions, colours, intensities, splash_shader = surface_emitters(bsp, shaders)
+    return Emitters(areas=areas, splash_positions=positions, splash_colours=colours, splash_intensities=intensities,
+                    shaders=shaders, splash_shader=splash_shader)
+
+
+def add_surface_lights(scene: LevelScene) -> None:
+    """The level's candidate surface lights (script_lights with candidates) as elements of the fit: their bases
+    in the scene's model (model.surface_basis), so fit_scene recovers one q3map_surfacelight value each."""
+    clock = time.perf_counter()
+    emitters = shader_emitters(scene.level.bsp, script_lights(scene.level, candidates=True))
+    shaders, basis = surface_bases(scene.model.points, scene.model.normals, emitters, scene.model.raycaster)
+    scene.model.surface_basis = basis
+    scene.surface_shaders = shaders
+    scene.surface_emitters = emitters
+    scene.seconds["surface lights"] = time.perf_counter() - clock
+
+
+def surface_pieces(bsp, emitters: Emitters) -> SurfacePieces:
+    """The emitters' area lights as compare.SurfacePieces (Unity metres, equal-flux power)."""
+    a = emitters.areas
+    corners = quake_to_unity(a.corners.reshape(-1, 3)).reshape(a.corners.shape)
+    return SurfacePieces(shader=[bsp.shader_name(int(i)) for i in a.shader], corners=corners,
+                         normals=quake_to_unity(a.normals, scale=1.0),
+                         power=equal_flux_intensity(a.add, a.areas) * a.colours.max(axis=1, initial=0.0))
+
+
+def shader_power(bsp, emitters: Emitters) -> dict[str, float]:
+    """Shader name -> equal-flux power of all its pieces per unit of q3map_surfacelight value."""
+    out: dict[str, float] = {}
+    for shader in emitters.shaders:
+        pick = emitters.areas.shader == shader
+        add_per_value = FORM_FACTOR_VALUE_SCALE * AREA_SCALE
+        out[bsp.shader_name(shader)] = float(equal_flux_intensity(add_per_value, emitters.areas.areas[pick]).sum())
+    return out
+
+
+def rig_emitters(level: Level, rig: Rig) -> Emitters:
+    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values."""
+    names = {level.bsp.shader_name(index).lower(): index for index in range(len(level.bsp.shaders))}
+    missing = [s.shader for s in rig.surfaces if s.shader.lower() not in names]
+    if missing:
+        raise RigError(f"rig surface light(s) {missing} name shaders {level.name} does not have")
+    shaders = {names[s.shader.lower()]: ShaderLight(value=s.value, colour=np.asarray(s.colour, dtype=np.float64),
+                                                    subdivide=DEFAULT_LIGHT_SUBDIVIDE,
+                                                    backsplash_fraction=BACKSPLASH_FRACTION,
+                                                    backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
+                                                    colour_source="rig")
+               for s in rig.surfaces if s.value > 0}
+    return shader_emitters(level.bsp, shaders)
 
 
 def point_lights_of(real: EntityLights) -> Lights:

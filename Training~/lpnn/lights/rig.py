@@ -1,10 +1,13 @@
 """The light rig file (JSON, Documentation~/lights.md §5) and a level's own light entities.
 
-A rig is a list of point lights in Unity metres and axes (the importer's mapping, scenes/coords.py),
+A rig is a list of lights in Unity metres and axes (the importer's mapping, scenes/coords.py),
 with a colour normalised to a largest component of 1 and an intensity in q3map2 `light` units
-(the falloff is q3map2's default point light, model.py), plus the level's ambient in lightmap
-bytes, so a recovered rig and a level's light entities (and worldspawn ambient) are directly
-comparable.
+(the falloff is q3map2's default point light, model.py) — point lights and spotlights (a unit
+direction and q3map2's radiusByDist cone) — plus surface lights (a shader's emitting surfaces of
+the level with their q3map_surfacelight value, emitters.py) and the level's ambient in lightmap
+bytes, so a recovered rig and a level's light entities, shader lights and worldspawn ambient are
+directly comparable. Version 2 added spotlights and surface lights; version 1 files (point lights
+only) are still read.
 """
 
 from __future__ import annotations
@@ -25,7 +28,9 @@ from ..scenes.errors import BspError
 from .model import BYTE_MAX
 
 FORMAT = "lpnn-light-rig"
-VERSION = 1
+VERSION = 2
+READABLE_VERSIONS = (1, 2)
+POINT, SPOT = "point", "spot"
 FALLOFF = "q3map2-point"  # 7500 * I * cos / max(r, 16 units)^2 bytes (model.py)
 DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light` / `light`
 SPAWNFLAG_LINEAR = 1
@@ -34,6 +39,14 @@ SPOT_DEFAULT_RADIUS = 64.0  # light.c CreateEntityLights
 
 class RigError(InvalidInputError):
     """A rig file cannot be used; the message names the file, the light and the value."""
+
+
+@dataclass(frozen=True)
+class SurfaceLight:
+    """The emitting surfaces of one shader of the level (every face drawn with it), q3map2's area lights."""
+    shader: str  # the BSP's shader name, e.g. textures/base_light/ceil1_22a
+    value: float  # q3map_surfacelight, >= 0
+    colour: np.ndarray  # (3,) largest component 1
 
 
 @dataclass
@@ -47,10 +60,25 @@ class Rig:
     scheme: str = ""
     objective: float | None = None
     extra: dict[str, Any] = field(default_factory=dict)  # grid, iterations, timings: informative only
+    # spotlights: (J, 3) unit direction in Unity axes and (J,) radiusByDist, 0 for a point light; empty: all points
+    spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    surfaces: list[SurfaceLight] = field(default_factory=list)
 
     @property
     def count(self) -> int:
         return len(self.positions)
+
+    @property
+    def spot(self) -> np.ndarray:
+        """(J,) bool: the light is a spotlight."""
+        if len(self.radius_by_dist) != self.count:
+            return np.zeros(self.count, bool)
+        return self.radius_by_dist > 0
+
+    @property
+    def point_lights_only(self) -> bool:
+        return not self.spot.any() and not self.surfaces
 
     def quake_positions(self) -> np.ndarray:
         return unity_to_quake(self.positions)
@@ -67,19 +95,29 @@ class Rig:
 
 def write_rig(path: Path, rig: Rig) -> Path:
     validate_rig(rig, str(path))
+    spot = rig.spot
+    lights = []
+    for index, (p, c, i) in enumerate(zip(rig.positions, rig.colours, rig.intensities)):
+        light: dict[str, Any] = {"type": SPOT if spot[index] else POINT, "position": [round(float(v), 6) for v in p],
+                                 "color": [round(float(v), 6) for v in c], "intensity": round(float(i), 4)}
+        if spot[index]:
+            light["direction"] = [round(float(v), 6) for v in rig.spot_directions[index]]
+            light["radius_by_dist"] = round(float(rig.radius_by_dist[index]), 6)
+        lights.append(light)
     document = {
         "format": FORMAT,
         "version": VERSION,
         "level": rig.level,
         "bsp_sha256": rig.bsp_sha256,
-        "units": {"position": "m, Unity axes", "intensity": "q3map2 light"},
+        "units": {"position": "m, Unity axes", "intensity": "q3map2 light", "direction": "unit, Unity axes",
+                  "surface value": "q3map2 q3map_surfacelight"},
         "falloff": FALLOFF,
         "scheme": rig.scheme,
         "objective": rig.objective,
         "ambient": [round(float(v), 4) for v in rig.ambient],
-        "lights": [{"position": [round(float(v), 6) for v in p], "color": [round(float(v), 6) for v in c],
-                    "intensity": round(float(i), 4)}
-                   for p, c, i in zip(rig.positions, rig.colours, rig.intensities)],
+        "lights": lights,
+        "surfaces": [{"shader": surface.shader, "value": round(float(surface.value), 4),
+                      "color": [round(float(v), 6) for v in surface.colour]} for surface in rig.surfaces],
         "info": rig.extra,
     }
     return write_text_atomic(path, json.dumps(document, indent=1, allow_nan=False) + "\n")
@@ -97,22 +135,47 @@ def read_rig(path: Path) -> Rig:
         raise RigError(f"{where}: not JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from exc
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise RigError(f"{where}: not a light rig (its 'format' must be {FORMAT!r}); write one with lpnn scene lights")
-    if document.get("version") != VERSION:
-        raise RigError(f"{where}: rig version {document.get('version')!r} is not supported (this lpnn reads {VERSION})")
+    version = document.get("version")
+    if version not in READABLE_VERSIONS or isinstance(version, bool):
+        raise RigError(f"{where}: rig version {version!r} is not supported (this lpnn reads "
+                       f"{', '.join(map(str, READABLE_VERSIONS))})")
     lights = document.get("lights")
-    if not isinstance(lights, list) or not lights:
-        raise RigError(f"{where}: 'lights' must be a non-empty list of lights")
-    positions, colours, intensities = [], [], []
+    surfaces_in = document.get("surfaces", []) if version >= 2 else []
+    if not isinstance(surfaces_in, list):
+        raise RigError(f"{where}: 'surfaces' = {surfaces_in!r} must be a list of surface lights")
+    if not isinstance(lights, list) or (not lights and not surfaces_in):
+        raise RigError(f"{where}: 'lights' must be a list of lights, non-empty unless 'surfaces' has surface lights")
+    positions, colours, intensities, directions, cones = [], [], [], [], []
     for index, light in enumerate(lights):
         if not isinstance(light, dict):
             raise RigError(f"{where}: light {index} is not an object with position, color and intensity")
+        kind = light.get("type", POINT) if version >= 2 else POINT
+        if kind not in (POINT, SPOT):
+            raise RigError(f"{where}: light {index}: 'type' = {kind!r} is not {POINT!r} or {SPOT!r}")
         positions.append(_numbers(light.get("position"), 3, f"{where}: light {index}: 'position'"))
         colours.append(_numbers(light.get("color"), 3, f"{where}: light {index}: 'color'"))
         intensities.append(_numbers([light.get("intensity")], 1, f"{where}: light {index}: 'intensity'")[0])
+        if kind == SPOT:
+            directions.append(_numbers(light.get("direction"), 3, f"{where}: light {index}: 'direction'"))
+            cones.append(_numbers([light.get("radius_by_dist")], 1, f"{where}: light {index}: 'radius_by_dist'")[0])
+            if not cones[-1] > 0:
+                raise RigError(f"{where}: light {index}: 'radius_by_dist' = {cones[-1]!r} must be > 0 for a spotlight")
+        else:
+            directions.append([0.0, 0.0, 0.0])
+            cones.append(0.0)
+    surfaces = []
+    for index, surface in enumerate(surfaces_in):
+        what = f"{where}: surface light {index}"
+        if not isinstance(surface, dict) or not isinstance(surface.get("shader"), str) or not surface["shader"]:
+            raise RigError(f"{what} = {surface!r} is not an object with a shader name, value and color")
+        surfaces.append(SurfaceLight(shader=surface["shader"],
+                                     value=_numbers([surface.get("value")], 1, f"{what}: 'value'")[0],
+                                     colour=np.array(_numbers(surface.get("color"), 3, f"{what}: 'color'"))))
     objective = document.get("objective")
     ambient = _numbers(document.get("ambient"), 3, f"{where}: 'ambient'")
-    rig = Rig(positions=np.array(positions), colours=np.array(colours), intensities=np.array(intensities),
-              ambient=np.array(ambient),
+    rig = Rig(positions=np.array(positions).reshape(-1, 3), colours=np.array(colours).reshape(-1, 3),
+              intensities=np.array(intensities), ambient=np.array(ambient),
+              spot_directions=np.array(directions).reshape(-1, 3), radius_by_dist=np.array(cones), surfaces=surfaces,
               level=str(document.get("level", "")), bsp_sha256=str(document.get("bsp_sha256", "")),
               scheme=str(document.get("scheme", "")),
               objective=float(objective) if isinstance(objective, (int, float)) else None,
@@ -135,6 +198,25 @@ def validate_rig(rig: Rig, where: str) -> None:
             raise RigError(f"{where}: light {index}: color {colour.tolist()} must be 3 numbers in [0, 1]")
         if not np.isfinite(rig.positions[index]).all():
             raise RigError(f"{where}: light {index}: position {rig.positions[index].tolist()} is not finite")
+    if len(rig.radius_by_dist) not in (0, rig.count) or len(rig.spot_directions) != len(rig.radius_by_dist):
+        raise RigError(f"{where}: {len(rig.radius_by_dist)} spotlight cones and {len(rig.spot_directions)} directions "
+                       f"for {rig.count} lights (give one of each per light, or none)")
+    for index in np.flatnonzero(rig.spot):
+        cone, direction = float(rig.radius_by_dist[index]), rig.spot_directions[index]
+        if not math.isfinite(cone):
+            raise RigError(f"{where}: light {index}: radius_by_dist {cone!r} is not finite")
+        if not np.isfinite(direction).all() or abs(float(np.linalg.norm(direction)) - 1.0) > 1e-4:
+            raise RigError(f"{where}: light {index}: direction {direction.tolist()} must be a unit vector")
+    for index, surface in enumerate(rig.surfaces):
+        if not math.isfinite(surface.value) or surface.value < 0:
+            raise RigError(f"{where}: surface light {index} ({surface.shader}): value {surface.value!r} must be a "
+                           f"finite number >= 0 (q3map_surfacelight)")
+        colour = np.asarray(surface.colour)
+        if colour.shape != (3,) or not np.isfinite(colour).all() or (colour < 0).any() or (colour > 1 + 1e-9).any():
+            raise RigError(f"{where}: surface light {index} ({surface.shader}): color {colour.tolist()} must be 3 "
+                           f"numbers in [0, 1]")
+    if rig.count == 0 and not rig.surfaces:
+        raise RigError(f"{where}: the rig has no light and no surface light")
 
 
 def _numbers(value: Any, count: int, what: str) -> list[float]:
@@ -201,7 +283,9 @@ def entity_lights(entities: list[dict[str, str]], level_name: str) -> EntityLigh
         cones.append(cone)
     rig = Rig.from_quake(np.array(positions).reshape(-1, 3), np.array(colours).reshape(-1, 3),
                          np.array(intensities), ambient=worldspawn_ambient(entities, level_name),
-                         level=level_name, scheme="light entities")
+                         level=level_name, scheme="light entities",
+                         spot_directions=quake_to_unity(np.array(directions).reshape(-1, 3), scale=1.0),
+                         radius_by_dist=np.array(cones, dtype=np.float64))
     return EntityLights(rig=rig, linear=np.array(linear, dtype=bool), skipped=skipped, spot=np.array(spots, dtype=bool),
                         spot_direction=np.array(directions).reshape(-1, 3), radius_by_dist=np.array(cones))
 

@@ -59,5 +59,7 @@ def relit_variant(rig: Rig, seed: int, is_open: Callable[[np.ndarray], np.ndarra
     ambient = np.clip(rig.ambient * rng.uniform(AMBIENT_RANGE[0], AMBIENT_RANGE[1]), 0.0, BYTE_MAX)
     extra = {"variant_of": rig.scheme or "rig", "variant_seed": int(seed), "lights_off": int((~on).sum()),
              "lights_moved": [int(i) for i in np.sort(moved)]}
+    cones = {} if len(rig.radius_by_dist) != rig.count else \
+        {"spot_directions": rig.spot_directions[on], "radius_by_dist": rig.radius_by_dist[on]}
     return replace(rig, positions=positions[on], colours=colours[on], intensities=intensities[on], ambient=ambient,
-                   scheme="relit variant", objective=None, extra=extra)
+                   scheme="relit variant", objective=None, extra=extra, **cones)

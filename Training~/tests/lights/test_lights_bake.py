@@ -128,3 +128,12 @@ def test_against_the_grid_rule_one_light_gives_two_thirds_of_the_grids_dc():
     np.testing.assert_allclose(baked.reshape(3, 9)[:, 0] / grid_sh.reshape(3, 9)[:, 0], 2.0 / 3.0, rtol=1e-9)
     # the same direction: the linear terms agree exactly (both are d l / 2 with d = c)
     np.testing.assert_allclose(baked.reshape(3, 9)[:, 1:4], grid_sh.reshape(3, 9)[:, 1:4], rtol=1e-9)
+
+
+def test_a_rig_with_surface_lights_is_refused_not_baked_without_them():
+    from lpnn.lights.rig import RigError, SurfaceLight
+
+    rig = one_light([128.0, 128.0, 64.0])
+    rig.surfaces = [SurfaceLight("textures/base_light/ceil1_22a", 2500.0, np.ones(3))]
+    with pytest.raises(RigError, match=r"1 surface light\(s\) \(textures/base_light/ceil1_22a"):
+        bake_sh(room_scene(pillar=False), rig, np.zeros((1, 3)), DIRECT_ONLY)

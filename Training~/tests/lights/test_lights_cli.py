@@ -38,9 +38,23 @@ def test_recover_then_compare(lit_bsp: Path, tmp_path: Path, capsys: pytest.Capt
 
     assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
     printed = capsys.readouterr().out
-    assert "rig vs the level's 1 point-light entities" in printed  # the lightJunior is left out
+    assert "rig vs the level's 1 light entities" in printed  # the lightJunior is left out
     assert "light grid re-lit from the rig vs stored" in printed
     assert "light grid re-lit from the level's own lights, spotlights and surface lights (yardstick) vs stored" in printed
+
+
+def test_recover_with_surface_lights(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The synthetic level has no shader script: its one candidate is the sky (SURF_SKY, no script)."""
+    out = tmp_path / "rig.json"
+    assert main(["scene", "lights", str(lit_bsp), "--grid", "2x2x2", "--scheme", "quick", "--no-textures",
+                 "--surfaces", "--out", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "lit: 1 surface-light shaders to recover" in printed
+    document = json.loads(out.read_text())
+    assert document["version"] == 2 and all(light["type"] == "point" for light in document["lights"])
+    assert all(surface["shader"] == "textures/test/sky" and surface["value"] > 0 for surface in document["surfaces"])
+    assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
+    assert "surface lights recovered" in capsys.readouterr().out
 
 
 def test_level_without_lightmaps_is_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.lights.compare import GridNodes, compare_grid, compare_rigs, relight_grid, shade
-from lpnn.lights.rig import Rig
+from lpnn.lights.compare import (GridNodes, SurfacePieces, compare_grid, compare_rigs, equal_flux_intensity,
+                                 polygon_distance, relight_grid, shade)
+from lpnn.lights.rig import Rig, SurfaceLight
 from lpnn.scenes.coords import METRES_PER_UNIT
 
 
@@ -52,3 +53,48 @@ def test_grid_comparison_is_zero_for_the_same_grid_and_scales() -> None:
     half = GridNodes(stored.positions, stored.ambient / 2, stored.directed / 2, stored.direction)
     assert compare_grid(stored, half).plain_relative == pytest.approx(0.5)
     assert shade(stored)[0, 4 * 3 + 2] == pytest.approx(30 + 50)  # +z is D14 direction 4; blue
+
+
+def square_piece(shader: str, centre_m: list[float], side_m: float, power: float) -> SurfacePieces:
+    """A horizontal square (Unity y up) of the given side, in Unity metres, facing up."""
+    c = np.array(centre_m, dtype=float)
+    h = side_m / 2
+    corners = np.array([[c + [-h, 0, -h], c + [h, 0, -h], c + [h, 0, h], c + [-h, 0, h]]])
+    return SurfacePieces(shader=[shader], corners=corners, normals=np.array([[0.0, 1.0, 0.0]]),
+                         power=np.array([power]))
+
+
+def test_polygon_distance_by_hand() -> None:
+    piece = square_piece("s", [0, 0, 0], 2.0, 1.0)
+    points = np.array([[0.3, 0.5, -0.2], [2.0, 0.0, 0.0], [2.0, 1.0, 2.0], [0.0, -0.25, 1.0]])
+    got = polygon_distance(points, piece.corners, piece.normals)[:, 0]
+    np.testing.assert_allclose(got, [0.5, 1.0, np.sqrt(1 + 1 + 1), 0.25])  # above, beside, off a corner, on an edge
+
+
+def test_surface_lights_are_matched_on_their_shader_or_by_a_light_within_1_m() -> None:
+    metre = 1.0 / METRES_PER_UNIT
+    real = rig([[0, 0, 0]], [100])  # a point light at the origin (Unity origin too)
+    pieces = SurfacePieces(shader=["lamp", "panel"],
+                           corners=np.concatenate([square_piece("lamp", [10, 3, 0], 2, 0).corners,
+                                                   square_piece("panel", [-20, 3, 0], 2, 0).corners]),
+                           normals=np.array([[0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]), power=np.array([200.0, 100.0]))
+    # recovered: the point light, a light 0.8 m above the lamp (Unity (10, 3.8, 0) is Quake (0, -10, 3.8) m)
+    recovered = rig([[0, 0, 0], [0, -10 * metre, 3.8 * metre]], [100, 50])
+    c = compare_rigs(recovered, real, real_surfaces=pieces, shader_power={"panel": 0.05, "lamp": 0.05})
+    assert c.matched_share == pytest.approx((100 + 200) / 400)  # the panel has nothing within 1 m
+    assert c.surface_share == pytest.approx(300 / 400) and c.surface_matched_share == pytest.approx(200 / 400)
+    # a recovered surface light of the panel's shader lies on it: matched when it carries >= 1 % of the power
+    recovered.surfaces = [SurfaceLight("panel", 1000.0, np.ones(3))]  # 1000 x 0.05 = 50 of 200
+    c = compare_rigs(recovered, real, real_surfaces=pieces, shader_power={"panel": 0.05})
+    assert c.matched_share == pytest.approx(1.0) and c.recovered_power == pytest.approx(200.0)
+    recovered.surfaces = [SurfaceLight("panel", 10.0, np.ones(3))]  # 0.5 of 150.5: below 1 %
+    assert compare_rigs(recovered, real, real_surfaces=pieces, shader_power={"panel": 0.05}).matched_share \
+        == pytest.approx(0.75)
+    with pytest.raises(ValueError, match=r"\['nowhere'\] have no emitting surface"):
+        recovered.surfaces = [SurfaceLight("nowhere", 10.0, np.ones(3))]
+        compare_rigs(recovered, real, real_surfaces=pieces, shader_power={"panel": 0.05})
+
+
+def test_equal_flux_intensity_of_an_area_light() -> None:
+    # an area light's flux add x A into its hemisphere equals a point light's 7500 I 4 pi into the sphere
+    assert equal_flux_intensity(750.0, 4096.0) == pytest.approx(750 * 4096 / (4 * np.pi * 7500))

@@ -110,11 +110,11 @@ def test_pair_chunks_do_not_change_the_result(room: ForwardModel, monkeypatch: p
 
     visible = room.visibility(TRUE_LIGHTS)
     moved = Lights(TRUE_LIGHTS.positions + 5.0, TRUE_LIGHTS.colours, TRUE_LIGHTS.intensities, TRUE_LIGHTS.ambient)
-    whole = room.objective(moved, visible)
+    whole = room.objective_numpy(moved, visible)
     monkeypatch.setattr(model_module, "PAIRS_PER_CHUNK", 7)  # many chunks, cut at point boundaries
     chunked = lit_room(TRUE_LIGHTS)[0]
     assert len(chunked._chunks(visible)) > 50
-    split = chunked.objective(moved, visible)
+    split = chunked.objective_numpy(moved, visible)
     assert split.value == pytest.approx(whole.value, rel=1e-12)
     np.testing.assert_allclose(split.positions, whole.positions, rtol=1e-10, atol=1e-18)
     np.testing.assert_allclose(chunked.radiance_of(moved, visible), room.radiance_of(moved, visible), rtol=1e-12)

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lpnn.lights.rig import Rig, RigError, entity_lights, read_rig, write_rig
+from lpnn.lights.rig import Rig, RigError, SurfaceLight, entity_lights, read_rig, write_rig
 from lpnn.scenes.coords import quake_to_unity
 from lpnn.scenes.entities import parse_entities
 
@@ -47,16 +47,62 @@ def edited(tmp_path: Path, change) -> Path:
     (lambda d: d["lights"][0].update(color=[1.0, 2.0, 0.0]), r"light 0: color \[1\.0, 2\.0, 0\.0\] must be 3 numbers in \[0, 1\]"),
     (lambda d: d["lights"][0].update(position=[1.0, "x", 0.0]), r"light 0: 'position' = \[1\.0, 'x', 0\.0\] is not 3 number"),
     (lambda d: d["lights"][0].pop("intensity"), r"light 0: 'intensity' = \[None\] is not 1 number"),
-    (lambda d: d.update(lights=[]), r"'lights' must be a non-empty list"),
+    (lambda d: d.update(lights=[]), r"'lights' must be a list of lights, non-empty unless 'surfaces' has"),
+    (lambda d: d["lights"][0].update(type="sun"), r"light 0: 'type' = 'sun' is not 'point' or 'spot'"),
+    (lambda d: d["lights"][0].update(type="spot"), r"light 0: 'direction' = None is not 3 number"),
+    (lambda d: d["lights"][0].update(type="spot", direction=[0.0, 2.0, 0.0], radius_by_dist=0.5),
+     r"light 0: direction \[0\.0, 2\.0, 0\.0\] must be a unit vector"),
+    (lambda d: d["lights"][0].update(type="spot", direction=[0.0, 1.0, 0.0], radius_by_dist=0.0),
+     r"light 0: 'radius_by_dist' = 0\.0 must be > 0 for a spotlight"),
+    (lambda d: d.update(surfaces=[{"shader": "textures/a/b", "value": -1.0, "color": [1, 1, 1]}]),
+     r"surface light 0 \(textures/a/b\): value -1\.0 must be a finite number >= 0"),
+    (lambda d: d.update(surfaces=[{"value": 10.0, "color": [1, 1, 1]}]), r"surface light 0 = .* is not an object with a shader"),
+    (lambda d: d.update(surfaces=[{"shader": "s", "value": 10.0, "color": [1, 3, 1]}]),
+     r"surface light 0 \(s\): color \[1\.0, 3\.0, 1\.0\] must be 3 numbers in \[0, 1\]"),
     (lambda d: d.update(ambient=[1.0, -2.0, 0.0]), r"ambient \[1\.0, -2\.0, 0\.0\] must be 3 numbers in \[0, 255\]"),
     (lambda d: d.pop("ambient"), r"'ambient' = None is not 3 number"),
     (lambda d: d.update(format="something"), r"not a light rig"),
     (lambda d: d.update(version=9), r"rig version 9 is not supported"),
-], ids=["negative", "nan", "colour", "position", "missing", "empty", "negative ambient", "no ambient", "format",
-        "version"])
+], ids=["negative", "nan", "colour", "position", "missing", "empty", "type", "spot without direction",
+        "spot direction", "spot cone", "surface value", "surface shader", "surface colour", "negative ambient",
+        "no ambient", "format", "version"])
 def test_hostile_rig_files_are_rejected_with_the_value(tmp_path: Path, change, message: str) -> None:
     with pytest.raises(RigError, match=message):
         read_rig(edited(tmp_path, change))
+
+
+def test_a_version_1_rig_is_still_read(tmp_path: Path) -> None:
+    """Written by hand as version 1 wrote them (lights.md §5 of that version): point lights, no types."""
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps({
+        "format": "lpnn-light-rig", "version": 1, "level": "room", "bsp_sha256": "cd" * 32,
+        "units": {"position": "m, Unity axes", "intensity": "q3map2 light"}, "falloff": "q3map2-point",
+        "scheme": "mixed", "objective": 0.25, "ambient": [1.0, 2.0, 3.0],
+        "lights": [{"position": [0.5, 1.0, -2.0], "color": [1.0, 0.5, 0.25], "intensity": 120.0},
+                   {"position": [1.5, 2.0, 2.0], "color": [1.0, 1.0, 1.0], "intensity": 80.0}],
+        "info": {"grid": [8, 8, 3]}}))
+    rig = read_rig(path)
+    assert rig.count == 2 and not rig.spot.any() and rig.surfaces == [] and rig.point_lights_only
+    np.testing.assert_allclose(rig.positions[0], [0.5, 1.0, -2.0])
+    np.testing.assert_allclose(rig.intensities, [120.0, 80.0])
+    again = json.loads(write_rig(tmp_path / "new.json", rig).read_text())
+    assert again["version"] == 2 and [light["type"] for light in again["lights"]] == ["point", "point"]
+
+
+def test_spotlights_and_surface_lights_round_trip(tmp_path: Path) -> None:
+    rig = sample_rig()
+    rig.spot_directions = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 0.0]])
+    rig.radius_by_dist = np.array([0.25, 0.0])
+    rig.surfaces = [SurfaceLight("textures/base_light/ceil1_22a", 2500.0, np.array([1.0, 0.9, 0.7]))]
+    back = read_rig(write_rig(tmp_path / "rig.json", rig))
+    assert back.spot.tolist() == [True, False] and not back.point_lights_only
+    np.testing.assert_allclose(back.spot_directions[0], [0.0, -1.0, 0.0])
+    assert back.radius_by_dist[0] == pytest.approx(0.25)
+    assert [(s.shader, s.value) for s in back.surfaces] == [("textures/base_light/ceil1_22a", 2500.0)]
+    np.testing.assert_allclose(back.surfaces[0].colour, [1.0, 0.9, 0.7])
+    # a rig of surface lights only is a rig
+    only = Rig(positions=np.zeros((0, 3)), colours=np.zeros((0, 3)), intensities=np.zeros(0), surfaces=rig.surfaces)
+    assert read_rig(write_rig(tmp_path / "only.json", only)).surfaces[0].value == 2500.0
 
 
 def test_unreadable_rig_files(tmp_path: Path) -> None:
@@ -90,3 +136,14 @@ def test_light_entities_as_q3map2_reads_them() -> None:
     assert found.linear.tolist() == [False, True]
     np.testing.assert_allclose(found.rig.ambient, [20, 10, 0])  # `ambient` as `_ambient` is 0, x _color
     assert found.skipped == {"sun": 1, "negative or zero": 2, "no origin": 0, "grid only (lightJunior)": 1}
+
+
+def test_a_spotlight_entity_keeps_its_cone_in_unity_axes() -> None:
+    text = ('{\n"classname" "worldspawn"\n}\n'
+            '{\n"classname" "light"\n"origin" "0 0 128"\n"target" "t1"\n"radius" "48"\n}\n'
+            '{\n"classname" "target_position"\n"targetname" "t1"\n"origin" "0 100 128"\n}\n')
+    found = entity_lights(parse_entities(text, "t.bsp"), "t")
+    assert found.rig.spot.tolist() == [True]
+    # Quake +y is Unity -x (scenes/coords.py); radiusByDist = (48 + 16) / 100
+    np.testing.assert_allclose(found.rig.spot_directions[0], [-1.0, 0.0, 0.0], atol=1e-12)
+    assert found.rig.radius_by_dist[0] == pytest.approx(0.64)

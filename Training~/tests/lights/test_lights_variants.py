@@ -57,3 +57,14 @@ def test_moves_into_solid_are_refused_and_a_one_light_rig_keeps_its_light() -> N
     assert all(relit_variant(single, seed).count == 1 for seed in range(30))
     with pytest.raises(ValueError, match="no relit variant"):
         relit_variant(Rig(positions=np.zeros((0, 3)), colours=np.zeros((0, 3)), intensities=np.zeros(0)), 1)
+
+
+def test_a_variant_keeps_each_kept_light_s_spotlight_cone() -> None:
+    rig = sample_rig()
+    rig.radius_by_dist = np.where(np.arange(rig.count) % 2 == 0, 0.5, 0.0)
+    rig.spot_directions = np.tile([0.0, -1.0, 0.0], (rig.count, 1)) * (rig.radius_by_dist > 0)[:, None]
+    variant = relit_variant(rig, 3)
+    assert variant.count < rig.count  # some lights were switched off
+    kept = [int(np.flatnonzero(np.isclose(rig.positions[:, 0], x, atol=1.6))[0]) for x in variant.positions[:, 0]]
+    np.testing.assert_array_equal(variant.radius_by_dist, rig.radius_by_dist[kept])
+    np.testing.assert_array_equal(variant.spot_directions, rig.spot_directions[kept])
