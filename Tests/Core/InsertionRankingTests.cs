@@ -76,6 +76,7 @@ namespace Lpnn.Probes.Core.Tests
             {
                 if (!c.Json.TryGet("typical_tetrahedron", out var expected)) continue;
                 Assert.That(InsertionRanking.TypicalTetrahedron(c.Grid, c.Reference), Is.EqualTo(Ints(expected)), c.Name);
+                Assert.That(InsertionRanking.Start(c.Grid, c.Reference), Is.EqualTo(Ints(c.Json.Get("start"))), c.Name);
                 checkedCases++;
             }
             Assert.That(checkedCases, Is.EqualTo(3));
@@ -178,7 +179,7 @@ namespace Lpnn.Probes.Core.Tests
             // The same through the order's own guide, and through the grid-level entry (all points valid).
             Assert.That(new InsertionOrder(c.Grid, c.Reference, new BowyerWatsonDelaunay(), growth, c.Guide).All(), Is.EqualTo(expected));
             // The ranking is its rounds' batches in order.
-            var order = Ints(c.Json.Get("typical_tetrahedron")).ToList();
+            var order = Ints(c.Json.Get("start")).ToList();
             foreach (var round in c.Json.Get("rounds").Items)
             {
                 Assert.That(Ints(round.Get("probes")), Is.EqualTo(order));
@@ -194,7 +195,7 @@ namespace Lpnn.Probes.Core.Tests
         /// batch every round. Returns the whole order and how many points kept their tetrahedron.</summary>
         private static List<int> RoundsBothWays(EvaluationGrid grid, ReferenceLighting reference, double growth, double[] guide, out long kept)
         {
-            var order = InsertionRanking.TypicalTetrahedron(grid, reference).ToList();
+            var order = InsertionRanking.Start(grid, reference).ToList();
             var rounds = new InsertionRounds();
             var delaunay = new BowyerWatsonDelaunay();
             while (true)
@@ -304,15 +305,53 @@ namespace Lpnn.Probes.Core.Tests
             for (int n = 0; n < grid.Count; n++) probe.CopyTo(sh, ShMath.FloatsPerProbe * n);
             var reference = ReferenceLighting.Create(positions, sh);
             int[] ranking = InsertionRanking.Rank(grid, reference, new BowyerWatsonDelaunay());
-            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            int[] typical = InsertionRanking.TypicalTetrahedron(grid, reference);
             // Every deviation is 0, so the candidates are the 5 lowest indices (ceil(0.1 × 48)), all in the bottom layer: the
             // tetrahedron guarantee adds the first point off it (16, the first of the next layer). Nothing needs fixing after.
-            Assert.That(start.Take(4).All(p => p < 5), Is.True);
-            Assert.That(start.Length, Is.EqualTo(5));
-            Assert.That(start[4], Is.EqualTo(16));
+            Assert.That(typical.Take(4).All(p => p < 5), Is.True);
+            Assert.That(typical.Length, Is.EqualTo(5));
+            Assert.That(typical[4], Is.EqualTo(16));
+            Assert.That(new PlacementEvaluator(reference, new BowyerWatsonDelaunay()).MeanError(typical), Is.LessThan(1e-12));
+            // The start adds the box's 8 corners (the extremes along ±i±j±k), those not already listed, in direction order.
+            var corners = BoxCorners(grid).Distinct().Where(p => !typical.Contains(p));
+            int[] start = InsertionRanking.Start(grid, reference);
+            Assert.That(start, Is.EqualTo(typical.Concat(corners)));
             var rest = Enumerable.Range(0, grid.Count).Where(p => !start.Contains(p));
             Assert.That(ranking, Is.EqualTo(start.Concat(rest)));
-            Assert.That(new PlacementEvaluator(reference, new BowyerWatsonDelaunay()).MeanError(start), Is.LessThan(1e-12));
+        }
+
+        /// <summary>A box grid's corners, independently of <see cref="InsertionRanking.ExtremePoints"/>: per direction
+        /// (s_i, s_j, s_k) in the order (-,-,-), (-,-,+), …, (+,+,+), the id with the box's minimum or maximum on each axis.</summary>
+        private static IEnumerable<int> BoxCorners(EvaluationGrid grid)
+        {
+            var ids = Enumerable.Range(0, grid.Count).Select(grid.GetId).ToArray();
+            for (int d = 0; d < 8; d++)
+                yield return grid.IndexOf(new LatticeId((d & 4) != 0 ? ids.Max(id => id.I) : ids.Min(id => id.I),
+                                                        (d & 2) != 0 ? ids.Max(id => id.J) : ids.Min(id => id.J),
+                                                        (d & 1) != 0 ? ids.Max(id => id.K) : ids.Min(id => id.K)));
+        }
+
+        [Test]
+        public void ExtremePointsAreABoxsCornersAndTiesGoToTheLowerIndex()
+        {
+            var box = Grid();
+            Assert.That(InsertionRanking.ExtremePoints(box), Is.EqualTo(BoxCorners(box).ToArray()));
+            // A diamond in the plane k = 0 (and one point above): along (+,+,-) the ids (2,0,0), (1,1,0) and (0,2,0) tie at 2
+            // (i + j - k), and the lowest index among them wins; every direction's value is checked against all points.
+            var ids = new[] { new LatticeId(1, 0, 0), new LatticeId(0, 1, 0), new LatticeId(2, 0, 0), new LatticeId(1, 1, 0),
+                              new LatticeId(0, 2, 0), new LatticeId(1, 1, 1) };
+            var grid = EvaluationGrid.FromIds(1.0, ids.OrderBy(id => id).ToArray());
+            int[] extremes = InsertionRanking.ExtremePoints(grid);
+            Assert.That(extremes.Length, Is.EqualTo(8));
+            for (int d = 0; d < 8; d++)
+            {
+                Func<LatticeId, long> value = id => ((d & 4) != 0 ? id.I : -id.I) + ((d & 2) != 0 ? id.J : -id.J) + ((d & 1) != 0 ? id.K : -id.K);
+                long best = Enumerable.Range(0, grid.Count).Max(p => value(grid.GetId(p)));
+                int first = Enumerable.Range(0, grid.Count).First(p => value(grid.GetId(p)) == best);
+                Assert.That(extremes[d], Is.EqualTo(first), "direction " + d);
+            }
+            int tied = Enumerable.Range(0, grid.Count).Count(p => grid.GetId(p).I + grid.GetId(p).J == 2 && grid.GetId(p).K == 0);
+            Assert.That(tied, Is.EqualTo(3));  // the tie this case is about exists
         }
 
         [Test]

@@ -37,10 +37,12 @@ from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.insertion import (EXACT, INSERTION_GROWTH, TIE, guide_weights, insertion_batch, insertion_ranking,
-                                    typical_tetrahedron)
+                                    insertion_start, typical_tetrahedron)
 from lpnn.quality.metric import POINT_ERRORS, ReferenceField, probe_stencil
 from lpnn.quality.triangulation import tetrahedralize
 
+# quality.md §5.1 step 1's directions, written out here rather than imported (the checks above use them independently).
+DIRECTIONS = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
 CELL = 0.25  # dyadic: positions id x 0.25 are exact in float32, so exact integer geometry is the float geometry
 MARGIN = 1e-9
 INSIDE = 1e-6
@@ -187,7 +189,11 @@ def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: i
                 scores: np.ndarray | None = None) -> dict[str, Any] | None:
     grid, sh32, scale, field = _field(ids, sh)
     guide = None if scores is None else guide_weights(scores)
-    start = typical_tetrahedron(field, grid)
+    typical = typical_tetrahedron(field, grid)
+    start = insertion_start(field, grid)
+    # Independently of insertion_start: the extremes of a linear function over the ids lie at hull vertices of the ids.
+    extremes = [int(np.flatnonzero((ids @ s) == (ids @ s).max())[0]) for s in DIRECTIONS]
+    assert start.tolist() == typical.tolist() + [p for p in dict.fromkeys(extremes) if p not in typical], name
     ranking = insertion_ranking(field, grid, guide=guide)
     rounds = []
     order = start
@@ -204,8 +210,8 @@ def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: i
         order = np.concatenate([order, batch])
     np.testing.assert_array_equal(ranking[:order.shape[0]], order)
     case = {"name": name, "note": note, "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
-            "sh": exact(sh32), "lighting_scale": scale, "growth": INSERTION_GROWTH, "typical_tetrahedron": start.tolist(),
-            "rounds": rounds, "ranking": ranking.tolist()}
+            "sh": exact(sh32), "lighting_scale": scale, "growth": INSERTION_GROWTH, "typical_tetrahedron": typical.tolist(),
+            "start": start.tolist(), "rounds": rounds, "ranking": ranking.tolist()}
     if scores is not None:
         if np.array_equal(ranking, insertion_ranking(field, grid)):
             return None  # the guide must change the ranking, else the case pins nothing of it
@@ -276,11 +282,16 @@ def plane_case() -> dict[str, Any]:
     sh32 = np.asarray(sh, dtype=np.float32)
     scale = float(np.float32(scene_scale(sh32.astype(np.float64))))
     field = ReferenceField.from_sh(grid.positions, sh32, scale)
-    start = typical_tetrahedron(field, grid)
-    assert start.shape[0] == 5 and int(start[-1]) == 0, start  # the guarantee's extra point, by construction
-    return {"name": "plane", "note": "5x5x5 lattice, lighting by layer; the typical candidates lie in one plane",
-            "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions), "sh": exact(sh32), "lighting_scale": scale,
-            "typical_tetrahedron": start.tolist()}
+    typical = typical_tetrahedron(field, grid)
+    assert typical.shape[0] == 5 and int(typical[-1]) == 0, typical  # the guarantee's extra point, by construction
+    # The start adds the cube's corners i + 5 j + 25 k (i, j, k in {0, 4}) by direction (-,-,-), (-,-,+), ..., corner 0
+    # (the first direction's) already listed: by construction, not by insertion_start.
+    corners = [4 * (a > 0) + 20 * (b > 0) + 100 * (c > 0) for a, b, c in DIRECTIONS]
+    start = insertion_start(field, grid)
+    assert start.tolist() == typical.tolist() + [p for p in corners if p != 0], start
+    return {"name": "plane", "note": "5x5x5 lattice, lighting by layer; the typical candidates lie in one plane; the start "
+            "adds the cube's other 7 corners", "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
+            "sh": exact(sh32), "lighting_scale": scale, "typical_tetrahedron": typical.tolist(), "start": start.tolist()}
 
 
 def closest_weights_exact(p, a, b, c) -> tuple[Fraction, Fraction, Fraction]:

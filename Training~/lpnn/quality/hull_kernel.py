@@ -144,15 +144,29 @@ def certified(query, anchor, distance, vertices, tolerance, out):
 
 
 @njit(cache=True)
+def _sorted3(a, b, c):
+    """(a, b, c) in ascending order, without an array (settle_ties runs this per point and candidate)."""
+    if a > b:
+        a, b = b, a
+    if b > c:
+        b, c = c, b
+    if a > b:
+        a, b = b, a
+    return a, b, c
+
+
+@njit(cache=True)
 def _before(faces, owners, f, g):
     """The tie rule's order of hull triangles: lower owning tetrahedron, then smaller sorted corners."""
     if owners[f] != owners[g]:
         return owners[f] < owners[g]
-    x, y = np.sort(faces[f]), np.sort(faces[g])
-    for k in range(3):
-        if x[k] != y[k]:
-            return x[k] < y[k]
-    return False
+    x0, x1, x2 = _sorted3(faces[f, 0], faces[f, 1], faces[f, 2])
+    y0, y1, y2 = _sorted3(faces[g, 0], faces[g, 1], faces[g, 2])
+    if x0 != y0:
+        return x0 < y0
+    if x1 != y1:
+        return x1 < y1
+    return x2 < y2
 
 
 @njit(cache=True, parallel=True)
@@ -171,6 +185,7 @@ def settle_ties(points, faces, owners, faces_at_start, faces_at, edge_over_area,
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
         trial = np.empty(3)
+        held = np.empty(3, dtype=np.bool_)  # per slice, not per point (~10^6 points a round in the first rounds)
         for m in range(lo, hi):
             f0 = face[m]
             near = reach * distance[m]
@@ -180,7 +195,7 @@ def settle_ties(points, faces, owners, faces_at_start, faces_at, edge_over_area,
             px, py, pz = query[m, 0], query[m, 1], query[m, 2]
             limit = distance[m] * (1.0 + tie)
             chosen = f0
-            held = np.ones(3, dtype=np.bool_)  # which of f0's corners every tied triangle holds
+            held[0] = held[1] = held[2] = True  # which of f0's corners every tied triangle holds
             for k in range(3):
                 v = faces[f0, k]
                 for j in range(faces_at_start[v], faces_at_start[v + 1]):

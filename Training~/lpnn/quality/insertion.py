@@ -22,7 +22,8 @@ the volume's median, so that blending them reproduces most points within the tol
 is therefore four points among the TYPICAL_FRACTION of points nearest the median lighting (the
 metric's relative error to the per-value median), spread out: the one farthest from the centroid
 of those candidates, then farthest-point sampling among them, completed to a non-flat
-tetrahedron in that order (selection.ensure_tetrahedron).
+tetrahedron in that order (selection.ensure_tetrahedron). The ranking's start then adds the grid's extreme points
+along the 8 diagonal directions (insertion_start: a first hull that spans the volume; quality.md §5.1 step 1).
 
 Why it is the yardstick: it reads the dense lighting, as the reference does, but never evaluates a
 removal or an insertion candidate by itself (no greedy search over candidates), so it is the "best
@@ -93,6 +94,33 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
         if spread.shape[0] == count or rank_of[start].max() < spread.shape[0]:
             break
     return start[np.argsort(rank_of[start], kind="stable")]
+
+
+# The 8 directions (s_i, s_j, s_k), each sign -1 or +1, in this order, along which insertion_start adds the grid's
+# extreme point (quality.md §5.1 step 1).
+EXTREME_DIRECTIONS = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)], dtype=np.int64)
+
+
+def extreme_points(grid: EvaluationGrid) -> np.ndarray:
+    """(8,) point indices: per direction of EXTREME_DIRECTIONS the point of largest s_i*i + s_j*j + s_k*k over its lattice
+    id (exact integers; ties: lower index), repeats included."""
+    if grid.point_count == 0:
+        return np.zeros(0, dtype=np.int64)
+    return np.argmax(grid.ids.astype(np.int64) @ EXTREME_DIRECTIONS.T, axis=0).astype(np.int64)
+
+
+def insertion_start(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC) -> np.ndarray:
+    """The insertion ranking's first points (quality.md §5.1 step 1): the typical tetrahedron, then the grid's extreme
+    points along the 8 diagonal directions not already listed, first occurrence first.
+
+    Why the extremes: the rounds then start from a hull that spans the volume, not from four points near its middle;
+    with a small hull most points lie outside it and every round projects them all (at 10^6 points 0.5-1.1 M points a
+    round, two thirds of insertion's time). Measured on whole validation levels (benchmarks.md §11.0)."""
+    start = typical_tetrahedron(field, grid, metric)
+    extremes = extreme_points(grid)
+    _, first = np.unique(extremes, return_index=True)
+    extremes = extremes[np.sort(first)]
+    return np.concatenate([start, extremes[~np.isin(extremes, start)]])
 
 
 def guide_weights(scores: np.ndarray) -> np.ndarray:
@@ -189,7 +217,7 @@ class InsertionOrder:
                               f"(e.g. {INSERTION_GROWTH})")
         self._field, self._grid, self._metric, self._growth, self._progress = field, grid, metric, growth, progress
         self._guide = checked_guide(guide, field.point_count)
-        self._order = typical_tetrahedron(field, grid, metric).astype(np.int64)
+        self._order = insertion_start(field, grid, metric).astype(np.int64)
         self._candidates = None if pins is None else pins.candidates
         if pins is not None:
             self._order = pinned_start(grid, pins, self._order)

@@ -20,7 +20,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, run_rows, walk
+from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, outside_stencils, run_rows,
+                            walk)
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
@@ -137,15 +138,9 @@ def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, 
     far = np.flatnonzero(outside)
     if far.shape[0]:
         projection = project_to_hull(tri.points, tri.hull_faces, q[far], owners=tri.hull_face_tets)
-        owner = tri.hull_face_tets[projection.face]
-        vertices[far, :3] = tri.hull_faces[projection.face]
-        # The owner's fourth vertex, weight 0, keeps every stencil 4 wide.
-        owner_vertices = tri.tets[owner]
-        is_face_vertex = (owner_vertices[:, :, None] == vertices[far, None, :3]).any(axis=2)
-        vertices[far, 3] = owner_vertices[~is_face_vertex].reshape(-1)
-        weights[far, :3] = projection.weights
-        cell[far] = owner
-        anchor[far] = projection.anchor
+        # The hull triangle's corners and weights, then the owner's fourth vertex with weight 0 (every stencil 4 wide).
+        run_rows(outside_stencils, far.shape[0], tri.tets, tri.hull_faces, tri.hull_face_tets, far, projection.face,
+                 projection.weights, projection.anchor, vertices, weights, cell, anchor)
     return Stencil(vertices=vertices, weights=weights, cell=cell, outside=outside, anchor=anchor)
 
 

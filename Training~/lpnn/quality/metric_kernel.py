@@ -297,3 +297,31 @@ def inside_stencils(points, tets, inverse, query, cell, walked, coordinates, ver
             for i in range(4):
                 vertices[m, i] = tets[t, i]
                 weights[m, i] = lam[i] / total
+
+
+@njit(cache=True, parallel=True)
+def outside_stencils(tets, hull_faces, hull_face_tets, far, face, projected_weights, projected_anchor, vertices, weights,
+                     cell, anchor):
+    """Stencils of the points outside the hull (rows far[r]) from their hull projection (face[r], its weights and
+    anchor): the hull triangle's corners with its weights, then the owning tetrahedron's fourth vertex with weight 0;
+    the cell becomes that tetrahedron. One pass instead of numpy's (M, 4, 3) comparison and fancy-indexed copies
+    (~0.1 s a round at 10^6 points). Rows in parallel."""
+    chunks = chunk_count(far.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(far.shape[0], chunks, chunk)
+        for r in range(lo, hi):
+            m, f = far[r], face[r]
+            owner = hull_face_tets[f]
+            a, b, c = hull_faces[f, 0], hull_faces[f, 1], hull_faces[f, 2]
+            fourth = tets[owner, 0]
+            for i in range(4):
+                v = tets[owner, i]
+                if v != a and v != b and v != c:
+                    fourth = v
+            vertices[m, 0], vertices[m, 1], vertices[m, 2], vertices[m, 3] = a, b, c, fourth
+            weights[m, 0], weights[m, 1], weights[m, 2] = (projected_weights[r, 0], projected_weights[r, 1],
+                                                           projected_weights[r, 2])
+            weights[m, 3] = 0.0
+            cell[m] = owner
+            anchor[m, 0], anchor[m, 1], anchor[m, 2] = (projected_anchor[r, 0], projected_anchor[r, 1],
+                                                        projected_anchor[r, 2])

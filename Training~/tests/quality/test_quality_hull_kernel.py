@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, HullIndex, _is_projection, _nearest_among,
-                                         lowest_owner_at_ties, project_to_hull)
+from lpnn.quality.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, SMALL_HULL_FACES, HullIndex, _is_projection,
+                                         _nearest_among, every_triangle, lowest_owner_at_ties, project_to_hull)
 from lpnn.quality import location
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -196,3 +196,28 @@ def test_ties_go_to_the_lowest_owner_snapped_as_numpy_finds_them_over_every_tria
     snapped = np.abs(ruled.distance - plain.distance)
     assert np.all(snapped <= 1e-9 * plain.distance)
     assert offset == 0.0 or np.count_nonzero(snapped) > 0  # near-ties snapped onto their edge or vertex
+
+
+@pytest.mark.parametrize("offset, cell", [(0.0, 0.5), (-2300.6, 0.85)])
+def test_small_hulls_searched_whole_give_the_tree_searchs_answer(offset: float, cell: float) -> None:
+    """A hull of at most SMALL_HULL_FACES triangles is searched whole (every_triangle) instead of through the centroid
+    tree and the certificate: after the tie rule both give the same triangle, weights, anchor and distance bit for bit,
+    for lattice points (many nearest points exactly on a shared edge or vertex, where the raw searches pick different
+    triangles of equal distance) and random ones far outside."""
+    axes = [np.arange(12.0), np.arange(10.0), np.arange(7.0)]
+    lattice = offset + cell * np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    lattice = lattice.astype(np.float32).astype(np.float64)
+    rng = np.random.default_rng(11)
+    probes = rng.choice(lattice.shape[0], 9, replace=False)
+    tri = tetrahedralize(lattice[probes])
+    assert 4 <= tri.hull_faces.shape[0] <= SMALL_HULL_FACES
+    others = np.delete(lattice, probes, axis=0)
+    query = tri.frame.to_local(np.concatenate([others, offset + rng.uniform(-20 * cell, 30 * cell, (500, 3))]))
+    query = np.ascontiguousarray(query[location.locate_cells(tri, np.ascontiguousarray(query))[0] < 0])
+    tree = HullIndex(tri.points, tri.hull_faces).nearest(query)
+    whole = every_triangle(tri.points, tri.hull_faces, query)
+    assert np.count_nonzero(whole.face != tree.face) > 0  # exact ties: the raw searches differ
+    expected = lowest_owner_at_ties(tri.points, tri.hull_faces, tri.hull_face_tets, query, tree)
+    actual = project_to_hull(tri.points, tri.hull_faces, query, owners=tri.hull_face_tets)
+    _assert_same((expected.face, expected.weights, expected.anchor, expected.distance),
+                 (actual.face, actual.weights, actual.anchor, actual.distance))

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import EXACT, guide_weights, insertion_batch, insertion_ranking, typical_tetrahedron
+from lpnn.quality.insertion import (EXACT, guide_weights, insertion_batch, insertion_ranking, insertion_start,
+                                    typical_tetrahedron)
 from lpnn.quality.metric import ReferenceField, probe_stencil
 from lpnn.quality.triangulation import tetrahedralize
 
@@ -58,6 +59,7 @@ def test_typical_tetrahedra_are_reproduced(golden: dict[str, Any]) -> None:
         if "typical_tetrahedron" in case:
             grid, field = _case(case)
             np.testing.assert_array_equal(typical_tetrahedron(field, grid), case["typical_tetrahedron"], err_msg=case["name"])
+            np.testing.assert_array_equal(insertion_start(field, grid), case["start"], err_msg=case["name"])
 
 
 def test_every_round_given_its_mesh_is_reproduced(golden: dict[str, Any]) -> None:
@@ -82,7 +84,7 @@ def test_the_whole_ranking_is_reproduced_and_is_its_rounds_in_order(golden: dict
     grid, field = _case(case)
     ranking = insertion_ranking(field, grid, growth=case["growth"], guide=_guide(case))
     np.testing.assert_array_equal(ranking, case["ranking"])
-    order = list(case["typical_tetrahedron"])
+    order = list(case["start"])
     for round_ in case["rounds"]:
         assert round_["probes"] == order
         order += round_["batch"]
@@ -103,6 +105,9 @@ def test_the_plane_case_needs_the_tetrahedron_guarantee(golden: dict[str, Any]) 
     assert len(start) == 5 and start[-1] == 0
     assert all(ids[p][2] == 2 for p in start[:4])
     assert all(p < 50 + 13 for p in start[:4])
+    # The ranking's start then adds the cube's other 7 corners (i, j, k each 0 or 4; point 0 is listed), by direction.
+    corners = [int(np.flatnonzero((ids == [4 * a, 4 * b, 4 * c]).all(axis=1))[0]) for a in (0, 1) for b in (0, 1) for c in (0, 1)]
+    assert case["start"] == start + corners[1:]
 
 
 def test_the_ties_case_gives_every_point_the_exact_tie_rules_cell_and_weights(golden: dict[str, Any]) -> None:

@@ -13,6 +13,7 @@ from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
 from lpnn.quality import location
+from lpnn.quality.hull_projection import project_to_hull
 from lpnn.quality.metric_kernel import PARALLEL_ROWS, chunk_count
 from lpnn.quality.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil, stencil_point_errors
 from lpnn.quality.policies import prefix_selection
@@ -196,3 +197,26 @@ def test_compiled_stencils_equal_numpy(scene, coherent: bool) -> None:
     rows = np.flatnonzero(smallest >= -location.INSIDE_TOLERANCE)
     lam = np.clip(location.barycentric(tri, best[rows], few[rows]), 0.0, None)
     np.testing.assert_array_equal(small.weights[rows], lam / lam.sum(axis=1, keepdims=True))
+
+
+def test_compiled_outside_stencils_equal_numpy(scene) -> None:
+    """locate_local's stencils outside the hull (metric_kernel.outside_stencils) are the numpy formulation they
+    replaced: the projection's triangle and weights, the owning tetrahedron's fourth vertex with weight 0, that
+    tetrahedron as the cell and the projection's anchor."""
+    field, _ = scene
+    probes = np.sort(np.random.default_rng(2).choice(field.point_count, 60, replace=False))  # corners left outside
+    tri = tetrahedralize(field.world[probes], field.frame)
+    query = np.ascontiguousarray(field.local[np.setdiff1d(np.arange(field.point_count), probes)])
+    stencil = location.locate_local(tri, query)
+    far = np.flatnonzero(stencil.outside)
+    assert far.shape[0] > 0
+    projection = project_to_hull(tri.points, tri.hull_faces, query[far], owners=tri.hull_face_tets)
+    owner = tri.hull_face_tets[projection.face]
+    corners = tri.hull_faces[projection.face]
+    owner_vertices = tri.tets[owner]
+    fourth = owner_vertices[~(owner_vertices[:, :, None] == corners[:, None, :]).any(axis=2)].reshape(-1)
+    np.testing.assert_array_equal(stencil.vertices[far], np.concatenate([corners, fourth[:, None]], axis=1))
+    np.testing.assert_array_equal(stencil.weights[far], np.concatenate([projection.weights, np.zeros((far.shape[0], 1))],
+                                                                       axis=1))
+    np.testing.assert_array_equal(stencil.cell[far], owner)
+    np.testing.assert_array_equal(stencil.anchor[far], projection.anchor)

@@ -67,7 +67,7 @@ namespace Lpnn.Probes.Core.Quality
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             InsertionRanking.CheckGrowth(growth);
             InsertionRanking.CheckGuide(guide, reference.Count);
-            int[] start = InsertionRanking.TypicalTetrahedron(grid, reference);
+            int[] start = InsertionRanking.Start(grid, reference);
             if (pins != null)
             {
                 start = Pins.Start(grid, pins.Indices, pins.Blocked, start);

@@ -11,7 +11,7 @@ using Lpnn.Probes.Core.Sh;
 namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>Error-driven insertion (Documentation~/quality.md §5), the best non-learned placement we measured: from a
-    /// "typical" tetrahedron, interpolate every point from the current probes and insert, per round, the worst point of
+    /// "typical" tetrahedron and the grid's extreme points (<see cref="Start"/>), interpolate every point from the current probes and insert, per round, the worst point of
     /// each tetrahedron, the cells with the largest summed error first, up to ceil(growth × probes) points per round,
     /// until every point is a probe or interpolated exactly (the rest then follow by index). The insertion order is the
     /// ranking: a budget is its prefix, the tolerance policy searches its prefixes. Port of the Python reference
@@ -204,6 +204,45 @@ namespace Lpnn.Probes.Core.Quality
                 int[] start = StartFrom(grid, SpreadOut(reference.Local, candidates, length), out bool beyondPrefix);
                 if (!beyondPrefix || length == candidates.Length) return start;
             }
+        }
+
+        /// <summary>The ranking's first points (quality.md §5.1 step 1): <see cref="TypicalTetrahedron"/>, then the grid's
+        /// <see cref="ExtremePoints"/> not already listed, first occurrence first. The extremes make the first rounds'
+        /// hull span the volume: from four points near its middle most points lie outside the hull, and each round
+        /// projects them all onto it (Python's insertion.insertion_start).</summary>
+        public static int[] Start(EvaluationGrid grid, ReferenceLighting reference)
+        {
+            int[] typical = TypicalTetrahedron(grid, reference);
+            var listed = new HashSet<int>(typical);
+            var start = new List<int>(typical);
+            foreach (int p in ExtremePoints(grid))
+                if (listed.Add(p)) start.Add(p);
+            return start.ToArray();
+        }
+
+        /// <summary>Per direction (s_i, s_j, s_k) of signs -1 or +1, in the order (-,-,-), (-,-,+), (-,+,-), …, (+,+,+): the
+        /// point of largest s_i·i + s_j·j + s_k·k over its lattice id (exact integers; ties: lower index). 8 entries,
+        /// repeats included (a grid has at least one point).</summary>
+        public static int[] ExtremePoints(EvaluationGrid grid)
+        {
+            if (grid == null) throw new ArgumentNullException(nameof(grid));
+            var extremes = new int[8];
+            var best = new long[8];
+            for (int d = 0; d < 8; d++) best[d] = long.MinValue;
+            for (int p = 0; p < grid.Count; p++)
+            {
+                LatticeId id = grid.GetId(p);
+                for (int d = 0; d < 8; d++)
+                {
+                    long value = ((d & 4) != 0 ? id.I : -(long)id.I) + ((d & 2) != 0 ? id.J : -(long)id.J) + ((d & 1) != 0 ? id.K : -(long)id.K);
+                    if (value > best[d])
+                    {
+                        best[d] = value;
+                        extremes[d] = p;
+                    }
+                }
+            }
+            return extremes;
         }
 
         /// <summary>Farthest-point steps computed before falling back to the whole candidate set (quality.md §5.1 needs
