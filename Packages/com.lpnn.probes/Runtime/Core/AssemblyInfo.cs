@@ -11,3 +11,6 @@ using System.Runtime.CompilerServices;
 // The JSON library comparison (Tools~/experiments/json-comparison/run.sh, Documentation~/file-formats.md) reads with the
 // internal Core/Json reader and writer.
 [assembly: InternalsVisibleTo("JsonLibraryComparison")]
+// The golden-file writer (Tools~/golden/GoldenWriter.cs, run by Tools~/regenerate-golden.sh) builds the C#-side cases from
+// internal tables (the ray direction sets of Documentation~/features.md).
+[assembly: InternalsVisibleTo("GoldenWriter")]
