@@ -42,6 +42,9 @@ def register(actions: argparse._SubParsersAction) -> None:
                         help="also recover surface lights: one q3map_surfacelight value per shader that may emit "
                              "(its script says so, or it is sky or named *light* without a script); the rig then "
                              "holds them (lights.md §4-5; the probe baker does not bake them yet)")
+    lights.add_argument("--spots", action="store_true",
+                        help="every fitted light is a q3map2 spotlight: its axis and cone (radiusByDist) are fitted "
+                             "too, and the rig holds them as spots (lights.md §4)")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -114,7 +117,7 @@ def _lights(args: argparse.Namespace) -> None:
     try:
         with rig_user_errors():
             try:
-                result = fit_scene(scene, grid, args.scheme, args.refresh, progress)
+                result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots)
             except ValueError as exc:
                 raise UserError(str(exc)) from exc
     finally:

@@ -26,7 +26,7 @@ error (lpnn.quality.metric.irradiance_error; its scene scale S from the stored g
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -36,8 +36,9 @@ from ..quality.metric import irradiance_error
 from ..scenes.bsp import Bsp
 from ..scenes.errors import BspError
 from ..scenes.lightgrid import decode_directions
+from ..scenes.coords import unity_to_quake
 from ..scenes.raycast import EmbreeRaycaster
-from .emitters import Emitters, emitters_at_points
+from .emitters import Emitters, Spots, emitters_at_points
 from .model import POINT_SCALE
 from .pointlight import visible_light
 from .rig import Rig
@@ -202,7 +203,10 @@ def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
                  emitters: Emitters | None = None, inhibit: float = 0.0) -> GridNodes:
     """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights (and the
     emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule; occluders within
-    `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS)."""
+    `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS). The rig's
+    spotlights light the nodes with their cone (as the emitters' spotlights)."""
+    if rig.spot.any():
+        rig, emitters = _spots_as_emitters(rig, emitters)
     lights = rig.quake_positions()
     emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
     ambient = np.zeros((len(nodes), 3))
@@ -222,6 +226,32 @@ def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
         a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + GRID_AMBIENT_FUDGE * d + rig.ambient
         ambient[chunk], directed[chunk], direction[chunk] = _clamped(a), _clamped(d), main
     return GridNodes(positions=nodes, ambient=ambient, directed=directed, direction=direction)
+
+
+def rig_spots(rig: Rig) -> Spots:
+    """The rig's spotlights as emitters.Spots (Quake units and axes)."""
+    spot = rig.spot
+    return Spots(positions=rig.quake_positions()[spot], colours=rig.colours[spot], intensities=rig.intensities[spot],
+                 directions=unity_to_quake(rig.spot_directions[spot], scale=1.0), radius_by_dist=rig.radius_by_dist[spot])
+
+
+def _spots_as_emitters(rig: Rig, emitters: Emitters | None) -> tuple[Rig, Emitters]:
+    """(the rig's point lights, the emitters with the rig's spotlights added)."""
+    spots = rig_spots(rig)
+    if emitters is None:
+        emitters = Emitters(spots=spots)
+    else:
+        old = emitters.spots
+        emitters = replace(emitters, spots=Spots(
+            positions=np.concatenate([old.positions, spots.positions]),
+            colours=np.concatenate([old.colours, spots.colours]),
+            intensities=np.concatenate([old.intensities, spots.intensities]),
+            directions=np.concatenate([old.directions, spots.directions]),
+            radius_by_dist=np.concatenate([old.radius_by_dist, spots.radius_by_dist])))
+    point = ~rig.spot
+    points = replace(rig, positions=rig.positions[point], colours=rig.colours[point],
+                     intensities=rig.intensities[point], spot_directions=np.zeros((0, 3)), radius_by_dist=np.zeros(0))
+    return points, emitters
 
 
 def _clamped(rgb: np.ndarray) -> np.ndarray:

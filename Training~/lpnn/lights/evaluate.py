@@ -36,7 +36,7 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
 
 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
-                   surfaces: bool = False) -> list[dict[str, Any]]:
+                   surfaces: bool = False, spots: bool = False) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
@@ -66,11 +66,12 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         suffix = "+surfaces"
         print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
               flush=True)
+    suffix += "+spots" if spots else ""
     curves = {}
     for scheme in schemes:
         rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
         started = time.perf_counter()
-        result = fit_scene(scene, grid, scheme)
+        result = fit_scene(scene, grid, scheme, spots=spots)
         seconds = time.perf_counter() - started
         rig = rig_of(scene, result, grid, scheme)
         write_rig(out / f"{level.name}.{scheme}{suffix}.json", rig)
@@ -79,6 +80,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         cast = raycaster.cast_seconds - cast_before
         own = rig_emitters(level, rig) if rig.surfaces else None
         row = dict(level=level.name, scheme=scheme + suffix, points=scene.target.point_count, lights=rig.count,
+                   spotlights=int(rig.spot.sum()),
                    surface_lights=len(rig.surfaces), basis_seconds=basis_seconds,
                    initial_lights=result.lights.count, objective=result.objective, iterations=result.iterations,
                    seconds=seconds, seconds_per_iteration=seconds / max(result.iterations, 1),
@@ -119,13 +121,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM")
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument("--surfaces", action="store_true", help="the fits also recover surface lights (lights.md §4)")
+    parser.add_argument("--spots", action="store_true", help="every fitted light is a spotlight (lights.md §4)")
     args = parser.parse_args(argv)
     grid = tuple(int(p) for p in args.grid.split("x"))
     args.out.mkdir(parents=True, exist_ok=True)
     print(HEADER, flush=True)
     rows = []
     for name in args.levels:
-        level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces)  # type: ignore[arg-type]
+        level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces,  # type: ignore[arg-type]
+                                    args.spots)
         rows += level_rows
         for row in level_rows:
             if row["scheme"] == "real rig":

@@ -33,6 +33,7 @@ import numpy as np
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
 from . import objective_kernel, visibility_kernel
+from .emitters import SPOT_EDGE  # a spotlight's soft cone edge, units (light_ydnar.c LightContributionToSample)
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -58,10 +59,24 @@ class Lights:
     ambient: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) bytes added everywhere
     # (S,) q3map_surfacelight value of each surface light of the model (ForwardModel.surface_basis), >= 0
     surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # spotlights (q3map2's cone, emitters.spot_factor): (J, 3) axis in Quake axes (unit in rigs) and (J,)
+    # radiusByDist, 0 for a point light; both empty: every light is a point light
+    spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def count(self) -> int:
         return len(self.positions)
+
+    def cones(self) -> tuple[np.ndarray, np.ndarray]:
+        """((J, 3) axes, (J,) radiusByDist, 0 for a point light), float64 and contiguous, for every light."""
+        if len(self.radius_by_dist) == 0:
+            return np.zeros((self.count, 3)), np.zeros(self.count)
+        if self.radius_by_dist.shape != (self.count,) or self.spot_directions.shape != (self.count, 3):
+            raise ValueError(f"{len(self.radius_by_dist)} spot cones and {len(self.spot_directions)} axes for "
+                             f"{self.count} lights")
+        return (np.ascontiguousarray(self.spot_directions, dtype=np.float64),
+                np.ascontiguousarray(self.radius_by_dist, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -72,6 +87,8 @@ class Gradient:
     intensities: np.ndarray  # (J,)
     ambient: np.ndarray  # (3,)
     surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (S,)
+    spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # (J, 3): dL/d(axis), axis as given
+    radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (J,); both 0 for point lights
 
 
 class ForwardModel:
@@ -182,7 +199,7 @@ class ForwardModel:
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
             light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(
-                pairs.point - chunk.start, t.g[:, None] * emitted[pairs.light], chunk.stop - chunk.start)
+                pairs.point - chunk.start, (t.g * t.f)[:, None] * emitted[pairs.light], chunk.stop - chunk.start)
             out[chunk] = self.albedo[chunk] * LINEAR_PER_BYTE * saturate(light)
         return out
 
@@ -222,7 +239,9 @@ class ForwardModel:
         front = ndot > 0
         clamped_sq = np.maximum(q * q, MIN_DISTANCE * MIN_DISTANCE)
         g = np.where(front, ndot / (q * clamped_sq), 0.0)
-        return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0))
+        axes, cones = lights.cones()
+        f = spot_factors(-d, axes[pairs.light], cones[pairs.light])
+        return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0), f=f)
 
     def objective(self, lights: Lights, visible: np.ndarray, with_gradient: bool = True) -> Gradient:
         """L and dL / d(every light parameter and the ambient), visibility fixed: the compiled pass of
@@ -238,7 +257,10 @@ class ForwardModel:
         values = np.zeros(chunks)
         grad_pos = np.zeros((chunks, lights.count, 3))
         grad_emitted = np.zeros((chunks, lights.count, 3))
+        grad_axes = np.zeros((chunks, lights.count, 3))
+        grad_cones = np.zeros((chunks, lights.count))
         grad_ambient = np.zeros((chunks, 3))
+        axes, cones = lights.cones()
         fixed = self.fixed_bytes(lights)
         # dL/dE per point, for the surface lights' gradient (written only when they exist)
         upstream = np.zeros((self.point_count if self.surface_count and with_gradient else 0, 3))
@@ -247,9 +269,9 @@ class ForwardModel:
                              *(_f64(a) for a in (self.points, self.normals, self.albedo, self.radiance,
                                                  self.weights, fixed)),
                              np.asarray(lights.ambient, dtype=np.float64),
-                             np.ascontiguousarray(lights.positions, dtype=np.float64), emitted, starts, pair_lights,
-                             POINT_SCALE, MIN_DISTANCE, BYTE_MAX, LINEAR_PER_BYTE, self.norm, with_gradient,
-                             values, grad_pos, grad_emitted, grad_ambient, upstream)
+                             np.ascontiguousarray(lights.positions, dtype=np.float64), emitted, axes, cones, starts,
+                             pair_lights, POINT_SCALE, MIN_DISTANCE, SPOT_EDGE, BYTE_MAX, LINEAR_PER_BYTE, self.norm,
+                             with_gradient, values, grad_pos, grad_emitted, grad_axes, grad_cones, grad_ambient, upstream)
         # the slices summed in slice order: the same bits on any number of threads
         emitted_sum = _ordered_sum(grad_emitted)
         return Gradient(
@@ -259,6 +281,8 @@ class ForwardModel:
             intensities=np.einsum("jk,jk->j", emitted_sum, lights.colours),
             ambient=_ordered_sum(grad_ambient),
             surface_values=self._surface_gradient(upstream),
+            spot_directions=_ordered_sum(grad_axes),
+            radius_by_dist=_ordered_sum(grad_cones),
         )
 
     def _surface_gradient(self, upstream: np.ndarray) -> np.ndarray:
@@ -273,6 +297,9 @@ class ForwardModel:
         value = 0.0
         grad_pos = np.zeros((lights.count, 3))
         grad_emitted = np.zeros((lights.count, 3))
+        grad_axes = np.zeros((lights.count, 3))
+        grad_cones = np.zeros(lights.count)
+        axes, cones = lights.cones()
         grad_ambient = np.zeros(3)
         upstream_all = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]
@@ -281,8 +308,9 @@ class ForwardModel:
             t = self._transfer(lights, pairs)
             local = pairs.point - chunk.start
             albedo = self.albedo[chunk]
-            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(local, t.g[:, None] * emitted[pairs.light],
-                                                                               len(albedo))
+            h = t.g * t.f  # the spot's cone times the point light's transfer
+            light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(local, h[:, None] * emitted[pairs.light],
+                                                                          len(albedo))
             residual = albedo * LINEAR_PER_BYTE * saturate(light) - self.radiance[chunk]
             weight = self.weights[chunk][:, None]
             value += float(np.sum(weight * residual ** 2))
@@ -292,15 +320,20 @@ class ForwardModel:
             grad_ambient += upstream.sum(axis=0)
             upstream_all[chunk] = upstream
             back = POINT_SCALE * upstream[local]  # dL/d(sum g e), per pair
-            grad_emitted += _sum_by(pairs.light, t.g[:, None] * back, lights.count)
+            grad_emitted += _sum_by(pairs.light, h[:, None] * back, lights.count)
             u = np.einsum("pk,pk->p", back, emitted[pairs.light])  # dL/dg per pair
             # dg/dx for q >= R0: n/q^3 - 3 (n.d) d / q^5; for q < R0: n/(R0^2 q) - (n.d) d/(R0^2 q^3)
             far = t.q >= MIN_DISTANCE
             clamped_sq = np.where(far, t.q * t.q, MIN_DISTANCE * MIN_DISTANCE)
             along_normal = np.where(t.ndot > 0, 1.0 / (t.q * clamped_sq), 0.0)
             along_d = t.ndot * np.where(far, 3.0 / t.q ** 5, 1.0 / (MIN_DISTANCE * MIN_DISTANCE * t.q ** 3))
-            per_pair = (u * along_normal)[:, None] * pairs.normals - (u * along_d)[:, None] * t.d
+            dg = along_normal[:, None] * pairs.normals - along_d[:, None] * t.d  # dg/dx
+            # the cone: dh/dx = f dg/dx - g df/dv (v = p - x), df/dN, df/dk on the soft edge (0 < f < 1)
+            d_v, d_axis, d_cone = spot_factor_gradient(-t.d, axes[pairs.light], cones[pairs.light])
+            per_pair = u[:, None] * (t.f[:, None] * dg - t.g[:, None] * d_v)
             grad_pos += _sum_by(pairs.light, per_pair, lights.count)
+            grad_axes += _sum_by(pairs.light, (u * t.g)[:, None] * d_axis, lights.count)
+            grad_cones += np.bincount(pairs.light, weights=u * t.g * d_cone, minlength=lights.count)
         return Gradient(
             value=value / self.norm,
             positions=grad_pos,
@@ -308,7 +341,37 @@ class ForwardModel:
             intensities=np.einsum("jk,jk->j", grad_emitted, lights.colours),
             ambient=grad_ambient,
             surface_values=self._surface_gradient(upstream_all) if with_gradient else np.zeros(self.surface_count),
+            spot_directions=grad_axes,
+            radius_by_dist=grad_cones,
         )
+
+
+def spot_factors(offsets: np.ndarray, axes: np.ndarray, cones: np.ndarray) -> np.ndarray:
+    """(P,) q3map2's cone factor (emitters.spot_factor) per pair: offsets v = p - x (P, 3), axes N (P, 3), cones
+    radiusByDist k (P,); 1 where k = 0 (a point light). With t = v.N, r = |v - t N|: clamp((k t - r) / 32, 0, 1),
+    0 for t <= 0."""
+    t = np.einsum("pk,pk->p", offsets, axes)
+    r = np.linalg.norm(offsets - t[:, None] * axes, axis=1)
+    f = np.where(t > 0, np.clip((cones * t - r) / SPOT_EDGE, 0.0, 1.0), 0.0)
+    return np.where(cones > 0, f, 1.0)
+
+
+def spot_factor_gradient(offsets: np.ndarray, axes: np.ndarray,
+                         cones: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(df/dv (P, 3), df/dN (P, 3), df/dk (P,)) of spot_factors, nonzero only on the soft edge (0 < f < 1) of
+    spotlights: f = (k t - r) / 32, dt/dv = N, dr/dv = (w - (w.N) N) / r, dt/dN = v, dr/dN = -((w.N) v + t w) / r
+    with w = v - t N (exact for any axis, not only unit ones)."""
+    f = spot_factors(offsets, axes, cones)
+    edge = (cones > 0) & (f > 0) & (f < 1)
+    t = np.einsum("pk,pk->p", offsets, axes)
+    w = offsets - t[:, None] * axes
+    r = np.linalg.norm(w, axis=1)
+    wn = np.einsum("pk,pk->p", w, axes)
+    inv = np.divide(1.0, r, out=np.zeros_like(r), where=r > 1e-12)
+    d_v = (cones[:, None] * axes - (w - wn[:, None] * axes) * inv[:, None]) / SPOT_EDGE
+    d_axis = (cones[:, None] * offsets + (wn[:, None] * offsets + t[:, None] * w) * inv[:, None]) / SPOT_EDGE
+    d_cone = t / SPOT_EDGE
+    return np.where(edge[:, None], d_v, 0.0), np.where(edge[:, None], d_axis, 0.0), np.where(edge, d_cone, 0.0)
 
 
 def saturate(light: np.ndarray) -> np.ndarray:
@@ -346,6 +409,7 @@ class _Transfer:
     d: np.ndarray  # (P, 3)
     q: np.ndarray  # (P,)
     ndot: np.ndarray  # (P,) n.d where the light is in front, else 0
+    f: np.ndarray  # (P,) the spotlight's cone factor (1 for a point light)
 
 
 def _f64(array: np.ndarray) -> np.ndarray:

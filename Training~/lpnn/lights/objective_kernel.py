@@ -32,13 +32,15 @@ PARALLEL_CHUNKS = 64  # slices at most
 
 
 @njit(cache=True, parallel=True)
-def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, positions, emitted, starts, lights,
-                   point_scale, min_distance, byte_max, linear_per_byte, norm, with_gradient,
-                   chunk_values, chunk_pos, chunk_emitted, chunk_ambient, upstream_out):
-    """Fills chunk_values (C,), chunk_pos (C, J, 3), chunk_emitted (C, J, 3), chunk_ambient (C, 3) with each
-    slice's sum of w |m - r|^2 and of dL/d(position), dL/d(colour x intensity), dL/d(ambient) (all zero on entry);
-    C = chunks_for(N) slices of the points. With gradient, upstream_out (N, 3) receives every point's dL/dE when it
-    has N rows (the surface lights' gradient, model.py); give it 0 rows to skip that."""
+def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, positions, emitted, axes, cones,
+                   starts, lights, point_scale, min_distance, spot_edge, byte_max, linear_per_byte, norm, with_gradient,
+                   chunk_values, chunk_pos, chunk_emitted, chunk_axes, chunk_cones, chunk_ambient, upstream_out):
+    """Fills chunk_values (C,), chunk_pos (C, J, 3), chunk_emitted (C, J, 3), chunk_axes (C, J, 3), chunk_cones
+    (C, J), chunk_ambient (C, 3) with each slice's sum of w |m - r|^2 and of dL/d(position), dL/d(colour x
+    intensity), dL/d(spot axis), dL/d(radiusByDist), dL/d(ambient) (all zero on entry); C = chunks_for(N) slices
+    of the points. Light j is a spotlight when cones[j] > 0 (axis axes[j], q3map2's cone: spot_factor); else a
+    point light (axes and cones unread, their gradient stays 0). With gradient, upstream_out (N, 3) receives every
+    point's dL/dE when it has N rows (the surface lights' gradient, model.py); give it 0 rows to skip that."""
     keep_upstream = upstream_out.shape[0] == points.shape[0]
     n = points.shape[0]
     chunks = chunk_values.shape[0]
@@ -61,6 +63,8 @@ def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, p
                 if ndot > 0.0:
                     q = max(np.sqrt(dx * dx + dy * dy + dz * dz), 1e-9)
                     g = ndot / (q * max(q * q, min_sq))
+                    if cones[j] > 0.0:
+                        g *= spot_factor(-dx, -dy, -dz, axes[j, 0], axes[j, 1], axes[j, 2], cones[j], spot_edge)
                     for c in range(3):
                         light[c] += g * emitted[j, c]
             for c in range(3):
@@ -105,12 +109,55 @@ def objective_pass(points, normals, albedo, radiance, weights, fixed, ambient, p
                     g = ndot / (q * min_sq)
                     along_normal = 1.0 / (q * min_sq)
                     along_d = ndot / (min_sq * q * q * q)
+                gx = along_normal * nx - along_d * dx  # dg/dx
+                gy = along_normal * ny - along_d * dy
+                gz = along_normal * nz - along_d * dz
+                if cones[j] > 0.0:
+                    # h = g f: dh/dx = f dg/dx + g df/dx, with v = p - x = -d so df/dx = -df/dv
+                    f = spot_factor(-dx, -dy, -dz, axes[j, 0], axes[j, 1], axes[j, 2], cones[j], spot_edge)
+                    if f <= 0.0:
+                        continue
+                    if f < 1.0:  # the soft edge: f = (k t - r) / edge
+                        vx, vy, vz = -dx, -dy, -dz
+                        ax, ay, az = axes[j, 0], axes[j, 1], axes[j, 2]
+                        k = cones[j]
+                        t = vx * ax + vy * ay + vz * az
+                        wx, wy, wz = vx - t * ax, vy - t * ay, vz - t * az
+                        r = np.sqrt(wx * wx + wy * wy + wz * wz)
+                        wn = wx * ax + wy * ay + wz * az  # 0 for a unit axis; kept so any axis is exact
+                        # dr/dv = (w - (w.N) N) / r, dr/dN = -((w.N) v + t w) / r (0 on the axis)
+                        inv = 1.0 / r if r > 1e-12 else 0.0
+                        dvx = (k * ax - (wx - wn * ax) * inv) / spot_edge
+                        dvy = (k * ay - (wy - wn * ay) * inv) / spot_edge
+                        dvz = (k * az - (wz - wn * az) * inv) / spot_edge
+                        ug = u * g / spot_edge
+                        chunk_axes[chunk, j, 0] += ug * (k * vx + (wn * vx + t * wx) * inv)
+                        chunk_axes[chunk, j, 1] += ug * (k * vy + (wn * vy + t * wy) * inv)
+                        chunk_axes[chunk, j, 2] += ug * (k * vz + (wn * vz + t * wz) * inv)
+                        chunk_cones[chunk, j] += ug * t
+                        gx, gy, gz = f * gx - g * dvx, f * gy - g * dvy, f * gz - g * dvz
+                    else:
+                        gx, gy, gz = f * gx, f * gy, f * gz
+                    g *= f
                 for c in range(3):
                     chunk_emitted[chunk, j, c] += g * upstream[c]
-                chunk_pos[chunk, j, 0] += u * (along_normal * nx - along_d * dx)
-                chunk_pos[chunk, j, 1] += u * (along_normal * ny - along_d * dy)
-                chunk_pos[chunk, j, 2] += u * (along_normal * nz - along_d * dz)
+                chunk_pos[chunk, j, 0] += u * gx
+                chunk_pos[chunk, j, 1] += u * gy
+                chunk_pos[chunk, j, 2] += u * gz
         chunk_values[chunk] = value
+
+
+@njit(cache=True, inline="always")
+def spot_factor(vx, vy, vz, ax, ay, az, k, edge):
+    """q3map2's cone (light_ydnar.c LightContributionToSample, EMIT_SPOT) at offset v = p - x from a spotlight of
+    axis N and radiusByDist k: t = v.N, r = |v - t N|, R = k t; 0 when t <= 0 or r >= R, (R - r) / edge on the
+    soft edge, else 1 (emitters.spot_factor)."""
+    t = vx * ax + vy * ay + vz * az
+    if t <= 0.0:
+        return 0.0
+    wx, wy, wz = vx - t * ax, vy - t * ay, vz - t * az
+    r = np.sqrt(wx * wx + wy * wy + wz * wz)
+    return min(1.0, max(0.0, (k * t - r) / edge))
 
 
 def run(threads: int, *arguments) -> None:

@@ -47,6 +47,13 @@ CLEARANCE_WEIGHT = 1e-3
 MAX_INTENSITY = 1e6
 ADAM_BETAS = (0.9, 0.999)
 ADAM_EPSILON = 1e-8
+# spotlights (fit_scene(spots=True), lights.md §4): a light started as a q3map2 spotlight stays one, its axis
+# N = u / |u| with u in [-1, 1]^3 (renormalised at every visibility refresh), its radiusByDist in [SPOT_MIN_CONE,
+# SPOT_MAX_CONE] (half-angles 3-76 degrees), started pointing down with SPOT_START_CONE; a point light stays one
+SPOT_MIN_CONE = 0.05
+SPOT_MAX_CONE = 4.0
+SPOT_START_CONE = 1.0
+SPOT_START_AXIS = (0.0, 0.0, -1.0)
 
 
 
@@ -84,15 +91,22 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
     return grid[is_open(grid)]
 
 
-def initial_intensity(model: ForwardModel, positions: np.ndarray) -> Lights:
+def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
     scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
     With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
-    all the scales (scipy's nnls)."""
+    all the scales (scipy's nnls). `spots` (J,) bool: those lights are spotlights along SPOT_START_AXIS with
+    SPOT_START_CONE, the others point lights."""
     surfaces = np.zeros(model.surface_count)
-    unit = Lights(positions=positions, colours=np.ones((len(positions), 3)), intensities=np.ones(len(positions)),
-                  surface_values=surfaces)
-    visible = model.visibility(Lights(positions, unit.colours, np.full(len(positions), 1000.0)))
+    count = len(positions)
+    spot = np.zeros(count, bool) if spots is None else np.asarray(spots, dtype=bool)
+    if spot.shape != (count,):
+        raise ValueError(f"{spot.size} spotlight flags for {count} lights")
+    axes = np.where(spot[:, None], SPOT_START_AXIS, 0.0) if spot.any() else np.zeros((0, 3))
+    cones = np.where(spot, SPOT_START_CONE, 0.0) if spot.any() else np.zeros(0)
+    unit = Lights(positions=positions, colours=np.ones((count, 3)), intensities=np.ones(count),
+                  surface_values=surfaces, spot_directions=axes, radius_by_dist=cones)
+    visible = model.visibility(Lights(positions, unit.colours, np.full(count, 1000.0)))
     lit = model.radiance_of(unit, visible).ravel()  # per unit intensity
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
@@ -123,9 +137,11 @@ def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, f
 
 
 class Fitter:
-    """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled), the
-    surface lights' values (S, scaled), then the ambient (3, scaled); the ambient and the surface values are
-    optimised with the intensities."""
+    """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled), with
+    spotlights their (J, 4) rows (axis u, radiusByDist; optimised with the positions), the surface lights' values
+    (S, scaled), then the ambient (3, scaled); the ambient and the surface values are optimised with the
+    intensities. The lights whose start has a cone (Lights.radius_by_dist > 0) are spotlights; when any is, every
+    light has spot rows, held at 0 (a point light) for the others."""
 
     def __init__(self, model: ForwardModel, bounds: tuple[np.ndarray, np.ndarray], is_open: OpenTest,
                  surface_points: np.ndarray, refresh: int = DEFAULT_REFRESH,
@@ -144,6 +160,9 @@ class Fitter:
         self.started = time.perf_counter()
         self.budget = 0
         self._best: tuple[float, float, np.ndarray] | None = None  # objective, penalty, parameters
+        self.count = 0  # lights (set by fit)
+        self.spots = False  # some lights are spotlights: the vector has spot rows (set by fit)
+        self.spot_mask = np.zeros(0, bool)  # (J,) which lights are spotlights (set by fit)
 
     # ------------------------------------------------------------------------ packing
 
@@ -153,7 +172,19 @@ class Fitter:
         values = np.asarray(lights.surface_values, dtype=np.float64)
         if values.shape != (self.surfaces_count,):
             raise ValueError(f"{values.size} surface light values for the model's {self.surfaces_count} surface lights")
-        return np.concatenate([rows.ravel(), values / SURFACE_UNIT, lights.ambient / AMBIENT_UNIT])
+        spots = np.zeros((0, 4))
+        if self.spots:
+            axes, cones = lights.cones()
+            spots = np.where(self.spot_mask[:, None], np.concatenate([_unit_rows(axes), cones[:, None]], axis=1), 0.0)
+        return np.concatenate([rows.ravel(), spots.ravel(), values / SURFACE_UNIT, lights.ambient / AMBIENT_UNIT])
+
+    @property
+    def _spot_size(self) -> int:
+        return 4 * self.count if self.spots else 0
+
+    def _spot_rows(self, x: np.ndarray) -> np.ndarray:
+        """The spotlights' (J, 4) rows (axis u, radiusByDist) of a parameter vector (a view; (0, 4) without)."""
+        return x[7 * self.count:7 * self.count + self._spot_size].reshape(-1, 4)
 
     @property
     def surfaces_count(self) -> int:
@@ -161,27 +192,33 @@ class Fitter:
 
     def _rows(self, x: np.ndarray) -> np.ndarray:
         """The lights' (J, 7) rows of a parameter vector (a view)."""
-        return x[:len(x) - 3 - self.surfaces_count].reshape(-1, 7)
+        return x[:7 * self.count].reshape(-1, 7)
 
     def _unpack(self, x: np.ndarray) -> Lights:
         rows = self._rows(x)
+        spots = self._spot_rows(x)
         return Lights(positions=rows[:, 0:3] * POSITION_UNIT, colours=rows[:, 3:6].copy(),
                       intensities=rows[:, 6] * INTENSITY_UNIT, ambient=x[-3:] * AMBIENT_UNIT,
-                      surface_values=x[len(x) - 3 - self.surfaces_count:-3] * SURFACE_UNIT)
+                      surface_values=x[len(x) - 3 - self.surfaces_count:-3] * SURFACE_UNIT,
+                      spot_directions=_unit_rows(spots[:, 0:3]), radius_by_dist=spots[:, 3].copy())
 
     def _mask(self, parameters: tuple[str, ...], count: int) -> np.ndarray:
         columns = np.zeros(7, dtype=bool)
         columns[0:3] = POSITION in parameters
         columns[3:6] = COLOUR in parameters
         columns[6] = INTENSITY in parameters
-        return np.concatenate([np.tile(columns, count), np.full(self.surfaces_count + 3, INTENSITY in parameters)])
+        spots = np.repeat(self.spot_mask & (POSITION in parameters), 4) if self.spots else np.zeros(0, bool)
+        return np.concatenate([np.tile(columns, count), spots, np.full(self.surfaces_count + 3, INTENSITY in parameters)])
 
     def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         low = np.concatenate([self.lower / POSITION_UNIT, np.zeros(3), [0.0]])
         high = np.concatenate([self.upper / POSITION_UNIT, np.ones(3), [MAX_INTENSITY / INTENSITY_UNIT]])
         surfaces = self.surfaces_count
-        return (np.concatenate([np.tile(low, count), np.zeros(surfaces), np.zeros(3)]),
-                np.concatenate([np.tile(high, count), np.full(surfaces, MAX_SURFACE_VALUE / SURFACE_UNIT),
+        spot = self.spot_mask[:, None] if self.spots else np.zeros((0, 1), bool)
+        spot_low = np.where(spot, [-1.0, -1.0, -1.0, SPOT_MIN_CONE], 0.0).ravel()  # point lights: held at 0
+        spot_high = np.where(spot, [1.0, 1.0, 1.0, SPOT_MAX_CONE], 0.0).ravel()
+        return (np.concatenate([np.tile(low, count), spot_low, np.zeros(surfaces), np.zeros(3)]),
+                np.concatenate([np.tile(high, count), spot_high, np.full(surfaces, MAX_SURFACE_VALUE / SURFACE_UNIT),
                                 np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
 
     # ---------------------------------------------------------------------- objective
@@ -199,7 +236,15 @@ class Fitter:
         safe = np.where(distance > 0, distance, 1.0)[:, None]
         rows[:, 0:3] += (-2.0 * CLEARANCE_WEIGHT * short / CLEARANCE)[:, None] * away / safe * POSITION_UNIT
         self.evaluations += 1
-        return fit.value, penalty, np.concatenate([rows.ravel(), fit.surface_values * SURFACE_UNIT,
+        spots = np.zeros((0, 4))
+        if self.spots:  # N = u / |u|: dL/du = (dL/dN - N (N . dL/dN)) / |u|
+            u = self._spot_rows(x)[:, 0:3]
+            length = np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
+            axis = u / length
+            d_axis = fit.spot_directions
+            d_u = (d_axis - axis * np.einsum("jk,jk->j", axis, d_axis)[:, None]) / length
+            spots = np.concatenate([d_u, fit.radius_by_dist[:, None]], axis=1)
+        return fit.value, penalty, np.concatenate([rows.ravel(), spots.ravel(), fit.surface_values * SURFACE_UNIT,
                                                    fit.ambient * AMBIENT_UNIT])
 
     def _record(self, phase: int, algorithm: str, value: float, penalty: float) -> None:
@@ -216,6 +261,9 @@ class Fitter:
         if blocked.any():
             x = x.copy()
             self._rows(x)[blocked, 0:3] = anchor[blocked]
+        if self.spots:  # the axes back to unit length, so u stays well inside its box
+            x = x.copy()
+            self._spot_rows(x)[:, 0:3] = _unit_rows(self._spot_rows(x)[:, 0:3])
         visible = self.model.visibility(self._unpack(x))
         self._keep_best(x, visible)
         return x, visible
@@ -230,6 +278,9 @@ class Fitter:
 
     def fit(self, lights: Lights, phases: tuple[Phase, ...]) -> FitResult:
         self.budget = sum(p.iterations for p in phases)
+        self.count = lights.count
+        self.spot_mask = lights.cones()[1] > 0
+        self.spots = bool(self.spot_mask.any())
         x = self._pack(lights)
         self._best = None
         value, penalty = self._keep_best(x, self.model.visibility(lights))
@@ -304,3 +355,9 @@ class Fitter:
             if result.nit < limit:  # converged for this visibility: the phase is done
                 break
         return x
+
+
+def _unit_rows(u: np.ndarray) -> np.ndarray:
+    """Rows scaled to unit length (a zero row stays zero)."""
+    length = np.linalg.norm(u, axis=1, keepdims=True)
+    return np.divide(u, length, out=np.zeros_like(u), where=length > 0)

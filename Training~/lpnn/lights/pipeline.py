@@ -94,14 +94,21 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
 
 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
-              refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None) -> FitResult:
+              refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
+              spots: bool = False) -> FitResult:
+    """With `spots`, every cell centre starts both a point light and a q3map2 spotlight (pointing down), the
+    spotlights' axes and cones fitted too (lights.md §4)."""
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
     start = initial_grid(scene.bounds[0], scene.bounds[1], grid, scene.is_open)
     if len(start) == 0:
         raise ValueError(f"{scene.level.name}: no cell centre of the {'x'.join(map(str, grid))} grid is in open "
                          f"space; use a finer --grid")
-    lights = initial_intensity(scene.model, start)
+    flags = None
+    if spots:
+        flags = np.repeat([False, True], len(start))
+        start = np.concatenate([start, start])
+    lights = initial_intensity(scene.model, start, spots=flags)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress)
     return fitter.fit(lights, SCHEMES[scheme])
@@ -121,9 +128,14 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             light = scene.surface_emitters.shaders[shader]
             surfaces.append(SurfaceLight(shader=scene.level.bsp.shader_name(shader), value=float(value),
                                          colour=light.colour.copy()))
+    axes, cones = lights.cones()
+    spot = {}
+    if np.any(cones > 0):  # spotlights (fit_scene(spots=True)): unit axes in Unity axes, radiusByDist (0: a point)
+        spot = dict(spot_directions=quake_to_unity(axes[lit], scale=1.0), radius_by_dist=cones[lit].copy())
+        info["spots"] = True
     return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit], ambient=lights.ambient,
                           level=scene.level.name, bsp_sha256=scene.level.sha256, scheme=scheme,
-                          objective=float(result.objective), extra=info, surfaces=surfaces)
+                          objective=float(result.objective), extra=info, surfaces=surfaces, **spot)
 
 
 def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> Emitters:

@@ -57,6 +57,25 @@ def test_recover_with_surface_lights(lit_bsp: Path, tmp_path: Path, capsys: pyte
     assert "surface lights recovered" in capsys.readouterr().out
 
 
+def test_recover_spotlights(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--spots: a point light and a spotlight start at every cell centre; the spots are written with a unit direction
+    (Unity axes) and a cone in the fit's bounds."""
+    out = tmp_path / "rig.json"
+    assert main(["scene", "lights", str(lit_bsp), "--grid", "2x2x2", "--scheme", "quick", "--no-textures",
+                 "--spots", "--out", str(out), "--quiet"]) == 0
+    document = json.loads(out.read_text())
+    assert document["info"]["spots"] is True and document["info"]["initial_lights"] % 2 == 0
+    spots = [light for light in document["lights"] if light["type"] == "spot"]
+    assert spots
+    for light in spots:
+        assert np.linalg.norm(light["direction"]) == pytest.approx(1.0, abs=1e-5)
+        assert 0.05 <= light["radius_by_dist"] <= 4.0
+    rig = read_rig(out)
+    assert rig.spot.sum() == len(spots)
+    assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
+    assert "light grid re-lit from the rig vs stored" in capsys.readouterr().out
+
+
 def test_level_without_lightmaps_is_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "dark.bsp"
     path.write_bytes(make_level().to_bytes())
