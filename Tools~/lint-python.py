@@ -8,8 +8,10 @@ Layers (Documentation~/training.md "Package layout"): each subpackage of `lpnn` 
 layers listed before it, never one after it, and TensorFlow (with keras and tf2onnx) only inside
 `lpnn.train`. Ruff's banned-api rule (TID251) enforces both, relative imports included: this script
 runs it once per layer with that layer's banned modules, so the order below is the one place the
-rule is written. Within a layer, modules may not import each other in a cycle (imports inside functions
-included): the shared piece belongs in a module both import. The cycle check reads the imports with `ast`.
+rule is written. A layer may be split further (SUBLAYERS): its subpackages, lowest first, may import only the ones
+before them (a nested subpackage listed before its parent may import none of the parent's other modules). Within a
+layer, modules may not import each other in a cycle (imports inside functions included): the shared piece belongs in
+a module both import. The cycle check reads the imports with `ast`.
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ TRAINING = Path(__file__).resolve().parent.parent / "Training~"
 
 # Lowest first. `lpnn/errors.py` sits below them all (a leaf: it imports nothing of the package).
 LAYERS = ("core", "scenes", "quality", "lights", "train", "recipe", "demo", "cli")
+# Within a layer, lowest first (paths under lpnn/LAYER, dotted): Documentation~/training.md "The Python package".
+SUBLAYERS = {"quality": ("metric", "placement.decimation", "placement", "bench")}
 TENSORFLOW = ("tensorflow", "keras", "tf2onnx")
 TENSORFLOW_LAYER = "train"
 
@@ -40,6 +44,40 @@ def banned_modules(layer: str | None) -> dict[str, str]:
         banned.update({module: f"TensorFlow is imported only inside lpnn.{TENSORFLOW_LAYER}; call its functions instead"
                        for module in TENSORFLOW})
     return banned
+
+
+def banned_sublayer_modules(package: Path, layer: str, sublayer: str) -> dict[str, str]:
+    """Module -> reason, for the files of lpnn.LAYER.SUBLAYER: the sublayers after it, and for a parent listed after
+    it (`placement` after `placement.decimation`) the parent's other modules and subpackages."""
+    order = SUBLAYERS[layer]
+    rule = f"sublayers of lpnn.{layer}, lowest first: {', '.join(order)}; Tools~/lint-python.py"
+    banned = {}
+    for upper in order[order.index(sublayer) + 1:]:
+        if not sublayer.startswith(upper + "."):
+            banned[f"lpnn.{layer}.{upper}"] = f"lpnn.{layer}.{sublayer} must not import lpnn.{layer}.{upper} ({rule})"
+            continue
+        folder = package / layer / upper.replace(".", "/")
+        own = sublayer[len(upper) + 1:].split(".")[0]
+        for child in sorted(folder.iterdir()):
+            name = child.stem if child.suffix == ".py" else child.name
+            if name in ("__init__", own) or not (child.suffix == ".py" or (child / "__init__.py").exists()):
+                continue
+            banned[f"lpnn.{layer}.{upper}.{name}"] = (f"lpnn.{layer}.{sublayer} must not import lpnn.{layer}.{upper}'s "
+                                                      f"other modules ({rule})")
+    return banned
+
+
+def unlisted_sublayers(package: Path) -> list[str]:
+    """Subpackages (dotted, any depth) of a layer with SUBLAYERS that are neither listed nor a listed one's parent."""
+    unlisted = []
+    for layer, order in SUBLAYERS.items():
+        folder = package / layer
+        allowed = {".".join(s.split(".")[:i]) for s in order for i in range(1, s.count(".") + 2)}
+        for init in sorted(folder.rglob("__init__.py")) if folder.is_dir() else []:
+            name = ".".join(init.parent.relative_to(folder).parts)
+            if name and name not in allowed:
+                unlisted.append(f"{layer}.{name}")
+    return unlisted
 
 
 def module_imports(package: Path) -> dict[str, set[str]]:
@@ -118,6 +156,15 @@ def main(argv: list[str] | None = None) -> int:
             continue
         failed |= ruff(root, paths, "--quiet", "--select", "TID251", "--config",
                        f"lint.flake8-tidy-imports.banned-api = {{{table}}}") != 0
+    for layer, order in SUBLAYERS.items():
+        for sublayer in order:
+            folder = package / layer / sublayer.replace(".", "/")
+            if not folder.is_dir():
+                continue
+            table = ", ".join(f"{json.dumps(module)}.msg = {json.dumps(reason)}"
+                              for module, reason in banned_sublayer_modules(package, layer, sublayer).items())
+            failed |= ruff(root, [folder], "--quiet", "--select", "TID251", "--config",
+                           f"lint.flake8-tidy-imports.banned-api = {{{table}}}") != 0
     for cycle in import_cycles(module_imports(package)):
         print(f"lint-python: modules import each other in a cycle: {', '.join(cycle)} "
               "(move what they share into a module both import)")
@@ -126,6 +173,10 @@ def main(argv: list[str] | None = None) -> int:
     unlisted = sorted(set(present) - set(LAYERS))
     if unlisted:
         print(f"lint-python: subpackages {unlisted} have no layer: add them to LAYERS in Tools~/lint-python.py")
+        failed = True
+    unlisted_inner = unlisted_sublayers(package)
+    if unlisted_inner:
+        print(f"lint-python: subpackages {unlisted_inner} have no sublayer: add them to SUBLAYERS in Tools~/lint-python.py")
         failed = True
     return 1 if failed else 0
 

@@ -23,13 +23,13 @@ import sys
 from pathlib import Path
 
 METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
-# Every method of `lpnn bench` (Training~/lpnn/quality/bench.py BENCH_METHODS), the default first, then the network's
+# Every method of `lpnn bench` (Training~/lpnn/quality/placement/policy_rules.py BENCH_METHODS), the default first, then the network's
 # refined tiers, the rankings, the baselines and the yardsticks.
 METHOD_ORDER = ("insertion-refined", "lpnn-batched", "lpnn-refine", "lpnn-guided", "insertion", "lpnn", "lpnn-topk",
                 "heuristic", "apv", "uniform", "random", "fast-reference", "blockwise-reference", "faithful-reference")
 LPNN_TIERS = ("lpnn-batched", "lpnn-refine", "lpnn-guided", "lpnn", "lpnn-topk")
 YARDSTICKS = ("fast-reference", "blockwise-reference")
-# lpnn bench's defaults (quality/policy_rules.py, quality/insertion.py): the reasons a method has no rows.
+# lpnn bench's defaults (quality/placement/policy_rules.py, quality/placement/insertion.py): the reasons a method has no rows.
 REFINE_LIMIT, GUIDED_POINT_LIMIT = 20_000, 32_768
 LABELS = {"insertion-refined": "**insertion-refined** (default)", "fast-reference": "fast reference (exact)",
           "blockwise-reference": "blockwise reference"}

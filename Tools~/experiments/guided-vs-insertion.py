@@ -42,9 +42,9 @@ def main(argv: list[str] | None = None) -> int:
 
     from lpnn.core.capture_file import read_capture
     from lpnn.core.grid import EvaluationGrid
-    from lpnn.quality.insertion import InsertionOrder, guide_weights
-    from lpnn.quality.metric import ReferenceField, placement_error
-    from lpnn.quality.policies import budget_count, place_tolerance
+    from lpnn.quality.placement.insertion import InsertionOrder, guide_weights
+    from lpnn.quality.metric.metric import ReferenceField, placement_error
+    from lpnn.quality.placement.policies import budget_count, place_tolerance
     from lpnn.train.onnx_scoring import OnnxScorer
 
     scorer = OnnxScorer(args.model)

@@ -23,8 +23,8 @@ from lpnn.core.atomic import write_text_atomic
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.in_use_section import in_use_points
 from lpnn.core.lattice_index import IdIndex
-from lpnn.quality.metric import ReferenceField, point_errors
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.metric.metric import ReferenceField, point_errors
+from lpnn.quality.placement.refined_insertion import refined_insertion
 from lpnn.scenes.defaults import DEFAULT_CELL
 from lpnn.scenes.importer import import_level
 

@@ -35,10 +35,10 @@ import numpy as np
 from lpnn.core.capture import Capture
 from lpnn.core.features import Raycaster
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.leak_aware import leak_repaired
-from lpnn.quality.leaks import leak_report, near_surface_mask
-from lpnn.quality.metric import ReferenceField, mean_placement_error
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.placement.leak_aware import leak_repaired
+from lpnn.quality.metric.leaks import leak_report, near_surface_mask
+from lpnn.quality.metric.metric import ReferenceField, mean_placement_error
+from lpnn.quality.placement.refined_insertion import refined_insertion
 from lpnn.recipe.config import RecipeConfig
 from lpnn.recipe.levels import split_levels
 

@@ -21,9 +21,9 @@ import numpy as np
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.capture_file import read_capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.pins import pin_probes
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.pins import pin_probes
+from lpnn.quality.placement.refined_insertion import refined_insertion
 
 COLUMNS = ("capture", "points", "pins", "pinned", "blocked", "probes", "new_probes", "mean_error", "seconds")
 TOLERANCE = 0.05

@@ -43,10 +43,10 @@ def _fastest(function, repeats: int):
 
 def measure(path: Path, scorer, factors: list[float], budgets: list[float], repeats: int) -> list[dict]:
     from lpnn.core.capture_file import read_capture
-    from lpnn.quality.lpnn_placement import lpnn_placement
-    from lpnn.quality.metric import ReferenceField, guarded_ratio, mean_placement_error
-    from lpnn.quality.policies import budget_count, reference_count, reference_tolerance
-    from lpnn.quality.reference_fast import fast_decimation
+    from lpnn.quality.placement.lpnn_placement import lpnn_placement
+    from lpnn.quality.metric.metric import ReferenceField, guarded_ratio, mean_placement_error
+    from lpnn.quality.placement.policies import budget_count, reference_count, reference_tolerance
+    from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
     capture = read_capture(path)
     field = ReferenceField.from_capture(capture)
@@ -75,7 +75,7 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
 
 
 def table(rows: list[dict], factors: list[float], budgets: list[float]) -> str:
-    from lpnn.quality.metric import guarded_ratio
+    from lpnn.quality.metric.metric import guarded_ratio
     from lpnn.recipe.evaluation import geometric_mean
 
     ratios, fractions = defaultdict(list), defaultdict(list)

@@ -53,7 +53,7 @@ def density_oracle(positions: np.ndarray, rank: np.ndarray, cell: float) -> np.n
     at that budget) / budget; a floor of half a point in a 3 x 3 x 3 block keeps empty neighbourhoods finite."""
     from scipy.spatial import cKDTree
 
-    from lpnn.quality.policies import budget_count
+    from lpnn.quality.placement.policies import budget_count
 
     tree = cKDTree(positions)
     n = rank.shape[0]
@@ -73,10 +73,10 @@ def crop_ratios(task: tuple[str, str | None]) -> dict[str, list[float]]:
     from lpnn.core.capture_file import read_capture
     from lpnn.core.grid import EvaluationGrid
     from lpnn.core.spread import spread_ranking
-    from lpnn.quality.insertion import guide_weights, insertion_ranking
-    from lpnn.quality.metric import ReferenceField, placement_error
-    from lpnn.quality.policies import budget_count, place_tolerance, prefix_selection, reference_tolerance
-    from lpnn.quality.reference_fast import fast_decimation
+    from lpnn.quality.placement.insertion import guide_weights, insertion_ranking
+    from lpnn.quality.metric.metric import ReferenceField, placement_error
+    from lpnn.quality.placement.policies import budget_count, place_tolerance, prefix_selection, reference_tolerance
+    from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
     path, model = task
     capture = read_capture(path)

@@ -1,7 +1,7 @@
 """Writes Tests/Data/batched_refinement_golden.json (Tests/Data/README.md; contract: Documentation~/quality.md §5.3).
 
 Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The results come from the Python reference
-(lpnn.quality.batched_refinement); the C# port (BatchedRefinement) is an independent implementation that must agree:
+(lpnn.quality.placement.batched_refinement); the C# port (BatchedRefinement) is an independent implementation that must agree:
 its own tetrahedraliser in the tests (Bowyer-Watson, Tests/Core/Support), point location, hull projection, independent
 set, sorting and summation. Agreement is only meaningful where the answer is unique, so this script CERTIFIES every
 probe set a case evaluates (each round's set, its trial set and the set after the commit) with exact integer
@@ -22,8 +22,9 @@ from typing import Any
 import numpy as np
 
 from lpnn.core.atomic import write_text_atomic
-from lpnn.quality.batched_refinement import COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION, batched_refinement
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.placement.batched_refinement import (COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION,
+                                                       batched_refinement)
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 from make_insertion_golden import (MARGIN, _field, certify_cells, certify_delaunay, enclosed_points, exact,
                                    first_certified, separated)

@@ -1,7 +1,7 @@
 """Writes Tests/Data/insertion_golden.json (Tests/Data/README.md; contract: Documentation~/quality.md §5).
 
 Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The rankings come from the Python
-reference (lpnn.quality.insertion); the C# port (InsertionRanking) is an independent implementation that must
+reference (lpnn.quality.placement.insertion); the C# port (InsertionRanking) is an independent implementation that must
 agree: its own tetrahedraliser in the tests (Bowyer-Watson, Tests/Core/Support), its own point location (bucket
 grid), hull projection (BVH) and ordering code. Agreement is only meaningful where the answer is unique, so this
 script CERTIFIES each case with exact integer arithmetic before writing it (else it tries the next seed):
@@ -36,10 +36,10 @@ import numpy as np
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import (EXACT, INSERTION_GROWTH, TIE, guide_weights, insertion_batch, insertion_ranking,
-                                    insertion_start, typical_tetrahedron)
-from lpnn.quality.metric import POINT_ERRORS, ReferenceField, probe_stencil
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.placement.insertion import (EXACT, INSERTION_GROWTH, TIE, guide_weights, insertion_batch,
+                                              insertion_ranking, insertion_start, typical_tetrahedron)
+from lpnn.quality.metric.metric import POINT_ERRORS, ReferenceField, probe_stencil
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 # quality.md §5.1 step 1's directions, written out here rather than imported (the checks above use them independently).
 DIRECTIONS = [(a, b, c) for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]

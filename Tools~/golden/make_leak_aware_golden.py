@@ -2,7 +2,7 @@
 default", quality.md §5.3).
 
 Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The probe sets come from the Python reference
-(lpnn.quality.refined_insertion with leaks=, lpnn.quality.leak_aware); the C# port (RefinedSelection with a
+(lpnn.quality.placement.refined_insertion with leaks=, lpnn.quality.placement.leak_aware); the C# port (RefinedSelection with a
 LeakWeighting, LeakRepair, BatchedRefinement) is an independent implementation that must keep the same points with its
 own tetrahedraliser in the tests (Bowyer-Watson), location, hull projection, segment casts and sorting.
 
@@ -32,12 +32,12 @@ import numpy as np
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.atomic import write_text_atomic
-from lpnn.quality.insertion import InsertionOrder
-from lpnn.quality.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
-from lpnn.quality.leaks import leaking_points
-from lpnn.quality.policies import budget_count
-from lpnn.quality.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
+from lpnn.quality.metric.leaks import leaking_points
+from lpnn.quality.placement.policies import budget_count
+from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 from make_insertion_golden import CELL, _field, certify_delaunay, exact, grid_order
 

@@ -2,7 +2,7 @@
 
 Run through Tools~/regenerate-golden.sh (deliberately; review the diff). The numbers come from the
 Python reference implementation: lpnn.core.spread (selection.md "Spread ranking") and
-lpnn.quality.metric / lpnn.quality.policies (quality.md §1, §2, §4). The C# port must reproduce them.
+lpnn.quality.metric.metric / lpnn.quality.placement.policies (quality.md §1, §2, §4). The C# port must reproduce them.
 
     PYTHONPATH=Training~ python Tools~/golden/make_quality_golden.py Tests/Data
 """
@@ -23,9 +23,9 @@ from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
-from lpnn.quality.metric import METRIC_EPSILON, ReferenceField, placement_error, point_errors, probe_stencil
-from lpnn.quality.policies import place_tolerance, prefix_selection
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.metric.metric import METRIC_EPSILON, ReferenceField, placement_error, point_errors, probe_stencil
+from lpnn.quality.placement.policies import place_tolerance, prefix_selection
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 SEED = 20261122
 

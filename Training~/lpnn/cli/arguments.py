@@ -1,7 +1,7 @@
 """Command-line argument types shared by `lpnn label`, `lpnn place` and `lpnn bench`.
 
 Light on purpose (argparse and math only): the commands register their options at `lpnn --help`
-time, before any heavy import. The rules themselves are `quality/policy_rules.py`'s.
+time, before any heavy import. The rules themselves are `quality/placement/policy_rules.py`'s.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..quality.policy_rules import DEFAULT_TOLERANCE, budget_problem, tolerance_problem
+from ..quality.placement.policy_rules import DEFAULT_TOLERANCE, budget_problem, tolerance_problem
 
 
 def _number(text: str, example: str) -> float:
@@ -91,4 +91,4 @@ def engine_and_inner_workers(args: argparse.Namespace, items: int) -> tuple[int,
     return args.workers, 1
 
 
-FAST_REFERENCE_REPLICAS = 2  # the most processes one fast reference uses (quality/removal_costs.py)
+FAST_REFERENCE_REPLICAS = 2  # the most processes one fast reference uses (quality/placement/decimation/removal_costs.py)

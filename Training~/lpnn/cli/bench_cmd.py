@@ -35,8 +35,8 @@ from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.policy_rules import (BENCH_METHODS, DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT,
-                                        REFINE_BENCH_LIMIT)
+    from ..quality.placement.policy_rules import (BENCH_METHODS, DEFAULT_BUDGETS, DEFAULT_TOLERANCE,
+                                                  FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT)
     from .arguments import add_engine_arguments, fractions, refine_factor, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
@@ -78,9 +78,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..core.capture_file import dataset_files
     from ..core.engine import Engine
-    from ..quality.bench import BenchConfig, BenchFailure, CaptureResult, failure_reason
+    from ..quality.bench.results import BenchConfig, BenchFailure, CaptureResult, failure_reason
     from .arguments import engine_and_inner_workers
-    from ..quality.plots import error_plot, time_plot
+    from ..quality.bench.plots import error_plot, time_plot
     from ..errors import UserError
 
     if args.repeats < 1 or args.reference_repeats < 1:
@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
 
 def method_names(text: str) -> frozenset[str]:
     """argparse type: comma-separated names of `lpnn bench` methods."""
-    from ..quality.policy_rules import BENCH_METHODS
+    from ..quality.placement.policy_rules import BENCH_METHODS
 
     names = [name.strip() for name in text.split(",") if name.strip()]
     unknown = [name for name in names if name not in BENCH_METHODS]
@@ -165,7 +165,7 @@ class BenchTask:
 def bench_one(task: BenchTask) -> Any:
     """In a worker: every method on one capture (a CaptureResult)."""
     from ..core.capture_file import read_capture
-    from ..quality.bench import bench_capture
+    from ..quality.bench.run import bench_capture
     from ..scenes.capture_geometry import capture_raycaster
     from .errors import user_errors
 
@@ -221,7 +221,7 @@ def _print_result(result: Any) -> None:
 
 def _write_results(out: Path, rows: list, failures: list) -> None:
     from ..core.atomic import write_text_atomic
-    from ..quality.bench import failures_csv, rows_csv
+    from ..quality.bench.results import failures_csv, rows_csv
 
     write_text_atomic(out / "bench.csv", rows_csv(rows))
     if failures:

@@ -20,7 +20,7 @@ from pathlib import Path
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..core import in_use_defaults as in_use
     from ..demo import DEMO_LEVEL
-    from ..quality.policy_rules import DEFAULT_TOLERANCE
+    from ..quality.placement.policy_rules import DEFAULT_TOLERANCE
     from .arguments import tolerance
 
     parser = subparsers.add_parser("demo", help="place probes on a held-out level and compare (the README's main job)",

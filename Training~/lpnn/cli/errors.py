@@ -7,9 +7,9 @@ from typing import Iterator
 
 from ..core.selection import SelectionError
 from ..errors import UserError
-from ..quality.metric import MetricError
-from ..quality.policies import PolicyError
-from ..quality.triangulation import GeometryError
+from ..quality.metric.metric import MetricError
+from ..quality.placement.policies import PolicyError
+from ..quality.metric.triangulation import GeometryError
 
 
 @contextlib.contextmanager

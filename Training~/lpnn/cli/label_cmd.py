@@ -22,7 +22,7 @@ from pathlib import Path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.policy_rules import REFERENCE_METHODS
+    from ..quality.placement.policy_rules import REFERENCE_METHODS
     from .arguments import add_engine_arguments, add_policy_arguments
 
     parser = subparsers.add_parser("label", help="label captures with an error-driven reference placement",
@@ -43,9 +43,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..core.capture_file import dataset_files
     from ..core.engine import Engine
-    from ..quality.bench import failure_reason
+    from ..quality.bench.results import failure_reason
     from .arguments import engine_and_inner_workers
-    from ..quality.policies import reference_label_source
+    from ..quality.placement.policies import reference_label_source
     from ..errors import UserError
 
     files = dataset_files(args.captures)
@@ -108,10 +108,10 @@ def _label_capture(path: Path, options: LabelOptions) -> str:
     from ..core.atomic import write_new_atomic
     from ..core.capture_encoder import encode_capture
     from ..core.capture_file import read_capture, write_capture
-    from ..quality.reference import run_reference
+    from ..quality.placement.reference import run_reference
     from .progress import progress_bar
-    from ..quality.metric import ReferenceField
-    from ..quality.policies import budget_count, reference_count, reference_tolerance
+    from ..quality.metric.metric import ReferenceField
+    from ..quality.placement.policies import budget_count, reference_count, reference_tolerance
     from ..errors import UserError
 
     capture = read_capture(path)

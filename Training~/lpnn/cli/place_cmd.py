@@ -42,8 +42,8 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..core.capture import Capture
-    from ..quality.metric import PlacementQuality
-    from ..quality.pins import Pins
+    from ..quality.metric.metric import PlacementQuality
+    from ..quality.placement.pins import Pins
 
 PLACE_METHODS = ("fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random")
 DEFAULT_METHOD = "insertion-refined"  # module text; the Unity volume's default too (Insertion, Refine in batches)
@@ -135,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
             return _place_lpnn(args, candidates, capture.ids, valid)
         pins = None
         if args.keep is not None:
-            from ..quality.pins import pin_probes, read_pins_json
+            from ..quality.placement.pins import pin_probes, read_pins_json
 
             pins = pin_probes(read_pins_json(args.keep, capture.units), candidates.positions, candidates.cell_size,
                               args.keep_distance)
@@ -145,8 +145,8 @@ def run(args: argparse.Namespace) -> int:
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
     """--model / --scores: the LPNN tiers (spread ranking, optional refinement, --topk or --guided). A scores file
     lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
-    from ..quality.insertion import GUIDED_POINT_LIMIT, guide_applies
-    from ..quality.lpnn_placement import lpnn_placement
+    from ..quality.placement.insertion import GUIDED_POINT_LIMIT, guide_applies
+    from ..quality.placement.lpnn_placement import lpnn_placement
     from .progress import rounds_bar
 
     if args.model is not None:
@@ -185,15 +185,15 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
 
 def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None) -> int:
     from ..core.grid import EvaluationGrid
-    from ..quality.apv import apv_ranking
-    from ..quality.baselines import heuristic_ranking, random_ranking, uniform_selector
-    from ..quality.insertion import InsertionOrder
-    from ..quality.leaks import field_with_geometry
-    from ..quality.pins import checked_pinned_count, pinned_selection, pinned_smallest
-    from ..quality.metric import evaluate_placement
-    from ..quality.policies import (budget_count, place_count, place_tolerance, prefix_selection, reference_count,
-                                    reference_tolerance)
-    from ..quality.reference import run_reference
+    from ..quality.placement.apv import apv_ranking
+    from ..quality.placement.baselines import heuristic_ranking, random_ranking, uniform_selector
+    from ..quality.placement.insertion import InsertionOrder
+    from ..quality.metric.leaks import field_with_geometry
+    from ..quality.placement.pins import checked_pinned_count, pinned_selection, pinned_smallest
+    from ..quality.metric.metric import evaluate_placement
+    from ..quality.placement.policies import (budget_count, place_count, place_tolerance, prefix_selection,
+                                              reference_count, reference_tolerance)
+    from ..quality.placement.reference import run_reference
     from .progress import progress_bar, rounds_bar
 
     field = field_with_geometry(capture)  # with the level's surfaces when known: the report names leaks
@@ -215,7 +215,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             select = uniform_selector(grid)
             what = "uniform lattice"
         elif args.method == "insertion-refined":
-            from ..quality.refined_insertion import refined_insertion
+            from ..quality.placement.refined_insertion import refined_insertion
 
             name = Path(args.capture).name
             ranked, close_ranked = rounds_bar(f"{name}: insertion")
@@ -266,7 +266,7 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
     from ..core.in_use_section import capture_rule, in_use_text
     import numpy as np
 
-    from ..quality.probes_file import write_probes_json
+    from ..quality.placement.probes_file import write_probes_json
 
     n = capture.point_count
     policy = f"budget={args.budget:g}" if args.budget is not None else f"tolerance={args.tolerance:g}"

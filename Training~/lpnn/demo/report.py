@@ -10,9 +10,9 @@ import numpy as np
 
 from ..core.atomic import write_text_atomic
 from ..core.in_use_section import capture_rule, in_use_text
-from ..quality.metric import guarded_ratio
-from ..quality.plots import pyplot, save_png
-from ..quality.probes_file import write_probes_json
+from ..quality.metric.metric import guarded_ratio
+from ..quality.bench.plots import pyplot, save_png
+from ..quality.placement.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
 LABELS = {"insertion-refined": "insertion + batched", "lpnn-batched": "LPNN-guided + batched", "lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",

@@ -20,17 +20,17 @@ import numpy as np
 
 from ..core.capture import Capture
 from ..core.grid import EvaluationGrid
-from ..quality.policy_rules import DEFAULT_TOLERANCE
-from ..quality.baselines import heuristic_ranking, uniform_selector
-from ..quality.leaks import field_with_geometry
-from ..quality.insertion import guide_of, insertion_ranking
-from ..quality.decimation import Decimation
-from ..quality.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
-from ..quality.metric import PlacementQuality, ReferenceField, evaluate_placement
-from ..quality.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
-from ..quality.reference_fast import fast_decimation
-from ..quality.refined_insertion import refined_insertion
-from ..quality.warmup import compile_placement_kernels
+from ..quality.placement.policy_rules import DEFAULT_TOLERANCE
+from ..quality.placement.baselines import heuristic_ranking, uniform_selector
+from ..quality.metric.leaks import field_with_geometry
+from ..quality.placement.insertion import guide_of, insertion_ranking
+from ..quality.placement.decimation.decimation import Decimation
+from ..quality.placement.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
+from ..quality.metric.metric import PlacementQuality, ReferenceField, evaluate_placement
+from ..quality.placement.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
+from ..quality.placement.decimation.reference_fast import fast_decimation
+from ..quality.placement.refined_insertion import refined_insertion
+from ..quality.placement.warmup import compile_placement_kernels
 
 Log = Callable[[str], None]
 PRIMARY = "insertion-refined"  # the package's default (Unity: Method = Insertion, Refine in batches): probes.json

@@ -28,7 +28,7 @@ import numpy as np
 from ..core.atomic import write_text_atomic
 from ..core.features import D14, scene_scale
 from ..core.sh import ambient_plus_directed, evaluate, luminance
-from ..quality.metric import irradiance_error
+from ..quality.metric.metric import irradiance_error
 from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.levels import load_level
 from ..scenes.lightgrid import LINEAR_PER_BYTE

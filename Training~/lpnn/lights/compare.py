@@ -21,7 +21,7 @@ bytes (no cosine, contributions of 1 byte or less dropped), combined as q3map2 b
 q3map puts it there (q3map2 sets its grid up before reading the ambient): the levels' stored grids
 hold it (oa_bases3, from its real lights: error 0.90 without, 0.37 with). Both grids are shaded as the engine does,
 a + d max(0, n.l), in the 14 directions D14 and compared with quality.md's relative irradiance
-error (lpnn.quality.metric.irradiance_error; its scene scale S from the stored grid's SH).
+error (lpnn.quality.metric.metric.irradiance_error; its scene scale S from the stored grid's SH).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import numpy as np
 
 from ..core.features import D14, scene_scale
 from ..core.sh import ambient_plus_directed
-from ..quality.metric import irradiance_error
+from ..quality.metric.metric import irradiance_error
 from ..scenes.bsp import Bsp
 from ..scenes.errors import BspError
 from ..scenes.lightgrid import decode_directions

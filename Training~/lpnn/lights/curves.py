@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import write_text_atomic
-from ..quality.plots import pyplot, save_png
+from ..quality.bench.plots import pyplot, save_png
 from .optimise import CurvePoint
 
 COLUMNS = ("phase", "algorithm", "iteration", "evaluations", "objective", "penalty", "seconds", "rays")

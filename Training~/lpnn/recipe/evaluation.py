@@ -1,7 +1,7 @@
 """Held-out evaluation of a recipe model (Documentation~/benchmarks.md "Default model").
 
 For every held-out crop: ROC-AUC and PR-AUC of the scores against the reference labels, and the
-benchmark of `lpnn.quality.bench` (every method at 1/5/10/20/30 % budgets and at a tolerance) with the
+benchmark of `lpnn.quality.bench.run` (every method at 1/5/10/20/30 % budgets and at a tolerance) with the
 reference decimation the labelling stored (not recomputed). Aggregates over crops are geometric means
 of per-crop ratios, so a crop with small errors weighs as much as one with large errors.
 """
@@ -16,10 +16,11 @@ from typing import Any, Callable, Iterable, Sequence
 
 from ..core.capture_file import read_capture
 from ..core.engine import Engine
-from ..quality.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
-from ..quality.bench import BenchConfig, bench_capture
-from ..quality.lpnn_placement import RECOMMENDED_REFINE
-from ..quality.metric import guarded_ratio
+from ..quality.placement.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
+from ..quality.bench.results import BenchConfig
+from ..quality.bench.run import bench_capture
+from ..quality.placement.lpnn_placement import RECOMMENDED_REFINE
+from ..quality.metric.metric import guarded_ratio
 from ..train.metrics import pr_auc, roc_auc
 from .labelling import stored_reference
 

@@ -14,10 +14,10 @@ import time
 import numpy as np
 
 from ..core.capture import Capture
-from ..quality.decimation import MINIMUM_PROBES, Decimation
-from ..quality.metric import PRIMARY_METRIC, ReferenceField
-from ..quality.policies import budget_count, reference_label_source
-from ..quality.reference_fast import fast_decimation
+from ..quality.placement.decimation.decimation import MINIMUM_PROBES, Decimation
+from ..quality.metric.metric import PRIMARY_METRIC, ReferenceField
+from ..quality.placement.policies import budget_count, reference_label_source
+from ..quality.placement.decimation.reference_fast import fast_decimation
 
 RANK_SECTION = "reference_rank"
 ERROR_SECTION = "reference_error"

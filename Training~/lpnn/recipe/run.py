@@ -17,7 +17,7 @@ from ..scenes.bsp import BspError
 from ..scenes.levels import load_pak_member
 from .config import RecipeConfig
 from .crops import crops_of_level
-from ..quality.bench import BenchRow, rows_csv
+from ..quality.bench.results import BenchRow, rows_csv
 from ..train.modelcard import ModelCard, card_path, json_ready
 from .evaluation import evaluate_crops, goal_checks, summarize
 from .labelling import label_source, labelled

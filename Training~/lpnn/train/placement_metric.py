@@ -17,8 +17,8 @@ import numpy as np
 from ..core.grid import EvaluationGrid
 from ..core.selection import rank
 from ..core.spread import spread_ranking
-from ..quality.metric import ReferenceField, placement_error
-from ..quality.policies import budget_count, prefix_selection
+from ..quality.metric.metric import ReferenceField, placement_error
+from ..quality.placement.policies import budget_count, prefix_selection
 from .metrics import CaptureMetric
 
 

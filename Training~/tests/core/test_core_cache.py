@@ -19,7 +19,7 @@ def _run(code: str, env: dict[str, str]) -> subprocess.CompletedProcess:
 def test_numba_caches_in_the_project_cache_folder(tmp_path: Path) -> None:
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env["LPNN_CACHE"] = str(tmp_path)
-    done = _run("from lpnn.quality.hole_wrap import _sorted3; _sorted3(3, 1, 2)", env)
+    done = _run("from lpnn.quality.placement.decimation.hole_wrap import _sorted3; _sorted3(3, 1, 2)", env)
     assert done.returncode == 0, done.stderr
     assert list((tmp_path / "numba").rglob("*hole_wrap._sorted3*.nbi")), "numba wrote no cache into LPNN_CACHE/numba"
 

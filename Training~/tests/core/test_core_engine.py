@@ -18,7 +18,7 @@ LPNN = Path(__file__).resolve().parents[2] / "lpnn"
 # Anything that picks a start method or builds a pool/process by itself instead of through the engine.
 OWN_START = re.compile(r"get_context\(|set_start_method\(|multiprocessing\.(Pool|Process)\(|ProcessPoolExecutor\(")
 # The fast reference's lockstep replica (one process over a pipe, not a fan-out of items): its own spawn context.
-REPLICA = "quality/removal_costs.py"
+REPLICA = "quality/placement/decimation/removal_costs.py"
 
 
 def square_unless_three(value: int) -> int:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from lpnn.quality.policy_rules import DEFAULT_TOLERANCE
+from lpnn.quality.placement.policy_rules import DEFAULT_TOLERANCE
 
 PACKAGE = Path(__file__).resolve().parents[3] / "Packages" / "com.lpnn.probes" / "Runtime"
 

@@ -10,8 +10,9 @@ import numpy as np
 
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.in_use_section import IN_USE_SECTION, capture_rule, in_use_points, in_use_text
-from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture, rows_csv
-from lpnn.quality.metric import ReferenceField, evaluate_placement, point_errors
+from lpnn.quality.bench.results import CSV_COLUMNS, BenchConfig, rows_csv
+from lpnn.quality.bench.run import bench_capture
+from lpnn.quality.metric.metric import ReferenceField, evaluate_placement, point_errors
 
 
 def _room():

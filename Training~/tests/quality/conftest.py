@@ -8,7 +8,7 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.capture_file import write_capture
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.metric.metric import ReferenceField
 
 from quality_support import MEDIUM_ROOM, room_capture
 

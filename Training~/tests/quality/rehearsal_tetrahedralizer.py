@@ -1,6 +1,6 @@
 """The rehearsal's tetrahedraliser (Tests/Core/ApplyRehearsalTests.cs): Python's own, served over stdin/stdout.
 
-A level's lattice is cospherical, so its Delaunay tetrahedralisation is not unique; lpnn.quality.triangulation breaks
+A level's lattice is cospherical, so its Delaunay tetrahedralisation is not unique; lpnn.quality.metric.triangulation breaks
 the ties with a deterministic height per world position, and the C# test stand-in (BowyerWatsonDelaunay) needs points
 in general position and is O(n^2). So the rehearsal asks this process for every tetrahedralisation: each probe set is
 mapped to the capture's points and tetrahedralised exactly as `lpnn place` does (the field's frame, the capture's own
@@ -18,8 +18,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from lpnn.core.capture_file import read_capture
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.triangulation import GeometryError, tetrahedralize
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.metric.triangulation import GeometryError, tetrahedralize
 
 
 def _read_exactly(stream, size: int) -> bytes:

@@ -22,8 +22,8 @@ from lpnn.cli.main import main as lpnn_main
 from lpnn.core.capture_file import write_capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.validity import valid_points, without_invalid
-from lpnn.quality.insertion import insertion_ranking
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.placement.insertion import insertion_ranking
+from lpnn.quality.metric.metric import ReferenceField
 from lpnn.scenes.importer import import_level
 from lpnn.scenes.levels import load_pak_member
 

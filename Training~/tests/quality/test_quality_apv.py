@@ -1,4 +1,4 @@
-"""APV-style geometry-driven density (quality/apv.py)."""
+"""APV-style geometry-driven density (quality/placement/apv.py)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.apv import APV_LEVELS, ApvError, apv_ranking, brick_levels, surface_distance_cells
-from lpnn.quality.baselines import hull_corners
+from lpnn.quality.placement.apv import APV_LEVELS, ApvError, apv_ranking, brick_levels, surface_distance_cells
+from lpnn.quality.placement.baselines import hull_corners
 
 from quality_support import box_grid
 

@@ -7,16 +7,16 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
-from lpnn.quality.metric_kernel import run_rows
-from lpnn.quality.refinement_kernel import attributed_costs, rows_holding, stencil_ids
-from lpnn.quality.batched_state import evaluate, refilled, restore, trial_of, without
-from lpnn.quality.decimation import MINIMUM_PROBES
-from lpnn.quality.insertion import InsertionOrder
-from lpnn.quality.metric import MetricError, ReferenceField, point_errors
-from lpnn.quality.policies import bounded_tolerance, budget_count
-from lpnn.quality.reference_fast import fast_decimation
-from lpnn.quality.triangulation import flatness
+from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.metric.metric_kernel import run_rows
+from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_holding, stencil_ids
+from lpnn.quality.placement.batched_state import evaluate, refilled, restore, trial_of, without
+from lpnn.quality.placement.decimation.decimation import MINIMUM_PROBES
+from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.metric.metric import MetricError, ReferenceField, point_errors
+from lpnn.quality.placement.policies import bounded_tolerance, budget_count
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
+from lpnn.quality.metric.triangulation import flatness
 
 from quality_support import MEDIUM_ROOM, box_grid, linear_sh, room_capture
 

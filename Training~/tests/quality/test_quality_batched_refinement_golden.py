@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.batched_refinement import COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION, batched_refinement
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.placement.batched_refinement import (COUNT_COMMIT_FRACTION, TOLERANCE_COMMIT_FRACTION,
+                                                       batched_refinement)
+from lpnn.quality.metric.metric import ReferenceField
 
 GOLDEN_NAME = "batched_refinement_golden.json"
 

@@ -13,7 +13,8 @@ import pytest
 
 from lpnn.cli.main import main
 from lpnn.core.capture import Capture
-from lpnn.quality.bench import BenchConfig, bench_capture
+from lpnn.quality.bench.results import BenchConfig
+from lpnn.quality.bench.run import bench_capture
 
 CONFIG = BenchConfig(budgets=(0.1, 0.2), tolerance=0.05, repeats=1, faithful_limit=0)
 

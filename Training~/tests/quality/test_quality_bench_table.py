@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from lpnn.quality.bench import BenchRow, rows_csv
+from lpnn.quality.bench.results import BenchRow, rows_csv
 
 SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "experiments" / "bench-table.py"
 METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")

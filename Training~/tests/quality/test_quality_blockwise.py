@@ -1,4 +1,4 @@
-"""Blockwise reference (quality/blockwise.py): the yardstick for volumes too large for the reference."""
+"""Blockwise reference (quality/placement/decimation/blockwise.py): the yardstick for volumes too large for the reference."""
 
 from __future__ import annotations
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from lpnn.core.capture import Capture
-from lpnn.quality import blockwise
-from lpnn.quality.blockwise import blockwise_reference
-from lpnn.quality.metric import ReferenceField, placement_error
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.placement.decimation import blockwise
+from lpnn.quality.placement.decimation.blockwise import blockwise_reference
+from lpnn.quality.metric.metric import ReferenceField, placement_error
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
 
 def test_one_block_is_the_reference_itself(small_captures: dict[int, Capture]) -> None:

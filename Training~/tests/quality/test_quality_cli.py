@@ -14,10 +14,11 @@ from lpnn.cli.main import main
 from lpnn.cli.scores_file import write_scores_csv
 from lpnn.core.capture import Capture
 from lpnn.core.capture_file import read_capture, write_capture
-from lpnn.quality.bench import CSV_COLUMNS, BenchConfig, bench_capture
-from lpnn.quality.lpnn_placement import lpnn_placement
-from lpnn.quality.metric import ReferenceField, placement_error
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.bench.results import CSV_COLUMNS, BenchConfig
+from lpnn.quality.bench.run import bench_capture
+from lpnn.quality.placement.lpnn_placement import lpnn_placement
+from lpnn.quality.metric.metric import ReferenceField, placement_error
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
 
 def test_label_round_trip_into_a_new_folder(capture_files: list[Path], tmp_path: Path,
@@ -199,12 +200,12 @@ def test_bench_goes_on_after_a_failing_capture_keeps_every_result_and_exits_non_
 
 def test_bench_records_a_failing_method_and_keeps_the_others(small_captures: dict[int, Capture],
                                                              monkeypatch: pytest.MonkeyPatch) -> None:
-    import lpnn.quality.bench as bench
+    import lpnn.quality.bench.methods as bench_methods
 
     def broken(*args: object, **kwargs: object) -> np.ndarray:
         raise ValueError("all 4 probes lie in one plane")
 
-    monkeypatch.setattr(bench, "InsertionOrder", broken)
+    monkeypatch.setattr(bench_methods, "InsertionOrder", broken)
     result = bench_capture("room1", small_captures[1], BenchConfig(budgets=(0.2,), repeats=1, faithful_limit=0))
     assert [(f.method, f.reason) for f in result.failures] == [("insertion", "ValueError: all 4 probes lie in one plane")]
     # insertion-refined runs its own insertion order (refined_insertion.py), untouched by the patch.
@@ -282,7 +283,7 @@ def test_above_the_guides_limit_the_guided_rows_are_the_insertion_rows(small_cap
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     """Above GUIDED_POINT_LIMIT guided insertion is plain insertion: the bench reuses the insertion baseline's rows
     (same probes and errors; the time adds the inference) instead of running minutes of rounds again."""
-    from lpnn.quality import insertion
+    from lpnn.quality.placement import insertion
 
     monkeypatch.setattr(insertion, "GUIDED_POINT_LIMIT", 10)
     config = BenchConfig(budgets=(0.1, 0.2), tolerance=0.05, repeats=1, faithful_limit=0)
@@ -353,9 +354,9 @@ def test_above_the_full_reference_limit_the_blockwise_reference_is_the_yardstick
     ranking's prefix) or by its tolerance answer's count; the methods that run the full reference are not run. Its
     finished blocks are kept in the bench's folder (a rerun resumes)."""
     from lpnn.core.grid import EvaluationGrid
-    from lpnn.quality.blockwise import blockwise_reference
-    from lpnn.quality.metric import placement_error
-    from lpnn.quality.policies import prefix_selection
+    from lpnn.quality.placement.decimation.blockwise import blockwise_reference
+    from lpnn.quality.metric.metric import placement_error
+    from lpnn.quality.placement.policies import prefix_selection
 
     config = BenchConfig(budgets=(0.05, 0.2), tolerance=0.05, repeats=1, faithful_limit=0, full_reference_limit=100,
                          checkpoints=str(tmp_path))

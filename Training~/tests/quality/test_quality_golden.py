@@ -15,9 +15,9 @@ from lpnn.core import sh as shmath
 from lpnn.core.features import D14
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
-from lpnn.quality.metric import POINT_ERRORS, ReferenceField, placement_error, point_errors
-from lpnn.quality.policies import place_tolerance, prefix_selection
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.metric.metric import POINT_ERRORS, ReferenceField, placement_error, point_errors
+from lpnn.quality.placement.policies import place_tolerance, prefix_selection
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 GOLDEN_NAME = "placement_error_golden.json"
 

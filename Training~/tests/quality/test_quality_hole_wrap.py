@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality import decimation_state
-from lpnn.quality.decimation_state import DecimationState
-from lpnn.quality.hole_wrap import MAX_LINK, wrap_holes
-from lpnn.quality.metric import PRIMARY_METRIC, ReferenceField, placement_error
-from lpnn.quality.reference_fast import fast_decimation
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.placement.decimation import decimation_state
+from lpnn.quality.placement.decimation.decimation_state import DecimationState
+from lpnn.quality.placement.decimation.hole_wrap import MAX_LINK, wrap_holes
+from lpnn.quality.metric.metric import PRIMARY_METRIC, ReferenceField, placement_error
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 from quality_support import box_grid, linear_sh, room_capture
 

@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, SMALL_HULL_FACES, HullIndex, _is_projection,
-                                         _nearest_among, every_triangle, lowest_owner_at_ties, project_to_hull)
-from lpnn.quality import location
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.metric.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, SMALL_HULL_FACES, HullIndex,
+                                                 _is_projection, _nearest_among, every_triangle, lowest_owner_at_ties,
+                                                 project_to_hull)
+from lpnn.quality.metric import location
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 
 def _safe_ratio(numerator, denominator):

@@ -1,4 +1,4 @@
-"""Error-driven insertion (quality/insertion.py): the non-learned lighting-driven yardstick."""
+"""Error-driven insertion (quality/placement/insertion.py): the non-learned lighting-driven yardstick."""
 
 from __future__ import annotations
 
@@ -6,17 +6,18 @@ import numpy as np
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.baselines import heuristic_ranking, random_ranking, uniform_selector
+from lpnn.quality.placement.baselines import heuristic_ranking, random_ranking, uniform_selector
 import pytest
 
 from lpnn.core import sh as shmath
-from lpnn.quality import insertion
-from lpnn.quality.insertion import (EXACT, EXTREME_DIRECTIONS, TIE, InsertionOrder, extreme_points, guide_weights,
-                                    insertion_batch, insertion_ranking, insertion_start, largest_first, typical_tetrahedron)
-from lpnn.quality.insertion_kernel import first_per_cell
-from lpnn.quality.metric import POINT_ERRORS, MetricError, ReferenceField, placement_error, probe_stencil
-from lpnn.quality.policies import budget_count, place_tolerance, prefix_selection
-from lpnn.quality.triangulation import flatness
+from lpnn.quality.placement import insertion
+from lpnn.quality.placement.insertion import (EXACT, EXTREME_DIRECTIONS, TIE, InsertionOrder, extreme_points,
+                                              guide_weights, insertion_batch, insertion_ranking, insertion_start,
+                                              largest_first, typical_tetrahedron)
+from lpnn.quality.placement.insertion_kernel import first_per_cell
+from lpnn.quality.metric.metric import POINT_ERRORS, MetricError, ReferenceField, placement_error, probe_stencil
+from lpnn.quality.placement.policies import budget_count, place_tolerance, prefix_selection
+from lpnn.quality.metric.triangulation import flatness
 
 from quality_support import MEDIUM_ROOM, room_capture
 
@@ -145,7 +146,7 @@ def test_a_good_guide_beats_plain_insertion() -> None:
     Measured (seeds 3, 4, 5; the start with the extreme points, 2026-11-27): guided 0.0261 / 0.0237 / 0.0298, insertion
     0.0265 / 0.0232 / 0.0316, inverted guide 0.0345 / 0.0268 / 0.0361 (the reference itself: 0.0204 / 0.0176 / 0.0228).
     With the typical tetrahedron alone as the start insertion was 0.0282 / 0.0248 / 0.0351 and the guide gained 9 %."""
-    from lpnn.quality.reference_fast import fast_decimation
+    from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
     ratios = []
     for seed in (3, 4, 5):

@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import (EXACT, guide_weights, insertion_batch, insertion_ranking, insertion_start,
-                                    typical_tetrahedron)
-from lpnn.quality.metric import ReferenceField, probe_stencil
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.placement.insertion import (EXACT, guide_weights, insertion_batch, insertion_ranking, insertion_start,
+                                              typical_tetrahedron)
+from lpnn.quality.metric.metric import ReferenceField, probe_stencil
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 GOLDEN_NAME = "insertion_golden.json"
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from lpnn.core import sh as shmath
-from lpnn.quality.interpolation import interpolate_sh, stencil_for
-from lpnn.quality.location import barycentric
-from lpnn.quality.triangulation import Frame, GeometryError, tetrahedralize
+from lpnn.quality.metric.interpolation import interpolate_sh, stencil_for
+from lpnn.quality.metric.location import barycentric
+from lpnn.quality.metric.triangulation import Frame, GeometryError, tetrahedralize
 
 from quality_support import box_grid, linear_sh
 

@@ -10,12 +10,12 @@ from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.grid_box import Box
 from lpnn.core.grid_builder import build_grid
-from lpnn.quality.batched_refinement import batched_refinement, greedy_independent_set
-from lpnn.quality.batched_state import evaluate, trial_of, without
-from lpnn.quality.leak_aware import LeakWeighting, leak_repaired
-from lpnn.quality.leaks import leaking_points
-from lpnn.quality.metric import MetricError, ReferenceField, mean_placement_error, point_errors
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.placement.batched_state import evaluate, trial_of, without
+from lpnn.quality.placement.leak_aware import LeakWeighting, leak_repaired
+from lpnn.quality.metric.leaks import leaking_points
+from lpnn.quality.metric.metric import MetricError, ReferenceField, mean_placement_error, point_errors
+from lpnn.quality.placement.refined_insertion import refined_insertion
 
 TOLERANCE = 0.05
 # Lattice x = -4, -3.5, ..., 4 (cell 0.5): the wall lies between x = 0 and x = 0.5, so no point is inside it.

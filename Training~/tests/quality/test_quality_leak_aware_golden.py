@@ -12,12 +12,12 @@ import pytest
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.insertion import InsertionOrder
-from lpnn.quality.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
-from lpnn.quality.leaks import leaking_points
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.policies import budget_count
-from lpnn.quality.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
+from lpnn.quality.metric.leaks import leaking_points
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.policies import budget_count
+from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
 
 GOLDEN_NAME = "leak_aware_golden.json"
 

@@ -9,9 +9,9 @@ import pytest
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.segments import segments_free
-from lpnn.quality.leak_rule import LEAK_MIN_WEIGHT, stencil_leaks
-from lpnn.quality.leaks import leak_report, leaking_points, near_surface_mask
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.metric.leak_rule import LEAK_MIN_WEIGHT, stencil_leaks
+from lpnn.quality.metric.leaks import leak_report, leaking_points, near_surface_mask
+from lpnn.quality.metric.metric import ReferenceField
 
 from quality_support import box_grid, linear_sh
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.segments import segments_free
-from lpnn.quality.leak_rule import LEAK_MIN_WEIGHT, stencil_leaks
+from lpnn.quality.metric.leak_rule import LEAK_MIN_WEIGHT, stencil_leaks
 
 GOLDEN = Path(__file__).resolve().parents[3] / "Tests" / "Data" / "leaks_golden.json"
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from lpnn.core.analytic_scene import AnalyticScene
-from lpnn.quality.leaks import leak_report, near_surface_mask
-from lpnn.quality.metric import ReferenceField
+from lpnn.quality.metric.leaks import leak_report, near_surface_mask
+from lpnn.quality.metric.metric import ReferenceField
 from lpnn.scenes.capture_geometry import capture_raycaster
 from lpnn.scenes.importer import import_level
 from lpnn.scenes.levels import load_pak_member

@@ -11,7 +11,7 @@ from lpnn.cli.main import main
 
 def test_too_many_candidates_for_the_fast_reference_is_a_user_error(
         capture_files: list[Path], monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    import lpnn.quality.decimation_mesh as decimation_mesh
+    import lpnn.quality.placement.decimation.decimation_mesh as decimation_mesh
 
     monkeypatch.setattr(decimation_mesh, "VERTEX_KEY_BITS", 4)  # the real limit, 2^21 points, scaled down
     assert main(["label", str(capture_files[0]), "--budget", "0.2", "--method", "fast", "--in-place", "--quiet"]) == 1

@@ -12,13 +12,14 @@ from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.selection import ensure_tetrahedron, rank
 from lpnn.core.spread import spread_ranking
-from lpnn.quality.batched_refinement import batched_refinement
-from lpnn.quality.insertion import InsertionOrder, guide_weights, insertion_ranking
-from lpnn.quality.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
-from lpnn.quality.metric import MetricError, ReferenceField, placement_error
-from lpnn.quality.refined_insertion import refined_insertion
-from lpnn.quality.policies import PolicyError, bounded_tolerance, budget_count, place_tolerance, prefix_selection
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.placement.batched_refinement import batched_refinement
+from lpnn.quality.placement.insertion import InsertionOrder, guide_weights, insertion_ranking
+from lpnn.quality.placement.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
+from lpnn.quality.metric.metric import MetricError, ReferenceField, placement_error
+from lpnn.quality.placement.refined_insertion import refined_insertion
+from lpnn.quality.placement.policies import (PolicyError, bounded_tolerance, budget_count, place_tolerance,
+                                             prefix_selection)
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.train.placement_metric import PLACEMENT_ERROR_20, PLACEMENT_ERROR_TOPK_20
 
 
@@ -262,7 +263,7 @@ def test_above_the_guided_point_limit_the_guided_tier_is_plain_insertion(medium_
                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
     """quality.md §5.2: the network's guide is used on volumes of at most GUIDED_POINT_LIMIT points (32,768), plain
     insertion above. Shown with the limit lowered to just below and at this room's point count."""
-    import lpnn.quality.insertion as insertion
+    import lpnn.quality.placement.insertion as insertion
 
     field = ReferenceField.from_capture(medium_capture)
     grid = _grid(medium_capture)

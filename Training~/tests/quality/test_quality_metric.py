@@ -7,8 +7,8 @@ import pytest
 
 from lpnn.core import sh as shmath
 from lpnn.core.capture import Capture
-from lpnn.quality.metric import (LIGHT_VALUES, METRIC_EPSILON, MetricError, ReferenceField, evaluate_placement,
-                                 irradiance_error, placement_error, point_errors, smape_error)
+from lpnn.quality.metric.metric import (LIGHT_VALUES, METRIC_EPSILON, MetricError, ReferenceField, evaluate_placement,
+                                        irradiance_error, placement_error, point_errors, smape_error)
 
 from quality_support import box_grid, linear_sh
 

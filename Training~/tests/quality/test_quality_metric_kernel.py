@@ -12,12 +12,12 @@ from lpnn.core import sh as shmath
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import spread_ranking
-from lpnn.quality import location
-from lpnn.quality.hull_projection import project_to_hull
-from lpnn.quality.metric_kernel import PARALLEL_ROWS, chunk_count
-from lpnn.quality.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil, stencil_point_errors
-from lpnn.quality.policies import prefix_selection
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.metric import location
+from lpnn.quality.metric.hull_projection import project_to_hull
+from lpnn.quality.metric.metric_kernel import PARALLEL_ROWS, chunk_count
+from lpnn.quality.metric.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil, stencil_point_errors
+from lpnn.quality.placement.policies import prefix_selection
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 
 def _numpy_tie_rule(tri, query, cell):

@@ -1,4 +1,4 @@
-"""Pinned probes (quality/pins.py, Documentation~/pins.md): snapping, blocking, validation, and every method keeping
+"""Pinned probes (quality/placement/pins.py, Documentation~/pins.md): snapping, blocking, validation, and every method keeping
 them."""
 
 from __future__ import annotations
@@ -10,12 +10,12 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.baselines import random_ranking
-from lpnn.quality.insertion import InsertionOrder, insertion_ranking
-from lpnn.quality.metric import ReferenceField, mean_placement_error
-from lpnn.quality.pins import PinError, pin_probes, pinned_selection, read_pins_json
-from lpnn.quality.policies import budget_count, place_count, place_tolerance
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.placement.baselines import random_ranking
+from lpnn.quality.placement.insertion import InsertionOrder, insertion_ranking
+from lpnn.quality.metric.metric import ReferenceField, mean_placement_error
+from lpnn.quality.placement.pins import PinError, pin_probes, pinned_selection, read_pins_json
+from lpnn.quality.placement.policies import budget_count, place_count, place_tolerance
+from lpnn.quality.placement.refined_insertion import refined_insertion
 
 from quality_support import box_grid
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.pins import MIN_DISTANCE_CELLS, SLACK_CELLS, SNAP_RADIUS_CELLS, PinError, pin_probes
+from lpnn.quality.placement.pins import MIN_DISTANCE_CELLS, SLACK_CELLS, SNAP_RADIUS_CELLS, PinError, pin_probes
 
 GOLDEN = json.loads((Path(__file__).resolve().parents[3] / "Tests" / "Data" / "pins_golden.json").read_text(encoding="utf-8"))
 

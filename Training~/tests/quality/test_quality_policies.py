@@ -10,13 +10,13 @@ import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.baselines import heuristic_ranking, hull_corners, random_ranking, uniform_selection
-from lpnn.quality import policies
-from lpnn.quality.metric import ReferenceField, placement_error
-from lpnn.quality.policies import (PolicyError, budget_count, place_count, place_tolerance, prefix_selection,
-                                   reference_count, reference_tolerance)
-from lpnn.quality.policy_rules import SEARCH_RESOLUTION
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.placement.baselines import heuristic_ranking, hull_corners, random_ranking, uniform_selection
+from lpnn.quality.placement import policies
+from lpnn.quality.metric.metric import ReferenceField, placement_error
+from lpnn.quality.placement.policies import (PolicyError, budget_count, place_count, place_tolerance, prefix_selection,
+                                             reference_count, reference_tolerance)
+from lpnn.quality.placement.policy_rules import SEARCH_RESOLUTION
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 
 from quality_support import box_grid
 

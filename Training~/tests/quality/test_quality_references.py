@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from lpnn.core.capture import Capture
-from lpnn.quality.decimation import MINIMUM_PROBES
-from lpnn.quality.metric import ReferenceField, placement_error
-from lpnn.quality.reference_faithful import faithful_decimation
-from lpnn.quality.decimation_state import DecimationState
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.placement.decimation.decimation import MINIMUM_PROBES
+from lpnn.quality.metric.metric import ReferenceField, placement_error
+from lpnn.quality.placement.decimation.reference_faithful import faithful_decimation
+from lpnn.quality.placement.decimation.decimation_state import DecimationState
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.scenes.importer import import_level
 from lpnn.scenes.levels import load_pak_member
 
@@ -242,7 +242,7 @@ NEARLY_FLAT_PROBES = np.array([[-15, 1, -3], [-16, 2, -3], [-15, -2, -3], [-12, 
 
 
 def test_a_decimation_never_holds_a_set_in_one_plane() -> None:
-    from lpnn.quality.triangulation import flatness
+    from lpnn.quality.metric.triangulation import flatness
     positions = (NEARLY_FLAT_PROBES * 1.6256).astype(np.float32)
     flattened = 0
     for seed in range(20):  # seeds 15 and 17 removed [4, 2] and ended in one plane before the fix

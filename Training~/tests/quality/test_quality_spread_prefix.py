@@ -9,8 +9,8 @@ import numpy as np
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.spread import SpreadPrefix, spread_ranking
-from lpnn.quality.lpnn_placement import lpnn_placement
-from lpnn.quality.policies import prefix_selection, spread_prefix_selection
+from lpnn.quality.placement.lpnn_placement import lpnn_placement
+from lpnn.quality.placement.policies import prefix_selection, spread_prefix_selection
 
 
 def _lattice(shape: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from lpnn.quality.tet_geometry import orient_and_invert
-from lpnn.quality.triangulation import tetrahedralize
+from lpnn.quality.metric.tet_geometry import orient_and_invert
+from lpnn.quality.metric.triangulation import tetrahedralize
 
 
 def test_a_cell_sized_tetrahedron_of_a_very_fine_grid_is_kept_and_a_flat_one_dropped() -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from lpnn.quality.warmup import compile_placement_kernels
+from lpnn.quality.placement.warmup import compile_placement_kernels
 
 
 def test_the_warm_up_runs_the_default_and_reports_its_seconds() -> None:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from lpnn.core.analytic_scene import AnalyticScene
-from lpnn.quality.bench import BenchRow
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.bench.results import BenchRow
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.recipe.config import RecipeConfig
 from lpnn.recipe.evaluation import geometric_mean, goal_checks, summarize
 from lpnn.recipe.labelling import labelled, stored_reference

@@ -9,9 +9,9 @@ import pytest
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AnalyticScene, AxisBox
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.leaks import leak_report, near_surface_mask
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.refined_insertion import refined_insertion
+from lpnn.quality.metric.leaks import leak_report, near_surface_mask
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.refined_insertion import refined_insertion
 from tools_support import load_tool
 
 SCRIPT = "leak-variants.py"

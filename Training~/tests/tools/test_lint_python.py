@@ -78,3 +78,31 @@ def test_a_longer_cycle_across_packages_fails(tmp_path: Path) -> None:
     })
     assert result.returncode == 1
     assert "cycle: lpnn.core.a, lpnn.core.b, lpnn.core.sub.c (" in result.stdout
+
+
+@pytest.mark.parametrize("name, source, banned", [
+    ("quality/metric/a.py", "from ..placement.insertion import x\nprint(x)\n", "lpnn.quality.placement"),
+    ("quality/metric/a.py", "import lpnn.quality.bench.run\nprint(lpnn)\n", "lpnn.quality.bench"),
+    ("quality/placement/a.py", "from ..bench import run\nprint(run)\n", "lpnn.quality.bench"),
+    ("quality/placement/decimation/a.py", "from ..insertion import x\nprint(x)\n", "lpnn.quality.placement.insertion"),
+])
+def test_an_upward_import_between_sublayers_fails(tmp_path: Path, name: str, source: str, banned: str) -> None:
+    result = lint(tmp_path, {name: source, "quality/placement/insertion.py": "x = 1\n", "quality/bench/run.py": "y = 2\n"})
+    assert result.returncode == 1
+    assert f"`{banned}` is banned" in result.stdout
+
+
+def test_downward_imports_between_sublayers_pass(tmp_path: Path) -> None:
+    result = lint(tmp_path, {
+        "quality/metric/metric.py": "E = 1\n",
+        "quality/placement/decimation/fast.py": "from ...metric.metric import E\nprint(E)\n",
+        "quality/placement/insertion.py": "from ..metric import metric\nfrom .decimation.fast import E\nprint(metric, E)\n",
+        "quality/bench/run.py": "from ..placement import insertion\nfrom ..metric.metric import E\nprint(insertion, E)\n",
+    })
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_a_quality_subpackage_without_a_sublayer_fails(tmp_path: Path) -> None:
+    result = lint(tmp_path, {"quality/extras/a.py": "x = 1\n"})
+    assert result.returncode == 1
+    assert "['quality.extras'] have no sublayer" in result.stdout

@@ -9,10 +9,10 @@ import pytest
 
 from lpnn.core.analytic_scene import AnalyticScene
 from lpnn.core.capture_file import read_capture, write_capture
-from lpnn.quality.lpnn_placement import lpnn_placement
-from lpnn.quality.metric import ReferenceField
-from lpnn.quality.policies import reference_tolerance
-from lpnn.quality.reference_fast import fast_decimation
+from lpnn.quality.placement.lpnn_placement import lpnn_placement
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.policies import reference_tolerance
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.train.onnx_scoring import OnnxScorer
 from tools_support import load_tool
 

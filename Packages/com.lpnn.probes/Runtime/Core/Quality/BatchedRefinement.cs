@@ -11,7 +11,7 @@ namespace Lpnn.Probes.Core.Quality
     /// tetrahedraliser, point location and error it already has. Two probes that share no Delaunay edge share no
     /// tetrahedron, so removing an independent set and tetrahedralising once gives every member's exact removal cost;
     /// costs of an independent set add up, so any subset can be committed with a known error. Port of
-    /// lpnn/quality/batched_refinement.py (the same rounds, irradiance metric); parity pinned by
+    /// lpnn/quality/placement/batched_refinement.py (the same rounds, irradiance metric); parity pinned by
     /// Tests/Data/batched_refinement_golden.json.
     ///
     /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by measured cost
@@ -35,7 +35,7 @@ namespace Lpnn.Probes.Core.Quality
         /// crops and levels, quality.md §5.3: as few probes as 0.05 on the crops, in fewer rounds).</summary>
         public const double ToleranceCommitFraction = 0.1;
 
-        /// <summary>A set thinner than this fraction of its extent is flat (lpnn/quality/triangulation.py FLAT_TOLERANCE).</summary>
+        /// <summary>A set thinner than this fraction of its extent is flat (lpnn/quality/metric/triangulation.py FLAT_TOLERANCE).</summary>
         public const double FlatTolerance = 1e-7;
 
         private const string Stage = "batched refinement";

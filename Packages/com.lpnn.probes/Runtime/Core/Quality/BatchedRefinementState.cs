@@ -8,7 +8,7 @@ namespace Lpnn.Probes.Core.Quality
     /// (<see cref="RemovalCosts"/>) is interpolated only at the points whose stencil weighs a candidate, and the set
     /// without some probes (<see cref="Without"/>) only at the points whose stencil touched one: the tie-broken Delaunay
     /// is unique, so every other tetrahedron survives a removal, and a point outside the shrinking hull keeps its nearest
-    /// hull point unless that point's triangle had a removed vertex. Port of lpnn/quality/batched_state.py, except that
+    /// hull point unless that point's triangle had a removed vertex. Port of lpnn/quality/placement/batched_state.py, except that
     /// the set without some probes is tetrahedralised again (Unity's native tetrahedraliser) rather than derived.
     /// With a <see cref="LeakWeighting"/> every error the state holds, sums and compares is the weighted one, and trials and
     /// removals keep it, as the Python state does.</summary>

@@ -11,7 +11,7 @@ namespace Lpnn.Probes.Core.Quality
     /// it lies on every hull triangle there, and near one (as float32 positions put many lattice points) the distances
     /// differ by less than their rounding. A point takes, among the hull triangles within a relative <see cref="Tie"/> of
     /// the smallest distance, the one owned by the lowest-index tetrahedron, then of the smallest sorted corners, with its
-    /// own weights — as the Python reference (lpnn/quality/hull_projection.py lowest_owner_at_ties), so the cell the
+    /// own weights — as the Python reference (lpnn/quality/metric/hull_projection.py lowest_owner_at_ties), so the cell the
     /// insertion ranking groups it by, and its weights, do not hang on rounding.</summary>
     internal sealed class HullProjector
     {

@@ -14,7 +14,7 @@ namespace Lpnn.Probes.Core.Quality
     /// runs rounds until the points asked for are ranked. A budget of K points, or the tolerance policy's search (exponential
     /// from 4, then bisection: it never reads beyond about twice its answer), thus costs the rounds up to that count instead
     /// of the ~log(N / 4) / log(1 + growth) rounds of the whole ranking; the prefixes are those of the whole ranking exactly
-    /// (the same rounds, in the same order). Port of lpnn/quality/insertion.py InsertionOrder (quality.md §5.1 step 4); with
+    /// (the same rounds, in the same order). Port of lpnn/quality/placement/insertion.py InsertionOrder (quality.md §5.1 step 4); with
     /// a guide, guided insertion (quality.md §5.2). Each round after the first locates only the points whose tetrahedron
     /// the last insertion broke, and those outside the hull (<see cref="InsertionRounds"/>, quality.md §5.1 step 5).</summary>
     public sealed class InsertionOrder

@@ -15,7 +15,7 @@ namespace Lpnn.Probes.Core.Quality
     /// each tetrahedron, the cells with the largest summed error first, up to ceil(growth × probes) points per round,
     /// until every point is a probe or interpolated exactly (the rest then follow by index). The insertion order is the
     /// ranking: a budget is its prefix, the tolerance policy searches its prefixes. Port of the Python reference
-    /// (lpnn/quality/insertion.py), irradiance metric; parity pinned by Tests/Data/insertion_golden.json.
+    /// (lpnn/quality/placement/insertion.py), irradiance metric; parity pinned by Tests/Data/insertion_golden.json.
     ///
     /// Needs the dense lighting at every evaluation point and a tetrahedraliser (Unity's in the editor). Cost: about
     /// log(N / 4) / log(1 + growth) rounds (~60 for 1,000 points), each one tetrahedralisation of the probes and one

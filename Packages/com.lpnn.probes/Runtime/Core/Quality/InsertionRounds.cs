@@ -3,7 +3,7 @@ using System.Collections.Generic;
 
 namespace Lpnn.Probes.Core.Quality
 {
-    /// <summary>Insertion's rounds located incrementally (quality.md §5.1 step 5; Python's lpnn/quality/insertion_state.py):
+    /// <summary>Insertion's rounds located incrementally (quality.md §5.1 step 5; Python's lpnn/quality/placement/insertion_state.py):
     /// <see cref="InsertionRanking.NextBatch"/>'s rounds, but a point keeps its tetrahedron from one round to the next.
     ///
     /// Inserting probes re-triangulates only the tetrahedra they break; every other tetrahedron is in the new

@@ -10,7 +10,7 @@ namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>Light leaking through walls (Documentation~/leaks.md): an evaluation point leaks when a probe of weight
     /// above <see cref="MinimumWeight"/> in its stencil is not visible from it, so its lighting blends the other side of a
-    /// wall. Python's lpnn.quality.leaks decides exactly alike (Tests/Data/leaks_golden.json).</summary>
+    /// wall. Python's lpnn.quality.metric.leaks decides exactly alike (Tests/Data/leaks_golden.json).</summary>
     internal static class LeakCheck
     {
         /// <summary>Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of

@@ -10,10 +10,10 @@ namespace Lpnn.Probes.Core.Quality
     /// tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull triangle), the leaking point
     /// of largest error (ties: the lower index). A probe at a leaking point ends that point's leak and splits its
     /// tetrahedron where it leaked worst; batched refinement only removes probes, so a leak of its seed could not be undone
-    /// later. Port of lpnn/quality/leak_aware.py leak_repaired.</summary>
+    /// later. Port of lpnn/quality/placement/leak_aware.py leak_repaired.</summary>
     internal static class LeakRepair
     {
-        /// <summary>Repair rounds on the seed (lpnn/quality/leak_aware.py REPAIR_ROUNDS; benchmarks.md §12 measured 1 and 3).</summary>
+        /// <summary>Repair rounds on the seed (lpnn/quality/placement/leak_aware.py REPAIR_ROUNDS; benchmarks.md §12 measured 1 and 3).</summary>
         public const int DefaultRounds = 2;
 
         /// <summary><paramref name="probes"/> (evaluation point indices) plus, in each of up to <paramref name="rounds"/>

@@ -9,10 +9,10 @@ namespace Lpnn.Probes.Core.Quality
     /// every point that leaks (<see cref="LeakCheck"/>) counts <see cref="Weight"/> times, in the removal costs, the
     /// tolerance and the error sum alike, so a removal that lets a stencil reach through a wall is taken only when it is
     /// cheap anyway. Only the error is weighted: a leak that changes nothing costs nothing. Port of
-    /// lpnn/quality/leak_aware.py LeakWeighting; parity pinned by Tests/Data/leak_aware_golden.json.</summary>
+    /// lpnn/quality/placement/leak_aware.py LeakWeighting; parity pinned by Tests/Data/leak_aware_golden.json.</summary>
     internal sealed class LeakWeighting
     {
-        /// <summary>A leaking point's error counts this many times (lpnn/quality/leak_aware.py LEAK_WEIGHT; benchmarks.md §12
+        /// <summary>A leaking point's error counts this many times (lpnn/quality/placement/leak_aware.py LEAK_WEIGHT; benchmarks.md §12
         /// measured 2, 4, 8 and 16).</summary>
         public const double DefaultWeight = 8.0;
 

@@ -15,7 +15,7 @@ namespace Lpnn.Probes.Core.Quality
     /// <summary>Pinned probes (Documentation~/pins.md): the artist's probes every placement keeps. A pin is a world position;
     /// it stands for its nearest evaluation point (ties: the lower index), which must lie within <see cref="SnapRadiusCells"/>
     /// cells (half the cell diagonal), and no new probe comes closer than the minimum distance (default
-    /// <see cref="MinDistanceCells"/> cell) to a pin. Port of lpnn/quality/pins.py; Tests/Data/pins_golden.json pins both.</summary>
+    /// <see cref="MinDistanceCells"/> cell) to a pin. Port of lpnn/quality/placement/pins.py; Tests/Data/pins_golden.json pins both.</summary>
     internal sealed class Pins
     {
         /// <summary>Half the cell diagonal: the farthest a position inside a fully covered cell is from its nearest corner.</summary>

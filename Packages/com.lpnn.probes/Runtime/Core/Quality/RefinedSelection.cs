@@ -13,13 +13,13 @@ namespace Lpnn.Probes.Core.Quality
     /// whatever the selection holds (bounds corners, the tetrahedron guarantee), K being the selection's count; the bounds
     /// corners are kept. A count policy (Budget, Spread, Percentile) refines down to K; the tolerance policy as far as
     /// the error stays within τ, keeping the refined set only when it has fewer probes than the search's. Port of
-    /// lpnn/quality/refined_insertion.py (same seed, same refinement).</summary>
+    /// lpnn/quality/placement/refined_insertion.py (same seed, same refinement).</summary>
     public static class RefinedSelection
     {
         /// <summary>The seed holds this many times the selection's count (the refine tier's factor).</summary>
         public const double DefaultFactor = 2.0;
 
-        /// <summary>A seed of 2K points cannot reach a sparse answer at tiny K (lpnn/quality/lpnn_placement.py MINIMUM_SEED).</summary>
+        /// <summary>A seed of 2K points cannot reach a sparse answer at tiny K (lpnn/quality/placement/lpnn_placement.py MINIMUM_SEED).</summary>
         public const int MinimumSeed = 64;
 
         /// <param name="selection">What the policy selected from <paramref name="prefix"/> (ProbeSelector.SelectFromPrefixes
@@ -31,7 +31,7 @@ namespace Lpnn.Probes.Core.Quality
             Refine(grid, selection, prefix, candidates, settings, evaluator, null, valid, progress, cancel);
 
         /// <summary>As the public overload; with <paramref name="leaks"/> (null: off) the leak-aware variant of
-        /// lpnn/quality/refined_insertion.py (Documentation~/leaks.md "A leak-aware default"): the seed gets
+        /// lpnn/quality/placement/refined_insertion.py (Documentation~/leaks.md "A leak-aware default"): the seed gets
         /// <see cref="LeakRepair.DefaultRounds"/> repair rounds, the refinement weighs leaking points' errors, and with a
         /// tolerance the refined set is the answer whenever its weighted mean error is within τ, even with more probes than
         /// the search's (the price of fewer leaks). <paramref name="pins"/> (null: none; grid indices, pins.md): the refinement

@@ -15,7 +15,7 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>A tetrahedron is flat when |6 × volume| is at or below this × |e1|·|e2|·|e3| (its edges from vertex 0):
         /// relative to its own edges, so it holds at any cell size and extent (an absolute 1e-14 on the unit-extent frame
         /// dropped every tetrahedron beyond ~46,000 cells along an axis). Same rule as the Python reference
-        /// (lpnn/quality/tet_geometry.py FLAT_RELATIVE_VOLUME; Documentation~/quality.md §1).</summary>
+        /// (lpnn/quality/metric/tet_geometry.py FLAT_RELATIVE_VOLUME; Documentation~/quality.md §1).</summary>
         public const double FlatRelativeVolume = 1e-12;
 
         /// <summary>Probe positions in the local frame, x, y, z per probe.</summary>

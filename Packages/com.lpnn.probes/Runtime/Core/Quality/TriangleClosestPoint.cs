@@ -4,7 +4,7 @@ namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>Barycentric weights of the point of a triangle closest to a query point, by Voronoi regions
     /// (Ericson, Real-Time Collision Detection §5.1.5) — the same region tests, in the same order, as the Python
-    /// reference (lpnn.quality.hull_projection), so both pick the same region at region boundaries.</summary>
+    /// reference (lpnn.quality.metric.hull_projection), so both pick the same region at region boundaries.</summary>
     internal static class TriangleClosestPoint
     {
         /// <summary>Weights (u, v, w) ≥ 0, sum 1, of the closest point u·a + v·b + w·c to p. Corners are x, y, z triples

@@ -21,7 +21,7 @@ namespace Lpnn.Probes.Core.Selection
     public struct SelectionSettings
     {
         /// <summary>The tolerance an artist gets by default, in the Unity volume as in `lpnn place/bench/demo` and the recipe's
-        /// evaluation (Python: lpnn/quality/arguments.py DEFAULT_TOLERANCE): a mean irradiance error of 0.05 (~10 % relative
+        /// evaluation (Python: lpnn/quality/placement/policy_rules.py DEFAULT_TOLERANCE): a mean irradiance error of 0.05 (~10 % relative
         /// irradiance error). At 0.02 the noisy Quake III light grids of our benchmarks need about 2/3 of all points, which is
         /// no reduction; the figures in Documentation~/benchmarks.md are measured at this value, so they describe the default.</summary>
         public const double DefaultTolerance = 0.05;

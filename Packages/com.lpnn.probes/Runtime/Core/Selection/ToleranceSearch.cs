@@ -34,7 +34,7 @@ namespace Lpnn.Probes.Core.Selection
         /// <summary>The bisection stops at 1/256 of the passing count: at most 1/256 more probes than a search to the
         /// unit (within the error's own non-monotonic noise) for about 8 fewer evaluations on large answers, each a
         /// tetrahedralisation and a pass over every point; answers below 256 are found to the unit. Python:
-        /// lpnn.quality.policy_rules.SEARCH_RESOLUTION.</summary>
+        /// lpnn.quality.placement.policy_rules.SEARCH_RESOLUTION.</summary>
         public const int Resolution = 256;
 
         /// <param name="pointCount">N, the longest prefix (all points: error 0).</param>

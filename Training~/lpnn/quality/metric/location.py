@@ -1,0 +1,149 @@
+"""Interpolation stencils: which 4 probes, with which weights, give the lighting at a point.
+
+Inside the hull: the tetrahedron containing the point (vectorised visibility walk from the
+tetrahedron whose centroid is nearest, with a brute-force fallback), barycentric weights clamped
+to >= 0 and renormalised (they are >= -1e-9 before clamping). Outside: the nearest point on the
+hull surface and its triangle's weights (hull_projection.py); the fourth weight is 0.
+
+Ties (quality.md §1): a point on a face, edge or vertex shared by several tetrahedra (smallest coordinate within
+INSIDE_TOLERANCE of 0) belongs to the lowest-index one, and a point outside whose nearest hull point lies on a hull edge
+or vertex to the hull triangle there of the lowest-index owner (snapped onto that edge or vertex); so a point's stencil
+does not depend on where a walk started, nor on the language (the C# core's TetrahedronLocator and HullProjector apply
+the same rule).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .hull_projection import project_to_hull
+from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, outside_stencils,
+                            run_rows, walk)
+from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
+
+INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
+BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
+WALK_STEP_LIMIT = 10_000
+
+
+@dataclass(frozen=True)
+class Stencil:
+    vertices: np.ndarray  # (M, 4) int64 probe indices (into the triangulation's points)
+    weights: np.ndarray  # (M, 4) float64, >= 0, sum 1
+    cell: np.ndarray  # (M,) int64 tetrahedron containing the point, or owning its hull triangle
+    outside: np.ndarray  # (M,) bool: point outside the hull (weights from its projection)
+    anchor: np.ndarray  # (M, 3) local coordinates where the weights apply (the point, or its projection)
+
+    @property
+    def count(self) -> int:
+        return int(self.cell.shape[0])
+
+
+def barycentric(tri: Tetrahedralization, cells: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """Barycentric coordinates (..., 4) of points (..., 3) in tetrahedra `cells` (...)."""
+    base = tri.points[tri.tets[cells, 0]]
+    rest = np.einsum("...ij,...j->...i", tri.inverse[cells], query - base)
+    return np.concatenate([1.0 - rest.sum(axis=-1, keepdims=True), rest], axis=-1)
+
+
+def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Most-inside tetrahedron (max of min barycentric, the first of equals; on a shared boundary the tie rule's) for
+    each point, and that largest minimum (metric_kernel.most_inside: `barycentric`'s numbers)."""
+    best_cell = np.empty(query.shape[0], dtype=np.int64)
+    best_min = np.empty(query.shape[0])
+    run_rows(most_inside, query.shape[0] * max(1, tri.tets.shape[0] // 64), tri.points, tri.tets, tri.inverse,
+             np.ascontiguousarray(query, dtype=np.float64), INSIDE_TOLERANCE, best_cell, best_min)
+    return best_cell, best_min
+
+
+def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Visibility walk for all points at once. Returns cell (-1 = outside; on a shared boundary the tie rule's
+    tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
+    bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
+    or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
+    from its nearest centroid)."""
+    m = query.shape[0]
+    centroids = tri.points[tri.tets].mean(axis=1)
+    if coherent:
+        chunks = chunk_count(m) if m else 0
+        first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
+    else:
+        first = query
+    workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
+    start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
+    result = np.empty(m, dtype=np.int64)
+    resolved = np.empty(m, dtype=bool)
+    coordinates = np.empty((m, 4))
+    # Point by point in parallel slices (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin; ties
+    # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
+             WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
+    return result, resolved, coordinates
+
+
+def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False) -> Stencil:
+    """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
+    (points in grid order, each near the previous one) starts each walk where the previous one ended
+    instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
+    10^6 points): the same stencils, since a point on a boundary shared by several tetrahedra gets the tie rule's
+    (module text) wherever its walk arrived."""
+    q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+    return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent))
+
+
+def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first half of locate_local for points (M, 3) in local coordinates: each one's tetrahedron (-1: outside the
+    hull), whether the walk found it, and the walk's barycentric coordinates there (rows of other points undefined)."""
+    m = q.shape[0]
+    if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
+        cell, smallest = _brute_force(tri, q)
+        return np.where(smallest >= -INSIDE_TOLERANCE, cell, -1), np.zeros(m, dtype=bool), np.empty((m, 4))
+    cell, walked, coordinates = _walk(tri, q, coherent)
+    stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
+    if stuck.shape[0]:
+        fallback, smallest = _brute_force(tri, q[stuck])
+        cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)
+    return cell, walked, coordinates
+
+
+def keep_located(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For points (M, 3) known to lie in tetrahedra `cell` of `tri` (-1: unknown), modified in place: the tetrahedron
+    location would give them, without a walk (metric_kernel.kept_cells): the same one when the point is clearly inside it
+    (smallest coordinate > INSIDE_TOLERANCE), else the tie rule's (module text), searched from it (-1 in the rare case the
+    search overflows: to be located). Returns `walked` (the points settled) and their coordinates, in locate_cells'
+    form."""
+    walked = np.zeros(q.shape[0], dtype=bool)
+    coordinates = np.empty((q.shape[0], 4))
+    run_rows(kept_cells, q.shape[0], tri.points, tri.tets, tri.inverse, tri.neighbours, q, INSIDE_TOLERANCE, cell, walked,
+             coordinates)
+    return walked, coordinates
+
+
+def stencils_of_cells(tri: Tetrahedralization, q: np.ndarray, cell: np.ndarray, walked: np.ndarray,
+                      coordinates: np.ndarray) -> Stencil:
+    """The second half of locate_local: stencils from each point's tetrahedron (cell >= 0; its barycentric coordinates
+    are the walk's where `walked`, else computed here) or, outside the hull (cell -1), from its nearest hull point.
+    `cell` becomes the Stencil's own."""
+    m = q.shape[0]
+    vertices = np.zeros((m, 4), dtype=np.int64)
+    weights = np.zeros((m, 4))
+    anchor = q.copy()
+    run_rows(inside_stencils, m, tri.points, tri.tets, tri.inverse, q, cell, walked, coordinates, vertices, weights)
+    outside = cell < 0
+    far = np.flatnonzero(outside)
+    if far.shape[0]:
+        projection = project_to_hull(tri.points, tri.hull_faces, q[far], owners=tri.hull_face_tets)
+        # The hull triangle's corners and weights, then the owner's fourth vertex with weight 0 (every stencil 4 wide).
+        run_rows(outside_stencils, far.shape[0], tri.tets, tri.hull_faces, tri.hull_face_tets, far, projection.face,
+                 projection.weights, projection.anchor, vertices, weights, cell, anchor)
+    return Stencil(vertices=vertices, weights=weights, cell=cell, outside=outside, anchor=anchor)
+
+
+def locate(tri: Tetrahedralization, world: np.ndarray) -> Stencil:
+    """Stencils for world positions (M, 3)."""
+    return locate_local(tri, tri.frame.to_local(world))

@@ -1,0 +1,260 @@
+"""Tetrahedralisation of a probe set, the way the quality metric interpolates (quality.md §1).
+
+A Delaunay tetrahedralisation computed as the lower convex hull of the points lifted to 4-D
+(Qhull `Qt`). Grids are cospherical, so their Delaunay tetrahedralisation is not unique
+and Qhull's own `Delaunay` resolves the ties with zero-volume "flat" tetrahedra whose two sides
+disagree about a square's diagonal (C0-discontinuous interpolation) and that slow point location
+down. We add a tiny, deterministic height to each lifted point (a hash of its world position, at
+most 1e-5 of the squared point spacing): the result is a *regular* triangulation that is a Delaunay
+triangulation of the points with every tie broken consistently, so it
+- has no flat tetrahedra, keeps every point as a vertex and is conforming (C0 interpolation);
+- is unique for a given set, and the same point always gets the same height, so removing a probe
+  changes only the tetrahedra around it (the fast reference relies on this);
+- equals the plain Delaunay tetrahedralisation wherever that one is unique.
+
+All geometry is done in a local frame (translated to the centre of the candidate set, divided by
+its extent), so tolerances are relative and positions far from the origin work.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError, cKDTree
+
+from ...errors import InvalidInputError
+from .tet_geometry import edge_inverse, orient_and_invert
+
+DUPLICATE_TOLERANCE = 1e-7  # two probes closer than this fraction of the extent are duplicates
+FLAT_TOLERANCE = 1e-7  # a set thinner than this fraction of its length is coplanar/collinear
+TIE_BREAK_FRACTION = 1e-5  # lifted-height perturbation, as a fraction of the squared spacing
+LOWER_FACET_TOLERANCE = 1e-10  # 4-D facet normals with w-component above -this are not lower facets
+QHULL_OPTIONS = "Qt"  # triangulated output; no Qbb/Qz: those are for Qhull's own Delaunay mode
+VERTEX_KEY_BITS = 21  # three vertex ids fit one int64 face key when there are < 2^21 points
+QUERY_WORKERS = -1  # the spacing's nearest-neighbour query on every core (same distances; ~1 s less at 10^6 points)
+PARALLEL_QUERY = 20_000  # placement's k-d queries of at least this many points use QUERY_WORKERS, smaller ones one thread
+
+
+class GeometryError(InvalidInputError):
+    """The probe set cannot be tetrahedralised; the message names the problem and what to do."""
+
+
+# --------------------------------------------------------------------------------------- the frame
+
+def _mix64(x: np.ndarray) -> np.ndarray:
+    """splitmix64 finaliser: a well-spread, platform-independent 64-bit hash."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def position_hash(world: np.ndarray) -> np.ndarray:
+    """A deterministic value in [0, 1) per position (M, 3), a function of the float64 bits only."""
+    bits = np.ascontiguousarray(world, dtype=np.float64).view(np.uint64).reshape(-1, 3)
+    with np.errstate(over="ignore"):  # uint64 wrap-around is the point of the hash
+        key = _mix64(bits[:, 0] + np.uint64(0x9E3779B97F4A7C15))
+        key = _mix64(key ^ bits[:, 1])
+        key = _mix64(key ^ bits[:, 2])
+    return (key >> np.uint64(11)).astype(np.float64) / float(2**53)
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Local coordinates shared by every triangulation of subsets of one candidate set."""
+
+    origin: np.ndarray  # (3,) float64, world
+    scale: float  # world length of one local unit (the candidate set's largest extent)
+    tie_break: float  # lifted-height perturbation amplitude, local units squared
+
+    @staticmethod
+    def for_points(world: np.ndarray) -> "Frame":
+        points = checked_positions(world, "positions")
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        scale = float(np.max(hi - lo))
+        if not scale > 0.0:
+            raise GeometryError(
+                f"all {points.shape[0]:,} positions coincide at {lo.tolist()}: a tetrahedralisation needs "
+                "at least 4 probes that are not all in one plane")
+        origin = (lo + hi) / 2.0
+        local = (points - origin) / scale
+        spacing = 1.0
+        if points.shape[0] >= 2:
+            distances = cKDTree(local).query(local, k=2, workers=QUERY_WORKERS)[0][:, 1]
+            positive = distances[distances > 0.0]
+            if positive.shape[0]:
+                spacing = float(np.median(positive))
+        return Frame(origin=origin, scale=scale, tie_break=TIE_BREAK_FRACTION * spacing * spacing)
+
+    def to_local(self, world: np.ndarray) -> np.ndarray:
+        return (np.asarray(world, dtype=np.float64) - self.origin) / self.scale
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        return np.asarray(local, dtype=np.float64) * self.scale + self.origin
+
+    def tie_heights(self, world: np.ndarray) -> np.ndarray:
+        """(M,): each position's deterministic perturbation of the lifted height."""
+        return self.tie_break * position_hash(world)
+
+    def lifted(self, world: np.ndarray) -> np.ndarray:
+        """(M, 4): local coordinates and the perturbed paraboloid height."""
+        local = self.to_local(world)
+        height = np.einsum("ij,ij->i", local, local) + self.tie_heights(world)
+        return np.concatenate([local, height[:, None]], axis=1)
+
+
+def checked_positions(world: np.ndarray, what: str) -> np.ndarray:
+    points = np.asarray(world, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise GeometryError(f"{what} need shape (N, 3), got {list(points.shape)}")
+    bad = np.flatnonzero(~np.all(np.isfinite(points), axis=1))
+    if bad.shape[0]:
+        raise GeometryError(f"{what}[{int(bad[0])}] = {points[bad[0]].tolist()} is not finite "
+                            f"({bad.shape[0]:,} bad rows): every coordinate must be a finite number")
+    return points
+
+
+# ------------------------------------------------------------------------------- the triangulation
+
+@dataclass(frozen=True)
+class Tetrahedralization:
+    frame: Frame
+    world: np.ndarray  # (K, 3) float64 probe positions
+    points: np.ndarray  # (K, 3) float64 local coordinates
+    tets: np.ndarray  # (T, 4) int64, positively oriented
+    neighbours: np.ndarray  # (T, 4) int64: tetrahedron across the face opposite vertex i, or -1
+    inverse: np.ndarray  # (T, 3, 3): barycentric transform, lambda_1..3 = inverse @ (x - v0)
+    hull_faces: np.ndarray  # (H, 3) int64 boundary triangles, counter-clockwise seen from outside
+    hull_face_tets: np.ndarray  # (H,) int64 tetrahedron owning each boundary triangle
+
+    @property
+    def point_count(self) -> int:
+        return int(self.points.shape[0])
+
+
+def _check_not_duplicate(local: np.ndarray, world: np.ndarray) -> None:
+    distances, neighbours = cKDTree(local).query(local, k=2)
+    close = np.flatnonzero(distances[:, 1] <= DUPLICATE_TOLERANCE)
+    if close.shape[0]:
+        a = int(close[0])
+        b = int(neighbours[a, 1])
+        a, b = min(a, b), max(a, b)
+        raise GeometryError(
+            f"probe positions {a} and {b} coincide ({world[a].tolist()} and {world[b].tolist()} are closer than "
+            f"{DUPLICATE_TOLERANCE:g} of the extent; {close.shape[0]:,} probes have such a twin): remove duplicates")
+
+
+def flatness(local: np.ndarray) -> str | None:
+    """'line' or 'plane' when the points are (within FLAT_TOLERANCE) collinear or coplanar, else None."""
+    if local.shape[0] < 3:
+        return "line"
+    centred = local - local.mean(axis=0)
+    axes = np.linalg.svd(centred, full_matrices=False)[2]
+    extent = np.ptp(centred @ axes.T, axis=0)  # length along the principal axes, largest first
+    if extent.shape[0] < 2 or extent[1] <= FLAT_TOLERANCE * extent[0]:
+        return "line"
+    if local.shape[0] < 4 or extent[2] <= FLAT_TOLERANCE * extent[0]:
+        return "plane"
+    return None
+
+
+def _check_not_flat(local: np.ndarray) -> None:
+    shape = flatness(local)
+    if shape == "line":
+        raise GeometryError(
+            f"all {local.shape[0]:,} probes lie on one line: a tetrahedralisation needs at least 4 probes "
+            "that are not all in one plane (add probes off that line)")
+    if shape == "plane":
+        raise GeometryError(
+            f"all {local.shape[0]:,} probes lie in one plane: a tetrahedralisation needs at least 4 probes "
+            "that are not all in one plane (add a probe off that plane, e.g. make the volume two cells deep)")
+
+
+def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
+    """One int64 per triangle, independent of vertex order (sorted ids packed, or a row rank)."""
+    ordered = np.sort(faces, axis=1).astype(np.int64)
+    if vertex_count < (1 << VERTEX_KEY_BITS):
+        return (ordered[:, 0] << (2 * VERTEX_KEY_BITS)) | (ordered[:, 1] << VERTEX_KEY_BITS) | ordered[:, 2]
+    return np.unique(ordered, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
+
+
+def _adjacency(tets: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """neighbours (T, 4), boundary faces (H, 3) oriented outward, and their tetrahedra (H,)."""
+    count = tets.shape[0]
+    opposite = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i, outward for positive tets
+    faces = tets[:, opposite].reshape(-1, 3)  # (4T, 3)
+    keys = face_keys(faces, vertex_count)
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    same_as_next = sorted_keys[1:] == sorted_keys[:-1]
+    if np.any(same_as_next[1:] & same_as_next[:-1]):
+        raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
+                            "report this probe set as a bug")
+    neighbours = np.full(4 * count, -1, dtype=np.int64)
+    first = order[:-1][same_as_next]
+    second = order[1:][same_as_next]
+    neighbours[first] = second // 4
+    neighbours[second] = first // 4
+    boundary = np.flatnonzero(neighbours < 0)
+    return neighbours.reshape(count, 4), faces[boundary], boundary // 4
+
+
+def lower_hull(lifted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower-hull facets of lifted points (M, 4): tetrahedra (T, 4) and their hyperplanes (T, 5),
+    unit normals pointing down-and-out (n.x + d > 0 below a facet). Raises GeometryError on failure."""
+    if lifted.shape[0] == 4:  # Qhull needs 5 points in 4-D; 4 non-coplanar points are one tetrahedron
+        normal = np.linalg.svd(lifted[1:] - lifted[0])[2][-1]
+        normal = -normal if normal[3] > 0.0 else normal
+        return np.arange(4, dtype=np.int64)[None, :], np.append(normal, -normal @ lifted[0])[None, :]
+    try:
+        hull = ConvexHull(lifted, qhull_options=QHULL_OPTIONS)
+    except QhullError as exc:
+        first_line = str(exc).strip().splitlines()[0] if str(exc).strip() else "Qhull failed"
+        raise GeometryError(f"Qhull could not tetrahedralise these {lifted.shape[0]:,} probes ({first_line}); "
+                            "check for duplicate or coplanar probes") from exc
+    lower = hull.equations[:, 3] < -LOWER_FACET_TOLERANCE
+    return np.asarray(hull.simplices[lower], dtype=np.int64), hull.equations[lower]
+
+
+def lower_hull_tets(lifted: np.ndarray) -> np.ndarray:
+    """Tetrahedra (T, 4) of the lower hull of lifted points (M, 4); raises GeometryError on failure."""
+    return lower_hull(lifted)[0]
+
+
+def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedralization:
+    """Tetrahedralise probe positions (K, 3). Raises GeometryError for < 4, duplicate or flat sets."""
+    positions = checked_positions(world, "probe positions")
+    count = positions.shape[0]
+    if count < 4:
+        raise GeometryError(f"{count} probe(s) cannot be tetrahedralised: Unity needs at least 4 probes "
+                            "that are not all in one plane")
+    used_frame = frame if frame is not None else Frame.for_points(positions)
+    local = used_frame.to_local(positions)
+    _check_not_duplicate(local, positions)
+    _check_not_flat(local)
+    # Flat tetrahedra (vertical facets that slipped through) dropped, the rest oriented positively and inverted.
+    tets, inverse, _, _ = orient_and_invert(local, lower_hull_tets(used_frame.lifted(positions)))
+    used = np.zeros(count, dtype=bool)
+    used[tets.reshape(-1)] = True
+    if not np.all(used):
+        missing = int(np.flatnonzero(~used)[0])
+        raise GeometryError(f"probe {missing} at {positions[missing].tolist()} was dropped by the tetrahedralisation "
+                            f"({int(np.count_nonzero(~used))} probes dropped); it is (nearly) a duplicate of another probe")
+    return _assembled(used_frame, positions, local, tets, inverse)
+
+
+def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedralization:
+    """The Tetrahedralization of probe positions (K, 3) whose positively oriented tetrahedra (T, 4) are already known,
+    e.g. derived from two others by local changes (placement/batched_refinement.py): adjacency, hull and barycentric
+    transforms as tetrahedralize computes them. Raises GeometryError when the tetrahedra do not form a manifold."""
+    positions = checked_positions(world, "probe positions")
+    return _assembled(frame, positions, frame.to_local(positions), np.asarray(tets, dtype=np.int64).reshape(-1, 4))
+
+
+def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray,
+               inverse: np.ndarray | None = None) -> Tetrahedralization:
+    neighbours, hull_faces, hull_face_tets = _adjacency(tets, positions.shape[0])
+    if inverse is None:
+        inverse = edge_inverse(local, tets)
+    return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,
+                              inverse=inverse, hull_faces=hull_faces, hull_face_tets=hull_face_tets)

@@ -1,0 +1,239 @@
+"""The probe-set state of batched refinement (quality.md §5.3): a set evaluated at every point, the trial without an
+independent set of candidates (their exact removal costs), and the state without some of them — each evaluated only
+where it can change.
+
+    state = evaluate(field, probes)                  # every point located (the seed)
+    trial = trial_of(field, state, candidates)       # costs; located only where a candidate's weight reached
+    state = without(field, state, removed, trial)    # located only where a removed probe was touched; no Qhull
+
+With a LeakWeighting (evaluate(field, probes, weighting)) every error the state holds, sums and compares is the weighted
+one (leak_aware.py): a leaking point's error counts several times, in the costs and in the tolerance alike.
+
+Why only there. Removing a probe retriangulates its own star and nothing else (metric/triangulation.py: the tie-broken
+Delaunay is unique), and the convex hull only shrinks, so a point outside it keeps its nearest hull point unless that
+point's triangle had a removed vertex. A point whose stencil touched no removed probe (at any weight, zero included)
+therefore keeps its stencil and its error; the committed set's tetrahedra are the state's outside the removed stars and
+the trial's inside them (refilled). The updated errors equal a fresh evaluation up to rounding (~1e-12): a point on a
+face shared by two tetrahedra keeps the one it had where a fresh location may take the other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .leak_aware import LeakWeighting
+from ..metric.location import locate_local
+from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
+from ..metric.metric_kernel import run_rows
+from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
+from ..metric.triangulation import GeometryError, Tetrahedralization
+
+
+@dataclass(frozen=True)
+class MeshState:
+    """One probe set evaluated, per point (N rows): the global ids its stencil weighs > 0 (`owners`, -1 elsewhere and
+    at the probes), every global id of its stencil, zero weights included (`touched`), its error; the error sum; the
+    probes (sorted), their tetrahedralisation and its Delaunay graph's edges (both directions, global ids)."""
+
+    probes: np.ndarray
+    owners: np.ndarray  # (N, 4)
+    touched: np.ndarray  # (N, 4)
+    errors: np.ndarray  # (N,)
+    error_sum: float  # errors.sum(), read several times a round
+    edges: np.ndarray  # (E, 2)
+    mesh: Tetrahedralization  # vertices are positions in `probes`
+    weighting: LeakWeighting | None = None  # errors weighted by leaks (leak_aware.py), kept by trials and removals
+    replaced: "ReplacedRows | None" = None  # made by without(reuse=True): the rows it overwrote, for restore()
+
+    @property
+    def tets(self) -> np.ndarray:
+        """(T, 4) global ids."""
+        return self.probes[self.mesh.tets]
+
+
+@dataclass(frozen=True)
+class ReplacedRows:
+    """The rows of a state's per-point arrays that without(..., reuse=True) overwrote, as they were."""
+
+    rows: np.ndarray
+    errors: np.ndarray
+    owners: np.ndarray
+    touched: np.ndarray
+
+
+@dataclass(frozen=True)
+class Located:
+    """A probe set's tetrahedralisation and what it gives at some points."""
+
+    points: np.ndarray  # (M,) ascending
+    errors: np.ndarray  # (N,), 0 but at `points`
+    owners: np.ndarray  # (M, 4)
+    touched: np.ndarray  # (M, 4)
+    probes: np.ndarray  # sorted
+    mesh: Tetrahedralization
+
+
+def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray | None,
+                 tets: np.ndarray | None = None, weighting: LeakWeighting | None = None) -> Located:
+    """The sorted probes' tetrahedralisation (given by `tets`, global ids, when known) and, at `points` (every other
+    point when None), their errors (weighted by leaks with a `weighting`), owners and touched ids."""
+    ordered = np.sort(probes)
+    local_tets = None if tets is None else np.searchsorted(ordered, tets)
+    indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets)
+    errors = stencil_point_errors(field, indices, others, stencil)
+    if weighting is not None:
+        errors = weighting.weighted(field, indices, others, stencil, errors)
+    touched = np.empty(stencil.vertices.shape, dtype=np.int64)
+    owners = np.empty(stencil.vertices.shape, dtype=np.int64)
+    run_rows(stencil_ids, others.shape[0], indices, stencil.vertices, stencil.weights, touched, owners)
+    return Located(points=others, errors=errors, owners=owners, touched=touched, probes=indices, mesh=tri)
+
+
+def graph_edges(located: Located) -> np.ndarray:
+    """The Delaunay graph of located.mesh: every edge both ways, global ids."""
+    count = located.probes.shape[0]
+    tets = located.mesh.tets
+    pairs = np.sort(np.concatenate([tets[:, [a, b]] for a in range(4) for b in range(a + 1, 4)]), axis=1)
+    keys = np.unique(pairs[:, 0] * count + pairs[:, 1])  # one key per edge (a row-wise unique is ~20x slower)
+    pairs = np.stack([keys // count, keys % count], axis=1)
+    return located.probes[np.concatenate([pairs, pairs[:, ::-1]])]
+
+
+def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None) -> MeshState:
+    """Every point evaluated (the seed); with a `weighting`, leaking points' errors weighted from now on."""
+    n = field.point_count
+    located = evaluated_at(field, probes, None, weighting=weighting)
+    owners = np.full((n, 4), -1, dtype=np.int64)
+    touched = np.full((n, 4), -1, dtype=np.int64)
+    owners[located.points], touched[located.points] = located.owners, located.touched
+    return MeshState(probes=located.probes, owners=owners, touched=touched, errors=located.errors,
+                     error_sum=float(located.errors.sum()), edges=graph_edges(located), mesh=located.mesh,
+                     weighting=weighting)
+
+
+def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Points (ascending) whose `ids` rows (state.owners or state.touched) hold a removed probe, and the removed."""
+    gone = np.zeros(state.errors.shape[0], dtype=bool)
+    gone[removed] = True
+    return rows_holding(ids, gone)
+
+
+@dataclass(frozen=True)
+class Trial:
+    """The state's probes without an independent set of candidates: each candidate's removal cost, and the trial's
+    tetrahedra (global ids), from which the tetrahedralisation without any subset of the candidates follows."""
+
+    candidates: np.ndarray
+    costs: np.ndarray
+    tets: np.ndarray  # (T, 4)
+
+
+def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) -> Trial:
+    """batched_refinement.py's step 2: each candidate's exact removal cost, the summed error change at the points its stencil
+    weight reached plus its own new error; the trial is evaluated at those points only (no other point enters a
+    cost). `candidates` must be independent in the state's Delaunay graph."""
+    n = state.errors.shape[0]
+    attributed = stencils_using(state, candidates, state.owners)
+    is_candidate = np.zeros(n, dtype=bool)
+    is_candidate[candidates] = True
+    trial = evaluated_at(field, np.setdiff1d(state.probes, candidates), attributed, weighting=state.weighting)
+    total = np.zeros(n)  # one candidate per stencil: a candidate point itself, else the candidate its stencil weighs
+    attributed_costs(state.owners, attributed, is_candidate, trial.errors, state.errors, total)
+    return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets])
+
+
+def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:
+    """One exact int64 key per tetrahedron (global ids, all in the sorted `probes`): its sorted positions in `probes`,
+    packed 4 x 15 bits when there are fewer than 2^15 probes, else a 4-field record (slower to compare)."""
+    local = np.sort(np.searchsorted(probes, tets), axis=1)
+    if probes.shape[0] < 1 << 15:
+        return ((local[:, 0] << 45) | (local[:, 1] << 30) | (local[:, 2] << 15) | local[:, 3]).astype(np.int64)
+    record = np.dtype([("a", np.int64), ("b", np.int64), ("c", np.int64), ("d", np.int64)])
+    return np.ascontiguousarray(local, dtype=np.int64).view(record).reshape(-1)
+
+
+def stars(field: ReferenceField, state: MeshState, trial: Trial, fills: np.ndarray) -> np.ndarray:
+    """The candidate in whose star each new tetrahedron of the trial lies. Its 4 vertices are all Delaunay neighbours
+    of that candidate; where they are neighbours of none or of several, the candidate of the state's tetrahedron that
+    holds its centroid decides."""
+    n = field.point_count
+    is_candidate = np.zeros(n, dtype=bool)
+    is_candidate[trial.candidates] = True
+    links = state.edges[is_candidate[state.edges[:, 1]]]  # (vertex, candidate) pairs
+    links = links[np.argsort(links[:, 0], kind="stable")]
+    known = np.sort(links[:, 0] * n + links[:, 1])
+    first = fills[:, 0]
+    start, stop = np.searchsorted(links[:, 0], first), np.searchsorted(links[:, 0], first, side="right")
+    rows = np.repeat(np.arange(fills.shape[0]), stop - start)
+    offsets = np.arange(rows.shape[0]) - np.repeat(np.cumsum(stop - start) - (stop - start), stop - start)
+    guess = links[start[rows] + offsets, 1]  # each candidate next to the first vertex
+    fits = np.ones(rows.shape[0], dtype=bool)
+    for k in range(1, 4):
+        key = fills[rows, k] * n + guess
+        fits &= known[np.minimum(np.searchsorted(known, key), known.shape[0] - 1)] == key
+    matches = np.bincount(rows[fits], minlength=fills.shape[0])
+    star = np.full(fills.shape[0], -1, dtype=np.int64)
+    star[rows[fits]] = guess[fits]
+    unsure = np.flatnonzero(matches != 1)
+    if unsure.shape[0]:
+        host = state.tets[locate_local(state.mesh, field.local[fills[unsure]].mean(axis=1)).cell]
+        star[unsure] = host[np.arange(unsure.shape[0]), np.argmax(is_candidate[host], axis=1)]
+    return star
+
+
+def refilled(field: ReferenceField, state: MeshState, trial: Trial, removed: np.ndarray) -> np.ndarray:
+    """The tetrahedra (global ids) of state.probes without `removed` (a subset of the trial's candidates), without
+    tetrahedralising: the state's tetrahedra outside the removed probes' stars, and the trial's tetrahedra that fill
+    those stars. Removing a probe retriangulates its own star and nothing else (the tie-broken Delaunay is unique) and
+    the candidates' stars are disjoint, so each new tetrahedron of the trial lies in exactly one candidate's star."""
+    before = state.tets
+    fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(before, state.probes))]
+    gone = np.zeros(field.point_count, dtype=bool)
+    gone[removed] = True
+    kept = before[~gone[before].any(axis=1)]
+    return np.concatenate([kept, fills[gone[stars(field, state, trial, fills)]]])
+
+
+def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial: Trial | None = None,
+            reuse: bool = False) -> MeshState:
+    """The state of state.probes minus `removed`, re-evaluating only the points whose stencil touched a removed probe
+    (and the removed themselves). `reuse`: update the state's per-point arrays in place instead of copying them (~70 MB
+    a round at 10^6 points); the old state is then only valid again after restore(new state). Exact: the tie-broken
+    Delaunay is unique, so every tetrahedron outside the removed probes' stars survives, and a point outside the hull
+    keeps its nearest hull point unless that point's triangle had a removed vertex (the new hull lies inside the old one
+    and keeps every triangle without a removed vertex). With the round's `trial` (removed among its candidates), the
+    tetrahedralisation comes from refilled instead of Qhull."""
+    affected = stencils_using(state, removed, state.touched)
+    probes = np.setdiff1d(state.probes, removed)
+    tets = None if trial is None else refilled(field, state, trial, removed)
+    if tets is not None and np.unique(tets).shape[0] != probes.shape[0]:
+        tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
+    try:
+        located = evaluated_at(field, probes, affected, tets, state.weighting)
+    except GeometryError:
+        if tets is None:
+            raise
+        located = evaluated_at(field, probes, affected, weighting=state.weighting)  # not a manifold: Qhull decides
+    replaced = None
+    if reuse:  # the state's (N, ...) arrays become the new state's; `replaced` can bring the old rows back
+        errors, owners, touched = state.errors, state.owners, state.touched
+        replaced = ReplacedRows(rows=affected, errors=errors[affected], owners=owners[affected],
+                                touched=touched[affected])
+    else:
+        errors, owners, touched = state.errors.copy(), state.owners.copy(), state.touched.copy()
+    errors[affected], owners[affected], touched[affected] = located.errors[affected], located.owners, located.touched
+    return MeshState(probes=located.probes, owners=owners, touched=touched, errors=errors,
+                     error_sum=float(errors.sum()), edges=graph_edges(located), mesh=located.mesh,
+                     weighting=state.weighting, replaced=replaced)
+
+
+def restore(following: MeshState) -> None:
+    """Undo a `without(..., reuse=True)`: the rows it replaced get their old values back, so the state it was made from
+    (whose arrays it shares) is whole again and `following` must not be used any more."""
+    old = following.replaced
+    if old is None:
+        raise ValueError("restore() needs a state made by without(..., reuse=True)")
+    following.errors[old.rows], following.owners[old.rows], following.touched[old.rows] = (old.errors, old.owners,
+                                                                                           old.touched)

@@ -1,0 +1,77 @@
+"""Leak-aware placement (Documentation~/leaks.md "A leak-aware default"): the two pieces the default placement uses when
+it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
+
+    weighting = LeakWeighting(raycaster)                     # leaking points' errors count LEAK_WEIGHT times
+    repaired = leak_repaired(field, probes, raycaster)       # a probe inside every leaking tetrahedron, a few rounds
+
+- The weighting makes the refinement's removal costs and its tolerance read leaks: a removal that lets a point's
+  stencil reach through a wall costs that point's error LEAK_WEIGHT times, so the refinement keeps the probes that
+  stop leaks unless their removal is cheap anyway. Only the error is weighted, so a leak that changes nothing (both
+  sides equally lit, or both black) costs nothing.
+- The repair gives the refinement a seed with few leaks to start from: decimation only removes probes, so a leak of
+  the seed cannot be undone by it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...core.features import Raycaster
+from ..metric.leak_rule import stencil_leaks
+from ..metric.location import Stencil
+from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
+
+LEAK_WEIGHT = 8.0  # a leaking point's error counts this many times (benchmarks.md §12: 2, 4, 8, 16 measured)
+REPAIR_ROUNDS = 2  # leak repair rounds on the seed (1 and 3 measured: benchmarks.md §12)
+
+
+@dataclass(frozen=True)
+class LeakWeighting:
+    """Errors of leaking points multiplied by `weight` (>= 1): what batched refinement sums when told about leaks."""
+
+    raycaster: Raycaster
+    weight: float = LEAK_WEIGHT
+
+    def __post_init__(self) -> None:
+        weight = float(self.weight)
+        if not (math.isfinite(weight) and weight >= 1.0):
+            raise MetricError(f"leak weight {self.weight!r} must be a finite number >= 1 (1: leaks count as any error; "
+                              f"{LEAK_WEIGHT:g} is recommended)")
+        object.__setattr__(self, "weight", weight)
+
+    def weighted(self, field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+                 errors: np.ndarray) -> np.ndarray:
+        """errors (N,) with the entries of the leaking points among `others` (their stencils `stencil`, vertices
+        positions in the probe indices `indices`) multiplied by the weight; a new array."""
+        leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
+                                self.raycaster)
+        out = np.array(errors, dtype=np.float64, copy=True)
+        out[others[leaking]] *= self.weight
+        return out
+
+
+def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
+                  rounds: int = REPAIR_ROUNDS) -> np.ndarray:
+    """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties: the
+    lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
+    triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
+    Stops early when nothing leaks. Sorted point indices."""
+    if int(rounds) < 0:
+        raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
+    current = np.sort(np.asarray(probes, dtype=np.int64))
+    for _ in range(int(rounds)):
+        indices, others, stencil = probe_stencil(field, current, coherent=True)
+        leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
+                                raycaster)
+        if not leaking.any():
+            break
+        errors = stencil_point_errors(field, indices, others, stencil)
+        points, cells = others[leaking], stencil.cell[leaking]
+        order = np.lexsort((points, -errors[points], cells))  # per cell: largest error first, then lower index
+        first = np.ones(order.shape[0], dtype=bool)
+        first[1:] = cells[order][1:] != cells[order][:-1]
+        current = np.union1d(current, points[order][first])
+    return current

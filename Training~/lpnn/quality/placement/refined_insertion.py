@@ -1,0 +1,113 @@
+"""Refined insertion: the insertion order's answer, refined by batched_refinement (quality.md §5.3).
+
+    refined_insertion(field, grid, budget=0.2)             # K = round(f N) probes
+    refined_insertion(field, grid, tolerance=0.05)         # the fewest probes found within tau
+    refined_insertion(field, grid, budget=0.2, guide=w)    # seeded by guided insertion (the LPNN tier)
+    refined_insertion(field, grid, tolerance=0.05, leaks=raycaster)   # leak-aware (off by default for now)
+
+- budget f: K = round(f N); seed = the insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points
+  (+ tetrahedron guarantee), decimated in batches down to K.
+- tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
+  its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the
+  answer is the refinement's set if it has fewer than K0 probes, else the search's (never worse than insertion).
+- leaks (the scene's raycaster; leak_aware.py, benchmarks.md §12 "Light leaks"): the seed gets leak repair rounds
+  (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
+  with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
+  K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
+F = RECOMMENDED_REFINE (2), the refine tier's factor. The C# core runs the same steps (BatchedRefinement.cs) with
+Unity's tetrahedralisation: what an LPNN volume does by default. The C# core has the leak option too (LeakWeighting,
+LeakRepair, RefinedSelection; Tests/Data/leak_aware_golden.json), off by default there as here.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ...core.features import Raycaster
+from ...core.grid import EvaluationGrid
+from .batched_refinement import batched_refinement
+from .insertion import InsertionOrder
+from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
+from ..metric.metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
+from .pins import PinError, Pins, checked_pinned_count, pinned_smallest
+from .policies import budget_count, place_tolerance
+
+RECOMMENDED_REFINE = 2.0  # the seed holds this many times the wanted count (the refine tier's factor)
+MINIMUM_SEED = 64  # a seed of 2K points cannot reach a sparse answer at tiny K (lpnn_placement.MINIMUM_SEED)
+
+
+@dataclass(frozen=True)
+class RefinedPlacement:
+    indices: np.ndarray  # (K,) int64 point indices, sorted
+    requested: int  # the budget's count, or the count the tolerance answer kept
+    seed_count: int  # points the refinement started from
+    mean_error: float  # irradiance mean error of `indices`
+    selection_seconds: float  # insertion rounds and the tolerance search
+    refinement_seconds: float  # the seed's further rounds and the batched refinement
+    rounds: int  # batched refinement rounds
+
+
+def seed_count(refine: float, count: int, point_count: int) -> int:
+    """min(N, max(round(F K), MINIMUM_SEED)), halves up."""
+    return min(point_count, max(int(math.floor(refine * count + 0.5)), MINIMUM_SEED))
+
+
+def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: float | None = None,
+                      tolerance: float | None = None, refine: float = RECOMMENDED_REFINE,
+                      guide: np.ndarray | None = None,
+                      insertion_progress: Callable[[int, int], None] | None = None,
+                      refinement_progress: Callable[[int, int], None] | None = None,
+                      leaks: Raycaster | None = None, leak_weight: float = LEAK_WEIGHT,
+                      repair_rounds: int = REPAIR_ROUNDS, pins: Pins | None = None) -> RefinedPlacement:
+    """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
+    from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
+    `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
+    and (probes removed, probes to remove at most) during the refinement. `pins` (pins.py): insertion starts from them
+    and never ranks a point near one, the refinement never removes them, and a budget counts them."""
+    if (budget is None) == (tolerance is None):
+        raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
+    factor = float(refine)
+    if not (math.isfinite(factor) and factor > 1.0):
+        raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
+                          f"{RECOMMENDED_REFINE:g} is recommended)")
+    if pins is not None and leaks is not None:  # leak repair adds probes wherever a point leaks, pins or not
+        raise PinError("the leak-aware option does not keep pinned probes yet: give pins or leaks, not both")
+    weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
+    n = field.point_count
+    start = time.perf_counter()
+    order = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins)
+    select = order.selection()
+    keep = None if pins is None else pins.indices
+    found = None
+    if tolerance is None:
+        target = checked_pinned_count(budget_count(budget, n), pins)  # type: ignore[arg-type]
+    else:
+        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, pinned_smallest(pins), order.mean_error)
+        target = int(found.indices.shape[0])
+    selection_seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    seed = select(seed_count(factor, target, n))
+    if weighting is not None:
+        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
+    if tolerance is None:
+        refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
+                                     leaks=weighting)
+        indices, error = refined.indices, refined.mean_error
+    else:
+        refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
+                                     leaks=weighting)
+        assert found is not None
+        # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
+        better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
+        indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
+    if weighting is not None and (tolerance is None or better):
+        error = mean_placement_error(field, indices)  # the weighted mean is the refinement's, not the metric's
+    return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
+                            seed_count=int(seed.shape[0]), mean_error=float(error),
+                            selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
+                            rounds=refined.rounds)
