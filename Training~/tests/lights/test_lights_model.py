@@ -6,24 +6,8 @@ import numpy as np
 import pytest
 
 from lpnn.lights.model import LINEAR_SCALE, MIN_DISTANCE, ForwardModel, Lights
+from gradient_checks import finite_difference
 from synthetic_room import TRUE_LIGHTS, lit_room, room_geometry, room_target, wall_albedo
-
-
-def finite_difference(model: ForwardModel, lights: Lights, visible: np.ndarray, step: float = 1e-4) -> dict[str, np.ndarray]:
-    out = {}
-    for name in ("positions", "colours", "intensities", "ambient"):
-        values = getattr(lights, name)
-        numeric = np.zeros_like(values)
-        for index in np.ndindex(values.shape):
-            kept = values[index]
-            values[index] = kept + step
-            up = model.objective(lights, visible, with_gradient=False).value
-            values[index] = kept - step
-            down = model.objective(lights, visible, with_gradient=False).value
-            values[index] = kept
-            numeric[index] = (up - down) / (2 * step)
-        out[name] = numeric
-    return out
 
 
 @pytest.fixture(scope="module")
@@ -80,7 +64,8 @@ def test_gradient_matches_finite_differences(room: ForwardModel, near: bool) -> 
     visible = room.visibility(lights)
     assert room.objective(lights, visible).value > 0.01
     analytic = room.objective(lights, visible)
-    numeric = finite_difference(room, lights, visible)
+    numeric = finite_difference(room, lights, visible,
+                                dict.fromkeys(("positions", "colours", "intensities", "ambient"), 1e-4))
     for name, value in (("positions", analytic.positions), ("colours", analytic.colours),
                         ("intensities", analytic.intensities), ("ambient", analytic.ambient)):
         scale = np.max(np.abs(numeric[name]))

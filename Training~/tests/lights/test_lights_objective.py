@@ -9,6 +9,8 @@ import pytest
 
 import lpnn.lights.objective_kernel as kernel
 from lpnn.lights.model import BYTE_MAX, ForwardModel, Gradient, Lights
+import gradient_checks
+from gradient_checks import assert_same_bits, objectives_on_threads
 from objective_bench import largest_difference, tensorflow_objective
 from synthetic_room import TRUE_LIGHTS, lit_room
 
@@ -36,12 +38,7 @@ def hard_lights() -> Lights:
 
 
 def assert_close(a: Gradient, b: Gradient, tolerance: float) -> None:
-    assert a.value == pytest.approx(b.value, rel=tolerance)
-    for name in FIELDS:
-        x, y = getattr(a, name), getattr(b, name)
-        scale = np.max(np.abs(y))
-        assert scale > 0, name  # every parameter takes part: the comparison is not of zeros
-        assert np.max(np.abs(x - y)) <= tolerance * scale, name
+    gradient_checks.assert_close(a, b, tolerance, FIELDS)
 
 
 def test_the_scene_exercises_the_clamps(room: ForwardModel) -> None:
@@ -81,16 +78,9 @@ def test_the_same_bits_on_one_and_two_threads_and_on_every_call(room: ForwardMod
     assert kernel.chunks_for(room.point_count) >= 8
     lights = hard_lights()
     visible = room.visibility(lights)
-    runs = []
-    for threads in (1, 2, 1):
-        room.threads = threads
-        runs.append(room.objective(lights, visible))
-    room.threads = 1
+    runs = objectives_on_threads(room, lights, visible)
     assert numba.config.NUMBA_NUM_THREADS >= 2  # the two-thread run did use two threads
-    for run in runs[1:]:
-        assert run.value == runs[0].value
-        for name in FIELDS:
-            assert np.array_equal(getattr(run, name), getattr(runs[0], name)), name
+    assert_same_bits(runs, FIELDS)
     # slicing changes only the summation order: the same numbers to rounding
     monkeypatch.setattr(kernel, "PARALLEL_POINTS", 10**9)
     assert_close(room.objective(lights, visible), runs[0], 1e-12)

@@ -9,11 +9,12 @@ import pytest
 import lpnn.lights.objective_kernel as kernel
 from lpnn.lights.compare import relight_grid
 from lpnn.lights.emitters import Emitters, Spots, emitter_bytes
-from lpnn.lights.model import ForwardModel, Gradient, Lights, spot_factors
+from lpnn.lights.model import ForwardModel, Lights, spot_factors
 from lpnn.lights.optimise import Fitter, initial_intensity
 from lpnn.lights.rig import Rig, read_rig, write_rig
 from lpnn.lights.settings import SCHEMES
 from lpnn.scenes.coords import quake_to_unity
+from gradient_checks import assert_close, assert_same_bits, finite_difference, objectives_on_threads
 from synthetic_room import ROOM_SIDE, lit_room
 
 FIELDS = ("positions", "colours", "intensities", "ambient", "spot_directions", "radius_by_dist")
@@ -44,15 +45,6 @@ def off_lights() -> Lights:
     lights.radius_by_dist = np.array([0.6, 0.45, 0.0])
     lights.intensities = np.array([700.0, 1600.0, 150.0])
     return lights
-
-
-def assert_close(a: Gradient, b: Gradient, tolerance: float) -> None:
-    assert a.value == pytest.approx(b.value, rel=tolerance)
-    for name in FIELDS:
-        x, y = getattr(a, name), getattr(b, name)
-        scale = np.max(np.abs(y))
-        assert scale > 0, name
-        assert np.max(np.abs(x - y)) <= tolerance * scale, name
 
 
 def test_the_cone_is_the_emitters_spotlight(room: ForwardModel) -> None:
@@ -87,7 +79,7 @@ def test_compiled_pass_matches_the_numpy_formula_with_spots(room: ForwardModel) 
     visible = room.visibility(lights)
     compiled, reference = room.objective(lights, visible), room.objective_numpy(lights, visible)
     assert compiled.value > 0.01
-    assert_close(compiled, reference, 1e-12)
+    assert_close(compiled, reference, 1e-12, FIELDS)
     assert not np.any(compiled.spot_directions[2]) and compiled.radius_by_dist[2] == 0  # the point light
 
 
@@ -95,20 +87,13 @@ def test_spot_gradients_match_finite_differences(room: ForwardModel) -> None:
     lights = off_lights()
     visible = room.visibility(lights)
     analytic = room.objective(lights, visible)
-    for name, step in (("positions", 1e-4), ("spot_directions", 1e-6), ("radius_by_dist", 1e-6),
-                       ("intensities", 1e-3)):
-        values = getattr(lights, name)
-        numeric = np.zeros_like(values)
-        for index in np.ndindex(values.shape):
-            if name in ("spot_directions", "radius_by_dist") and lights.radius_by_dist[index[0]] == 0:
-                continue  # a point light: a cone would make it a spotlight (a jump, not a derivative)
-            kept = values[index]
-            values[index] = kept + step
-            up = room.objective(lights, visible, with_gradient=False).value
-            values[index] = kept - step
-            down = room.objective(lights, visible, with_gradient=False).value
-            values[index] = kept
-            numeric[index] = (up - down) / (2 * step)
+
+    def point_lights_cone(name: str, index: tuple[int, ...]) -> bool:
+        # a point light: a cone would make it a spotlight (a jump, not a derivative)
+        return name in ("spot_directions", "radius_by_dist") and lights.radius_by_dist[index[0]] == 0
+
+    steps = {"positions": 1e-4, "spot_directions": 1e-6, "radius_by_dist": 1e-6, "intensities": 1e-3}
+    for name, numeric in finite_difference(room, lights, visible, steps, skip=point_lights_cone).items():
         scale = np.max(np.abs(numeric))
         assert scale > 0, name
         assert np.max(np.abs(getattr(analytic, name) - numeric)) <= 1e-5 * scale, name
@@ -121,15 +106,7 @@ def test_the_same_bits_on_one_and_two_threads_with_spots(room: ForwardModel, mon
     assert kernel.chunks_for(room.point_count) >= 8
     lights = off_lights()
     visible = room.visibility(lights)
-    runs = []
-    for threads in (1, 2, 1):
-        room.threads = threads
-        runs.append(room.objective(lights, visible))
-    room.threads = 1
-    for run in runs[1:]:
-        assert run.value == runs[0].value
-        for name in FIELDS:
-            assert np.array_equal(getattr(run, name), getattr(runs[0], name)), name
+    assert_same_bits(objectives_on_threads(room, lights, visible), FIELDS)
 
 
 def test_cones_of_the_wrong_count_are_refused(room: ForwardModel) -> None:
