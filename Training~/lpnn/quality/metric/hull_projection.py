@@ -126,20 +126,19 @@ def nearest_on_candidates(points: np.ndarray, faces: np.ndarray, query: np.ndarr
     answer is not certified then try all the candidates.
     """
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
+    if faces.shape[0] <= 2 * INITIAL_CANDIDATES:
+        whole = every_triangle(points, faces, q)
+        return whole, _is_projection(q, whole.anchor, whole.distance, hull_points)
     corners = points[faces]
-    every = np.broadcast_to(np.arange(faces.shape[0]), (q.shape[0], faces.shape[0]))
-    if faces.shape[0] > 2 * INITIAL_CANDIDATES:
-        nearest = np.asarray(cKDTree(corners.mean(axis=1)).query(q, k=INITIAL_CANDIDATES)[1], dtype=np.int64)
-        face, weights, anchor, distance = _nearest_among(q, corners, nearest.reshape(q.shape[0], -1), None)
-        certified = _is_projection(q, anchor, distance, hull_points)
-        retry = np.flatnonzero(~certified)
-        if retry.shape[0]:
-            f, w, a, d = _nearest_among(q[retry], corners, every[retry], None)
-            face[retry], weights[retry], anchor[retry], distance[retry] = f, w, a, d
-            certified[retry] = _is_projection(q[retry], a, d, hull_points)
-    else:
-        face, weights, anchor, distance = _nearest_among(q, corners, every, None)
-        certified = _is_projection(q, anchor, distance, hull_points)
+    nearest = np.asarray(cKDTree(corners.mean(axis=1)).query(q, k=INITIAL_CANDIDATES)[1], dtype=np.int64)
+    face, weights, anchor, distance = _nearest_among(q, corners, nearest.reshape(q.shape[0], -1), None)
+    certified = _is_projection(q, anchor, distance, hull_points)
+    retry = np.flatnonzero(~certified)
+    if retry.shape[0]:
+        again = every_triangle(points, faces, q[retry])
+        face[retry], weights[retry] = again.face, again.weights
+        anchor[retry], distance[retry] = again.anchor, again.distance
+        certified[retry] = _is_projection(q[retry], again.anchor, again.distance, hull_points)
     return HullProjection(face=face, weights=weights, anchor=anchor, distance=distance), certified
 
 
