@@ -39,7 +39,9 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(options.Method, Is.Null, "no -lpnnMethod: each volume's own method");
         }
 
+        [TestCase("insertion-refined", PlacementMethod.InsertionRefined)]
         [TestCase("insertion", PlacementMethod.Insertion)]
+        [TestCase("guided-refined", PlacementMethod.GuidedInsertionRefined)]
         [TestCase("Guided", PlacementMethod.GuidedInsertion)]
         [TestCase("guided", PlacementMethod.GuidedInsertion)]
         [TestCase("network", PlacementMethod.Network)]
@@ -58,6 +60,17 @@ namespace Lpnn.Probes.Core.Tests
                 StringAssert.Contains(name, BatchOptions.Usage);
             }
             Assert.That(BatchOptions.MethodName(PlacementMethod.GuidedInsertion), Is.EqualTo("guided"));
+            Assert.That(BatchOptions.MethodName(PlacementMethod.InsertionRefined), Is.EqualTo("insertion-refined"));
+        }
+
+        [TestCase("fast-reference")]  // a Python-only method of the table
+        [TestCase("GuidedInsertion")]  // the enum's name, not the table's
+        [TestCase("lpnn-batched")]  // a retired name
+        public void AnUnknownMethodIsRefusedListingTheTablesNames(string name)
+        {
+            var error = Assert.Throws<LpnnException>(() => BatchOptions.Parse(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", name }));
+            Assert.That(error.Message, Is.EqualTo("-lpnnMethod '" + name + "' is not a placement method; choose one of " +
+                                                  "insertion-refined, insertion, guided-refined, guided, network (Documentation~/methods.md)"));
         }
 
         [TestCase(new[] { "-lpnnMode", "place" }, "missing -lpnnScene")]
@@ -65,8 +78,8 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase(new[] { "-lpnnScene", "-lpnnBake" }, "-lpnnScene needs a value")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMode", "train" }, "-lpnnMode 'train' must be place or export")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnBackend", "tpu" }, "-lpnnBackend 'tpu' must be auto, gpu or cpu")]
-        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "-lpnnMethod 'heuristic' must be insertion")]
-        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "guided (insertion guided by the model's scores")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "-lpnnMethod 'heuristic' is not a placement method")]
+        [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnMethod", "heuristic" }, "choose one of insertion-refined, insertion, guided-refined")]
         [TestCase(new[] { "-lpnnScene", "A.unity", "-lpnnScenes", "B.unity" }, "unknown argument -lpnnScenes")]
         public void BadArgumentsAreExplained(string[] args, string expected)
         {

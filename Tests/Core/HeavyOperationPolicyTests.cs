@@ -31,7 +31,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheWholeDefaultApplyAtTheMeasuredLevelsIsItsMeasuredTotal()
         {
-            var apply = HeavyOperationPolicy.PlacementOperations(true, true, true, false);
+            var apply = HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, false);
             // §11.3 totals: 34.4 s and 215.9 s (the first stage's 0.1 s rounding aside).
             Assert.That(HeavyOperationPolicy.Estimate(136512, apply).Seconds, Is.EqualTo(34.3).Within(1e-9));
             Assert.That(HeavyOperationPolicy.Estimate(1151667, apply).Seconds, Is.EqualTo(215.8).Within(1e-9));
@@ -59,7 +59,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void AnEmptyGridCostsNothing()
         {
-            var estimate = HeavyOperationPolicy.Estimate(0, HeavyOperationPolicy.PlacementOperations(true, true, true, false));
+            var estimate = HeavyOperationPolicy.Estimate(0, HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, false));
             Assert.That(estimate.Seconds, Is.EqualTo(0));
             Assert.That(estimate.NeedsConfirmation, Is.False);
         }
@@ -101,13 +101,13 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ApplyOfARefinedInsertionRunsRoundsSearchAndRefinement()
         {
-            Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, false),
+            Assert.That(HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, false),
                 Is.EqualTo(new[] { HeavyOperation.InsertionRounds, HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement }));
-            Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, true),
+            Assert.That(HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, true),
                 Is.EqualTo(new[] { HeavyOperation.InsertionRounds, HeavyOperation.ToleranceSearch }));
-            Assert.That(HeavyOperationPolicy.PlacementOperations(true, true, true, false, rankingKnown: true),
+            Assert.That(HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, false, rankingKnown: true),
                 Is.EqualTo(new[] { HeavyOperation.ToleranceSearch, HeavyOperation.BatchedRefinement }));
-            Assert.That(HeavyOperationPolicy.PlacementOperations(false, false, true, false), Is.Empty);
+            Assert.That(HeavyOperationPolicy.PlacementOperations(PlacementMethod.Network, false, false), Is.Empty);
         }
 
         [TestCase(0.2, "under a second")]
@@ -130,7 +130,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheApplyLineOfTheDefaultNamesItsTimeStepsAndSource()
         {
-            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false);
+            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.InsertionRefined, SelectionPolicy.Tolerance, false, false);
             Assert.That(line, Is.EqualTo("Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the refinement in batches; " +
                                          "C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
                                          "Documentation~/benchmarks.md §11.3)."));
@@ -140,16 +140,16 @@ namespace Lpnn.Probes.Core.Tests
         public void TheApplyLineSaysWhatItCannotKnow()
         {
             StringAssert.Contains("once the grid is built",
-                HeavyOperationPolicy.ApplyLine(0, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false));
+                HeavyOperationPolicy.ApplyLine(0, PlacementMethod.InsertionRefined, SelectionPolicy.Tolerance, false, false));
             StringAssert.StartsWith("Apply: under a second for 1,272 points",
-                HeavyOperationPolicy.ApplyLine(1272, PlacementMethod.Insertion, SelectionPolicy.Budget, false, true, true));
+                HeavyOperationPolicy.ApplyLine(1272, PlacementMethod.Insertion, SelectionPolicy.Budget, true, true));
             StringAssert.Contains("ranks the stored scores",
-                HeavyOperationPolicy.ApplyLine(5000, PlacementMethod.Network, SelectionPolicy.Spread, true, false, false));
-            string budget = HeavyOperationPolicy.ApplyLine(50000, PlacementMethod.GuidedInsertion, SelectionPolicy.Budget, true, false, false);
+                HeavyOperationPolicy.ApplyLine(5000, PlacementMethod.Network, SelectionPolicy.Spread, false, false));
+            string budget = HeavyOperationPolicy.ApplyLine(50000, PlacementMethod.GuidedInsertionRefined, SelectionPolicy.Budget, false, false);
             StringAssert.Contains("(guided insertion rounds and the refinement in batches;", budget);
             StringAssert.Contains("a budget of many probes takes more rounds", budget);
             StringAssert.Contains("guided rounds priced as plain insertion's", budget);
-            string huge = HeavyOperationPolicy.ApplyLine(3000000, PlacementMethod.Insertion, SelectionPolicy.Tolerance, true, false, false);
+            string huge = HeavyOperationPolicy.ApplyLine(3000000, PlacementMethod.InsertionRefined, SelectionPolicy.Tolerance, false, false);
             StringAssert.Contains("extrapolated beyond the 1,151,667 points measured", huge);
             StringAssert.StartsWith("Apply: about 9 min for 3,000,000 points", huge);
         }
@@ -157,7 +157,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheNetworksToleranceSearchIsItsOnlyHeavyStep()
         {
-            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.Network, SelectionPolicy.Tolerance, true, false, false);
+            string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.Network, SelectionPolicy.Tolerance, false, false);
             StringAssert.StartsWith("Apply: about 6 s for 136,512 points (the tolerance search;", line);
         }
 

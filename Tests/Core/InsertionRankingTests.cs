@@ -607,24 +607,32 @@ namespace Lpnn.Probes.Core.Tests
         // ---- the method choice ---------------------------------------------------------------------------------------
 
         [Test]
-        public void TheDefaultMethodIsInsertionAndWhatEachMethodNeeds()
+        public void TheDefaultMethodIsRefinedInsertionAndWhatEachMethodNeeds()
         {
             // Documentation~/benchmarks.md §11: on the validation crops, once refined in batches, plain insertion keeps fewer
             // probes at τ (the default policy) than guided insertion (1.01× against 1.04× the reference's).
-            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.Insertion));
+            Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.InsertionRefined));
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Network), Is.True);
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Insertion), Is.False);
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.InsertionRefined), Is.False);
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.GuidedInsertion), Is.True, "the scores are its guide");
+            Assert.That(PlacementMethods.NeedsScores(PlacementMethod.GuidedInsertionRefined), Is.True, "the scores are its guide");
             Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.Network), Is.False);
             Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.Insertion), Is.True);
+            Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.InsertionRefined), Is.True);
             Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.GuidedInsertion), Is.True);
+            Assert.That(PlacementMethods.RanksByInsertion(PlacementMethod.GuidedInsertionRefined), Is.True);
             Assert.That(Enum.GetValues(typeof(PlacementMethod)).Cast<PlacementMethod>().Where(PlacementMethods.GuidesInsertion),
-                Is.EqualTo(new[] { PlacementMethod.GuidedInsertion }));
+                Is.EqualTo(new[] { PlacementMethod.GuidedInsertion, PlacementMethod.GuidedInsertionRefined }));
+            Assert.That(Enum.GetValues(typeof(PlacementMethod)).Cast<PlacementMethod>().Where(PlacementMethods.RefinesInBatches),
+                Is.EqualTo(new[] { PlacementMethod.InsertionRefined, PlacementMethod.GuidedInsertionRefined }));
             // Stored in scenes: values never move, new ones are appended.
             Assert.That((int)PlacementMethod.Network, Is.EqualTo(0));
             Assert.That((int)PlacementMethod.Insertion, Is.EqualTo(1));
             Assert.That((int)PlacementMethod.GuidedInsertion, Is.EqualTo(2));
-            Assert.That(Enum.GetValues(typeof(PlacementMethod)).Length, Is.EqualTo(3));
+            Assert.That((int)PlacementMethod.InsertionRefined, Is.EqualTo(3));
+            Assert.That((int)PlacementMethod.GuidedInsertionRefined, Is.EqualTo(4));
+            Assert.That(Enum.GetValues(typeof(PlacementMethod)).Length, Is.EqualTo(5));
         }
 
         [Test]

@@ -130,7 +130,7 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(Pins.KeptBy(PlacementMethod.Network, false, positions, _grid, _valid), Is.Null);
             var network = Assert.Throws<PinException>(() => Pins.KeptBy(PlacementMethod.Network, true, positions, _grid, _valid));
             Assert.That(network.Message, Is.EqualTo(Pins.NeedsInsertionMethod));
-            foreach (var method in new[] { PlacementMethod.Insertion, PlacementMethod.GuidedInsertion })
+            foreach (var method in new[] { PlacementMethod.InsertionRefined, PlacementMethod.Insertion, PlacementMethod.GuidedInsertionRefined, PlacementMethod.GuidedInsertion })
                 Assert.That(Pins.KeptBy(method, true, positions, _grid, _valid).Indices, Is.EqualTo(_pins.Indices), method.ToString());
             var none = Assert.Throws<PinException>(() => Pins.KeptBy(PlacementMethod.Insertion, true, new Double3[0], _grid, _valid));
             StringAssert.Contains("no pinned positions were given", none.Message);

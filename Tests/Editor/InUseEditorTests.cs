@@ -156,7 +156,6 @@ namespace Lpnn.Probes.Editor.Tests
             _volume.SetInUseRule(InUseRule.Band);
             _volume.SetMethod(PlacementMethod.Insertion);
             _volume.SetSelection(SelectionSettings.Budget(24, true));
-            _volume.SetRefineInBatches(false);
             bool completed = LpnnPipeline.Run(_volume, _session, PipelineStep.Placement, volume => new GradientLighting(), (step, work) =>
             {
                 work(null, CancellationToken.None);
@@ -185,7 +184,7 @@ namespace Lpnn.Probes.Editor.Tests
             _volume.SetInUseRule(InUseRule.All);
             _volume.SetInUseSeeds(_seed);
             _volume.SetSelection(SelectionSettings.Budget(24, true));
-            _volume.SetRefineInBatches(false);
+            _volume.SetMethod(PlacementMethod.Insertion);  // no refinement
             LpnnPipeline.Run(_volume, _session, PipelineStep.Features, volume => new GradientLighting(), (step, work) =>
             {
                 work(null, CancellationToken.None);

@@ -66,7 +66,7 @@ namespace Lpnn.Probes.Editor.Tests
         }
 
         /// <summary>… then the model card check and the scores on the CPU; placement by the network's scores (a new volume
-        /// places by insertion, PlacementMethods.Default).</summary>
+        /// places by insertion, refined: PlacementMethods.Default).</summary>
         private void RunUpToScores()
         {
             _room.Volume.SetMethod(PlacementMethod.Network);
@@ -77,8 +77,8 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void TheInsertionMethodsRunSkipsScoringAndPlacesProbes()
         {
-            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.Insertion), "a new volume places by insertion");
-            Assert.That(_room.Volume.RefineInBatches, Is.True, "and refines in batches on Apply");
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.InsertionRefined),
+                "a new volume places by insertion and refines in batches on Apply");
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step),
                 Is.EqualTo(new[] { PipelineStep.Grid, PipelineStep.Lighting, PipelineStep.Features, PipelineStep.Placement }));
@@ -106,8 +106,7 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void PlainInsertionPlacesFromTheLightingAloneWithUnitysTetrahedra()
         {
-            _room.Volume.SetMethod(PlacementMethod.Insertion);
-            _room.Volume.SetRefineInBatches(false);  // the policy's own selection (the refinement: the test below)
+            _room.Volume.SetMethod(PlacementMethod.Insertion);  // the policy's own selection (the refinement: the test below)
             LpnnPipeline.BuildGrid(_room.Volume, _session);
             using (var lighting = _room.AnalyticLighting())
                 LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
@@ -130,8 +129,8 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void RefineInBatchesAppliesFewerProbesWithinTheToleranceAndKeepsTheBoundsCorners()
         {
-            // The default volume: Insertion, Refine in batches (quality.md §5.3), Tolerance with the bounds corners kept.
-            Assert.That(_room.Volume.RefineInBatches, Is.True);
+            // The default volume: Insertion, refined (quality.md §5.3), Tolerance with the bounds corners kept.
+            Assert.That(_room.Volume.Method, Is.EqualTo(PlacementMethod.InsertionRefined));
             LpnnPipeline.BuildGrid(_room.Volume, _session);
             using (var lighting = _room.AnalyticLighting())
                 LpnnPipeline.SampleLighting(_room.Volume, _session, lighting, null, CancellationToken.None);
@@ -151,8 +150,7 @@ namespace Lpnn.Probes.Editor.Tests
         [Test]
         public void GuidedInsertionRunsScoringAndRanksByTheLightingGuidedByTheStoredScores()
         {
-            _room.Volume.SetMethod(PlacementMethod.GuidedInsertion);
-            _room.Volume.SetRefineInBatches(false);  // the ranking's own prefix
+            _room.Volume.SetMethod(PlacementMethod.GuidedInsertion);  // unrefined: the ranking's own prefix
             _room.Volume.SetSelection(SelectionSettings.Budget(24));
             var results = RunUpTo(PipelineStep.Placement);
             Assert.That(results.Select(r => r.Step), Is.EqualTo(new[]
@@ -180,7 +178,7 @@ namespace Lpnn.Probes.Editor.Tests
         public void WithPinnedProbesThePreviewIsWhatApplyPlacesAndHoldsThePins()
         {
             // Insertion without refinement: Apply writes the policy's own selection, which the preview shows (pins.md "Where").
-            _room.Volume.SetRefineInBatches(false);
+            _room.Volume.SetMethod(PlacementMethod.Insertion);
             var settings = SelectionSettings.Budget(24);
             _room.Volume.SetSelection(settings);
             RunUpToFeatures();

@@ -22,17 +22,19 @@ import math
 import sys
 from pathlib import Path
 
-METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
-# Every method of `lpnn bench` (Training~/lpnn/quality/placement/policy_rules.py BENCH_METHODS), the default first, then the network's
-# refined tiers, the rankings, the baselines and the yardsticks.
-METHOD_ORDER = ("insertion-refined", "lpnn-batched", "lpnn-refine", "lpnn-guided", "insertion", "lpnn", "lpnn-topk",
-                "heuristic", "apv", "uniform", "random", "fast-reference", "blockwise-reference", "faithful-reference")
-LPNN_TIERS = ("lpnn-batched", "lpnn-refine", "lpnn-guided", "lpnn", "lpnn-topk")
+# The table of placement methods (Documentation~/methods.md; a light module: dataclasses only).
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "Training~"))
+from lpnn.quality.placement.methods import DEFAULT_METHOD, METHODS as TABLE, SCORED  # noqa: E402
+
+METHODS = ("network", "guided", "guided-exact-refined", "insertion", "heuristic", "apv", "uniform")
+# Every method of `lpnn bench`, in the table's order: the default first, insertion, the methods that read the scores,
+# the fast reference, the baselines and the bench-only yardsticks.
+METHOD_ORDER = tuple(method.name for method in TABLE)
+LPNN_TIERS = SCORED
 YARDSTICKS = ("fast-reference", "blockwise-reference")
 # lpnn bench's defaults (quality/placement/policy_rules.py, quality/placement/insertion.py): the reasons a method has no rows.
 REFINE_LIMIT, GUIDED_POINT_LIMIT = 20_000, 32_768
-LABELS = {"insertion-refined": "**insertion-refined** (default)", "fast-reference": "fast reference (exact)",
-          "blockwise-reference": "blockwise reference"}
+LABELS = {DEFAULT_METHOD: f"**{DEFAULT_METHOD}** (default)"}  # every other method by its name
 
 
 def geometric_mean(values):
@@ -86,7 +88,7 @@ def main() -> int:
         cells = [ratio(table.get((capture, m, "budget", budget)), "error_ratio") for m in METHODS]
         cells += [ratio(table.get((capture, m, "tolerance", tau)), "probes_ratio") for m in METHODS]
         try:
-            lpnn, refine, reference = (table[(capture, m, "budget", budget)] for m in ("lpnn", "lpnn-refine", "fast-reference"))
+            lpnn, refine, reference = (table[(capture, m, "budget", budget)] for m in ("network", "guided-exact-refined", "fast-reference"))
         except KeyError as missing:
             sys.exit(f"{args.csv}: no row {missing} (run lpnn bench with --model and the budget {budget:g})")
         for index, value in enumerate(cells):
@@ -191,7 +193,7 @@ def _why_not_run(method: str, rows, failures) -> str:
         return "not run: above lpnn bench's --full-reference-limit the blockwise reference is the yardstick"
     if method == "fast-reference" and yardsticks == {"none"}:
         return "not run: no reference (lpnn bench --no-reference)"
-    if method == "lpnn-refine" and (points > REFINE_LIMIT or yardsticks != {"fast-reference"}):
+    if method == "guided-exact-refined" and (points > REFINE_LIMIT or yardsticks != {"fast-reference"}):
         return f"not run: above {REFINE_LIMIT:,} points (lpnn bench --refine-limit; each row decimates again)"
     if method in LPNN_TIERS and not has_lpnn:
         return "not run: no --model"
@@ -274,7 +276,7 @@ def trade(specs, notes, given) -> int:
                 cells.append(_seconds(_median_seconds([table.get((c, method, "tolerance", tau)) for c in captures])))
             if method in YARDSTICKS:
                 notes_here.insert(0, "the yardstick")
-            for guided, plain in (("lpnn-guided", "insertion"), ("lpnn-batched", "insertion-refined")):
+            for guided, plain in (("guided", "insertion"), ("guided-refined", "insertion-refined")):
                 if method == guided and _same_answers(rows, guided, plain) and min(int(r["points"]) for r in rows) > GUIDED_POINT_LIMIT:
                     notes_here.insert(0, f"{plain}'s answers (no guide above {GUIDED_POINT_LIMIT:,} points) + the inference")
             print(f"| {shown} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")

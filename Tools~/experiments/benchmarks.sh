@@ -43,7 +43,7 @@ write_capture('$OUT/room.lpnncap', AnalyticScene.random(7, cell_size=$ROOM_CELL,
   for capture in "${captures[@]}"; do
     for workers in $WORKERS; do
       TIMEFORMAT="$capture: fast reference, $workers process(es), read to write: %R s wall"
-      time lpnn place "$OUT/$capture.lpnncap" --method fast --budget 0.2 --workers "$workers" \
+      time lpnn place "$OUT/$capture.lpnncap" --method fast-reference --budget 0.2 --workers "$workers" \
         --out "$OUT/$capture.probes.json" > /dev/null
     done
   done

@@ -51,9 +51,9 @@ def main() -> int:
     for label, config in runs.items():
         result = run_recipe(args.pak, args.work / label, config, log=lambda line: print(line, file=sys.stderr))
         summary = result.held_out
-        ratios = " / ".join(f"{find(summary, 'lpnn', 'budget', b)['error_vs_reference']:.2f}" for b in (0.1, 0.2, 0.3))
-        refine = find(summary, "lpnn-refine", "budget", 0.2)["error_vs_reference"]
-        tolerance = find(summary, "lpnn", "tolerance", summary["tolerance"])
+        ratios = " / ".join(f"{find(summary, 'network', 'budget', b)['error_vs_reference']:.2f}" for b in (0.1, 0.2, 0.3))
+        refine = find(summary, "guided-exact-refined", "budget", 0.2)["error_vs_reference"]
+        tolerance = find(summary, "network", "tolerance", summary["tolerance"])
         print(f"| {label} | {len(result.crops['train'])} | {summary['crops']} | {summary['roc_auc']:.3f} | "
               f"{summary['pr_auc']:.3f} | {ratios} | {refine:.2f} | {tolerance['probes_vs_reference']:.2f} "
               f"({tolerance['within_tolerance']} of {tolerance['crops']} within) |", flush=True)

@@ -10,7 +10,7 @@ For every crop, the fast reference (quality.md §3.2) gives every point's rank r
 score" is 1 - r / N, whose top-K IS the reference's placement at every K. Rankings compared (error at 1/5/10/20/30 %
 budgets as a ratio to the reference's at the same count, probes at tau = 0.05 as a ratio to its smallest count;
 geometric means over crops):
-- insertion, and insertion guided by the model's scores (the `lpnn-guided` tier), by the oracle score (through the
+- insertion, and insertion guided by the model's scores (the `guided` tier), by the oracle score (through the
   same weights, sqrt(score / median): a network's output range) and by the oracle importance N / (r + 1) (weights
   sqrt(importance / median), up to sqrt(2N): the ceiling of guiding);
 - the spread ranking (selection.md) of the model's scores (exponent 0.5, the `lpnn` tier) and of the oracle score
@@ -103,7 +103,7 @@ def crop_ratios(task: tuple[str, str | None]) -> dict[str, list[float]]:
         from lpnn.train.onnx_scoring import OnnxScorer
 
         scores = OnnxScorer(model, threads=1).score_capture(capture, Path(path).name)
-        rankings["insertion guided by the model (lpnn-guided)"] = insertion_ranking(field, grid, guide=guide_weights(scores))
+        rankings["insertion guided by the model (guided)"] = insertion_ranking(field, grid, guide=guide_weights(scores))
         rankings["spread of the model (lpnn)"] = spread_ranking(positions, scores)
     target = reference_tolerance(reference, TOLERANCE).indices.shape[0]
     ratios = {}

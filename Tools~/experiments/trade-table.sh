@@ -50,7 +50,7 @@ fi
 
 if want level5; then
   # 136,512 points: the exact reference stopped at 2τ (its curve covers every budget from 1,365 probes and τ's answer,
-  # ~650) took 1,118 s in §7.5; run down to 4 probes it would add its dearest tail (35-40 % on crops). lpnn-refine is
+  # ~650) took 1,118 s in §7.5; run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
   # skipped by --refine-limit (636 s at τ alone, §7.5: ~1 hour for its 6 rows).
   # Measured 2026-11-27: 2,188 s, of which the reference 678 s and insertion-refined's 20 % and 30 % rows 371 + 744 s.
   run ctf_compromise "~30-40 min (reference ~19 min stopped at 2τ, then the methods' 6 rows each)" \
@@ -60,12 +60,12 @@ fi
 
 if want level6; then
   # 1,078,164 points: no reference fits (the exact one: hours and ~25 GB; the blockwise one: ~2 hours of 2 processes,
-  # §7.5), so τ rows only, without ratios; the table divides by §7.5's blockwise count (4,066). Not run: lpnn-refine
-  # (its exact refinement: 636 s at 10⁵ points, hours here). lpnn-guided / lpnn-batched are insertion's / the default's
+  # §7.5), so τ rows only, without ratios; the table divides by §7.5's blockwise count (4,066). Not run: guided-exact-refined
+  # (its exact refinement: 636 s at 10⁵ points, hours here). guided / guided-refined are insertion's / the default's
   # answers above 32,768 points (the bench reuses them) plus the inference.
   run suspended "~10-15 min (τ only: ~1-2 min per method)" \
     lpnn bench "$SUSPENDED" --model "$MODEL" --no-budgets --tolerance "$TAU" --repeats 1 --no-reference \
-    --methods insertion-refined,lpnn-batched,lpnn-guided,insertion,lpnn,lpnn-topk,heuristic,apv,uniform,random \
+    --methods insertion-refined,guided-refined,guided,insertion,network,network-topk,heuristic,apv,uniform,random \
     --out "$OUT/suspended"
 fi
 
@@ -82,10 +82,10 @@ if want table; then
     "suspended at 1.3 m (held out)=$OUT/suspended/bench.csv" \
     "make demo (oa_dm1, points in use)=$OUT/summary.json" \
     --given-yardstick "suspended at 1.3 m (held out)=4066" \
-    --note "suspended at 1.3 m (held out):lpnn-refine=skipped: its exact refinement took 636 s at τ on 136,512 points (§7.5), hours here" \
+    --note "suspended at 1.3 m (held out):guided-exact-refined=skipped: its exact refinement took 636 s at τ on 136,512 points (§7.5), hours here" \
     --note "suspended at 1.3 m (held out):fast-reference=infeasible: hours and ~25 GB at 10⁶ points (§7.5: ~23 kB a point)" \
     --note "suspended at 1.3 m (held out):blockwise-reference=not re-run (~2 hours on 2 processes, §7.5): its 4,066 probes at τ (landing at 1.20τ) are the † yardstick" \
     --note "ctf_compromise (validation):fast-reference=stopped at 2τ (lpnn bench --reference-stop 0.1): the full curve down to there" \
-    --note "ctf_compromise (validation):lpnn-refine=its τ answer alone took 636 s in §7.5" \
+    --note "ctf_compromise (validation):guided-exact-refined=its τ answer alone took 636 s in §7.5" \
     | tee "$OUT/table.md"
 fi

@@ -38,7 +38,6 @@ namespace Lpnn.Probes
             public const string Threshold = nameof(threshold);
             public const string Tolerance = nameof(tolerance);
             public const string KeepBoundsCorners = nameof(keepBoundsCorners);
-            public const string RefineInBatches = nameof(refineInBatches);
             public const string KeepPinnedProbes = nameof(keepPinnedProbes);
             public const string PinnedProbes = nameof(pinnedProbes);
             public const string TargetGroup = nameof(targetGroup);
@@ -81,11 +80,13 @@ namespace Lpnn.Probes
         [Tooltip("Scoring refuses grids above this many points (the network sees the whole cloud at once).")]
         [SerializeField] private int scoringPointLimit = ScoringPlan.DefaultMaxPoints;
 
-        [Tooltip("What ranks the points. Insertion (default) inserts probes where interpolating the sampled lighting is worst, " +
-                 "and with Refine in batches Apply then removes the ones the lighting does not need: the best method measured " +
-                 "(Documentation~/benchmarks.md §11), no model needed. Guided insertion does the same, taking in each of Unity's " +
-                 "tetrahedra the badly interpolated point the network rates highest (after the Features and Scoring steps; measured " +
-                 "equal once refined). Network ranks by the model's scores alone: milliseconds, measured worse.")]
+        [Tooltip("How the probes are placed (Documentation~/methods.md). Insertion, refined (default) inserts probes where " +
+                 "interpolating the sampled lighting is worst, then Apply removes, in batches, the ones the lighting does not need: " +
+                 "the best method measured (Documentation~/benchmarks.md §11), no model needed; within a few per cent of the " +
+                 "reference's probe count where Insertion alone needs about 1.7x, for seconds more on rooms and minutes more on " +
+                 "large volumes. Guided insertion (refined or not) takes in each of Unity's tetrahedra the badly interpolated point " +
+                 "the network rates highest (after the Features and Scoring steps; measured equal once refined). Network ranks by " +
+                 "the model's scores alone: milliseconds, measured worse.")]
         [SerializeField] private PlacementMethod placementMethod = PlacementMethods.Default;
 
         [Tooltip("How scores become probes. Tolerance (default) keeps as few spread-ranked probes as the placement error allows; " +
@@ -107,11 +108,6 @@ namespace Lpnn.Probes
 
         [Tooltip("Also keep the points at the 8 corners of every box, so the probes enclose the whole volume.")]
         [SerializeField] private bool keepBoundsCorners = true;
-
-        [Tooltip("Insertion methods: Apply then removes, in batches, the probes the sampled lighting does not need (batched " +
-                 "refinement, Documentation~/quality.md §5.3): within a few per cent of the reference's probe count where insertion " +
-                 "alone needs about 1.7x, for seconds more on rooms and minutes more on large volumes.")]
-        [SerializeField] private bool refineInBatches = true;
 
         [Tooltip("Insertion methods: Apply keeps the pinned probes (an artist's, pinned from the target group with the button " +
                  "below), counts them in the budget and the error, and puts no new probe within one cell of one " +
@@ -182,8 +178,6 @@ namespace Lpnn.Probes
         public bool ShowGizmos => showGizmos;
         /// <summary>What ranks the points (<see cref="PlacementMethods.Default"/> for a new volume).</summary>
         public PlacementMethod Method => placementMethod;
-        /// <summary>Whether Apply refines an insertion method's selection in batches (Core.Quality.RefinedSelection).</summary>
-        public bool RefineInBatches => refineInBatches;
         /// <summary>Whether Apply keeps <see cref="PinnedProbes"/> (Documentation~/pins.md).</summary>
         public bool KeepPinnedProbes => keepPinnedProbes;
         /// <summary>World positions of the pinned probes (a copy).</summary>
@@ -272,7 +266,6 @@ namespace Lpnn.Probes
 
         public void SetLighting(LightingSource source) => lightingSource = source;
         public void SetMethod(PlacementMethod method) => placementMethod = method;
-        public void SetRefineInBatches(bool refine) => refineInBatches = refine;
         public void SetBackend(ScoringBackendPreference preference) => backend = preference;
         public void SetScoringPointLimit(int limit) => scoringPointLimit = Mathf.Max(1, limit);
         public void SetGroundTruth(LightProbeGroup group) => groundTruthGroup = group;

@@ -7,7 +7,6 @@ time, before any heavy import. The rules themselves are `quality/placement/polic
 from __future__ import annotations
 
 import argparse
-import math
 
 from ..quality.placement.policy_rules import DEFAULT_TOLERANCE, budget_problem, tolerance_problem
 
@@ -35,14 +34,6 @@ def tolerance(text: str) -> float:
     problem = tolerance_problem(value)
     if problem:
         raise argparse.ArgumentTypeError(f"{text!r} {problem}")
-    return value
-
-
-def refine_factor(text: str) -> float:
-    """argparse type: a refinement seed factor > 1 written with '.' decimals."""
-    value = _number(text, "2")
-    if not (math.isfinite(value) and value > 1.0):
-        raise argparse.ArgumentTypeError(f"{text!r} must be a factor > 1 (the seed holds F x K points), e.g. 2")
     return value
 
 

@@ -1,16 +1,16 @@
 """`lpnn bench`: the speed/accuracy benchmark of placement methods (Documentation~/quality.md §6).
 
-  lpnn bench CAPTURES... [--model M.onnx] [--refine F] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
+  lpnn bench CAPTURES... [--model M.onnx] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
              [--repeats 3] [--workers N] [--scheduler ADDRESS] [--methods M1,M2] [--no-budgets]
              [--reference-stop E | --no-reference] --out DIR
 
-For every capture x method (uniform, random, heuristic, apv, insertion; with --model the LPNN tiers lpnn-topk, lpnn
-(spread ranking), lpnn-guided (insertion guided by the scores) and lpnn-refine (guided insertion + seeded exact refinement,
-factor F, default 2); the fast
-reference, and the faithful reference on captures of <= 200 points) x budget, and the tolerance
+For every capture x method (the table's names, Documentation~/methods.md: uniform, random, heuristic, apv, insertion,
+insertion-refined; with --model the methods that read the scores: network-topk, network, guided, guided-refined and
+guided-exact-refined, the refined ones at the seed factor RECOMMENDED_REFINE = 2; the fast reference, and the faithful
+reference on captures of <= 200 points) x budget, and the tolerance
 policy: probes, time (median of repeats; LPNN split into features / inference / selection /
 refinement), mean and p95 error and the ratio to the reference — the fast reference, or above
---full-reference-limit points (150,000) the blockwise reference (quality.md §3.3; column `yardstick`); lpnn-refine
+--full-reference-limit points (150,000) the blockwise reference (quality.md §3.3; column `yardstick`); guided-exact-refined
 only up to --refine-limit points (20,000). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
@@ -35,16 +35,15 @@ from typing import Any
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from ..quality.placement.policy_rules import (BENCH_METHODS, DEFAULT_BUDGETS, DEFAULT_TOLERANCE,
-                                                  FULL_REFERENCE_LIMIT, REFINE_BENCH_LIMIT)
-    from .arguments import add_engine_arguments, fractions, refine_factor, tolerance
+    from ..quality.placement.methods import BENCH_METHODS
+    from ..quality.placement.policy_rules import (DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT,
+                                                  REFINE_BENCH_LIMIT)
+    from .arguments import add_engine_arguments, fractions, tolerance
 
     parser = subparsers.add_parser("bench", help="speed/accuracy benchmark of placement methods (CSV + PNG)",
                                    description="Benchmark placement methods on captures: probes, time, error.")
     parser.add_argument("captures", nargs="+", metavar="CAPTURE", help="capture files or dataset folders")
     parser.add_argument("--model", metavar="M.onnx", help="also benchmark this LPNN model (with its card)")
-    parser.add_argument("--refine", type=refine_factor, default=2.0, metavar="F",
-                        help="seed factor of the lpnn-refine tier (default 2)")
     parser.add_argument("--budgets", type=fractions, default=DEFAULT_BUDGETS, metavar="F1,F2,...",
                         help=f"budget fractions (default {','.join(f'{b:g}' for b in DEFAULT_BUDGETS)})")
     parser.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE, metavar="TAU",
@@ -58,7 +57,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="above N points the yardstick is the blockwise reference (quality.md §3.3) and the methods "
                              f"that run the full reference are skipped (default {FULL_REFERENCE_LIMIT:,})")
     parser.add_argument("--refine-limit", type=int, default=REFINE_BENCH_LIMIT, metavar="N",
-                        help="above N points the lpnn-refine tier is skipped: each of its rows decimates again "
+                        help="above N points the guided-exact-refined method is skipped: each of its rows decimates again "
                              f"(default {REFINE_BENCH_LIMIT:,})")
     parser.add_argument("--methods", type=method_names, metavar="M1,M2,...",
                         help="run only these methods (default: every one; the yardstick always runs): "
@@ -88,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     if args.full_reference_limit < 4:
         raise UserError(f"--full-reference-limit {args.full_reference_limit} must be at least 4 points")
     if args.refine_limit < 0:
-        raise UserError(f"--refine-limit {args.refine_limit} must be >= 0 points (0 skips the lpnn-refine tier)")
+        raise UserError(f"--refine-limit {args.refine_limit} must be >= 0 points (0 skips the guided-exact-refined method)")
     files = dataset_files(args.captures)
     if not files:
         raise UserError("no capture files found in " + ", ".join(args.captures))
@@ -106,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
     config = BenchConfig(budgets=() if args.no_budgets else tuple(args.budgets),
                          tolerance=None if args.no_tolerance else args.tolerance,
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
-                         workers=inner_workers, refine=args.refine, full_reference_limit=args.full_reference_limit,
+                         workers=inner_workers, full_reference_limit=args.full_reference_limit,
                          refine_limit=args.refine_limit, checkpoints=args.out, methods=args.methods,
                          reference_stop=args.reference_stop, yardstick="none" if args.no_reference else "auto")
     out = Path(args.out)
@@ -141,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
 
 def method_names(text: str) -> frozenset[str]:
     """argparse type: comma-separated names of `lpnn bench` methods."""
-    from ..quality.placement.policy_rules import BENCH_METHODS
+    from ..quality.placement.methods import BENCH_METHODS
 
     names = [name.strip() for name in text.split(",") if name.strip()]
     unknown = [name for name in names if name not in BENCH_METHODS]

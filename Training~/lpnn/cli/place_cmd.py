@@ -1,33 +1,27 @@
-"""`lpnn place`: probe positions for a capture, from a model, scores or a non-learned method.
+"""`lpnn place`: probe positions for a capture by one of the placement methods (Documentation~/methods.md).
 
-  lpnn place CAPTURE [--model M.onnx | --scores SCORES.csv
-                      | --method fast|insertion|insertion-refined|uniform|heuristic|apv|random]
-             [--guided | --refine F [--batched] | --topk] [--no-report] [--keep PINS.json [--keep-distance D]]
-             (--budget FRACTION | --tolerance TAU) --out PROBES.json
+  lpnn place CAPTURE [--method NAME] [--model M.onnx | --scores SCORES.csv] [--no-report]
+             [--keep PINS.json [--keep-distance D]] (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
-Without --model, --scores or --method it places by insertion refined in batches (DEFAULT_METHOD,
-quality.md §5.3): the best method measured where the capture's dense lighting is available, which `lpnn place`
-always has, and what a new Unity volume does (benchmarks.md §11: 1.01x the reference's probes at tau = 0.05 on
-the validation crops, where insertion alone keeps 1.66x and the network's guide, refined the same way, 1.04x). With
-a model, --refine 2 (the exact refinement) is closer still to the reference (1.00x) at minutes on large levels; the
-network's spread ranking is the fast tier (milliseconds instead of about a second per 1,000 points).
+--method names the method (quality/placement/methods.py, the one table): insertion-refined (the default, quality.md
+§5.3: the best method measured where the capture's dense lighting is available, which `lpnn place` always has, and
+what a new Unity volume does; benchmarks.md §11: 1.01x the reference's probes at tau = 0.05 on the validation crops,
+where insertion alone keeps 1.66x and guided-refined 1.04x), insertion, the methods that read the network's scores
+(guided-refined, guided, network: the spread ranking, milliseconds; network-topk; guided-exact-refined: closest to
+the reference, 1.00x, at minutes on large levels), the fast reference and the baselines (uniform, heuristic, apv,
+random). --model M.onnx or --scores SCORES.csv (what `lpnn score` writes: index,i,j,k,score) only supply the scores:
+required by the methods that read them, refused by the others. The refined methods' seed factor is
+RECOMMENDED_REFINE (2).
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
-Model or scores (LPNN tiers, quality.md §4): the spread ranking of the scores (selection.md), or with
---topk the raw top-K; --refine F (2 recommended) seeds the exact greedy with the first F x K points of
-the guided insertion and decimates down to K, and with --batched refines them in batches instead (quality.md §5.3:
-seconds on a whole level where the exact greedy takes minutes); --guided ranks by insertion guided by the scores
-(quality.md §5.2; insertion's time, not milliseconds). SCORES.csv is what `lpnn score` writes (index,i,j,k,score).
-Non-learned methods (quality.md): the fast reference, insertion (coarse-to-fine error-driven), insertion refined in
-batches (the best non-learned method measured, the default), the uniform lattice, the curvature heuristic, an
-APV-style geometry density, random.
 --keep PINS.json (a *.probes.json, e.g. the artist's probes exported from Unity; Documentation~/pins.md): every
 probe in it is kept, counted in the budget and the error, and no new probe comes within --keep-distance (default one
-cell) of one; insertion-refined, insertion and the ranking methods (uniform, heuristic, apv, random: pins first)
-take it; the fast reference, the uniform lattice and the LPNN tiers refuse it. The file written holds the pins at their own positions.
-Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
-evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
+cell) of one; insertion-refined, insertion and the ranking methods (heuristic, apv, random: pins first)
+take it; the fast reference, the uniform lattice and the methods that read the scores refuse it. The file written holds
+the pins at their own positions.
+Prints the probes kept, the error and (methods that read the scores) the time split; --no-report (those methods) skips
+the final error evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
 """
 
 from __future__ import annotations
@@ -45,37 +39,30 @@ if TYPE_CHECKING:
     from ..quality.metric.metric import PlacementQuality
     from ..quality.placement.pins import Pins
 
-PLACE_METHODS = ("fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random")
-DEFAULT_METHOD = "insertion-refined"  # module text; the Unity volume's default too (Insertion, Refine in batches)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    from .arguments import add_policy_arguments, refine_factor
+    from ..quality.placement.methods import BY_NAME, DEFAULT_METHOD, PLACEABLE
+    from .arguments import add_policy_arguments
 
     parser = subparsers.add_parser("place", help="place probes in a capture (budget or error tolerance)",
-                                   description="Choose probe positions for a capture and write *.probes.json.")
+                                   description="Choose probe positions for a capture and write *.probes.json.",
+                                   formatter_class=argparse.RawDescriptionHelpFormatter,
+                                   epilog="methods (Documentation~/methods.md):\n" + "\n".join(
+                                       f"  {name:<22}{BY_NAME[name].summary}"
+                                       + (" [needs --model or --scores]" if BY_NAME[name].needs_scores else "")
+                                       for name in PLACEABLE))
     parser.add_argument("capture", metavar="CAPTURE", help="capture file (*.lpnncap)")
+    parser.add_argument("--method", choices=PLACEABLE, default=DEFAULT_METHOD, metavar="NAME",
+                        help=f"the placement method (default {DEFAULT_METHOD}; listed below): " + ", ".join(PLACEABLE))
     source = parser.add_mutually_exclusive_group()
-    source.add_argument("--model", metavar="M.onnx", help="score the points with this model (and its card)")
-    source.add_argument("--scores", metavar="SCORES.csv", help="scores from `lpnn score` (index,i,j,k,score)")
-    source.add_argument("--method", choices=PLACE_METHODS,
-                        help="fast reference, insertion, insertion refined in batches (the default without --model/--scores; "
-                             "quality.md §5.3: about a third fewer probes than insertion for the same error), uniform lattice, curvature-weighted farthest-point heuristic, APV-style geometry density, or random (seeded)")
+    source.add_argument("--model", metavar="M.onnx",
+                        help="the network's scores for the methods that read them: score the points with this model "
+                             "(and its card)")
+    source.add_argument("--scores", metavar="SCORES.csv",
+                        help="the network's scores for the methods that read them, from `lpnn score` (index,i,j,k,score)")
     add_policy_arguments(parser)
     parser.add_argument("--out", required=True, metavar="PROBES.json", help="output probe positions")
-    parser.add_argument("--refine", type=refine_factor, metavar="F",
-                        help="with --model/--scores: refine with the exact greedy seeded by the first F x K points of the "
-                             "guided insertion (F > 1; 2 recommended; about a second per thousand points)")
-    parser.add_argument("--batched", action="store_true",
-                        help="with --refine: refine in batches (quality.md §5.3; what Unity volumes do: seconds on a whole "
-                             "level where the exact refinement takes minutes, within ~1.1x of it)")
-    parser.add_argument("--topk", action="store_true",
-                        help="with --model/--scores: keep the raw top-K scores instead of the spread ranking "
-                             "(the old behaviour, for comparison)")
-    parser.add_argument("--guided", action="store_true",
-                        help="with --model/--scores: rank by insertion guided by the scores (each tetrahedron's "
-                             "badly interpolated point the network rates highest; the best method measured, about "
-                             "a second per thousand points)")
     parser.add_argument("--seed", type=int, default=0, help="seed of --method random (default 0)")
     parser.add_argument("--keep", metavar="PINS.json",
                         help="probes to keep (a *.probes.json in the capture's units; Documentation~/pins.md): every "
@@ -83,12 +70,31 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--keep-distance", type=float, metavar="D",
                         help="with --keep: no new probe closer than D to a kept probe (capture units; default one cell)")
     parser.add_argument("--no-report", action="store_true",
-                        help="with --model/--scores: skip the final error evaluation (the dense lighting of every "
-                             "point, one tetrahedralisation of the probes, every point located; ~half of a budget "
-                             "placement at 10^6 points): the probe file then holds no p95 error, and a mean error "
-                             "only with --tolerance (the search's, for the kept prefix)")
-    parser.add_argument("--workers", type=int, choices=(1, 2), help="processes for --method fast and --refine (default 1; 2 helps only on an idle second core)")
+                        help="with a method that reads the scores: skip the final error evaluation (the dense lighting "
+                             "of every point, one tetrahedralisation of the probes, every point located; ~half of a "
+                             "budget placement at 10^6 points): the probe file then holds no p95 error, and a mean "
+                             "error only with --tolerance (the search's, for the kept prefix)")
+    parser.add_argument("--workers", type=int, choices=(1, 2),
+                        help="processes for --method fast-reference and guided-exact-refined (default 1; 2 helps only "
+                             "on an idle second core)")
     parser.set_defaults(handler=run)
+
+
+def method_problem(method: str, scored: bool, no_report: bool) -> str | None:
+    """Why `lpnn place --method METHOD` cannot run with (`scored`) or without scores, or with --no-report; None when it
+    can. The rule is the table's `needs_scores`."""
+    from ..quality.placement.methods import BY_NAME, SCORED
+
+    if BY_NAME[method].needs_scores and not scored:
+        return (f"--method {method} reads the network's scores: add --model M.onnx (or --scores SCORES.csv from "
+                f"`lpnn score`)")
+    if not BY_NAME[method].needs_scores and scored:
+        return (f"--method {method} needs no model: drop --model/--scores, or choose a method that reads the scores "
+                f"({', '.join(SCORED)})")
+    if no_report and not BY_NAME[method].needs_scores:
+        return (f"--no-report applies to the methods that read the network's scores ({', '.join(SCORED)}), "
+                f"not to --method {method}")
+    return None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -99,26 +105,23 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import UserError
     from .errors import user_errors
 
-    if args.batched and args.refine is None:
-        raise UserError("--batched is a way to refine: give it with --refine F (2 recommended)")
-    lpnn_only = args.refine is not None or args.topk or args.guided or args.no_report
-    if lpnn_only and (args.method is not None or (args.model is None and args.scores is None)):
-        raise UserError("--guided, --refine, --topk and --no-report apply to LPNN scores: use them with --model or --scores")
-    if sum((args.refine is not None, args.topk, args.guided)) > 1:
-        raise UserError("--guided, --refine and --topk are different LPNN tiers: give at most one of them")
-    if args.method is None and args.model is None and args.scores is None:
-        args.method = DEFAULT_METHOD
+    from ..quality.placement.methods import BY_NAME
+
+    problem = method_problem(args.method, args.model is not None or args.scores is not None, args.no_report)
+    if problem:
+        raise UserError(problem)
     if args.keep_distance is not None and args.keep is None:
         raise UserError("--keep-distance applies to pinned probes: give it with --keep PINS.json")
-    if args.keep is not None and args.method is None:
-        raise UserError("--keep does not apply to the LPNN tiers (--model/--scores) yet: use --method insertion-refined "
-                        "(the default), which keeps the pins")
+    if args.keep is not None and BY_NAME[args.method].needs_scores:
+        raise UserError(f"--keep does not apply to --method {args.method} (the methods that read the scores) yet: use "
+                        "--method insertion-refined (the default), which keeps the pins")
     if args.keep is not None and args.method == "uniform":
         raise UserError("--keep does not apply to --method uniform: a lattice of K points is no ranking the pins could "
                         "head; use --method insertion-refined (the default) or a ranking method (heuristic, apv, random)")
-    if args.keep is not None and args.method == "fast":
-        raise UserError("--keep does not apply to --method fast: the fast reference is the pin-free yardstick (a full "
-                        "greedy decimation of every point); use --method insertion-refined (the default) to keep the pins")
+    if args.keep is not None and args.method == "fast-reference":
+        raise UserError("--keep does not apply to --method fast-reference: the fast reference is the pin-free yardstick "
+                        "(a full greedy decimation of every point); use --method insertion-refined (the default) to "
+                        "keep the pins")
     capture = read_capture(args.capture)
     # The one place where points inside geometry leave (a capture exported from Unity carries their back-face
     # fractions): every method below sees, places and is measured on the valid points only.
@@ -131,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"{Path(args.capture).name}: {int(np.count_nonzero(~valid)):,} of {capture.point_count:,} points are inside "
               f"geometry (back-face fraction above {BACK_FACE_THRESHOLD:g}) and are never probes", file=sys.stderr)
     with user_errors(args.capture):
-        if args.method is None:
+        if BY_NAME[args.method].needs_scores:
             return _place_lpnn(args, candidates, capture.ids, valid)
         pins = None
         if args.keep is not None:
@@ -143,12 +146,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray, valid: np.ndarray | None) -> int:
-    """--model / --scores: the LPNN tiers (spread ranking, optional refinement, --topk or --guided). A scores file
-    lists every point of the capture file (`all_ids`); only the valid points' scores are used."""
+    """The methods that read the network's scores (--model / --scores supply them): the table's `lpnn_options`
+    (quality/placement/methods.py) at RECOMMENDED_REFINE. A scores file lists every point of the capture file
+    (`all_ids`); only the valid points' scores are used."""
     from ..quality.placement.insertion import GUIDED_POINT_LIMIT, guide_applies
     from ..quality.placement.lpnn_placement import lpnn_placement
+    from ..quality.placement.methods import BY_NAME, EXACT, RECOMMENDED_REFINE
     from .progress import rounds_bar
 
+    method = BY_NAME[args.method]
     if args.model is not None:
         from ..train.onnx_scoring import OnnxScorer
 
@@ -158,28 +164,27 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
 
         scores = read_scores_csv(args.scores, all_ids)
         scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
-    update, close_bar = rounds_bar(f"{Path(args.capture).name}: guided insertion") if args.guided else (None, None)
+    with_bar = method.guided and method.refinement is None  # only guided insertion reports its rounds
+    update, close_bar = rounds_bar(f"{Path(args.capture).name}: guided insertion") if with_bar else (None, None)
     try:
         placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                                   refine=args.refine, topk=args.topk, guided=args.guided, batched=args.batched,
-                                   workers=args.workers,
-                                   name=args.capture, full_ranking=False, report=not args.no_report, progress=update)
+                                   workers=args.workers, name=args.capture, full_ranking=False,
+                                   report=not args.no_report, progress=update, **method.lpnn_options())
     finally:
         if close_bar is not None:
             close_bar()
-    by_insertion = args.guided or args.refine is not None  # the refine tier seeds from guided insertion
-    tier = "top-K" if args.topk else "guided insertion" if by_insertion else "spread"
-    if args.refine is not None:
-        tier += f" + {'batched ' if args.batched else ''}refine {args.refine:g}"
-    if by_insertion and not guide_applies(capture.point_count):
+    tier = "top-K" if method.topk else "guided insertion" if method.guided else "spread"
+    if method.refinement is not None:
+        tier += f" + {'' if method.refinement == EXACT else 'batched '}refine {RECOMMENDED_REFINE:g}"
+    if method.guided and not guide_applies(capture.point_count):
         tier += f"; above {GUIDED_POINT_LIMIT:,} points without the guide: plain insertion"
     t = placement.timing
     split = (f"features {t.features * 1000:.0f} ms, " if t.features is not None else "") + (
         f"inference {t.inference * 1000:.0f} ms, selection {t.selection * 1000:.0f} ms"
-        + (f", refinement {t.refinement:.2f} s" if args.refine is not None else ""))
+        + (f", refinement {t.refinement:.2f} s" if method.refinement is not None else ""))
     searched = placement.checked.get(placement.requested) if args.tolerance is not None else None
-    _write(args, capture, placement.indices, placement.quality, placement.added_for_tetrahedron, f"{what} ({tier})",
-           {"seconds": round(t.total, 4)}, f"; {split}", searched)
+    _write(args, capture, placement.indices, placement.quality, placement.added_for_tetrahedron,
+           f"{what} ({tier})", {"scores": what, "seconds": round(t.total, 4)}, f"; {split}", searched)
     return 0
 
 
@@ -199,7 +204,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
     field = field_with_geometry(capture)  # with the level's surfaces when known: the report names leaks
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = field.point_count
-    if args.method == "fast":
+    if args.method == "fast-reference":
         update, close = progress_bar(f"{Path(args.capture).name}: fast reference")
         try:
             # Without the surfaces: the reference casts no rays, and its second process cannot receive Embree's scene.
@@ -260,7 +265,8 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
 def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, quality: PlacementQuality | None,
            added: int, what: str, extra_source: dict, extra_text: str, searched_error: float | None = None,
            pins: Pins | None = None) -> None:
-    """Write the probe file (source: capture, method, policy, errors, pinned) and print one summary line.
+    """Write the probe file (source: capture, method (the table's name, as Unity's batch mode writes it), policy,
+    errors, pinned; `scores` for the methods that read them) and print one summary line (`what`: how it placed).
     quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any. A pinned probe is
     written at its own (the artist's) position, not at the evaluation point it stands for (pins.md)."""
     from ..core.in_use_section import capture_rule, in_use_text
@@ -270,7 +276,7 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
 
     n = capture.point_count
     policy = f"budget={args.budget:g}" if args.budget is not None else f"tolerance={args.tolerance:g}"
-    source = {"capture": Path(args.capture).name, "method": what, "policy": policy}
+    source = {"capture": Path(args.capture).name, "method": args.method, "policy": policy}
     if quality is not None:
         source.update(mean_error=round(quality.irradiance.mean, 6), p95_error=round(quality.irradiance.p95, 6))
         if quality.in_use_error == quality.in_use_error:  # NaN: the capture cannot say which points are in use
@@ -295,5 +301,5 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
     write_probes_json(args.out, positions, capture.units, source)
     kept = indices.shape[0]
     added_text = f" ({added} added for a tetrahedron)" if added else ""
-    print(f"{what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %), {pinned:,} pinned{added_text}; "
+    print(f"{args.method}: {what}, {policy}: kept {kept:,} of {n:,} probes ({100.0 * kept / n:.1f} %), {pinned:,} pinned{added_text}; "
           f"{errors}{extra_text} -> {args.out}")

@@ -12,13 +12,11 @@ from ..core.atomic import write_text_atomic
 from ..core.in_use_section import capture_rule, in_use_text
 from ..quality.metric.metric import guarded_ratio
 from ..quality.bench.plots import pyplot, save_png
+from ..quality.placement.methods import BY_NAME
 from ..quality.placement.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
-LABELS = {"insertion-refined": "insertion + batched", "lpnn-batched": "LPNN-guided + batched", "lpnn-guided": "LPNN-guided insertion", "lpnn": "LPNN spread (ms tier)", "lpnn-refine": "LPNN + refine x2",
-          "fast-reference": "fast reference", "uniform": "uniform grid", "heuristic": "heuristic",
-          "insertion": "insertion (non-learned)"}
-STYLE = {"insertion-refined": ("olive", "-"), "lpnn-batched": ("tab:pink", "-"), "lpnn-guided": ("tab:purple", "-"), "lpnn": ("tab:blue", "-"), "lpnn-refine": ("navy", "-"),
+STYLE = {"insertion-refined": ("olive", "-"), "guided-refined": ("tab:pink", "-"), "guided": ("tab:purple", "-"), "network": ("tab:blue", "-"), "guided-exact-refined": ("navy", "-"),
          "fast-reference": ("tab:green", "-"), "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"),
          "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
@@ -38,23 +36,23 @@ def table(result: DemoResult) -> str:
              f"placement kernels compiled before timing: {result.compile_seconds:.2f} s (numba; near 0 once cached)",
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
-             f"{'method':<24}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
+             f"{'method':<22}{'label':<36}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
              f"{'in use':>8}{'leaks':>8}  time per stage"]
-    for name in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
+    for name in ("insertion-refined", "guided-refined", "guided", "network", "guided-exact-refined", "fast-reference", "insertion",
                  "heuristic", "uniform"):
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
-        lines.append(f"{LABELS[name]:<24}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
+        lines.append(f"{name:<22}{BY_NAME[name].label:<36}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
                      f"{guarded_ratio(m.probes, reference.probes):>7.2f}{guarded_ratio(m.probes, uniform.probes):>7.2f}"
                      f"{m.quality.irradiance.mean:>10.4f}{m.quality.irradiance.p95:>9.4f}"
                      f"{in_use_text(m.quality.in_use_error):>8}{percent_text(m.quality.leaking):>8}  {stages}")
     count = result.methods[PRIMARY].probes
     same = result.same_count
     primary_error = same[PRIMARY].irradiance.mean
-    others = ", ".join(f"{LABELS[name].split(' (')[0]} {same[name].irradiance.mean:.4f} "
+    others = ", ".join(f"{name} {same[name].irradiance.mean:.4f} "
                        f"(default x{guarded_ratio(primary_error, same[name].irradiance.mean):.2f})"
-                       for name in ("fast-reference", "lpnn-guided", "insertion", "lpnn", "uniform", "heuristic"))
-    lines += ["", f"At the default's {count} probes (insertion refined in batches): mean error {primary_error:.4f}; "
+                       for name in ("fast-reference", "guided", "insertion", "network", "uniform", "heuristic"))
+    lines += ["", f"At the default's {count} probes ({PRIMARY}): mean error {primary_error:.4f}; "
               f"the rankings' first {count} probes: {others}"]
     whole = result.every_point_default
     if whole is not None:
@@ -98,7 +96,7 @@ def plot(result: DemoResult, path: Path) -> Path:
     for name, (counts, errors) in result.curves.items():
         colour, style = STYLE[name]
         shown = np.isfinite(errors) & (errors > 0)
-        curves.plot(counts[shown], errors[shown], style, color=colour, linewidth=1.2, label=LABELS[name])
+        curves.plot(counts[shown], errors[shown], style, color=colour, linewidth=1.2, label=f"{BY_NAME[name].label} ({name})")
     for name, method in result.methods.items():
         colour, _ = STYLE[name]
         curves.scatter([method.probes], [max(method.quality.irradiance.mean, 1e-6)], marker="*", s=140,
@@ -133,14 +131,14 @@ def plot(result: DemoResult, path: Path) -> Path:
 
 
 def write_outputs(result: DemoResult, out: Path, model_name: str) -> dict[str, Path]:
-    """probes.json (insertion refined in batches, the main result: the package's default), probes-batched.json (the
-    same seeded by LPNN-guided insertion), probes-guided.json (guided insertion alone), probes-spread.json (LPNN's milliseconds tier), probes-refined.json
-    (exact refinement), demo.png, summary.json, table.txt."""
+    """probes.json (insertion-refined, the main result: the package's default), probes-batched.json (guided-refined),
+    probes-guided.json (guided), probes-spread.json (network: the milliseconds tier), probes-refined.json
+    (guided-exact-refined), demo.png, summary.json, table.txt."""
     out.mkdir(parents=True, exist_ok=True)
     capture = result.capture
     files: dict[str, Path] = {}
-    for name, file in ((PRIMARY, "probes.json"), ("lpnn-batched", "probes-batched.json"), ("lpnn-guided", "probes-guided.json"),
-                       ("lpnn", "probes-spread.json"), ("lpnn-refine", "probes-refined.json")):
+    for name, file in ((PRIMARY, "probes.json"), ("guided-refined", "probes-batched.json"), ("guided", "probes-guided.json"),
+                       ("network", "probes-spread.json"), ("guided-exact-refined", "probes-refined.json")):
         method = result.methods[name]
         files[name] = write_probes_json(
             out / file, capture.positions[method.indices], capture.units,

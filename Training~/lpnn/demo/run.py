@@ -3,10 +3,10 @@ and compared with the reference and the baselines (Documentation~/benchmarks.md 
 
 Steps, each timed: import (BSP, grid, solid test, light grid SH, features — what Unity's steps 1–4 do),
 inference (onnxruntime, after one warm-up run, as a Unity worker is created once per model), selection:
-insertion refined in batches (the package's default, quality.md §5.3: its insertion rounds and tolerance search timed
-as selection, the batched refinement as refinement), LPNN-guided insertion refined the same way, LPNN-guided insertion
-alone (quality.md §5.2), the spread ranking (LPNN's milliseconds tier) and LPNN + refine ×2 (its seeded exact
-decimation).
+insertion-refined (the package's default, quality.md §5.3: its insertion rounds and tolerance search timed
+as selection, the batched refinement as refinement), guided-refined (insertion guided by the scores, refined the same
+way), guided (quality.md §5.2), network (the spread ranking: the milliseconds tier) and guided-exact-refined (the
+guided insertion's seed decimated by the exact greedy); names and labels from Documentation~/methods.md.
 The fast reference and the baselines run afterwards, for comparison only.
 """
 
@@ -25,7 +25,8 @@ from ..quality.placement.baselines import heuristic_ranking, uniform_selector
 from ..quality.metric.leaks import field_with_geometry
 from ..quality.placement.insertion import guide_of, insertion_ranking
 from ..quality.placement.decimation.decimation import Decimation
-from ..quality.placement.lpnn_placement import RECOMMENDED_REFINE, LpnnPlacement, lpnn_placement
+from ..quality.placement.lpnn_placement import LpnnPlacement, lpnn_placement
+from ..quality.placement.methods import BY_NAME, DEFAULT_METHOD
 from ..quality.metric.metric import PlacementQuality, ReferenceField, evaluate_placement
 from ..quality.placement.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.placement.decimation.reference_fast import fast_decimation
@@ -33,7 +34,7 @@ from ..quality.placement.refined_insertion import refined_insertion
 from ..quality.placement.warmup import compile_placement_kernels
 
 Log = Callable[[str], None]
-PRIMARY = "insertion-refined"  # the package's default (Unity: Method = Insertion, Refine in batches): probes.json
+PRIMARY = DEFAULT_METHOD  # the package's default (Unity: Method = Insertion, refined): probes.json
 
 
 @dataclass(frozen=True)
@@ -126,27 +127,20 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     log("compiling the placement kernels (once per checkout; cached)")
     result.compile_seconds = compile_placement_kernels()  # warm-up: numba compiles on a checkout's first run
 
-    log(f"placing: insertion refined in batches (the package's default), tolerance {tolerance:g}")
+    log(f"placing: {BY_NAME[PRIMARY].label} ({PRIMARY}, the package's default), tolerance {tolerance:g}")
     result.methods["insertion-refined"] = _default_placement(capture, tolerance, field_, grid)
     if every_point is not None:
         log(f"placing: the default on every point of the volume (rule all, {every_point.point_count:,} points)")
         result.every_point = every_point
         result.every_point_default = _default_placement(every_point, tolerance)
-    log(f"placing: LPNN-guided insertion refined in batches, tolerance {tolerance:g}")
-    batched = lpnn_placement(capture, scores=scores, tolerance=tolerance, refine=RECOMMENDED_REFINE, batched=True,
-                             reference=field_, name=level)
-    result.methods["lpnn-batched"] = _lpnn("lpnn-batched", batched, inference)
-    log(f"placing: LPNN-guided insertion, tolerance {tolerance:g}")
-    guided = lpnn_placement(capture, scores=scores, tolerance=tolerance, guided=True, reference=field_, name=level,
-                            full_ranking=False)
-    result.methods["lpnn-guided"] = _lpnn("lpnn-guided", guided, inference)
-    log(f"placing: LPNN spread ranking (milliseconds), tolerance {tolerance:g}")
-    lpnn = lpnn_placement(capture, scores=scores, tolerance=tolerance, reference=field_, name=level)
-    result.methods["lpnn"] = _lpnn("lpnn", lpnn, inference)
-    log(f"placing: LPNN + refine x{RECOMMENDED_REFINE:g}")
-    refined = lpnn_placement(capture, scores=scores, tolerance=tolerance, refine=RECOMMENDED_REFINE,
-                             reference=field_, name=level)
-    result.methods["lpnn-refine"] = _lpnn("lpnn-refine", refined, inference)
+    lpnn = {}  # name -> its LpnnPlacement, each run as the table says (quality/placement/methods.py)
+    # full_ranking=False: guided insertion ranks only as far as the tolerance search reads (as `lpnn place` does)
+    for name, full_ranking in (("guided-refined", True), ("guided", False), ("network", True),
+                               ("guided-exact-refined", True)):
+        log(f"placing: {BY_NAME[name].label} ({name}), tolerance {tolerance:g}")
+        lpnn[name] = lpnn_placement(capture, scores=scores, tolerance=tolerance, reference=field_, name=level,
+                                    full_ranking=full_ranking, **BY_NAME[name].lpnn_options())
+        result.methods[name] = _lpnn(name, lpnn[name], inference)
 
     log("comparing: fast reference (exact greedy decimation; seconds)")
     start = time.perf_counter()
@@ -174,7 +168,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     count = result.methods[PRIMARY].probes
     guided_select = prefix_selection(grid, insertion_ranking(field_, grid, guide=guide_of(scores)))  # for the curves
     selections: dict[str, SelectionForCount] = {
-        "lpnn-guided": guided_select, "lpnn": prefix_selection(grid, lpnn.ranking), "uniform": uniform,
+        "guided": guided_select, "network": prefix_selection(grid, lpnn["network"].ranking), "uniform": uniform,
         "heuristic": heuristic_select, "insertion": insertion_select,
         "fast-reference": lambda k: reference.prefix(max(k, reference.smallest_count))}
     result.same_count = {name: evaluate_placement(field_, select(count)) for name, select in selections.items()}

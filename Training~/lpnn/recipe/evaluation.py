@@ -19,13 +19,13 @@ from ..core.engine import Engine
 from ..quality.placement.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE
 from ..quality.bench.results import BenchConfig
 from ..quality.bench.run import bench_capture
-from ..quality.placement.lpnn_placement import RECOMMENDED_REFINE
+from ..quality.placement.methods import RECOMMENDED_REFINE
 from ..quality.metric.metric import guarded_ratio
 from ..train.metrics import pr_auc, roc_auc
 from .labelling import stored_reference
 
 BUDGETS = DEFAULT_BUDGETS  # the benchmark's own: every method at 1/5/10/20/30 %
-METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random", "fast-reference")
+METHODS = ("network", "guided", "guided-exact-refined", "network-topk", "insertion", "heuristic", "apv", "uniform", "random", "fast-reference")
 # The ratios the summary reports; insertion is the best non-learned method (quality.md §5), the bar.
 BASELINES = ("fast-reference", "uniform", "heuristic", "insertion")
 STAGES = ("feature_seconds", "inference_seconds", "selection_seconds", "refine_seconds", "seconds")  # seconds: total
@@ -141,7 +141,7 @@ def find(summary: dict[str, Any], method: str, policy: str, parameter: float) ->
 def goal_checks(summary: dict[str, Any]) -> dict[str, bool]:
     """The issue's goals at a 20 % budget, per LPNN tier (a tier the summary lacks, e.g. in an older card, has none)."""
     checks = {}
-    for method in ("lpnn", "lpnn-guided", "lpnn-refine"):
+    for method in ("network", "guided", "guided-exact-refined"):
         try:
             entry = find(summary, method, "budget", 0.2)
         except KeyError:

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from ..core.atomic import write_bytes_atomic
+from ..quality.placement.methods import BY_NAME
 from ..train.modelcard import ModelCard, card_path
 from .evaluation import find
 
@@ -70,20 +71,6 @@ def _ms(seconds: Any) -> str:
     return "–" if seconds is None else f"{seconds * 1e3:.0f}"
 
 
-ROW_LABELS = {
-    "lpnn": "LPNN (spread ranking)",
-    "lpnn-guided": "LPNN-guided insertion",
-    "lpnn-refine": "LPNN + refine ×2",
-    "lpnn-topk": "LPNN top-K (raw scores)",
-    "insertion": "insertion (best non-learned)",
-    "heuristic": "heuristic",
-    "apv": "APV-style density",
-    "uniform": "uniform",
-    "random": "random",
-    "fast-reference": "fast reference",
-}
-
-
 def report_markdown(card: ModelCard) -> str:
     """The held-out figures of a recipe model's card as Markdown (between the markers benchmarks.md uses)."""
     held_out = card.metrics.get("held_out")
@@ -104,14 +91,14 @@ def report_markdown(card: ModelCard) -> str:
              "",
              "| method | budget | probes | × reference | × uniform | × heuristic | features ms | inference ms | selection ms | refine ms | total ms |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-guided", "lpnn-refine", "lpnn-topk", "insertion", "heuristic", "apv", "uniform", "random"):
+    for method in ("network", "guided", "guided-exact-refined", "network-topk", "insertion", "heuristic", "apv", "uniform", "random"):
         for budget in held_out["budgets"]:
             try:
                 entry = find(held_out, method, "budget", budget)
             except KeyError:
                 continue
             lines.append(
-                f"| {ROW_LABELS[method]} | {budget:.0%} | {entry['mean_probes']:.0f} | "
+                f"| {BY_NAME[method].label} | {budget:.0%} | {entry['mean_probes']:.0f} | "
                 f"{_ratio(entry, 'error_vs_reference')} | {_ratio(entry, 'error_vs_uniform')} | "
                 f"{_ratio(entry, 'error_vs_heuristic')} | {_ms(entry.get('median_feature_seconds'))} | "
                 f"{_ms(entry.get('median_inference_seconds'))} | {_ms(entry.get('median_selection_seconds'))} | "
@@ -120,12 +107,12 @@ def report_markdown(card: ModelCard) -> str:
     lines += ["", f"Tolerance policy, mean error ≤ {tau:g} (probes as a ratio to the reference's smallest count within τ):",
               "", "| method | probes | × reference probes | crops within τ | selection ms | refine ms | total ms |",
               "|---|---|---|---|---|---|---|"]
-    for method in ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
+    for method in ("network", "guided", "guided-exact-refined", "insertion", "heuristic", "apv", "uniform", "fast-reference"):
         try:
             entry = find(held_out, method, "tolerance", tau)
         except KeyError:
             continue
-        lines.append(f"| {ROW_LABELS[method]} | {entry['mean_probes']:.0f} | {_ratio(entry, 'probes_vs_reference')} | "
+        lines.append(f"| {BY_NAME[method].label} | {entry['mean_probes']:.0f} | {_ratio(entry, 'probes_vs_reference')} | "
                      f"{entry['within_tolerance']}/{entry['crops']} | {_ms(entry.get('median_selection_seconds'))} | "
                      f"{_ms(entry.get('median_refine_seconds'))} | {_ms(entry.get('median_seconds'))} |")
     inference = card.metrics.get("inference_ms", {})

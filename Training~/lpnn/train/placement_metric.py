@@ -5,7 +5,7 @@
 reports, per held-out capture, the mean placement error of the model's 20 % placement (budget
 policy on the spread ranking of its scores, the way LPNN scores become probes: quality.md §4,
 selection.md) — the same number `lpnn bench` reports for `lpnn`. PLACEMENT_ERROR_TOPK_20 measures
-the raw top 20 % instead (`lpnn-topk`). Lower is better.
+the raw top 20 % instead (`network-topk`). Lower is better.
 """
 
 from __future__ import annotations

@@ -28,12 +28,13 @@ def test_unity_volume_takes_its_defaults_from_core() -> None:
 def test_the_default_placement_is_insertion_refined_in_batches_in_the_volume_and_the_cli() -> None:
     """benchmarks.md §11: with the dense lighting (always there in the Unity pipeline and in a capture) insertion refined
     in batches is the best method measured on the validation crops (the network's guide ties once refined), so a new
-    volume places by insertion and refines on Apply, and `lpnn place` without a source does the same."""
-    from lpnn.cli.place_cmd import DEFAULT_METHOD
+    volume places by insertion and refines on Apply, and `lpnn place` without --method does the same (one method,
+    InsertionRefined / insertion-refined: Documentation~/methods.md)."""
+    from lpnn.quality.placement.methods import DEFAULT_METHOD
 
     core = (PACKAGE / "Core" / "Selection" / "PlacementMethod.cs").read_text(encoding="utf-8")
-    assert "public const PlacementMethod Default = PlacementMethod.Insertion;" in core
+    assert "public const PlacementMethod Default = PlacementMethod.InsertionRefined;" in core
     assert DEFAULT_METHOD == "insertion-refined"
     volume = (PACKAGE / "LpnnVolume.cs").read_text(encoding="utf-8")
-    assert "private bool refineInBatches = true;" in volume
+    assert "refineInBatches" not in volume  # the refinement is part of the method, not a separate toggle
     assert "private PlacementMethod placementMethod = PlacementMethods.Default;" in volume

@@ -31,7 +31,7 @@ def _placed(out: Path) -> set[tuple[float, ...]]:
     return {tuple(np.float32(p).tolist()) for p in json.loads(out.read_text(encoding="utf-8"))["positions"]}
 
 
-@pytest.mark.parametrize("method", ["fast", "insertion", "uniform", "heuristic", "apv", "random"])
+@pytest.mark.parametrize("method", ["fast-reference", "insertion", "uniform", "heuristic", "apv", "random"])
 def test_no_method_places_a_probe_inside_geometry(capture_files: list[Path], tmp_path: Path, method: str,
                                                   capsys: pytest.CaptureFixture[str]) -> None:
     capture = read_capture(capture_files[1])
@@ -54,14 +54,15 @@ def test_scores_favouring_invalid_points_still_place_only_valid_ones(capture_fil
     scores = np.where(inside, 1.0, 0.0).astype(np.float32)  # every invalid point outranks every valid one
     scores_file = tmp_path / "scores.csv"
     write_scores_csv(scores_file, capture.ids, scores)
-    for extra in (["--budget", "0.3"], ["--budget", "0.3", "--topk"], ["--tolerance", "0.2"]):
+    for extra in (["--method", "network", "--budget", "0.3"], ["--method", "network-topk", "--budget", "0.3"],
+                  ["--method", "network", "--tolerance", "0.2"]):
         out = tmp_path / "scored.probes.json"
         assert main(["place", str(path), "--scores", str(scores_file), *extra, "--out", str(out)]) == 0
         assert not _placed(out) & {tuple(p) for p in capture.positions[inside].tolist()}, extra
     # control: without the section the same scores pick the slab
     out = tmp_path / "unmarked.probes.json"
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.3", "--topk",
-                 "--out", str(out)]) == 0
+    assert main(["place", str(capture_files[2]), "--method", "network-topk", "--scores", str(scores_file), "--budget",
+                 "0.3", "--out", str(out)]) == 0
     assert _placed(out) & {tuple(p) for p in capture.positions[inside].tolist()}
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from lpnn.quality.bench.results import BenchRow, rows_csv
 
 SCRIPT = Path(__file__).resolve().parents[3] / "Tools~" / "experiments" / "bench-table.py"
-METHODS = ("lpnn", "lpnn-guided", "lpnn-refine", "insertion", "heuristic", "apv", "uniform")
+METHODS = ("network", "guided", "guided-exact-refined", "insertion", "heuristic", "apv", "uniform")
 
 
 def _row(capture: str, method: str, policy: str, ratio: float) -> BenchRow:
@@ -26,7 +26,7 @@ def test_means_leave_out_non_finite_ratios_and_say_how_many(tmp_path: Path) -> N
     for capture, lpnn_ratio in (("a", 2.0), ("b", float("inf")), ("c", 8.0)):
         for method in (*METHODS, "fast-reference"):
             for policy in ("budget", "tolerance"):
-                rows.append(_row(capture, method, policy, lpnn_ratio if method == "lpnn" else 1.5))
+                rows.append(_row(capture, method, policy, lpnn_ratio if method == "network" else 1.5))
     rows = [r for r in rows if not (r.capture == "c" and r.method == "apv")]  # apv failed on c: no rows
     path = tmp_path / "bench.csv"
     path.write_text(rows_csv(rows), encoding="utf-8")
@@ -42,9 +42,9 @@ def test_means_leave_out_non_finite_ratios_and_say_how_many(tmp_path: Path) -> N
 def test_summary_row_per_method_with_left_out_counts(tmp_path: Path) -> None:
     rows = [_row(capture, method, policy, ratio)
             for capture, ratio in (("a", 2.0), ("b", float("inf")), ("c", 8.0))
-            for method in ("lpnn", "insertion") for policy in ("budget", "tolerance")]
+            for method in ("network", "insertion") for policy in ("budget", "tolerance")]
     path = tmp_path / "bench.csv"
     path.write_text(rows_csv(rows), encoding="utf-8")
     printed = subprocess.run([sys.executable, str(SCRIPT), str(path), "--summary"], check=True, capture_output=True,
                              text=True).stdout.splitlines()
-    assert "| lpnn | 4.00 (1) | 4.00 (1) |" in printed and "| insertion | 4.00 (1) | 4.00 (1) |" in printed
+    assert "| network | 4.00 (1) | 4.00 (1) |" in printed and "| insertion | 4.00 (1) | 4.00 (1) |" in printed

@@ -60,7 +60,7 @@ def test_label_refuses_the_faithful_method_on_large_captures(tmp_path: Path, med
     assert "use --method fast" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("method", ["fast", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random"])
+@pytest.mark.parametrize("method", ["fast-reference", "insertion", "insertion-refined", "uniform", "heuristic", "apv", "random"])
 def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, method: str,
                                     capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / f"{method}.probes.json"
@@ -83,7 +83,7 @@ def test_place_without_a_source_places_by_refined_insertion(capture_files: list[
     assert main(["place", str(capture_files[1]), "--method", "insertion-refined", "--budget", "0.25",
                  "--out", str(explicit)]) == 0
     assert json.loads(default.read_text(encoding="utf-8"))["positions"] == json.loads(explicit.read_text(encoding="utf-8"))["positions"]
-    assert main(["place", str(capture_files[1]), "--topk", "--budget", "0.25", "--out", str(default)]) == 1
+    assert main(["place", str(capture_files[1]), "--method", "network-topk", "--budget", "0.25", "--out", str(default)]) == 1
 
 
 def test_place_from_a_scores_file_with_a_tolerance(capture_files: list[Path], tmp_path: Path) -> None:
@@ -92,19 +92,19 @@ def test_place_from_a_scores_file_with_a_tolerance(capture_files: list[Path], tm
     scores_file = tmp_path / "scores.csv"
     write_scores_csv(scores_file, capture.ids, scores.astype(np.float32))
     out = tmp_path / "scored.probes.json"
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--tolerance", "0.1",
+    assert main(["place", str(capture_files[2]), "--method", "network", "--scores", str(scores_file), "--tolerance", "0.1",
                  "--out", str(out)]) == 0
     document = json.loads(out.read_text(encoding="utf-8"))
     assert document["source"]["mean_error"] <= 0.1
     # --no-report: the same probes, the search's mean error, no final evaluation (no p95).
     quick = tmp_path / "quick.probes.json"
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--tolerance", "0.1", "--no-report",
-                 "--out", str(quick)]) == 0
+    assert main(["place", str(capture_files[2]), "--method", "network", "--scores", str(scores_file), "--tolerance", "0.1",
+                 "--no-report", "--out", str(quick)]) == 0
     fast = json.loads(quick.read_text(encoding="utf-8"))
     assert fast["positions"] == document["positions"] and "p95_error" not in fast["source"]
     assert fast["source"]["mean_error"] == document["source"]["mean_error"]
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.2", "--no-report",
-                 "--out", str(quick)]) == 0
+    assert main(["place", str(capture_files[2]), "--method", "network", "--scores", str(scores_file), "--budget", "0.2",
+                 "--no-report", "--out", str(quick)]) == 0
     assert "mean_error" not in json.loads(quick.read_text(encoding="utf-8"))["source"]
 
 
@@ -114,16 +114,13 @@ def test_place_refines_in_batches_with_scores_or_without(capture_files: list[Pat
     scores_file = tmp_path / "scores.csv"
     write_scores_csv(scores_file, capture.ids, np.linspace(0.1, 1.0, capture.point_count).astype(np.float32))
     batched, refined = tmp_path / "batched.probes.json", tmp_path / "refined.probes.json"
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "2", "--batched",
+    assert main(["place", str(capture_files[2]), "--method", "guided-refined", "--scores", str(scores_file),
                  "--tolerance", "0.05", "--out", str(batched)]) == 0
     assert "batched refine 2" in capsys.readouterr().out
     assert json.loads(batched.read_text(encoding="utf-8"))["source"]["mean_error"] <= 0.05
     assert main(["place", str(capture_files[2]), "--method", "insertion-refined", "--tolerance", "0.05",
                  "--out", str(refined)]) == 0
     assert json.loads(refined.read_text(encoding="utf-8"))["source"]["mean_error"] <= 0.05
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--batched", "--budget", "0.2",
-                 "--out", str(batched)]) == 1
-    assert "--batched is a way to refine: give it with --refine F" in capsys.readouterr().err
 
 
 def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_path: Path,
@@ -131,7 +128,7 @@ def test_place_rejects_scores_of_another_capture(capture_files: list[Path], tmp_
     capture = read_capture(capture_files[0])
     scores_file = tmp_path / "scores.csv"
     write_scores_csv(scores_file, capture.ids[::-1].copy(), np.zeros(capture.point_count, dtype=np.float32))
-    assert main(["place", str(capture_files[0]), "--scores", str(scores_file), "--budget", "0.2",
+    assert main(["place", str(capture_files[0]), "--method", "network", "--scores", str(scores_file), "--budget", "0.2",
                  "--out", str(tmp_path / "x.json")]) == 1
     assert "does not match" in capsys.readouterr().err
 
@@ -229,16 +226,16 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     result = bench_capture("room2", capture, config, scorer=_StubScorer())
     by_method = {(row.method, row.policy): row for row in result.rows}
     assert {m for m, _ in by_method} == {"uniform", "random", "heuristic", "apv", "insertion", "insertion-refined",
-                                          "fast-reference", "lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched",
-                                          "lpnn-refine"}
+                                          "fast-reference", "network-topk", "network", "guided", "guided-refined",
+                                          "guided-exact-refined"}
     assert result.failures == []
-    for method in ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched", "lpnn-refine"):
+    for method in ("network-topk", "network", "guided", "guided-refined", "guided-exact-refined"):
         row = by_method[(method, "budget")]
         assert row.feature_seconds == 0.25 and row.inference_seconds is not None and row.selection_seconds is not None
         # Every tier ranks inside its selection (the guided tier lazily, its rounds up to the row's count).
         assert row.seconds == pytest.approx(row.feature_seconds + row.inference_seconds + row.selection_seconds
                                             + (row.refine_seconds or 0.0))
-        assert (row.refine_seconds is not None) == (method in ("lpnn-refine", "lpnn-batched"))
+        assert (row.refine_seconds is not None) == (method in ("guided-exact-refined", "guided-refined"))
         assert row.probes == round(0.2 * capture.point_count)
         assert row.error_ratio == pytest.approx(row.mean_error / row.reference_error)
         assert row.reference_error == pytest.approx(result.reference_curve[row.probes])
@@ -247,15 +244,15 @@ def test_bench_reports_the_lpnn_tiers_with_their_time_split(small_captures: dict
     field = ReferenceField.from_capture(capture)
     scores = _StubScorer().score_capture(capture)
     spread = lpnn_placement(capture, scores=scores, budget=0.2, reference=field)
-    assert by_method[("lpnn", "budget")].mean_error == pytest.approx(spread.mean_error)
+    assert by_method[("network", "budget")].mean_error == pytest.approx(spread.mean_error)
     refined = lpnn_placement(capture, scores=scores, budget=0.2, refine=2.0, reference=field)
-    assert by_method[("lpnn-refine", "budget")].mean_error == pytest.approx(refined.mean_error)
+    assert by_method[("guided-exact-refined", "budget")].mean_error == pytest.approx(refined.mean_error)
     guided = lpnn_placement(capture, scores=scores, budget=0.2, guided=True, reference=field)
-    assert by_method[("lpnn-guided", "budget")].mean_error == pytest.approx(guided.mean_error)
+    assert by_method[("guided", "budget")].mean_error == pytest.approx(guided.mean_error)
 
 
 def test_above_the_refine_limit_the_bench_skips_only_the_refine_tier(small_captures: dict[int, Capture]) -> None:
-    """Each lpnn-refine row decimates again (minutes on a whole level): above `refine_limit` points only that tier is
+    """Each guided-exact-refined row decimates again (minutes on a whole level): above `refine_limit` points only that tier is
     left out; the yardstick is still the full reference below `full_reference_limit`, and the other tiers' rows are
     those of a run without the limit."""
     capture = small_captures[2]
@@ -263,9 +260,9 @@ def test_above_the_refine_limit_the_bench_skips_only_the_refine_tier(small_captu
     below = bench_capture("room2", capture, replace(config, refine_limit=capture.point_count), scorer=_StubScorer())
     above = bench_capture("room2", capture, replace(config, refine_limit=capture.point_count - 1), scorer=_StubScorer())
     assert below.yardstick == above.yardstick == "fast-reference" and below.failures == above.failures == []
-    assert "lpnn-refine" in {row.method for row in below.rows}
-    assert {row.method for row in above.rows} == {row.method for row in below.rows} - {"lpnn-refine"}
-    kept = {(row.method, row.policy): (row.probes, row.mean_error) for row in below.rows if row.method != "lpnn-refine"}
+    assert "guided-exact-refined" in {row.method for row in below.rows}
+    assert {row.method for row in above.rows} == {row.method for row in below.rows} - {"guided-exact-refined"}
+    kept = {(row.method, row.policy): (row.probes, row.mean_error) for row in below.rows if row.method != "guided-exact-refined"}
     assert {(row.method, row.policy): (row.probes, row.mean_error) for row in above.rows} == kept
 
 
@@ -289,7 +286,7 @@ def test_above_the_guides_limit_the_guided_rows_are_the_insertion_rows(small_cap
     config = BenchConfig(budgets=(0.1, 0.2), tolerance=0.05, repeats=1, faithful_limit=0)
     result = bench_capture("room2", small_captures[2], config, scorer=_StubScorer())
     plain = {(row.policy, row.parameter): row for row in result.rows if row.method == "insertion"}
-    guided = {(row.policy, row.parameter): row for row in result.rows if row.method == "lpnn-guided"}
+    guided = {(row.policy, row.parameter): row for row in result.rows if row.method == "guided"}
     assert result.failures == [] and guided.keys() == plain.keys() and len(plain) == 3
     for key, row in guided.items():
         assert (row.probes, row.mean_error, row.error_ratio) == (plain[key].probes, plain[key].mean_error,
@@ -305,33 +302,97 @@ def test_place_from_scores_uses_the_spread_ranking_topk_refinement_and_guided_in
     scores_file = tmp_path / "scores.csv"
     write_scores_csv(scores_file, capture.ids, scores)
     field = ReferenceField.from_capture(capture)
-    for extra, expected in (([], lpnn_placement(capture, scores=scores, budget=0.25, reference=field)),
-                            (["--topk"], lpnn_placement(capture, scores=scores, budget=0.25, topk=True, reference=field)),
-                            (["--refine", "2"], lpnn_placement(capture, scores=scores, budget=0.25, refine=2.0,
-                                                               reference=field)),
-                            (["--guided"], lpnn_placement(capture, scores=scores, budget=0.25, guided=True, reference=field))):
+    for method, expected in (("network", lpnn_placement(capture, scores=scores, budget=0.25, reference=field)),
+                             ("network-topk", lpnn_placement(capture, scores=scores, budget=0.25, topk=True,
+                                                             reference=field)),
+                             ("guided-exact-refined", lpnn_placement(capture, scores=scores, budget=0.25, refine=2.0,
+                                                                     reference=field)),
+                             ("guided", lpnn_placement(capture, scores=scores, budget=0.25, guided=True,
+                                                       reference=field))):
         out = tmp_path / "p.probes.json"
-        assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--budget", "0.25", *extra,
-                     "--out", str(out)]) == 0
+        assert main(["place", str(capture_files[2]), "--method", method, "--scores", str(scores_file), "--budget",
+                     "0.25", "--out", str(out)]) == 0
         document = json.loads(out.read_text(encoding="utf-8"))
         np.testing.assert_array_equal(np.asarray(document["positions"], dtype=np.float32),
                                       capture.positions[expected.indices])
         assert document["source"]["mean_error"] == pytest.approx(expected.mean_error, abs=1e-6)
+        assert document["source"]["method"] == method and document["source"]["scores"] == "scores scores.csv"
         printed = capsys.readouterr().out
-        assert ("top-K" in printed) == ("--topk" in extra) and ("refinement" in printed) == ("--refine" in extra)
-        assert ("guided insertion" in printed) == ("--guided" in extra or "--refine" in extra)  # refine's seed
-    assert main(["place", str(capture_files[2]), "--method", "uniform", "--refine", "2", "--budget", "0.2",
+        assert printed.startswith(f"{method}: ")
+        assert ("top-K" in printed) == (method == "network-topk")
+        assert ("refinement" in printed) == (method == "guided-exact-refined")
+        assert ("guided insertion" in printed) == method.startswith("guided")  # the refinement's seed too
+
+
+@pytest.mark.parametrize("method", ["guided-refined", "guided", "network", "network-topk", "guided-exact-refined"])
+def test_a_method_that_reads_the_scores_asks_for_the_flag_that_supplies_them(
+        capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str], method: str) -> None:
+    assert main(["place", str(capture_files[2]), "--method", method, "--budget", "0.2",
                  "--out", str(tmp_path / "x.json")]) == 1
-    assert "--guided, --refine, --topk and --no-report apply to LPNN scores" in capsys.readouterr().err
-    assert main(["place", str(capture_files[2]), "--guided", "--budget", "0.2", "--out", str(tmp_path / "x.json")]) == 1
-    assert "use them with --model or --scores" in capsys.readouterr().err
-    assert main(["place", str(capture_files[2]), "--scores", str(scores_file), "--guided", "--topk", "--budget", "0.2",
+    assert (f"--method {method} reads the network's scores: add --model M.onnx (or --scores SCORES.csv"
+            in capsys.readouterr().err)
+    assert not (tmp_path / "x.json").exists()
+
+
+@pytest.mark.parametrize("method, source", [("insertion-refined", "--model"), ("insertion", "--scores"),
+                                            ("fast-reference", "--model"), ("uniform", "--scores"),
+                                            ("random", "--model")])
+def test_a_method_without_a_model_refuses_one_naming_the_method(
+        capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str], method: str, source: str) -> None:
+    given = tmp_path / ("m.onnx" if source == "--model" else "s.csv")  # never read: the rule comes first
+    assert main(["place", str(capture_files[2]), "--method", method, source, str(given), "--budget", "0.2",
                  "--out", str(tmp_path / "x.json")]) == 1
-    assert "give at most one of them" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert f"--method {method} needs no model: drop --model/--scores" in err
+    assert "guided-refined, guided, network, network-topk, guided-exact-refined" in err
+
+
+def test_the_default_method_refuses_a_model_too(capture_files: list[Path], tmp_path: Path,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["place", str(capture_files[2]), "--model", str(tmp_path / "m.onnx"), "--budget", "0.2",
+                 "--out", str(tmp_path / "x.json")]) == 1
+    assert "--method insertion-refined needs no model" in capsys.readouterr().err
+
+
+def test_no_report_applies_only_to_the_methods_that_read_the_scores(capture_files: list[Path], tmp_path: Path,
+                                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["place", str(capture_files[2]), "--method", "insertion", "--no-report", "--budget", "0.2",
+                 "--out", str(tmp_path / "x.json")]) == 1
+    assert "--no-report applies to the methods that read the network's scores" in capsys.readouterr().err
+
+
+def test_keep_is_refused_by_the_methods_that_read_the_scores(capture_files: list[Path], tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    scores_file = tmp_path / "scores.csv"
+    capture = read_capture(capture_files[2])
+    write_scores_csv(scores_file, capture.ids, np.ones(capture.point_count, dtype=np.float32))
+    assert main(["place", str(capture_files[2]), "--method", "guided", "--scores", str(scores_file), "--keep",
+                 str(tmp_path / "pins.json"), "--budget", "0.2", "--out", str(tmp_path / "x.json")]) == 1
+    assert "--keep does not apply to --method guided" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("old", [["--refine", "2"], ["--batched"], ["--topk"], ["--guided"], ["--method", "fast"],
+                                 ["--method", "lpnn-batched"]])
+def test_the_old_spellings_are_gone(capture_files: list[Path], tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                    old: list[str]) -> None:
     with pytest.raises(SystemExit):
-        main(["place", str(capture_files[2]), "--scores", str(scores_file), "--refine", "1", "--budget", "0.2",
-              "--out", str(tmp_path / "x.json")])
-    assert "must be a factor > 1" in capsys.readouterr().err
+        main(["place", str(capture_files[2]), *old, "--budget", "0.2", "--out", str(tmp_path / "x.json")])
+    err = capsys.readouterr().err
+    assert "unrecognized arguments" in err or "invalid choice" in err
+
+
+def test_the_method_choices_and_help_come_from_the_table(capsys: pytest.CaptureFixture[str]) -> None:
+    from lpnn.quality.placement.methods import BY_NAME, PLACEABLE
+
+    with pytest.raises(SystemExit):
+        main(["place", "--help"])
+    printed = capsys.readouterr().out
+    for name in PLACEABLE:
+        assert f"\n  {name:<22}{BY_NAME[name].summary}" in printed  # the epilog: one line per method
+    assert "faithful-reference" not in printed and "blockwise-reference" not in printed
+    with pytest.raises(SystemExit):
+        main(["place", "x.lpnncap", "--method", "faithful-reference", "--budget", "0.2", "--out", "x.json"])
+    assert "invalid choice: 'faithful-reference'" in capsys.readouterr().err
 
 
 def test_a_flat_capture_is_a_one_line_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -364,8 +425,8 @@ def test_above_the_full_reference_limit_the_blockwise_reference_is_the_yardstick
     assert result.failures == [] and result.yardstick == "blockwise-reference"
     assert (tmp_path / "room3.blockwise.npz").is_file()
     methods = {row.method for row in result.rows}
-    assert "blockwise-reference" in methods and {"insertion", "lpnn", "lpnn-guided"} <= methods
-    assert not methods & {"fast-reference", "faithful-reference", "lpnn-refine"}
+    assert "blockwise-reference" in methods and {"insertion", "network", "guided"} <= methods
+    assert not methods & {"fast-reference", "faithful-reference", "guided-exact-refined"}
     assert all(row.yardstick == "blockwise-reference" for row in result.rows)
     field = ReferenceField.from_capture(medium_capture)
     grid = EvaluationGrid(cell_size=medium_capture.cell_size, ids=medium_capture.ids)

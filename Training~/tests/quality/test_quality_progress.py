@@ -26,6 +26,6 @@ def test_insertion_counts_rounds(capture_files: list[Path], tmp_path: Path, caps
 
 def test_the_fast_reference_counts_probes(capture_files: list[Path], tmp_path: Path,
                                           capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["place", str(capture_files[1]), "--method", "fast", "--budget", "0.2",
+    assert main(["place", str(capture_files[1]), "--method", "fast-reference", "--budget", "0.2",
                  "--out", str(tmp_path / "p.probes.json")]) == 0
     assert re.search(r"fast reference: .*probe/s", capsys.readouterr().err)

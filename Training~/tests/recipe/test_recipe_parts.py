@@ -81,13 +81,13 @@ def _crops() -> list[dict]:
         for budget in (0.1, 0.2, 0.3):
             reference = 0.1 * (1 - budget)
             rows += [_row(name, "fast-reference", "budget", budget, reference),
-                     _row(name, "lpnn", "budget", budget, reference * factor),
-                     _row(name, "lpnn-refine", "budget", budget, reference * 1.05),
+                     _row(name, "network", "budget", budget, reference * factor),
+                     _row(name, "guided-exact-refined", "budget", budget, reference * 1.05),
                      _row(name, "uniform", "budget", budget, reference * factor * 2),
                      _row(name, "heuristic", "budget", budget, reference * factor * 1.25),
                      _row(name, "insertion", "budget", budget, reference * factor / 1.1)]
         rows += [_row(name, "fast-reference", "tolerance", 0.05, 0.049, 8),
-                 _row(name, "lpnn", "tolerance", 0.05, 0.048, 12)]
+                 _row(name, "network", "tolerance", 0.05, 0.048, 12)]
         crops.append({"name": name, "points": 100, "roc_auc": 0.8, "pr_auc": 0.5 if name == "a" else math.nan,
                       "rows": rows})
     return crops
@@ -95,21 +95,21 @@ def _crops() -> list[dict]:
 
 def test_summary_ratios_are_per_crop_geometric_means() -> None:
     summary = summarize(_crops())
-    lpnn = next(m for m in summary["methods"] if (m["method"], m["policy"], m["parameter"]) == ("lpnn", "budget", 0.2))
+    lpnn = next(m for m in summary["methods"] if (m["method"], m["policy"], m["parameter"]) == ("network", "budget", 0.2))
     assert lpnn["error_vs_reference"] == pytest.approx(math.sqrt(1.2 * 1.5))
     assert lpnn["error_vs_uniform"] == pytest.approx(0.5)
     assert lpnn["error_vs_heuristic"] == pytest.approx(0.8)
-    tolerance = next(m for m in summary["methods"] if (m["method"], m["policy"]) == ("lpnn", "tolerance"))
+    tolerance = next(m for m in summary["methods"] if (m["method"], m["policy"]) == ("network", "tolerance"))
     assert tolerance["probes_vs_reference"] == pytest.approx(1.5) and tolerance["probes_vs_reference_left_out"] == 0
     assert lpnn["error_vs_reference_left_out"] == 0  # counted beside every mean, also when none is left out
     assert tolerance["within_tolerance"] == 2
     assert summary["pr_auc"] == pytest.approx(0.5)  # the crop without a defined PR-AUC is left out
     goals = goal_checks(summary)
-    assert goals["lpnn: error <= 1.15x reference"] is False
-    assert goals["lpnn-refine: error <= 1.15x reference"] is True
-    assert goals["lpnn: error <= 0.85x uniform"] is True
+    assert goals["network: error <= 1.15x reference"] is False
+    assert goals["guided-exact-refined: error <= 1.15x reference"] is True
+    assert goals["network: error <= 0.85x uniform"] is True
     assert lpnn["error_vs_insertion"] == pytest.approx(1.1)  # the bar: LPNN must be <= 0.8x it
-    assert goals["lpnn: error <= 0.8x insertion (best non-learned)"] is False
+    assert goals["network: error <= 0.8x insertion (best non-learned)"] is False
     assert summary["failures"] == []
     crops = _crops()
     crops[0]["failures"] = [{"capture": "a", "method": "apv", "reason": "ValueError: flat"}]
@@ -135,7 +135,7 @@ def test_report_renders_the_card_and_the_document_check_finds_it() -> None:
     card = card_with_recipe(_card(), recipe, summary, {"10000": 4.5})
     table = report_markdown(card)
     assert table.startswith(TABLE_BEGIN) and table.rstrip().endswith(TABLE_END)
-    assert "h1, h2" in table and "| LPNN (spread ranking) | 20% | 10 | 1.34 | 0.50 | 0.80 | 20 | 1 | 3 | – | 10 |" in table
+    assert "h1, h2" in table and "| Network | 20% | 10 | 1.34 | 0.50 | 0.80 | 20 | 1 | 3 | – | 10 |" in table
     assert "10,000 points 4.5 ms" in table and "**missed**" in table and "labels 2.0 min" in table
     document = "# Benchmarks\n\ntext\n" + table + "more text\n"
     assert documented_table(document) == table

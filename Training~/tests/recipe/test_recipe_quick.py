@@ -34,18 +34,18 @@ def test_quick_recipe_installs_a_model_whose_card_names_the_split(quick_run: tup
     held_out = card["metrics"]["held_out"]
     assert held_out["crops"] >= 1 and 0.0 <= held_out["roc_auc"] <= 1.0
     methods = {(m["method"], m["policy"]) for m in held_out["methods"]}
-    assert {("lpnn", "budget"), ("lpnn-refine", "budget"), ("uniform", "budget"), ("heuristic", "budget"),
-            ("lpnn", "tolerance")} <= methods
+    assert {("network", "budget"), ("guided-exact-refined", "budget"), ("uniform", "budget"), ("heuristic", "budget"),
+            ("network", "tolerance")} <= methods
     # Real quality, not just valid numbers. Measured with the quick options at seeds 1 and 2 (held-out ROC-AUC
     # 0.573 / 0.708; error vs the uniform grid at 10/20/30 % budgets: lpnn 0.94/0.96/0.87 and 0.95/0.96/0.92,
-    # lpnn-refine 0.82/0.77/0.66 and 0.83/0.78/0.69): a model that learned nothing scores ROC-AUC ~0.5 and
+    # guided-exact-refined 0.82/0.77/0.66 and 0.83/0.78/0.69): a model that learned nothing scores ROC-AUC ~0.5 and
     # places no better than the grid.
     assert held_out["roc_auc"] > 0.55
     # The margins were measured at 10-30 %; at 1 and 5 % a quick model ties the grid (seed 0: lpnn 1.14 / 1.00,
-    # lpnn-refine 0.94 / 0.79), too thin a margin to assert.
+    # guided-exact-refined 0.94 / 0.79), too thin a margin to assert.
     budget_rows = [m for m in held_out["methods"] if m["policy"] == "budget" and float(m["parameter"]) >= 0.1]
-    assert all(m["error_vs_uniform"] < 1.0 for m in budget_rows if m["method"] == "lpnn")
-    assert all(m["error_vs_uniform"] < 0.9 for m in budget_rows if m["method"] == "lpnn-refine")
+    assert all(m["error_vs_uniform"] < 1.0 for m in budget_rows if m["method"] == "network")
+    assert all(m["error_vs_uniform"] < 0.9 for m in budget_rows if m["method"] == "guided-exact-refined")
     assert float(card["metrics"]["inference_ms"]["10000"]) > 0
     assert set(card["training"]["recipe"]["seconds"]) == {"crops", "labels", "training", "evaluation"}
 
@@ -89,15 +89,15 @@ def test_demo_places_within_tolerance_on_a_held_out_level(quick_run: tuple[Path,
     default = summary["methods"]["insertion-refined"]  # probes.json: the package's default
     assert summary["methods"]["insertion-refined"]["probes"] <= summary["methods"]["insertion"]["probes"]
     batched = json.loads((out / "probes-batched.json").read_text(encoding="utf-8"))
-    assert batched["count"] == summary["methods"]["lpnn-batched"]["probes"]
+    assert batched["count"] == summary["methods"]["guided-refined"]["probes"]
     assert probes["count"] == default["probes"] == len(probes["positions"]) and probes["space"] == "world"
     spread = json.loads((out / "probes-spread.json").read_text(encoding="utf-8"))
-    assert spread["count"] == summary["methods"]["lpnn"]["probes"]
+    assert spread["count"] == summary["methods"]["network"]["probes"]
     guided = json.loads((out / "probes-guided.json").read_text(encoding="utf-8"))
-    assert guided["count"] == summary["methods"]["lpnn-guided"]["probes"]
+    assert guided["count"] == summary["methods"]["guided"]["probes"]
     # The refinement keeps the guided insertion's answer at worst (refined_insertion.py).
-    assert summary["methods"]["lpnn-batched"]["probes"] <= summary["methods"]["lpnn-guided"]["probes"]
-    for method in ("insertion-refined", "lpnn-batched", "lpnn-guided", "lpnn", "lpnn-refine", "fast-reference", "insertion",
+    assert summary["methods"]["guided-refined"]["probes"] <= summary["methods"]["guided"]["probes"]
+    for method in ("insertion-refined", "guided-refined", "guided", "network", "guided-exact-refined", "fast-reference", "insertion",
                    "uniform", "heuristic"):
         assert summary["methods"][method]["mean_error"] <= 0.08, method
         assert 4 <= summary["methods"][method]["probes"] <= summary["points"]

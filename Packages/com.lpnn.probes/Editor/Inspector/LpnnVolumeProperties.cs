@@ -24,7 +24,6 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty Threshold { get; }
         public SerializedProperty Tolerance { get; }
         public SerializedProperty KeepBoundsCorners { get; }
-        public SerializedProperty RefineInBatches { get; }
         public SerializedProperty KeepPinnedProbes { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
@@ -55,7 +54,6 @@ namespace Lpnn.Probes.Editor
             Threshold = volume.FindProperty(LpnnVolume.Fields.Threshold);
             Tolerance = volume.FindProperty(LpnnVolume.Fields.Tolerance);
             KeepBoundsCorners = volume.FindProperty(LpnnVolume.Fields.KeepBoundsCorners);
-            RefineInBatches = volume.FindProperty(LpnnVolume.Fields.RefineInBatches);
             KeepPinnedProbes = volume.FindProperty(LpnnVolume.Fields.KeepPinnedProbes);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);

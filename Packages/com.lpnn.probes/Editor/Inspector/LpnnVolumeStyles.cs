@@ -1,3 +1,6 @@
+using System.Linq;
+using Lpnn.Probes.Core.Selection;
+
 namespace Lpnn.Probes.Editor
 {
     /// <summary>The LPNN volume inspector's fixed texts (headers, buttons, help boxes, dialogs), in one place so wording is
@@ -53,7 +56,7 @@ namespace Lpnn.Probes.Editor
         public const string NoLightingYet =
             "No lighting yet: the insertion method ranks points by the Lighting data step's SH (or import a .probes.json).";
         public const string RefinedOnApply =
-            "Refine in batches is on: Apply removes the probes the sampled lighting does not need (Documentation~/quality.md §5.3; " +
+            "This method refines: Apply removes the probes the sampled lighting does not need (Documentation~/quality.md §5.3; " +
             "about a third fewer at the same error on the validation volumes), which takes seconds on rooms, minutes on large volumes.";
         public const string InsertionNotRankedYet =
             "The insertion method ranks the points once (about a second per 1,000 points): press 'Rank by insertion' " +
@@ -65,6 +68,11 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The policies in the order an artist should consider them (Spread first, the thesis' Percentile next), not
         /// the order of the enum, whose values are stored in scenes and only ever appended to.</summary>
+        /// <summary>The methods' labels in the table's order (Documentation~/methods.md; Core.Selection.PlacementMethods.All):
+        /// the enum's names are code, its values are stored in scenes.</summary>
+        public static readonly string[] MethodLabels = PlacementMethods.All.Select(row => row.Label).ToArray();
+        public const string Method = "Method";
+
         public static readonly string[] PolicyLabels = { "Spread", "Percentile (thesis)", "Top-K", "Threshold", "Tolerance (default)" };
         public const string Policy = "Policy";
 

@@ -30,7 +30,7 @@ namespace Lpnn.Probes.Editor
         {
             InspectorLayout.Header(LpnnVolumeStyles.PlacementHeader);
             InspectorLayout.Field(properties.TargetGroup);
-            InspectorLayout.Field(properties.Method);
+            MethodPopup(properties.Method);
             edited.ApplyModifiedProperties();
             bool byInsertion = PlacementMethods.RanksByInsertion(volume.Method);
             bool needsScores = PlacementMethods.NeedsScores(volume.Method);
@@ -45,13 +45,12 @@ namespace Lpnn.Probes.Editor
                 default: InspectorLayout.Field(properties.Percentile); break;
             }
             InspectorLayout.Field(properties.KeepBoundsCorners);
-            if (byInsertion) InspectorLayout.Field(properties.RefineInBatches);
             // Shown for the Network method too while it is on, so the toggle Apply's refusal names can be turned off there.
             if (byInsertion || volume.KeepPinnedProbes) InspectorLayout.Field(properties.KeepPinnedProbes);
             edited.ApplyModifiedProperties();
             if (byInsertion) PinButtons(volume, edited);
             // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
-            bool refines = byInsertion && volume.RefineInBatches;
+            bool refines = PlacementMethods.RefinesInBatches(volume.Method);
             var preview = PreviewCount(volume, session);
             var placement = steps[PipelineStep.Placement];
             long points = session.Grid != null ? session.Grid.Count : 0;
@@ -167,6 +166,20 @@ namespace Lpnn.Probes.Editor
             return world;
         }
 
+        /// <summary>The Method popup with the table's labels (Documentation~/methods.md), in the table's order: the enum lives
+        /// in the engine-agnostic core, so it carries no InspectorName, and its order is its stored values'.</summary>
+        private static void MethodPopup(SerializedProperty property)
+        {
+            // The enum is declared in value order, so its index is its value.
+            var current = (PlacementMethod)property.enumValueIndex;
+            int shown = 0;
+            for (int i = 0; i < PlacementMethods.All.Count; i++)
+                if (PlacementMethods.All[i].Method == current) shown = i;
+            // EditorGUILayout.Popup: UnityCsReference Editor/Mono/EditorGUILayout.cs
+            int chosen = EditorGUILayout.Popup(LpnnVolumeStyles.Method, shown, LpnnVolumeStyles.MethodLabels);
+            if (chosen != shown) property.enumValueIndex = (int)PlacementMethods.All[chosen].Method;
+        }
+
         private static SelectionPolicy PolicyPopup(SerializedProperty property)
         {
             // The enum is declared in value order, so its index is its value.
@@ -242,11 +255,12 @@ namespace Lpnn.Probes.Editor
                 EditorGUILayout.HelpBox(error, MessageType.Warning);
                 return null;
             }
-            string count = (byInsertion && volume.RefineInBatches ? "Before refinement, Apply would place " : "Apply would place ") +
+            bool refines = PlacementMethods.RefinesInBatches(volume.Method);
+            string count = (refines ? "Before refinement, Apply would place " : "Apply would place ") +
                            InvariantFormat.Count(result.Indices.Length) + " of " +
                            InvariantFormat.Count(grid.Count) + (session.InUse != null && session.InUse.Filters ? " points in use" : " points") +
                            LpnnVolumeStyles.PinnedAmong(pins == null ? 0 : pins.Count) + StepSummaries.Extras(result) + "." +
-                           (byInsertion && volume.RefineInBatches ? "\n" + LpnnVolumeStyles.RefinedOnApply : "") +
+                           (refines ? "\n" + LpnnVolumeStyles.RefinedOnApply : "") +
                            (byInsertion ? InsertionValidityLine(PlacementInputs.ValidPoints(session, grid)) : ValidityLine(record));
             EditorGUILayout.HelpBox(count + "\n" + ErrorReadout(result, session, grid, out MessageType type), type);
             if (!_estimate.Has(result, session) && session.Sh != null && !PlacementErrorEstimate.IsLive(grid) && GUILayout.Button(LpnnVolumeStyles.EstimateError))

@@ -177,7 +177,7 @@ namespace Lpnn.Probes.Editor
                 : null;
             var pins = PinsOf(volume, session, grid);
             selection = PlacementMethods.RanksByInsertion(volume.Method)
-                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, volume.RefineInBatches, progress, cancel, pins)
+                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, PlacementMethods.RefinesInBatches(volume.Method), progress, cancel, pins)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, LpnnScores.For(volume)), settings, measure);
             return ApplySteps.PositionsOf(grid, selection, pins);
         }

@@ -30,9 +30,9 @@ class BenchConfig:
     seed: int = DEFAULT_SEED
     faithful_limit: int = FAITHFUL_MAX_CANDIDATES
     workers: int | None = None  # processes of the fast reference and of the blockwise reference's blocks (None: 1)
-    refine: float = RECOMMENDED_REFINE  # lpnn-refine's seed factor
+    refine: float = RECOMMENDED_REFINE  # guided-exact-refined's seed factor
     full_reference_limit: int = FULL_REFERENCE_LIMIT  # above: the blockwise reference is the yardstick
-    refine_limit: int = REFINE_BENCH_LIMIT  # above: no lpnn-refine rows (each decimates again, minutes per row)
+    refine_limit: int = REFINE_BENCH_LIMIT  # above: no guided-exact-refined rows (each decimates again, minutes per row)
     checkpoints: str | None = None  # folder keeping the blockwise reference's finished blocks (a rerun resumes)
     methods: frozenset[str] | None = None  # run only these methods (None: every one); the yardstick always runs
     reference_stop: float | None = None  # stop the fast reference above this mean error (None: down to 4 probes)

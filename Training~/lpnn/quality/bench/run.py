@@ -5,22 +5,22 @@ capture and makes its rows; results.py holds the rows and their CSV, methods.py 
 Methods: uniform, random, heuristic, apv (APV-style geometry density, placement/apv.py; when the capture has the
 `nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, placement/insertion.py), insertion-refined
 (insertion refined in batches, placement/refined_insertion.py: the best non-learned method, the bar for the learned
-tier); with a model the five LPNN tiers (placement/lpnn_placement.py): lpnn-topk (the raw top-K, for comparison), lpnn
-(spread ranking), lpnn-guided (insertion guided by the scores, placement/insertion.py), lpnn-batched (guided insertion
+tier); with a model the five methods that read the scores (placement/lpnn_placement.py, run as the table of
+placement/methods.py says): network-topk (the raw top-K, for comparison), network (spread ranking), guided (insertion guided by the scores, placement/insertion.py), guided-refined (guided insertion
 refined in batches: what a Unity volume does; above the guide's point limit its rows are insertion-refined's plus the
-inference) and lpnn-refine (guided insertion + seeded exact refinement, factor `refine`); the fast reference, and the
+inference) and guided-exact-refined (guided insertion + seeded exact refinement, factor `refine`); the fast reference, and the
 faithful one on small captures.
 
 The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points
 (150,000 by default: ~20 minutes and ~3 GB), and above it the blockwise reference (quality.md §3.3, rows
 `blockwise-reference`): its error at a budget's count is its ranking's prefix evaluated, its tolerance answer the
 union of the blocks' answers (which lands ~10 % above tau on the whole volume). Above the limit the methods that run
-the full reference (the fast and faithful references, lpnn-refine) are not run; lpnn-refine, which decimates again
+the full reference (the fast and faithful references, guided-exact-refined) are not run; guided-exact-refined, which decimates again
 for every row, runs only up to `refine_limit` points (20,000). The insertion methods rank lazily, as
 `lpnn place` does: a budget row costs the rounds up to its count (a fresh order per row, so each row's time is what
 placing at that budget costs), the tolerance row the rounds its search reads. Above the guide's point limit
-(insertion.GUIDED_POINT_LIMIT) lpnn-guided is plain insertion, and its rows are the insertion rows plus the inference.
-Times are medians over `repeats` runs for the cheap methods; the references and lpnn-refine run
+(insertion.GUIDED_POINT_LIMIT) guided is plain insertion, and its rows are the insertion rows plus the inference.
+Times are medians over `repeats` runs for the cheap methods; the references and guided-exact-refined run
 `reference_repeats` times (default 1: they take seconds). LPNN's time is split into features (the
 capture's `source.feature_seconds`, when the importer recorded it), inference (onnxruntime, shared by
 the tiers), selection (ranking + prefix + tetrahedron guarantee) and refinement. A tolerance
@@ -51,12 +51,12 @@ from ..metric.metric import PRIMARY_METRIC, PlacementQuality, ReferenceField, ev
 from ..placement.decimation.decimation import MINIMUM_PROBES, Decimation
 from ..placement.insertion import guide_of
 from ..placement.lpnn_placement import feature_seconds, lpnn_placement
+from ..placement.methods import BY_NAME, SCORED
 from ..placement.policies import Placement, budget_count, place_tolerance, reference_tolerance
 from ..placement.refined_insertion import refined_insertion
 from .methods import Method, Yardstick, capture_methods, insertion_method, timed
 from .results import BenchConfig, BenchFailure, BenchRow, CaptureResult, failure_reason
 
-LPNN_TIERS = ("lpnn-topk", "lpnn", "lpnn-guided", "lpnn-batched", "lpnn-refine")
 
 
 @dataclass(frozen=True)
@@ -146,31 +146,33 @@ def _has_tolerance_rows(config: BenchConfig, yardstick: Yardstick) -> bool:
 def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: BenchConfig, scorer: Any,
                yardstick: Yardstick, log: Callable[[str], None] | None, failures: list[BenchFailure],
                insertion_rows: Sequence[BenchRow], refined_rows: Sequence[BenchRow] = ()) -> list[BenchRow]:
-    """The LPNN tiers on the same scores (inference timed once, shared); a tier that fails on a policy is recorded
-    in `failures` and the others go on. lpnn-refine runs the full reference: not above the full reference's limit, nor
+    """The methods that read the scores (network-topk, network, guided, guided-refined, guided-exact-refined) on the
+    same scores (inference timed once, shared); a tier that fails on a policy is recorded in `failures` and the others
+    go on. guided-exact-refined runs the full reference: not above the full reference's limit, nor
     above `refine_limit` points (a decimation per row)."""
     scores, inference = timed(lambda: scorer.score_capture(capture, name), config.repeats)
     features = feature_seconds(capture)
-    tiers = [(tier, options, config.repeats) for tier, options in (("lpnn-topk", {"topk": True}), ("lpnn", {}))
+    tiers = [(tier, BY_NAME[tier].lpnn_options(), config.repeats) for tier in ("network-topk", "network")
              if config.wants(tier)]
-    if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit and config.wants("lpnn-refine"):
-        tiers.append(("lpnn-refine", {"refine": config.refine}, config.reference_repeats))
+    if yardstick.name == "fast-reference" and field_.point_count <= config.refine_limit and config.wants("guided-exact-refined"):
+        tiers.append(("guided-exact-refined", BY_NAME["guided-exact-refined"].lpnn_options(config.refine),
+                      config.reference_repeats))
     policies = _policies(config, yardstick)
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     rows: list[BenchRow] = []
-    if config.wants("lpnn-guided"):
-        rows.extend(_guided_tier_rows(name, "lpnn-guided", scores, inference, features, failures, insertion_rows,
-                                      lambda guide: _ranking_rows(name, field_, insertion_method("lpnn-guided", field_,
+    if config.wants("guided"):
+        rows.extend(_guided_tier_rows(name, "guided", scores, inference, features, failures, insertion_rows,
+                                      lambda guide: _ranking_rows(name, field_, insertion_method("guided", field_,
                                                                                                   grid, guide),
                                                                   config, yardstick)))
         if log is not None:
-            log(f"{name}: lpnn-guided done")
-    if config.wants("lpnn-batched"):
-        rows.extend(_guided_tier_rows(name, "lpnn-batched", scores, inference, features, failures, refined_rows,
-                                      lambda guide: _refined_rows(name, field_, grid, config, yardstick, "lpnn-batched",
+            log(f"{name}: guided done")
+    if config.wants("guided-refined"):
+        rows.extend(_guided_tier_rows(name, "guided-refined", scores, inference, features, failures, refined_rows,
+                                      lambda guide: _refined_rows(name, field_, grid, config, yardstick, "guided-refined",
                                                                   guide)))
         if log is not None:
-            log(f"{name}: lpnn-batched done")
+            log(f"{name}: guided-refined done")
     for method, options, repeats in tiers:
         for policy, parameter, chosen in policies:
             try:
@@ -180,7 +182,7 @@ def _lpnn_rows(name: str, capture: Capture, field_: ReferenceField, config: Benc
                 failures.append(BenchFailure(name, f"{method} {policy}={parameter:g}", failure_reason(error)))
                 continue
             selection = float(statistics.median(r.timing.selection for r in runs))
-            refine = float(statistics.median(r.timing.refinement for r in runs)) if "refine" in options else None
+            refine = float(statistics.median(r.timing.refinement for r in runs)) if BY_NAME[method].refinement else None
             timing = _Timing((features or 0.0) + inference + selection + (refine or 0.0), features, inference,
                              selection, refine)
             rows.append(_policy_row(name, field_, method, policy, parameter, runs[-1].quality, timing, yardstick))
@@ -257,7 +259,7 @@ def bench_capture(name: str, capture: Capture, config: BenchConfig, scorer: Any 
                 partial(rows)
     except Exception as error:  # recorded; the others go on
         failures.append(BenchFailure(name, "insertion-refined", failure_reason(error)))
-    if scorer is not None and any(config.wants(tier) for tier in LPNN_TIERS):
+    if scorer is not None and any(config.wants(tier) for tier in SCORED):
         rows.extend(_lpnn_rows(name, capture, field_, config, scorer, yardstick, log, failures,
                                [row for row in rows if row.method == "insertion"],
                                [row for row in rows if row.method == "insertion-refined"]))

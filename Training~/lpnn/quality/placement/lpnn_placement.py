@@ -119,7 +119,7 @@ def checked_refine(refine: float | None) -> float | None:
 
 
 def largest_seeded_count(refine: float, point_count: int) -> int:
-    """The largest K the refine tier seeds with a prefix of its ranking; above it runs the full reference."""
+    """The largest K guided-exact-refined seeds with a prefix of its ranking; above it runs the full reference."""
     return int(math.floor(FULL_REFERENCE_FRACTION * point_count / refine))
 
 
@@ -144,7 +144,7 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     quality.md §5.3: what Unity volumes run; seconds instead of minutes on whole levels, never the full reference);
     `name` appears in error messages; full_ranking=False ranks only the points the policy reads
     (spread ranking: core.spread.SpreadPrefix; guided: the insertion rounds up to the count; the same probes;
-    `ranking` is then the computed prefix; the refine tier always returns its computed prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
+    `ranking` is then the computed prefix; guided-exact-refined always returns its computed prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
     for a budget, no tetrahedralisation of the result). Raises PolicyError for bad parameters."""
     if (budget is None) == (tolerance is None):
         raise PolicyError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.02)")
@@ -236,7 +236,7 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
 def _batched_placement(capture: Capture, grid: EvaluationGrid, scores: np.ndarray, budget: float | None,
                        tolerance: float | None, factor: float, reference: ReferenceField | None, inference: float,
                        report: bool, progress: Callable[[int, int], None] | None) -> LpnnPlacement:
-    """The batched refine tier: refined_insertion seeded by guided insertion (plain above its point limit)."""
+    """guided-refined (methods.md): refined_insertion seeded by guided insertion (plain above its point limit)."""
     reference = ReferenceField.from_capture(capture) if reference is None else reference
     placed = refined_insertion(reference, grid, budget=budget, tolerance=tolerance, refine=factor,
                                guide=guide_of(scores), insertion_progress=progress)
@@ -252,7 +252,7 @@ def _batched_placement(capture: Capture, grid: EvaluationGrid, scores: np.ndarra
 def _spread_answer_too_large(reference: ReferenceField, grid: EvaluationGrid, positions: np.ndarray, scores: np.ndarray,
                              tau: float, largest: int) -> bool:
     """Whether the spread ranking's tolerance answer exceeds `largest`, found in its milliseconds (the search gives up
-    past largest + 1): the refine tier then runs the full reference at once instead of first paying for guided
+    past largest + 1): guided-exact-refined then runs the full reference at once instead of first paying for guided
     insertion's rounds up to `largest` (14 held-out crops at tau: 4 rows were up to 1.52x the reference's time with
     that search, benchmarks.md §7.2). The spread answer is the larger one on nearly every crop (2.06x against 1.57x
     the reference's probes, §10.2), so this sends to the full reference at most the volumes near the bound."""

@@ -21,13 +21,9 @@ DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 # from it (islanddm, 63,185 points: 191 probes at tau against the full reference's 4, found in 480 s). So the blockwise
 # reference is for what the full one cannot hold: above ~150,000 points its memory passes ~3.5 GB (benchmarks.md §7.5).
 FULL_REFERENCE_LIMIT = 150_000
-# Points above which `lpnn bench` skips the lpnn-refine tier: each of its rows decimates again (a seeded greedy, or the
+# Points above which `lpnn bench` skips the guided-exact-refined tier: each of its rows decimates again (a seeded greedy, or the
 # full reference for seeds above 0.4 N), minutes per row on a whole level, about the reference's time each.
 REFINE_BENCH_LIMIT = 20_000
-# Every method `lpnn bench` can run (its --methods names a subset; the yardstick, fast or blockwise reference, always
-# runs). Here, not in bench.py, so that building the CLI parser imports no numerical library.
-BENCH_METHODS = ("uniform", "random", "heuristic", "apv", "insertion", "insertion-refined", "lpnn-topk", "lpnn",
-                 "lpnn-guided", "lpnn-batched", "lpnn-refine", "faithful-reference")
 # The tolerance search's bisection stops once the last failing count is within 1/SEARCH_RESOLUTION of the first
 # passing one (quality.md §4): the answer passes tau and keeps at most 1/256 more probes than a unit-resolution
 # search would (within the error's own non-monotonic noise), for about log2(256) fewer error evaluations, each a

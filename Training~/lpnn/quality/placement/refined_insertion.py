@@ -14,7 +14,7 @@
   (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
   with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
   K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
-F = RECOMMENDED_REFINE (2), the refine tier's factor. The C# core runs the same steps (BatchedRefinement.cs) with
+F = RECOMMENDED_REFINE (2), the refined methods' seed factor (methods.py). The C# core runs the same steps (BatchedRefinement.cs) with
 Unity's tetrahedralisation: what an LPNN volume does by default. The C# core has the leak option too (LeakWeighting,
 LeakRepair, RefinedSelection; Tests/Data/leak_aware_golden.json), off by default there as here.
 """
@@ -32,12 +32,12 @@ from ...core.features import Raycaster
 from ...core.grid import EvaluationGrid
 from .batched_refinement import batched_refinement
 from .insertion import InsertionOrder
+from .methods import RECOMMENDED_REFINE  # re-exported: the refined tiers' seed factor
 from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
 from ..metric.metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
 from .pins import PinError, Pins, checked_pinned_count, pinned_smallest
 from .policies import budget_count, place_tolerance
 
-RECOMMENDED_REFINE = 2.0  # the seed holds this many times the wanted count (the refine tier's factor)
 MINIMUM_SEED = 64  # a seed of 2K points cannot reach a sparse answer at tiny K (lpnn_placement.MINIMUM_SEED)
 
 

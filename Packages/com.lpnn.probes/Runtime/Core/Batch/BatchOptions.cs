@@ -1,5 +1,6 @@
 using System;
 using System.Collections.Generic;
+using System.Linq;
 using Lpnn.Probes.Core.Scoring;
 using Lpnn.Probes.Core.Selection;
 
@@ -19,9 +20,10 @@ namespace Lpnn.Probes.Core.Batch
     /// whole command line: Unity's own flags are skipped, every <c>-lpnn…</c> flag must be known.</summary>
     internal sealed class BatchOptions
     {
-        public const string Usage =
+        /// <summary>The command line's form; -lpnnMethod takes the table's names (Documentation~/methods.md).</summary>
+        public static readonly string Usage =
             "-lpnnScene <Assets/…/Scene.unity> [-lpnnMode place|export] [-lpnnOut <folder>] [-lpnnBake] " +
-            "[-lpnnVolume <GameObject name>] [-lpnnMethod insertion|guided|network] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
+            "[-lpnnVolume <GameObject name>] [-lpnnMethod " + string.Join("|", PlacementMethods.All.Select(row => row.Name)) + "] [-lpnnBackend auto|gpu|cpu] [-lpnnLabels <LightProbeGroup GameObject name>] [-lpnnSaveScene]";
 
         public string ScenePath { get; private set; }
         public BatchMode Mode { get; private set; } = BatchMode.Place;
@@ -87,28 +89,14 @@ namespace Lpnn.Probes.Core.Batch
 
         private static PlacementMethod ParseMethod(string text)
         {
-            switch (text.ToLowerInvariant())
-            {
-                case "insertion": return PlacementMethod.Insertion;
-                case "guided": return PlacementMethod.GuidedInsertion;
-                case "network": return PlacementMethod.Network;
-                default:
-                    throw new LpnnException("-lpnnMethod '" + text + "' must be insertion (error-driven on the sampled lighting), guided (insertion " +
-                                            "guided by the model's scores, quality.md §5.2) or network (the model's scores alone)");
-            }
+            if (PlacementMethods.TryParse(text, out var method)) return method;
+            throw new LpnnException("-lpnnMethod '" + text + "' is not a placement method; choose one of " + PlacementMethods.Names +
+                                    " (Documentation~/methods.md)");
         }
 
-        /// <summary>The -lpnnMethod value that selects the method (what a probes file's source.method records).</summary>
-        public static string MethodName(PlacementMethod method)
-        {
-            switch (method)
-            {
-                case PlacementMethod.Insertion: return "insertion";
-                case PlacementMethod.GuidedInsertion: return "guided";
-                case PlacementMethod.Network: return "network";
-                default: throw new ArgumentOutOfRangeException(nameof(method), method, "not a placement method");
-            }
-        }
+        /// <summary>The -lpnnMethod value that selects the method (what a probes file's source.method records): the table's
+        /// name.</summary>
+        public static string MethodName(PlacementMethod method) => PlacementMethods.Name(method);
 
         private static ScoringBackendPreference ParseBackend(string text)
         {

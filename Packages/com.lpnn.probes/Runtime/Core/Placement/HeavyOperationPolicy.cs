@@ -154,16 +154,16 @@ namespace Lpnn.Probes.Core.Placement
             return new HeavyEstimate(points, seconds, fullyMeasured, confirm, excludesTetrahedralisations);
         }
 
-        /// <summary>What Apply (or Find probes, <paramref name="searchOnly"/>) runs for a placement: insertion methods read the
-        /// insertion rounds up to the answer (none when the whole ranking is already known, <paramref name="rankingKnown"/>), a
-        /// tolerance policy searches, and Refine in batches refines.</summary>
-        public static List<HeavyOperation> PlacementOperations(bool byInsertion, bool tolerance, bool refineInBatches, bool searchOnly,
+        /// <summary>What Apply (or Find probes, <paramref name="searchOnly"/>) runs for a placement by <paramref name="method"/>:
+        /// insertion methods read the insertion rounds up to the answer (none when the whole ranking is already known,
+        /// <paramref name="rankingKnown"/>), a tolerance policy searches, and the refined methods refine in batches.</summary>
+        public static List<HeavyOperation> PlacementOperations(PlacementMethod method, bool tolerance, bool searchOnly,
             bool rankingKnown = false)
         {
             var operations = new List<HeavyOperation>();
-            if (byInsertion && !rankingKnown) operations.Add(HeavyOperation.InsertionRounds);
+            if (PlacementMethods.RanksByInsertion(method) && !rankingKnown) operations.Add(HeavyOperation.InsertionRounds);
             if (tolerance) operations.Add(HeavyOperation.ToleranceSearch);
-            if (byInsertion && refineInBatches && !searchOnly) operations.Add(HeavyOperation.BatchedRefinement);
+            if (PlacementMethods.RefinesInBatches(method) && !searchOnly) operations.Add(HeavyOperation.BatchedRefinement);
             return operations;
         }
 
@@ -184,14 +184,13 @@ namespace Lpnn.Probes.Core.Placement
         /// Apply is pressed: e.g. "Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the
         /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md §11.3)".
         /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).</summary>
-        public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool refineInBatches, bool rankingKnown,
-            bool previewKnown)
+        public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool rankingKnown, bool previewKnown)
         {
             if (points <= 0) return "Apply: its expected time shows once the grid is built.";
             string count = " for " + InvariantFormat.Count(points) + " points";
             if (previewKnown) return "Apply: under a second" + count + " (it writes the selection shown above).";
             bool byInsertion = PlacementMethods.RanksByInsertion(method);
-            var operations = PlacementOperations(byInsertion, policy == SelectionPolicy.Tolerance, refineInBatches, false, rankingKnown);
+            var operations = PlacementOperations(method, policy == SelectionPolicy.Tolerance, false, rankingKnown);
             if (operations.Count == 0)
                 return "Apply: no insertion rounds, tolerance search or refinement to wait for" + count + " (it ranks the stored scores).";
             var estimate = Estimate(points, operations);

@@ -116,7 +116,7 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>The message when a volume keeps pinned probes but places with a method that cannot (the Network method).</summary>
         public const string NeedsInsertionMethod =
-            "Keep Pinned Probes works with the insertion methods: set Method to Insertion (or turn the toggle off)";
+            "Keep Pinned Probes works with the insertion methods: set Method to Insertion, refined (the default) or another insertion method (or turn the toggle off)";
 
         /// <summary>The pins a volume's Apply keeps (Documentation~/pins.md "Every method"): null when <paramref name="keep"/>
         /// is off (the positions are then ignored, even if some are stored); a <see cref="PinException"/> when
