@@ -56,7 +56,7 @@ a candidate (~40 % of them; no other point enters a cost) and the commit's of th
 few %); the committed set's tetrahedra are derived, not recomputed (batched_state.py; the C# core, with Unity's native
 tetrahedraliser, calls it twice). Against two Qhull calls and two locations of every point per round: 2.0-3.8x less
 CPU on whole levels (oa_bases7 53 -> 23 s, ctf_compromise 52 -> 26 s; the same tau counts on the validation crops;
-benchmarks.md §11.2).
+measured 2026-11-26; today's times: benchmarks.md §11.0).
 """
 
 from __future__ import annotations

@@ -11,8 +11,8 @@ refined.
 - refine F (> 1; 2 recommended): seed the exact greedy decimation (reference_fast, initial=...) with
   the guided insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points (+ tetrahedron
   guarantee; the raw score ranking's with topk) and decimate down to K. Guided insertion, not the spread
-  ranking, since 2026-11-26: on the 10 validation crops the tier's error over the reference's went from
-  0.98/1.14/1.12/1.03/1.00x to 1.02/1.06/1.03/1.00/1.00x at 1/5/10/20/30 % (benchmarks.md §7.2). The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
+  ranking, since 2026-11-26: a better start for the same greedy (today 0.99-1.07x the reference's error at
+  1/5/10/20/30 % on the crops, benchmarks.md §7.2). The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
   reach the reference's sparse answer (8 crops of training levels: 1.39x the reference's error with
   2K, 1.02x with 64, at 0.9 s instead of 0.3 s; 5 % budgets unchanged). With a tolerance: K0 = the bounded tolerance search over the guided insertion order, seed with round(F K0) points, decimate
   until the mean error exceeds REFINE_STOP_FACTOR x tau (or 4 probes are left) and read the exact smallest count
@@ -155,9 +155,9 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         raise PolicyError("guided insertion ranks by itself: use it without topk")
     if batched and (factor is None or topk):
         raise PolicyError("batched is a way to refine guided insertion: use it with refine (e.g. 2) and without topk")
-    # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): on the
-    # validation crops it brought the tier within 1.07x the reference's error at every budget, where the spread
-    # ranking's seed left it at 1.14x at 5 % (benchmarks.md §7.2).
+    # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): a better
+    # start than the spread ranking's (benchmarks.md §7.2: within 1.07x the reference's error at every budget on the
+    # crops).
     by_insertion = guided or (factor is not None and not topk)
     tau = None if tolerance is None else checked_tolerance(tolerance)
     n = capture.point_count
