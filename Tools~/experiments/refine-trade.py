@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The refine tier's speed/accuracy trade by seed factor (benchmarks.md §7.2): per capture and policy (budgets and the
+"""The refine tier's speed/accuracy trade by seed factor (benchmarks.md "The speed/accuracy trade, every method"): per capture and policy (budgets and the
 tolerance), the guided tier (factor 1: no refinement) and `lpnn_placement(..., refine=F)` for each F, as ratios to the
 fast reference (error at a budget, probes at tau) and as fractions of the reference's time (selection + refinement
 against the full reference in the same process; each timed `--repeats` times, the fastest run kept).

@@ -83,7 +83,7 @@ namespace Lpnn.Probes
 
         [Tooltip("What ranks the points. Insertion (default) inserts probes where interpolating the sampled lighting is worst, " +
                  "and with Refine in batches Apply then removes the ones the lighting does not need: the best method measured " +
-                 "(Documentation~/benchmarks.md §11), no model needed. Guided insertion does the same, taking in each of Unity's " +
+                 "(Documentation~/benchmarks.md \"The speed/accuracy trade, every method\"), no model needed. Guided insertion does the same, taking in each of Unity's " +
                  "tetrahedra the badly interpolated point the network rates highest (after the Features and Scoring steps; measured " +
                  "equal once refined). Network ranks by the model's scores alone: milliseconds, measured worse.")]
         [SerializeField] private PlacementMethod placementMethod = PlacementMethods.Default;

@@ -7,7 +7,7 @@
 
 Without --model, --scores or --method it places by insertion refined in batches (DEFAULT_METHOD,
 quality.md §5.3): the best method measured where the capture's dense lighting is available, which `lpnn place`
-always has, and what a new Unity volume does (benchmarks.md §11: 1.01x the reference's probes at tau = 0.05 on
+always has, and what a new Unity volume does (benchmarks.md "The speed/accuracy trade, every method": 1.01x the reference's probes at tau = 0.05 on
 the validation crops, where insertion alone keeps 1.66x and the network's guide, refined the same way, 1.04x). With
 a model, --refine 2 (the exact refinement) is closer still to the reference (1.00x) at minutes on large levels; the
 network's spread ranking is the fast tier (milliseconds instead of about a second per 1,000 points).
@@ -27,7 +27,7 @@ probe in it is kept, counted in the budget and the error, and no new probe comes
 cell) of one; insertion-refined, insertion and the ranking methods (uniform, heuristic, apv, random: pins first)
 take it; the fast reference, the uniform lattice and the LPNN tiers refuse it. The file written holds the pins at their own positions.
 Prints the probes kept, the error and (LPNN) the time split; --no-report (LPNN) skips the final error
-evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
+evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md "Scale: whole levels").
 """
 
 from __future__ import annotations
