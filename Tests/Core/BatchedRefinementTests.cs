@@ -73,7 +73,7 @@ namespace Lpnn.Probes.Core.Tests
         {
             // What it is for, on tiny volumes (120 points, 12 probes). Not on every one: a greedy from 2K points can end worse
             // than insertion's first K. Measured ratios 1.08 0.98 1.13 0.90 0.90 0.71, geometric mean 0.94 (on the validation
-            // crops of benchmarks.md §11 the refined error is 0.73× insertion's at 20 %).
+            // crops of benchmarks.md "The speed/accuracy trade, every method" the refined error is 0.73× insertion's at 20 %).
             var ratios = new List<double>();
             for (int jitter = 11; jitter < 17; jitter++)
             {

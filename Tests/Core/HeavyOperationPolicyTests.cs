@@ -5,7 +5,7 @@ using NUnit.Framework;
 namespace Lpnn.Probes.Core.Tests
 {
     /// <summary>The one rule every heavy inspector button asks: time from the point count and the rates measured in
-    /// Documentation~/benchmarks.md (§7.4, §11.3), a confirmation above 10 s or, without a measured rate, above 250,000 points,
+    /// Documentation~/benchmarks.md ("The C# core under Mono"), a confirmation above 10 s or, without a measured rate, above 250,000 points,
     /// and the placement panel's line of Apply's expected time.</summary>
     [TestFixture]
     public class HeavyOperationPolicyTests
@@ -13,7 +13,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ApplysStagesGoThroughTheTwoMeasuredLevels()
         {
-            // §11.3, the Apply rehearsal on ctf_compromise (136,512 points) and at 0.8128 m (1,151,667): first stage + insertion
+            // benchmarks.md "The C# core under Mono", the Apply rehearsal on ctf_compromise (136,512 points) and at 0.8128 m (1,151,667): first stage + insertion
             // rounds 0.4 + 9.7 and 5.5 + 72.6 s, tolerance search 5.9 and 42.3 s, refinement 18.3 and 95.4 s.
             var cases = new[]
             {
@@ -32,7 +32,7 @@ namespace Lpnn.Probes.Core.Tests
         public void TheWholeDefaultApplyAtTheMeasuredLevelsIsItsMeasuredTotal()
         {
             var apply = HeavyOperationPolicy.PlacementOperations(PlacementMethod.InsertionRefined, true, false);
-            // §11.3 totals: 34.4 s and 215.9 s (the first stage's 0.1 s rounding aside).
+            // benchmarks.md "The C# core under Mono" totals: 34.4 s and 215.9 s (the first stage's 0.1 s rounding aside).
             Assert.That(HeavyOperationPolicy.Estimate(136512, apply).Seconds, Is.EqualTo(34.3).Within(1e-9));
             Assert.That(HeavyOperationPolicy.Estimate(1151667, apply).Seconds, Is.EqualTo(215.8).Within(1e-9));
             StringAssert.StartsWith("about 4 min", HeavyOperationPolicy.Estimate(1151667, apply).Describe());
@@ -133,7 +133,7 @@ namespace Lpnn.Probes.Core.Tests
             string line = HeavyOperationPolicy.ApplyLine(136512, PlacementMethod.InsertionRefined, SelectionPolicy.Tolerance, false, false);
             Assert.That(line, Is.EqualTo("Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the refinement in batches; " +
                                          "C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
-                                         "Documentation~/benchmarks.md §11.3)."));
+                                         "Documentation~/benchmarks.md \"The C# core under Mono\")."));
         }
 
         [Test]

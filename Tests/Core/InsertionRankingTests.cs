@@ -609,7 +609,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheDefaultMethodIsRefinedInsertionAndWhatEachMethodNeeds()
         {
-            // Documentation~/benchmarks.md §11: on the validation crops, once refined in batches, plain insertion keeps fewer
+            // Documentation~/benchmarks.md "The speed/accuracy trade, every method": on the validation crops, once refined in batches, plain insertion keeps fewer
             // probes at τ (the default policy) than guided insertion (1.01× against 1.04× the reference's).
             Assert.That(PlacementMethods.Default, Is.EqualTo(PlacementMethod.InsertionRefined));
             Assert.That(PlacementMethods.NeedsScores(PlacementMethod.Network), Is.True);

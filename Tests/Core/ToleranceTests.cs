@@ -65,7 +65,7 @@ namespace Lpnn.Probes.Core.Tests
         public void AboveTheResolutionTheSearchStopsAtAFractionOfTheCountAndSavesEvaluations()
         {
             // A smooth falling curve with its smallest passing count at 7,779 of 10^6 points (as the 10^6-point level of
-            // benchmarks.md §7.3): bisection to the unit needs 12 halvings after 4, 8, …, 8192 (24 evaluations); stopping
+            // benchmarks.md "Scale: whole levels"): bisection to the unit needs 12 halvings after 4, 8, …, 8192 (24 evaluations); stopping
             // once the bracket is at most count / 256 apart takes 8 (20 evaluations), at the price of at most ~30 probes.
             const int trueAnswer = 7779;
             Func<int, double> curve = k => 0.05 * Math.Sqrt((double)trueAnswer / k);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Markdown table of benchmarks.md §4 from `lpnn bench`'s bench.csv: per capture, the error at a
+"""The Markdown table of benchmarks.md "The speed/accuracy trade, every method" from `lpnn bench`'s bench.csv: per capture, the error at a
 budget as a ratio to the fast reference, the probes needed for the tolerance as a ratio to the
 reference's count, and the LPNN / refinement / reference times; then the geometric mean per column
 and, beside it, how many ratios it left out (non-finite or zero: the worst cases, e.g. a reference

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Times the C# core's selection paths under Mono on synthetic lattices of ~10^4, 10^5 and 10^6 points
-# and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md §7.4). Usage: bash Tools~/experiments/csharp-selection-bench.sh [--batched] [n ...]  (n^3 points each)
+# and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md "The C# core under Mono"). Usage: bash Tools~/experiments/csharp-selection-bench.sh [--batched] [n ...]  (n^3 points each)
 # --apply CAPTURE...: the whole default selection of a volume's Apply (insertion refined in batches, tau = 0.05) on each
 # capture, the Apply rehearsal's run with Python's tetrahedraliser over a pipe: seconds per stage, seconds waiting on the
-# tetrahedraliser, tetrahedralisations per stage, probes kept (benchmarks.md §11.3; Tools~/experiments/SelectionBench/ApplyBench.cs).
+# tetrahedraliser, tetrahedralisations per stage, probes kept (benchmarks.md "The C# core under Mono"; Tools~/experiments/SelectionBench/ApplyBench.cs).
 source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
 bash "Tools~/build-csharp.sh" > /dev/null

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Guided insertion against plain insertion per capture, without a reference (benchmarks.md §10.3): the probes each
+"""Guided insertion against plain insertion per capture, without a reference (benchmarks.md "The network"): the probes each
 keeps at the tolerance (tau = 0.05) and its mean error at a 5 % budget, with the guide always on (the limit of
 quality.md §5.2 lifted: this is the measurement the limit was chosen from). Whole TRAINING or VALIDATION levels only;
 held-out levels are refused (they only report).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Leak-aware variants of the default placement on real levels (benchmarks.md §12 "Light leaks", leaks.md).
+"""Leak-aware variants of the default placement on real levels (benchmarks.md "Light leaks", leaks.md).
 
 Per level (imported at the default cell, `lpnn scene import` defaults) and variant at tau: probes, probes added over
 the default, mean irradiance error over all points and over the points within one cell of geometry (near_surface_mask),
@@ -44,7 +44,7 @@ from lpnn.recipe.levels import split_levels
 
 TOLERANCE = 0.05
 NAIVE_REPAIR_ROUNDS = 3
-UNIMPORTABLE = ("oa_ctf2",)  # ships without a light grid (benchmarks.md §1)
+UNIMPORTABLE = ("oa_ctf2",)  # ships without a light grid (benchmarks.md "Real levels as captures")
 
 Placer = Callable[[ReferenceField, EvaluationGrid, Raycaster, float], np.ndarray]
 

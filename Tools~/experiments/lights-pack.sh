@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Proves `lpnn scene lights` on every level of the OpenArena maps pak (Documentation~/benchmarks.md §8):
+# Proves `lpnn scene lights` on every level of the OpenArena maps pak (Documentation~/benchmarks.md "The light rig"):
 # runs the command on each level and lists those it cannot do, with the command's own reason.
 #   [PAK=FILE] bash Tools~/experiments/lights-pack.sh [SCHEME] [OUT_DIR]   (default: quick = one 20-iteration L-BFGS phase)
 # Exit code 0 when every level with baked light succeeds; levels without baked light are listed, not failed.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""guided-exact-refined's speed/accuracy trade by seed factor (benchmarks.md §7.2; Documentation~/methods.md: `lpnn place`
+"""guided-exact-refined's speed/accuracy trade by seed factor (benchmarks.md "The speed/accuracy trade, every method"; Documentation~/methods.md: `lpnn place`
 fixes F = 2, this calls the Python API with each F): per capture and policy (budgets and the tolerance), guided
 (factor 1: no refinement) and `lpnn_placement(..., refine=F)` for each F, as ratios to the
 fast reference (error at a budget, probes at tau) and as fractions of the reference's time (selection + refinement

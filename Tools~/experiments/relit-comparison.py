@@ -1,4 +1,4 @@
-"""A reduced with/without comparison of relit variants (benchmarks.md §9, issue [relight] item 5).
+"""A reduced with/without comparison of relit variants (benchmarks.md "The network", issue [relight] item 5).
 
     PYTHONPATH=Training~ python Tools~/experiments/relit-comparison.py --pak PAK --work DIR [--variants 2] [--seed 0]
         [--levels A,B,...] [--crops-per-level N] [--epochs N]   (defaults: the documented run; smaller ones smoke-test it)

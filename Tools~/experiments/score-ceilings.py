@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """How far can per-point scores carry a placement? Ceilings measured with the reference's own ranking as the "perfect
-network" (benchmarks.md §10, quality.md §5.2), on crops of TRAINING or VALIDATION levels (held-out levels are refused:
+network" (benchmarks.md 'The network', quality.md §5.2), on crops of TRAINING or VALIDATION levels (held-out levels are refused:
 they only report).
 
   PYTHONPATH=Training~ python Tools~/experiments/recipe-crops.py --role validation --crops 4 --out crops/

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Times the Python spread ranking (lpnn.core.spread) on synthetic n^3 lattices with uniform random
-scores (Documentation~/benchmarks.md §7), with the process's peak memory.
+scores (Documentation~/benchmarks.md "Scale: whole levels"), with the process's peak memory.
 
     PYTHONPATH=Training~ $PY Tools~/experiments/spread-bench.py [n ...]     (default 22 46 100: ~10^4, 10^5, 10^6 points)
 """

@@ -3,7 +3,7 @@
 # the table (Tools~/experiments/bench-table.py --trade). Every run is `lpnn bench` (or `make demo`), niced; each prints its expected
 # time first. Wall times on the shared 2-core machine: run it when nothing else measures.
 #   bash Tools~/experiments/trade-table.sh OUT [crops] [level3] [level5] [level6] [demo] [table]   (default: all)
-# Captures: the 14 held-out and 10 validation crops of benchmarks.md §7.1 / §11.0 ($HELD_CROPS, $VAL_CROPS: folders of
+# Captures: the 14 held-out and 10 validation crops of benchmarks.md "The speed/accuracy trade, every method" ($HELD_CROPS, $VAL_CROPS: folders of
 # *.lpnncap cut by `lpnn recipe run`'s crops_of_level), ctf_compromise ($CTF, 136,512 points, `lpnn scene import
 # ctf_compromise --in-use all`), suspended at 1.3 m ($SUSPENDED, 1,078,164 points, `lpnn scene import suspended --cell 1.3
 # --point-limit 3000000 --in-use all`); oa_dm1 is imported here (at $LEVEL3_CELL when set: the smoke test's tiny
@@ -34,7 +34,7 @@ run() {
 }
 
 if want crops; then
-  # §11.0's runs: ~600 s of rows for both sets with the code of 2026-11-27.
+  # benchmarks.md "The speed/accuracy trade, every method"'s runs: ~600 s of rows for both sets with the code of 2026-11-27.
   run heldcrops "~5-8 min (14 crops of 702-1,071 points, every method)" \
     lpnn bench "$HELD_CROPS"/*.lpnncap --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/heldcrops"
   run valcrops "~5-8 min (10 crops of 729-1,343 points, every method)" \
@@ -42,7 +42,7 @@ if want crops; then
 fi
 
 if want level3; then
-  # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~10 s (§11.2).
+  # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~5 s (benchmarks.md "The speed/accuracy trade, every method").
   lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
   run oa_dm1 "~2-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
@@ -50,8 +50,8 @@ fi
 
 if want level5; then
   # 136,512 points: the exact reference stopped at 2τ (its curve covers every budget from 1,365 probes and τ's answer,
-  # ~650) took 1,118 s in §7.5; run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
-  # skipped by --refine-limit (636 s at τ alone, §7.5: ~1 hour for its 6 rows).
+  # ~650) took 678-693 s (benchmarks.md "References and scale-out"); run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
+  # skipped by --refine-limit (636 s at τ alone, benchmarks.md "References and scale-out": ~1 hour for its 6 rows).
   # Measured 2026-11-27: 2,188 s, of which the reference 678 s and insertion-refined's 20 % and 30 % rows 371 + 744 s.
   run ctf_compromise "~30-40 min (reference ~19 min stopped at 2τ, then the methods' 6 rows each)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
@@ -60,7 +60,7 @@ fi
 
 if want level6; then
   # 1,078,164 points: no reference fits (the exact one: hours and ~25 GB; the blockwise one: ~2 hours of 2 processes,
-  # §7.5), so τ rows only, without ratios; the table divides by §7.5's blockwise count (4,066). Not run: guided-exact-refined
+  # benchmarks.md "References and scale-out"), so τ rows only, without ratios; the table divides by benchmarks.md "References and scale-out"'s blockwise count (4,066). Not run: guided-exact-refined
   # (its exact refinement: 636 s at 10⁵ points, hours here). guided / guided-refined are insertion's / the default's
   # answers above 32,768 points (the bench reuses them) plus the inference.
   run suspended "~10-15 min (τ only: ~1-2 min per method)" \
@@ -82,10 +82,10 @@ if want table; then
     "suspended at 1.3 m (held out)=$OUT/suspended/bench.csv" \
     "make demo (oa_dm1, points in use)=$OUT/summary.json" \
     --given-yardstick "suspended at 1.3 m (held out)=4066" \
-    --note "suspended at 1.3 m (held out):guided-exact-refined=skipped: its exact refinement took 636 s at τ on 136,512 points (§7.5), hours here" \
-    --note "suspended at 1.3 m (held out):fast-reference=infeasible: hours and ~25 GB at 10⁶ points (§7.5: ~23 kB a point)" \
-    --note "suspended at 1.3 m (held out):blockwise-reference=not re-run (~2 hours on 2 processes, §7.5): its 4,066 probes at τ (landing at 1.20τ) are the † yardstick" \
+    --note "suspended at 1.3 m (held out):guided-exact-refined=skipped: its exact refinement took 636 s at τ on 136,512 points (benchmarks.md 'References and scale-out'), hours here" \
+    --note "suspended at 1.3 m (held out):fast-reference=infeasible: hours and ~25 GB at 10⁶ points (benchmarks.md 'References and scale-out': ~23 kB a point)" \
+    --note "suspended at 1.3 m (held out):blockwise-reference=not re-run (~2 hours on 2 processes, benchmarks.md 'References and scale-out'): its 4,066 probes at τ (landing at 1.20τ) are the † yardstick" \
     --note "ctf_compromise (validation):fast-reference=stopped at 2τ (lpnn bench --reference-stop 0.1): the full curve down to there" \
-    --note "ctf_compromise (validation):guided-exact-refined=its τ answer alone took 636 s in §7.5" \
+    --note "ctf_compromise (validation):guided-exact-refined=its τ answer alone took 636 s in benchmarks.md 'References and scale-out'" \
     | tee "$OUT/table.md"
 fi

@@ -82,7 +82,7 @@ namespace Lpnn.Probes
 
         [Tooltip("How the probes are placed (Documentation~/methods.md). Insertion, refined (default) inserts probes where " +
                  "interpolating the sampled lighting is worst, then Apply removes, in batches, the ones the lighting does not need: " +
-                 "the best method measured (Documentation~/benchmarks.md §11), no model needed; within a few per cent of the " +
+                 "the best method measured (Documentation~/benchmarks.md \"The speed/accuracy trade, every method\"), no model needed; within a few per cent of the " +
                  "reference's probe count where Insertion alone needs about 1.7x, for seconds more on rooms and minutes more on " +
                  "large volumes. Guided insertion (refined or not) takes in each of Unity's tetrahedra the badly interpolated point " +
                  "the network rates highest (after the Features and Scoring steps; measured equal once refined). Network ranks by " +

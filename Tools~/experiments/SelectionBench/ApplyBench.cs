@@ -12,7 +12,7 @@ using Lpnn.Probes.Core.Selection;
 using Lpnn.Probes.Core.Tests.Support;
 
 /// <summary>The whole Apply of the volume's default (Insertion, refined in batches, τ = 0.05) on a real level's capture,
-/// timed per stage (issue 30, Deliver 1; Documentation~/benchmarks.md §11.3): the Apply rehearsal's run
+/// timed per stage (issue 30, Deliver 1; Documentation~/benchmarks.md "The C# core under Mono"): the Apply rehearsal's run
 /// (Tests/Core/Support/RehearsalApply.cs: ApplySteps.Rehearse with the capture's SH and features) with Python's
 /// tetrahedraliser over a pipe (<see cref="PythonTetrahedralizer"/>), wrapped to count the tetrahedralisations and the
 /// seconds spent waiting on them per stage. A stage is known from the C# frames that asked for the tetrahedralisation

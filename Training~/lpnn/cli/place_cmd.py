@@ -5,7 +5,7 @@
 
 --method names the method (quality/placement/methods.py, the one table): insertion-refined (the default, quality.md
 §5.3: the best method measured where the capture's dense lighting is available, which `lpnn place` always has, and
-what a new Unity volume does; benchmarks.md §11: 1.01x the reference's probes at tau = 0.05 on the validation crops,
+what a new Unity volume does; benchmarks.md "The speed/accuracy trade, every method": 1.01x the reference's probes at tau = 0.05 on the validation crops,
 where insertion alone keeps 1.66x and guided-refined 1.04x), insertion, the methods that read the network's scores
 (guided-refined, guided, network: the spread ranking, milliseconds; network-topk; guided-exact-refined: closest to
 the reference, 1.00x, at minutes on large levels), the fast reference and the baselines (uniform, heuristic, apv,
@@ -21,7 +21,7 @@ cell) of one; insertion-refined, insertion and the ranking methods (heuristic, a
 take it; the fast reference, the uniform lattice and the methods that read the scores refuse it. The file written holds
 the pins at their own positions.
 Prints the probes kept, the error and (methods that read the scores) the time split; --no-report (those methods) skips
-the final error evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md §7.3).
+the final error evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md "Scale: whole levels").
 """
 
 from __future__ import annotations

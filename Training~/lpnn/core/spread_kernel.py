@@ -7,7 +7,7 @@ it than that largest D; a lazy max-heap of w x D keyed (value descending, index 
 top is taken only when it equals the point's current key (D only shrinks, so a stored key is an
 upper bound). One chosen point at a time, compiled with numba (cached on disk after the first run).
 A Python loop over ~10^6 points with batched numpy updates took 15 s for 130,000 points; this
-takes a fraction of that (Documentation~/benchmarks.md §7).
+takes a fraction of that (Documentation~/benchmarks.md "Scale: whole levels").
 """
 
 from __future__ import annotations

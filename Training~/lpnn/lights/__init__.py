@@ -18,5 +18,5 @@ Modules, one responsibility each:
   pointlight  what a point light gives a free point (grid rule): shared by compare and bake
   bake        probe SH at any points from a rig: direct light with shadow rays, one gathered bounce
   relight     a rig as the importer's lighting (--lighting rig:RIG.json) and the capture's record
-  bake_check  the baker's validation against the stored light grid (benchmarks.md §9)
+  bake_check  the baker's validation against the stored light grid (benchmarks.md "The light rig")
 """

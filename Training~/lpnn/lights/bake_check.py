@@ -1,4 +1,4 @@
-"""The validation of the probe baker (Documentation~/benchmarks.md §9): rig-baked SH against the stored
+"""The validation of the probe baker (Documentation~/benchmarks.md "The light rig"): rig-baked SH against the stored
 light grid at the grid's own valid nodes.
 
     python -m lpnn.lights.bake_check (--rigs DIR | --entities) --levels oa_bases3 oa_dm2 [--directions K] [--out F.json]

@@ -1,4 +1,4 @@
-"""The evaluation of Documentation~/benchmarks.md §8: schemes x levels, with the real rig as yardstick.
+"""The evaluation of Documentation~/benchmarks.md "The light rig": schemes x levels, with the real rig as yardstick.
 
     python -m lpnn.lights.evaluate --levels aggressor kaos oa_bases3 q3dm6ish --schemes adam lbfgs mixed --out DIR
 

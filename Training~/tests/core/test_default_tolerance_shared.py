@@ -26,7 +26,7 @@ def test_unity_volume_takes_its_defaults_from_core() -> None:
 
 
 def test_the_default_placement_is_insertion_refined_in_batches_in_the_volume_and_the_cli() -> None:
-    """benchmarks.md §11: with the dense lighting (always there in the Unity pipeline and in a capture) insertion refined
+    """benchmarks.md "The speed/accuracy trade, every method": with the dense lighting (always there in the Unity pipeline and in a capture) insertion refined
     in batches is the best method measured on the validation crops (the network's guide ties once refined), so a new
     volume places by insertion and refines on Apply, and `lpnn place` without --method does the same (one method,
     InsertionRefined / insertion-refined: Documentation~/methods.md)."""

@@ -1,4 +1,4 @@
-"""objective_bench.py (the measurement lights.md §3 and benchmarks.md §8 cite) runs on the synthetic lit level: it prints
+"""objective_bench.py (the measurement lights.md §3 and benchmarks.md "The light rig" cite) runs on the synthetic lit level: it prints
 one row per implementation — the compiled pass on 1 and on every thread, numpy, TensorFlow's autodiff — with gradients
 that agree with the autodiff, and the visibility refresh's rows."""
 

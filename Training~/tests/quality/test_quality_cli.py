@@ -76,7 +76,7 @@ def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, m
 
 
 def test_place_without_a_source_places_by_refined_insertion(capture_files: list[Path], tmp_path: Path) -> None:
-    """The default method is the best one measured with the dense lighting (benchmarks.md §11): insertion refined in
+    """The default method is the best one measured with the dense lighting (benchmarks.md "The speed/accuracy trade, every method"): insertion refined in
     batches."""
     default, explicit = tmp_path / "default.probes.json", tmp_path / "refined.probes.json"
     assert main(["place", str(capture_files[1]), "--budget", "0.25", "--out", str(default)]) == 0

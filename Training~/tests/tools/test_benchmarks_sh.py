@@ -1,4 +1,4 @@
-"""Tools~/experiments/benchmarks.sh (benchmarks.md §1-§5) on tiny inputs: every part runs and prints its figures."""
+"""Tools~/experiments/benchmarks.sh (benchmarks.md "Real levels as captures", "References and scale-out", "The network", "The speed/accuracy trade, every method", "The default model on its held-out levels") on tiny inputs: every part runs and prints its figures."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tools~/experiments/csharp-selection-bench.sh (benchmarks.md §7.4, §11.3) runs: one batched round on a tiny lattice, and the whole
+"""Tools~/experiments/csharp-selection-bench.sh (benchmarks.md "The C# core under Mono") runs: one batched round on a tiny lattice, and the whole
 default selection under Mono (--apply) on a small synthetic capture with Python's tetrahedraliser over a pipe. It prints
 figures and asserts nothing; this checks that each mode still builds, runs and prints its table (Mono is installed by
 Tools~/install-system.sh for the C# tests of make test)."""

@@ -1,4 +1,4 @@
-"""Tools~/experiments/lights-pack.sh (benchmarks.md §8) on a synthetic pak: the lit level gets a rig, the level without
+"""Tools~/experiments/lights-pack.sh (benchmarks.md "The light rig") on a synthetic pak: the lit level gets a rig, the level without
 baked light is listed with the command's reason, not failed."""
 
 from __future__ import annotations

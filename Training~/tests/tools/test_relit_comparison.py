@@ -1,4 +1,4 @@
-"""Tools~/experiments/relit-comparison.py (benchmarks.md §9) reduced to one level per role, one crop each and one epoch:
+"""Tools~/experiments/relit-comparison.py (benchmarks.md "The network") reduced to one level per role, one crop each and one epoch:
 both runs are made, on the same held-out crop, the relit one with more training crops, each row with real figures."""
 
 from __future__ import annotations

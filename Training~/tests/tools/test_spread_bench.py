@@ -1,4 +1,4 @@
-"""Tools~/experiments/spread-bench.py (benchmarks.md §7.3) on two tiny lattices: a row of figures per size."""
+"""Tools~/experiments/spread-bench.py (benchmarks.md "Scale: whole levels") on two tiny lattices: a row of figures per size."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tools~/experiments/trade-table.sh (benchmarks.md §16) on tiny inputs: every set runs (`lpnn bench` on tiny captures,
+"""Tools~/experiments/trade-table.sh (benchmarks.md "The speed/accuracy trade, every method") on tiny inputs: every set runs (`lpnn bench` on tiny captures,
 oa_dm1 at a coarse cell, make demo's script), each with its wall time, and the table has a row per set."""
 
 from __future__ import annotations

@@ -40,7 +40,7 @@ namespace Lpnn.Probes.Editor
 
         public const string NetworkMeasuredWorse =
             "The Network method was measured worse than Insertion at every budget from 5 % and at the tolerance " +
-            "(Documentation~/benchmarks.md §7.1); it is faster (milliseconds).";
+            "(Documentation~/benchmarks.md \"The speed/accuracy trade, every method\"); it is faster (milliseconds).";
         public const string RankByInsertion = "Rank by insertion";
         public const string FindProbes = "Find probes";
         public const string Apply = "Apply";

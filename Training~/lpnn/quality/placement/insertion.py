@@ -37,7 +37,7 @@ a point at all; the prior only decides which of a cell's badly interpolated poin
 Why: a per-point scorer cannot place probes by itself however good its scores (even the reference's
 own ranking through the spread ranking is 1.42x the reference's error at a 5 % budget on the
 validation crops), and insertion cannot tell a point the reference keeps from its equally wrong
-neighbour; together they beat insertion alone on the validation crops (benchmarks.md §10).
+neighbour; together they beat insertion alone on the validation crops (benchmarks.md "The network").
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ def insertion_start(field: ReferenceField, grid: EvaluationGrid, metric: str = P
 
     Why the extremes: the rounds then start from a hull that spans the volume, not from four points near its middle;
     with a small hull most points lie outside it and every round projects them all (at 10^6 points 0.5-1.1 M points a
-    round, two thirds of insertion's time). Measured on whole validation levels (benchmarks.md §11.0)."""
+    round, two thirds of insertion's time). Measured on whole validation levels (benchmarks.md "Scale: whole levels")."""
     start = typical_tetrahedron(field, grid, metric)
     extremes = extreme_points(grid)
     _, first = np.unique(extremes, return_index=True)

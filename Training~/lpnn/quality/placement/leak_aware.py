@@ -24,8 +24,8 @@ from ..metric.leak_rule import stencil_leaks
 from ..metric.location import Stencil
 from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
 
-LEAK_WEIGHT = 8.0  # a leaking point's error counts this many times (benchmarks.md §12: 2, 4, 8, 16 measured)
-REPAIR_ROUNDS = 2  # leak repair rounds on the seed (1 and 3 measured: benchmarks.md §12)
+LEAK_WEIGHT = 8.0  # a leaking point's error counts this many times (benchmarks.md "Light leaks": 2, 4, 8, 16 measured)
+REPAIR_ROUNDS = 2  # leak repair rounds on the seed (1 and 3 measured: benchmarks.md "Light leaks")
 
 
 @dataclass(frozen=True)

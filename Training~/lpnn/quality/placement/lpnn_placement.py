@@ -11,8 +11,8 @@ refined.
 - refine F (> 1; 2 recommended): seed the exact greedy decimation (reference_fast, initial=...) with
   the guided insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points (+ tetrahedron
   guarantee; the raw score ranking's with topk) and decimate down to K. Guided insertion, not the spread
-  ranking, since 2026-11-26: on the 10 validation crops the tier's error over the reference's went from
-  0.98/1.14/1.12/1.03/1.00x to 1.02/1.06/1.03/1.00/1.00x at 1/5/10/20/30 % (benchmarks.md §7.2). The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
+  ranking, since 2026-11-26: a better start for the same greedy (today 0.99-1.07x the reference's error at
+  1/5/10/20/30 % on the crops, benchmarks.md "The speed/accuracy trade, every method"). The floor of 64 points: at a 1 % budget (K ~ 8) a seed of 2K points cannot
   reach the reference's sparse answer (8 crops of training levels: 1.39x the reference's error with
   2K, 1.02x with 64, at 0.9 s instead of 0.3 s; 5 % budgets unchanged). With a tolerance: K0 = the bounded tolerance search over the guided insertion order, seed with round(F K0) points, decimate
   until the mean error exceeds REFINE_STOP_FACTOR x tau (or 4 probes are left) and read the exact smallest count
@@ -23,7 +23,7 @@ refined.
   sparser meshes, each removal touching more evaluation points, and costs as much as the full one
   from about half the points on (oa_dm1, 1,272 points: seeds of 0.5 N / 0.7 N took 0.75x / 1.4x the
   full reference's time), so the tier is not the slower way to the reference's answer
-  (benchmarks.md §7.2: every held-out budget row faster; with the stop at 2 tau, which the fallback to the full
+  (benchmarks.md "The speed/accuracy trade, every method": every held-out budget row faster; with the stop at 2 tau, which the fallback to the full
   reference shares, every held-out tolerance row at most 0.85x the complete reference's time). With a tolerance the search for K0
   (bounded: it never evaluates more than floor(0.4 N / F) + 1 points) gives up as soon as K0 is known
   to exceed that bound; the spread ranking's search (milliseconds) decides it first, so guided
@@ -155,9 +155,9 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         raise PolicyError("guided insertion ranks by itself: use it without topk")
     if batched and (factor is None or topk):
         raise PolicyError("batched is a way to refine guided insertion: use it with refine (e.g. 2) and without topk")
-    # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): on the
-    # validation crops it brought the tier within 1.07x the reference's error at every budget, where the spread
-    # ranking's seed left it at 1.14x at 5 % (benchmarks.md §7.2).
+    # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): a better
+    # start than the spread ranking's (benchmarks.md "The speed/accuracy trade, every method": within 1.07x the reference's error at every budget on the
+    # crops).
     by_insertion = guided or (factor is not None and not topk)
     tau = None if tolerance is None else checked_tolerance(tolerance)
     n = capture.point_count
@@ -254,8 +254,8 @@ def _spread_answer_too_large(reference: ReferenceField, grid: EvaluationGrid, po
     """Whether the spread ranking's tolerance answer exceeds `largest`, found in its milliseconds (the search gives up
     past largest + 1): guided-exact-refined then runs the full reference at once instead of first paying for guided
     insertion's rounds up to `largest` (14 held-out crops at tau: 4 rows were up to 1.52x the reference's time with
-    that search, benchmarks.md §7.2). The spread answer is the larger one on nearly every crop (2.06x against 1.57x
-    the reference's probes, §10.2), so this sends to the full reference at most the volumes near the bound."""
+    that search, benchmarks.md "The speed/accuracy trade, every method"). The spread answer is the larger one on nearly every crop (2.06x against 1.57x
+    the reference's probes, benchmarks.md "The speed/accuracy trade, every method"), so this sends to the full reference at most the volumes near the bound."""
     return bounded_tolerance(reference, spread_prefix_selection(grid, SpreadPrefix(positions, scores)), tau,
                              largest=largest) is None
 

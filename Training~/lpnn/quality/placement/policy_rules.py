@@ -19,7 +19,7 @@ DEFAULT_BUDGETS = (0.01, 0.05, 0.1, 0.2, 0.3)
 # reference. The full reference is exact and no slower: 1,118 s and 3.1 GB peak at 136,512 points on one core
 # (ctf_compromise), where the blockwise one decimates 2.2x the points; on sparse levels the blockwise answer is far
 # from it (islanddm, 63,185 points: 191 probes at tau against the full reference's 4, found in 480 s). So the blockwise
-# reference is for what the full one cannot hold: above ~150,000 points its memory passes ~3.5 GB (benchmarks.md §7.5).
+# reference is for what the full one cannot hold: above ~150,000 points its memory passes ~3.5 GB (benchmarks.md "References and scale-out").
 FULL_REFERENCE_LIMIT = 150_000
 # Points above which `lpnn bench` skips the guided-exact-refined tier: each of its rows decimates again (a seeded greedy, or the
 # full reference for seeds above 0.4 N), minutes per row on a whole level, about the reference's time each.

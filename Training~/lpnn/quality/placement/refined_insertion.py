@@ -10,7 +10,7 @@
 - tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
   its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the
   answer is the refinement's set if it has fewer than K0 probes, else the search's (never worse than insertion).
-- leaks (the scene's raycaster; leak_aware.py, benchmarks.md §12 "Light leaks"): the seed gets leak repair rounds
+- leaks (the scene's raycaster; leak_aware.py, benchmarks.md "Light leaks"): the seed gets leak repair rounds
   (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
   with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
   K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.

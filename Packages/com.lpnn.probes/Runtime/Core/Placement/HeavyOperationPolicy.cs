@@ -31,7 +31,7 @@ namespace Lpnn.Probes.Core.Placement
         public readonly double Seconds;
         /// <summary>Whether every operation has a measured rate (else Seconds covers only some of the work).</summary>
         public readonly bool FullyMeasured;
-        /// <summary>Whether some operation's rate leaves out Unity's tetrahedralisations (the whole ranking's, §7.4).</summary>
+        /// <summary>Whether some operation's rate leaves out Unity's tetrahedralisations (the whole ranking's, benchmarks.md "The C# core under Mono").</summary>
         public readonly bool ExcludesTetrahedralisations;
         public readonly bool NeedsConfirmation;
         public readonly long Points;
@@ -53,7 +53,7 @@ namespace Lpnn.Probes.Core.Placement
             var left = new List<string>();
             if (ExcludesTetrahedralisations) left.Add("Unity's tetrahedralisations");
             if (!FullyMeasured) left.Add("the steps without a measured rate");
-            return HeavyOperationPolicy.ApproximateTime(Seconds) + " at the rates measured under Mono (Documentation~/benchmarks.md §7.4, §11.3)" +
+            return HeavyOperationPolicy.ApproximateTime(Seconds) + " at the rates measured under Mono (Documentation~/benchmarks.md \"The C# core under Mono\")" +
                    (left.Count > 0 ? ", plus " + string.Join(" and ", left) : "");
         }
     }
@@ -70,27 +70,27 @@ namespace Lpnn.Probes.Core.Placement
         /// <summary>Expected seconds above which a step is confirmed (issue 31: "more than ~10 s").</summary>
         public const double ConfirmAboveSeconds = 10.0;
 
-        // ---- The whole insertion ranking (Rank by insertion), benchmarks.md §7.4: no C# timing of it exists on real levels
+        // ---- The whole insertion ranking (Rank by insertion), benchmarks.md "The C# core under Mono": no C# timing of it exists on real levels
         // (the tests' tetrahedraliser is quadratic), so it is priced from one round given the mesh and excludes Unity's
         // tetrahedralisations.
 
         /// <summary>Rounds of a whole insertion ranking's work relative to its last round: the prefixes grow by 10 % a round,
-        /// so the total is ~11x the last (benchmarks.md §7.4).</summary>
+        /// so the total is ~11x the last (benchmarks.md "The C# core under Mono").</summary>
         private const double RankingRoundsOfWork = 11.0;
         /// <summary>One insertion round given the mesh, 4.90 s at 10⁶ points, plus the reference lighting (2.48 s) and the
-        /// typical tetrahedron (7.45 s) computed once (benchmarks.md §7.4, Mono 6.8).</summary>
+        /// typical tetrahedron (7.45 s) computed once (benchmarks.md "The C# core under Mono", Mono 6.8).</summary>
         private const double RankingSecondsPerPoint = RankingRoundsOfWork * 4.90e-6 + (2.48e-6 + 7.45e-6);
 
-        // ---- What Apply runs, benchmarks.md §11.3 "The whole default selection on real levels": the Apply rehearsal of the
+        // ---- What Apply runs, benchmarks.md "The C# core under Mono": the Apply rehearsal of the
         // default (insertion rounds read lazily, the tolerance search at τ = 0.05, the batched refinement) under Mono 6.8,
         // 2026-11-27, with the insertion rounds located incrementally, on two captures of the validation level
         // ctf_compromise; stage wall seconds including the calls to Python's Qhull over a pipe, which stand in for Unity's
         // tetrahedraliser (0.06 s a call at 10⁶ points). Each stage is priced by the line through the two rows (a fixed part
         // — the rounds' count hardly depends on the size — and a part per point).
 
-        /// <summary>ctf_compromise, 136,512 points (§11.3).</summary>
+        /// <summary>ctf_compromise, 136,512 points (benchmarks.md "The C# core under Mono").</summary>
         public const long SmallerMeasuredLevel = 136512;
-        /// <summary>ctf_compromise at 0.8128 m, 1,151,667 points (§11.3): beyond it the rates are extrapolated.</summary>
+        /// <summary>ctf_compromise at 0.8128 m, 1,151,667 points (benchmarks.md "The C# core under Mono"): beyond it the rates are extrapolated.</summary>
         public const long LargestMeasuredLevel = 1151667;
         /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.4 + 9.7 s and 5.5 + 72.6 s.</summary>
         private const double RoundsAtSmaller = 0.4 + 9.7, RoundsAtLargest = 5.5 + 72.6;
@@ -182,7 +182,7 @@ namespace Lpnn.Probes.Core.Placement
 
         /// <summary>The placement panel's line of what Apply will cost for the volume's <paramref name="points"/>, shown before
         /// Apply is pressed: e.g. "Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the
-        /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md §11.3)".
+        /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md "The C# core under Mono")".
         /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).</summary>
         public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool rankingKnown, bool previewKnown)
         {
@@ -204,7 +204,7 @@ namespace Lpnn.Probes.Core.Placement
                 notes.Add("extrapolated beyond the " + InvariantFormat.Count(LargestMeasuredLevel) + " points measured");
             return "Apply: " + ApproximateTime(estimate.Seconds) + count + " (" + JoinSteps(steps) +
                    "; C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
-                   "Documentation~/benchmarks.md §11.3" + (notes.Count > 0 ? "; " + string.Join("; ", notes) : "") + ").";
+                   "Documentation~/benchmarks.md \"The C# core under Mono\"" + (notes.Count > 0 ? "; " + string.Join("; ", notes) : "") + ").";
         }
 
         private static string StepName(HeavyOperation operation, PlacementMethod method)

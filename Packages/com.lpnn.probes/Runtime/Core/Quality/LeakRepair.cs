@@ -13,7 +13,7 @@ namespace Lpnn.Probes.Core.Quality
     /// later. Port of lpnn/quality/placement/leak_aware.py leak_repaired.</summary>
     internal static class LeakRepair
     {
-        /// <summary>Repair rounds on the seed (lpnn/quality/placement/leak_aware.py REPAIR_ROUNDS; benchmarks.md §12 measured 1 and 3).</summary>
+        /// <summary>Repair rounds on the seed (lpnn/quality/placement/leak_aware.py REPAIR_ROUNDS; benchmarks.md "Light leaks" measured 1 and 3).</summary>
         public const int DefaultRounds = 2;
 
         /// <summary><paramref name="probes"/> (evaluation point indices) plus, in each of up to <paramref name="rounds"/>

@@ -12,7 +12,7 @@ namespace Lpnn.Probes.Core.Quality
     /// lpnn/quality/placement/leak_aware.py LeakWeighting; parity pinned by Tests/Data/leak_aware_golden.json.</summary>
     internal sealed class LeakWeighting
     {
-        /// <summary>A leaking point's error counts this many times (lpnn/quality/placement/leak_aware.py LEAK_WEIGHT; benchmarks.md §12
+        /// <summary>A leaking point's error counts this many times (lpnn/quality/placement/leak_aware.py LEAK_WEIGHT; benchmarks.md "Light leaks"
         /// measured 2, 4, 8 and 16).</summary>
         public const double DefaultWeight = 8.0;
 

@@ -67,7 +67,7 @@ namespace Lpnn.Probes.Core.Selection
     {
         /// <summary>The best method measured with the dense lighting, which the Unity pipeline always has (its Lighting step
         /// samples SH at every evaluation point; Documentation~/quality.md §5.3): on the 10 validation crops
-        /// (Documentation~/benchmarks.md §11, the choice) insertion refined in batches keeps 1.01× the reference's probes at
+        /// (Documentation~/benchmarks.md "The speed/accuracy trade, every method", the choice) insertion refined in batches keeps 1.01× the reference's probes at
         /// τ = 0.05 (the default policy) against 1.04× for guided insertion refined the same way, and 1.00/1.08/1.05/1.04/1.05×
         /// the reference's error at 1/5/10/20/30 % against 1.01/1.08/1.04/1.02/1.04×: the guide helps little after the
         /// refinement (0.5–2 % at 5–30 %, not at τ or 1 %), and plain insertion needs neither the Features nor the Scoring

@@ -21,7 +21,7 @@ block's error curve[c] (r < 4, a block's last tetrahedron: always), so any tau g
 then index) nests them: a budget K is its first K points. Blocks with fewer than
 MINIMUM_PROBES + 1 points with margin, or flat ones, keep every core point.
 
-A level of 10^5-10^6 points takes an hour or more (benchmarks.md §7.5), so with `checkpoint` the finished blocks are
+A level of 10^5-10^6 points takes an hour or more (benchmarks.md "References and scale-out"), so with `checkpoint` the finished blocks are
 written to that file as they go (atomically, at most every CHECKPOINT_SECONDS, and at the end); a later call with
 the same points, lighting, metric, block and margin resumes from it. A file of other inputs, or one that cannot be
 read, is started afresh.
@@ -50,7 +50,7 @@ from ...metric.triangulation import Frame, flatness
 # times its points, 2.2x for blocks of 20 cells (26^3 = 17,576 points at most), 4.1x for 10. Larger blocks are also
 # nearer the whole-level reference (fewer faces).
 BLOCK_CELLS = 20
-MARGIN_CELLS = 3  # evaluated beyond each face (benchmarks.md §7.5: the answer lands ~10 % above tau on the level)
+MARGIN_CELLS = 3  # evaluated beyond each face (benchmarks.md "References and scale-out": the answer lands ~10 % above tau on the level)
 CHECKPOINT_SECONDS = 60.0  # finished blocks are written at most this often (and at the end)
 
 

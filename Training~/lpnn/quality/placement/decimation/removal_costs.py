@@ -4,7 +4,7 @@ Both replicas hold the same DecimationState and apply the same removals in the s
 their states stay bit-identical; each computes the costs of part of the stale probes (costs do
 not depend on which batch a probe is evaluated in) and only the accepted removal's data crosses
 the pipe. The result is identical to the single-process run; on 2 cores it is 0.9-1.2x as fast
-(benchmarks.md §2: both replicas apply every removal, and hull probes' costs come in lumps), and
+(benchmarks.md "References and scale-out": both replicas apply every removal, and hull probes' costs come in lumps), and
 slower when other work competes for the cores.
 """
 
