@@ -3,6 +3,7 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
 
     weighting = LeakWeighting(raycaster)                     # leaking points' errors count LEAK_WEIGHT times
     repaired = leak_repaired(field, probes, raycaster)       # a probe inside every leaking tetrahedron, a few rounds
+    repaired = leak_repaired(field, probes, raycaster, blocked=pins.blocked)   # none within the pins' keep distance
 
 - The weighting makes the refinement's removal costs and its tolerance read leaks: a removal that lets a point's
   stencil reach through a wall costs that point's error LEAK_WEIGHT times, so the refinement keeps the probes that
@@ -10,6 +11,9 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
   sides equally lit, or both black) costs nothing.
 - The repair gives the refinement a seed with few leaks to start from: decimation only removes probes, so a leak of
   the seed cannot be undone by it.
+- With pinned probes (pins.py) the repair never adds a probe within a pin's keep distance: a leaking point there is
+  left to the pinned probe (the artist put a probe there; pins.md "Every method"), and its tetrahedron gets the worst
+  leaking point that may become a probe, if it holds one.
 """
 
 from __future__ import annotations
@@ -54,18 +58,23 @@ class LeakWeighting:
 
 
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
-                  rounds: int = REPAIR_ROUNDS) -> np.ndarray:
+                  rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None) -> np.ndarray:
     """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties: the
     lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
     triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
-    Stops early when nothing leaks. Sorted point indices."""
+    `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking one is passed over (module
+    text). Stops early when no point that may become a probe leaks. Sorted point indices."""
     if int(rounds) < 0:
         raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
+    if blocked is not None and np.shape(blocked) != (field.point_count,):
+        raise MetricError(f"blocked must flag each of the {field.point_count:,} points, got shape {list(np.shape(blocked))}")
     current = np.sort(np.asarray(probes, dtype=np.int64))
     for _ in range(int(rounds)):
         indices, others, stencil = probe_stencil(field, current, coherent=True)
         leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
                                 raycaster)
+        if blocked is not None:
+            leaking &= ~np.asarray(blocked, dtype=bool)[others]
         if not leaking.any():
             break
         errors = stencil_point_errors(field, indices, others, stencil)
