@@ -4,6 +4,7 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
     weighting = LeakWeighting(raycaster)                     # leaking points' errors count LEAK_WEIGHT times
     repaired = leak_repaired(field, probes, raycaster)       # a probe inside every leaking tetrahedron, a few rounds
     repaired = leak_repaired(field, probes, raycaster, blocked=pins.blocked)   # none within the pins' keep distance
+    leaks_to_avoid(field, "avoid", warn)                     # the default's raycaster: field.geometry, or None (warned)
 
 - The weighting makes the refinement's removal costs and its tolerance read leaks: a removal that lets a point's
   stencil reach through a wall costs that point's error LEAK_WEIGHT times, so the refinement keeps the probes that
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -27,7 +29,10 @@ from ...core.features import Raycaster
 from ..metric.leak_rule import stencil_leaks
 from ..metric.location import Stencil
 from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
+from .policy_rules import LEAK_CHOICES
 
+NO_GEOMETRY = ("leaks cannot be checked for this capture (the tools cannot load its geometry): the placement is the "
+               "leak-blind one")
 LEAK_WEIGHT = 8.0  # a leaking point's error counts this many times (benchmarks.md §12: 2, 4, 8, 16 measured)
 REPAIR_ROUNDS = 2  # leak repair rounds on the seed (1 and 3 measured: benchmarks.md §12)
 
@@ -55,6 +60,20 @@ class LeakWeighting:
         out = np.array(errors, dtype=np.float64, copy=True)
         out[others[leaking]] *= self.weight
         return out
+
+
+def leaks_to_avoid(field: ReferenceField, choice: str = "avoid",
+                   warn: Callable[[str], None] | None = None) -> Raycaster | None:
+    """The raycaster the default placement avoids leaks with (refined_insertion(..., leaks=)): with "avoid" (the
+    default, leaks.md "A leak-aware default") the field's geometry, or None when the capture's geometry is not known,
+    which `warn` is told (NO_GEOMETRY); with "ignore" (the opt-out: fewer probes, leaks accepted) None."""
+    if choice not in LEAK_CHOICES:
+        raise MetricError(f"leaks {choice!r}: choose one of {', '.join(LEAK_CHOICES)}")
+    if choice == "ignore":
+        return None
+    if field.geometry is None and warn is not None:
+        warn(NO_GEOMETRY)
+    return field.geometry
 
 
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
