@@ -102,16 +102,22 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     if tolerance is None:
         refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
-        indices, error = refined.indices, refined.mean_error
+        # With leaks the refinement's mean is the weighted one, not the metric's.
+        indices = refined.indices
+        error = refined.mean_error if weighting is None else mean_placement_error(field, indices)
     else:
         refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
         assert found is not None
         # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
-        better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
-        indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
-    if weighting is not None and (tolerance is None or better):
-        error = mean_placement_error(field, indices)  # the weighted mean is the refinement's, not the metric's
+        # The refinement updates its errors incrementally, and a point outside the hull whose nearest hull point lies on
+        # an edge can keep a stale stencil there (on ctf_compromise's reachable points, 70 points whose leaks the
+        # refinement did not see: plain error 0.0513 > tau). So the set's plain error is evaluated afresh before it
+        # replaces the search's answer, as the C# core's RefinedSelection does.
+        fresh = (mean_placement_error(field, refined.indices)
+                 if refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
+                 else math.inf)
+        indices, error = (refined.indices, fresh) if fresh <= tolerance else (found.indices, found.mean_error)
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
