@@ -26,6 +26,7 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty KeepBoundsCorners { get; }
         public SerializedProperty RefineInBatches { get; }
         public SerializedProperty KeepPinnedProbes { get; }
+        public SerializedProperty AvoidLightLeaks { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
         public SerializedProperty InUseRule { get; }
@@ -57,6 +58,7 @@ namespace Lpnn.Probes.Editor
             KeepBoundsCorners = volume.FindProperty(LpnnVolume.Fields.KeepBoundsCorners);
             RefineInBatches = volume.FindProperty(LpnnVolume.Fields.RefineInBatches);
             KeepPinnedProbes = volume.FindProperty(LpnnVolume.Fields.KeepPinnedProbes);
+            AvoidLightLeaks = volume.FindProperty(LpnnVolume.Fields.AvoidLightLeaks);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);
             InUseRule = volume.FindProperty(LpnnVolume.Fields.InUseRule);

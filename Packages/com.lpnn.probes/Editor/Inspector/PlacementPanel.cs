@@ -48,6 +48,7 @@ namespace Lpnn.Probes.Editor
             if (byInsertion) InspectorLayout.Field(properties.RefineInBatches);
             // Shown for the Network method too while it is on, so the toggle Apply's refusal names can be turned off there.
             if (byInsertion || volume.KeepPinnedProbes) InspectorLayout.Field(properties.KeepPinnedProbes);
+            if (byInsertion) InspectorLayout.Field(properties.AvoidLightLeaks);
             edited.ApplyModifiedProperties();
             if (byInsertion) PinButtons(volume, edited);
             // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
