@@ -125,9 +125,9 @@ namespace Lpnn.Probes
         // Added after 0.1.0: a volume saved before it loads with the default, on.
         [Tooltip("Insertion methods: Apply's refinement avoids light leaking through walls (Documentation~/leaks.md): it repairs the " +
                  "tetrahedra whose probes a point cannot see (physics casts, as the Features step) and weighs leaking points 8x. " +
-                 "Measured on 15 levels' points in use: leaking points 7-39 % -> 0-1.5 % on 14 of them for a median +13 % probes, " +
-                 "lower error near surfaces; on a whole-grid volume more (136,512 points: 761 -> 2,854 probes, 91 % -> 15 % " +
-                 "leaking, 2.5x the time). Off: fewer probes, leaks accepted.")]
+                 "Measured with lpnn place on 15 levels' points in use (benchmarks.md §12): leaking points 8-38 % -> 0-1 % on 13 of them " +
+                 "for a median +13 % probes, lower error near surfaces; on a whole-grid volume the price is higher (136,512 points: " +
+                 "761 -> 2,854 probes, 91 % -> 14 % leaking, 2x the time). Off: fewer probes, leaks accepted.")]
         [SerializeField] private bool avoidLightLeaks = true;
 
         [Tooltip("The LightProbeGroup that Apply writes the chosen probes to.")]
