@@ -10,7 +10,7 @@ from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.grid_box import Box
 from lpnn.core.grid_builder import build_grid
-from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.placement.batched_refinement import BatchedRefinement, batched_refinement, greedy_independent_set
 from lpnn.quality.placement.batched_state import evaluate, trial_of, without
 from lpnn.quality.placement.leak_aware import LeakWeighting, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
@@ -171,3 +171,19 @@ def test_leaks_and_pins_together_keep_the_pins_count_them_and_leak_less(rooms) -
     assert np.all(np.isin(pins.indices, budget.indices)) and not pins.blocked[np.setdiff1d(budget.indices, pins.indices)].any()
     with pytest.raises(PinError, match="raise the budget"):
         refined_insertion(field, grid, budget=1.0 / field.point_count, leaks=WALLED, pins=pins)
+
+
+@pytest.mark.parametrize("leaks", [None, WALLED])
+def test_a_refined_set_whose_fresh_error_exceeds_tau_is_not_the_answer(rooms, monkeypatch, leaks) -> None:
+    """The refinement's incremental error can disagree with the metric's fresh one (leaks.md "A leak-aware default":
+    ctf_compromise); refined_insertion takes the refined set only when its error, evaluated afresh, is within tau."""
+    import lpnn.quality.placement.refined_insertion as module
+
+    field, grid = rooms
+    corners = _corners(field)  # 8 probes: far above tau, whatever the refinement believes
+    assert mean_placement_error(field, corners) > TOLERANCE
+    monkeypatch.setattr(module, "batched_refinement", lambda *args, **kwargs: BatchedRefinement(
+        indices=corners, mean_error=0.0, rounds=1, stop_reason="tolerance", seconds=0.0))
+    fooled = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=leaks)
+    assert not np.array_equal(fooled.indices, corners)  # the search's answer instead
+    assert fooled.mean_error == pytest.approx(mean_placement_error(field, fooled.indices)) and fooled.mean_error <= TOLERANCE
