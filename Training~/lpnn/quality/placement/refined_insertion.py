@@ -111,9 +111,9 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
         assert found is not None
         # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
         # The refinement updates its errors incrementally, locating only the points a removal touched; the metric locates
-        # every point afresh by its walk, and the two can disagree for points on a flat boundary of the probes' hull
-        # (ctf_compromise's reachable points: 70 points on a hull edge for the refinement, projected onto a hull triangle
-        # 1.6 m away by the walk, where they leak; plain error 0.0513 > tau). So the set's plain error is evaluated afresh
+        # every point afresh by its coherent walk, and the two can disagree (ctf_compromise's reachable points: about 70
+        # points; one, inside the hull on an interior edge, the walk calls outside and projects onto a hull triangle
+        # 1.6 m away, where it leaks; plain error 0.0513 > tau; leaks.md). So the set's plain error is evaluated afresh
         # before it replaces the search's answer, as the C# core's RefinedSelection does.
         fresh = (mean_placement_error(field, refined.indices)
                  if refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
