@@ -5,6 +5,7 @@ using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
 using Lpnn.Probes.Core.Json;
+using Lpnn.Probes.Core.Pipeline;
 using Lpnn.Probes.Core.Quality;
 using Lpnn.Probes.Core.Selection;
 using Lpnn.Probes.Core.Tests.Support;
@@ -104,6 +105,65 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(plain.Indices, Is.EqualTo(Ints(c.Get("without_leaks"))), "the option off: today's answer");
         }
 
+        /// <summary>The golden's pinned case: its pins snapped with its keep distance, and the insertion order that starts from them.</summary>
+        private static Pins PinnedCase(JsonValue c, out InsertionOrder order)
+        {
+            var positions = c.Get("positions").Items.Select(AnalyticScene.ToDouble3).ToArray();
+            var pins = Pins.Snap(Room.Grid, positions, c.Get("keep_distance").AsNumber);
+            var sh = Room.Golden.Get("sh").Items.SelectMany(JsonArrays.Floats).ToArray();
+            order = InsertionOrder.OfValid(Room.Grid, sh, Room.Evaluator.Reference.SceneScale, null, Room.Evaluator.Tetrahedralizer, pins);
+            return pins;
+        }
+
+        [Test]
+        public void WithPinsTheRepairLeavesTheLeaksNearThemToThePinsAsThePythonReferenceDoes()
+        {
+            var c = Room.Golden.Get("pinned_case");
+            var pins = PinnedCase(c, out var order);
+            Assert.That(pins.Indices, Is.EqualTo(Ints(c.Get("pins"))));
+            Assert.That(Enumerable.Range(0, pins.Blocked.Length).Where(p => pins.Blocked[p]).ToArray(), Is.EqualTo(Ints(c.Get("blocked"))));
+            int count = (int)Room.Golden.Get("budget").Get("count").AsNumber;
+            int seedCount = RefinedSelection.SeedCount(count, order.Count);
+            int[] seed = order.Prefix(seedCount).Take(seedCount).OrderBy(p => p).ToArray();
+            Assert.That(seed, Is.EqualTo(Ints(c.Get("seed"))), "the pinned insertion order's prefix");
+            var repaired = LeakRepair.Repaired(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall, LeakRepair.DefaultRounds,
+                CancellationToken.None, pins.Blocked);
+            Assert.That(repaired, Is.EqualTo(Ints(c.Get("repaired_seed"))));
+            Assert.That(repaired.Except(seed).Any(p => pins.Blocked[p]), Is.False, "no probe added within the keep distance");
+            var unblocked = LeakRepair.Repaired(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall);
+            Assert.That(unblocked.Except(seed).Any(p => pins.Blocked[p]), Is.True, "without the pins the repair would add one there");
+        }
+
+        [Test]
+        public void WithPinsABudgetAndAToleranceKeepThePythonReferencesProbes()
+        {
+            var c = Room.Golden.Get("pinned_case");
+            var pins = PinnedCase(c, out var order);
+            Func<SelectionSettings, LeakWeighting, SelectionResult> Place = (settings, leaks) =>
+                ApplySteps.SelectByInsertion(Room.Grid, null, null, order, settings, settings.Policy == SelectionPolicy.Tolerance ? Room.Evaluator : null,
+                    true, Room.Evaluator, null, CancellationToken.None, pins, leaks);
+            int count = (int)Room.Golden.Get("budget").Get("count").AsNumber;
+            var budget = Place(SelectionSettings.Budget(count), new LeakWeighting(Room.Wall));
+            Assert.That(budget.Indices, Is.EqualTo(Ints(c.Get("budget_indices"))));
+            Assert.That(budget.Indices.Length, Is.EqualTo(count), "the pins count in the budget");
+            double budgetError = c.Get("budget_mean_error").AsNumber;
+            Assert.That(Room.Evaluator.MeanError(budget.Indices), Is.EqualTo(budgetError).Within(1e-9 * budgetError));
+            double tau = Room.Golden.Get("tolerance_case").Get("tolerance").AsNumber;
+            var aware = Place(SelectionSettings.Tolerance(tau), new LeakWeighting(Room.Wall));
+            Assert.That(aware.Indices, Is.EqualTo(Ints(c.Get("tolerance_indices"))));
+            double error = c.Get("tolerance_mean_error").AsNumber;
+            Assert.That(Room.Evaluator.MeanError(aware.Indices), Is.EqualTo(error).Within(1e-9 * error));
+            var plain = Place(SelectionSettings.Tolerance(tau), null);
+            Assert.That(plain.Indices, Is.EqualTo(Ints(c.Get("without_leaks"))), "the same pins, the option off");
+            foreach (var placed in new[] { budget, aware, plain })
+            {
+                Assert.That(pins.Indices.All(p => placed.Indices.Contains(p)), Is.True, "every pin kept");
+                Assert.That(placed.Indices.Except(pins.Indices).Any(p => pins.Blocked[p]), Is.False, "no new probe near a pin");
+            }
+            Assert.That(Room.Leaking(aware.Indices), Is.LessThan(Room.Leaking(plain.Indices)));
+            Assert.Throws<PinException>(() => Place(SelectionSettings.Budget(pins.Count - 1), new LeakWeighting(Room.Wall)), "a budget below the pins");
+        }
+
         // ---- behaviour ------------------------------------------------------------------------------------------------
 
         [Test]
@@ -183,6 +243,63 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(LeakRepair.Repaired(reference, tet, probes, Room.Wall, 0), Is.EqualTo(probes));
             Assert.That(LeakRepair.Repaired(reference, tet, probes, new AnalyticBoxRaycaster(), 3), Is.EqualTo(probes));
             StringAssert.Contains("rounds -1", Assert.Throws<PlacementErrorException>(() => LeakRepair.Repaired(reference, tet, probes, Room.Wall, -1)).Message);
+        }
+
+        /// <summary>Counts the casts it forwards: whether a step cast any rays at all.</summary>
+        private sealed class CountingRaycaster : IRaycaster
+        {
+            private readonly IRaycaster inner;
+            public int Casts;
+
+            public CountingRaycaster(IRaycaster inner) => this.inner = inner;
+
+            public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
+            {
+                Casts++;
+                inner.Cast(origins, directions, maxDistance, results);
+            }
+        }
+
+        private sealed class RecordingGroup : IProbeGroupWriter
+        {
+            public Vector3[] Written;
+            public void Write(Vector3[] positions) => Written = positions;
+        }
+
+        /// <summary>The volume's "Avoid light leaks" as Apply passes it on (LpnnPipeline.SelectByInsertion: the physics rays;
+        /// here the golden's wall): on, the Placement step's refinement casts through the volume's rays and leaks less within τ;
+        /// off, or without refinement, it casts none and places what the leak-blind selection places.</summary>
+        [Test]
+        public void ApplyRefinesLeakAwareThroughTheVolumesRaysOnlyWhenItAvoidsLeaks()
+        {
+            Assert.That(ApplySteps.LeakWeightingOf(false, Room.Wall), Is.Null, "the opt-out: leak-blind");
+            var weighting = ApplySteps.LeakWeightingOf(true, Room.Wall);
+            Assert.That(weighting.Raycaster, Is.SameAs(Room.Wall));
+            Assert.That(weighting.Weight, Is.EqualTo(LeakWeighting.DefaultWeight));
+            var sh = Room.Golden.Get("sh").Items.SelectMany(JsonArrays.Floats).ToArray();
+            double tau = Room.Golden.Get("tolerance_case").Get("tolerance").AsNumber;
+            Func<bool, IRaycaster, SelectionResult> apply = (refine, rays) =>
+            {
+                var state = new ApplyState();
+                state.PublishLighting(Room.Grid, sh);
+                var group = new RecordingGroup();
+                var placed = ApplySteps.Place(state, Room.Evaluator.Tetrahedralizer, SelectionSettings.Tolerance(tau), refine, group, null,
+                    CancellationToken.None, rays);
+                Assert.That(group.Written.Length, Is.EqualTo(placed.Indices.Length), "the selection is what Apply writes");
+                return placed;
+            };
+            var aware = new CountingRaycaster(Room.Wall);
+            var leakAware = apply(true, aware);
+            var blind = apply(true, null);
+            Assert.That(aware.Casts, Is.GreaterThan(0), "the refinement tested segments through the volume's rays");
+            Assert.That(Room.Leaking(blind.Indices), Is.GreaterThan(0), "the leak-blind answer must leak for the comparison to mean anything");
+            Assert.That(Room.Leaking(leakAware.Indices), Is.LessThan(Room.Leaking(blind.Indices)));
+            var state0 = new ApplyState();
+            state0.PublishLighting(Room.Grid, sh);
+            Assert.That(new PlacementEvaluator(state0.Reference, Room.Evaluator.Tetrahedralizer).MeanError(leakAware.Indices), Is.LessThanOrEqualTo(tau));
+            var unrefined = new CountingRaycaster(Room.Wall);
+            Assert.That(apply(false, unrefined).Indices, Is.EqualTo(apply(false, null).Indices), "without refinement the option has nothing to act on");
+            Assert.That(unrefined.Casts, Is.EqualTo(0));
         }
 
         /// <summary>Cancels its source on the first cast, so a repair is cancelled during its first round.</summary>

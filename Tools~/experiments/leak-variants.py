@@ -5,11 +5,13 @@ Per level (imported at the default cell, `lpnn scene import` defaults) and varia
 the default, mean irradiance error over all points and over the points within one cell of geometry (near_surface_mask),
 the share of points that leak (leaks.md) and their mean error, and the time. Variants:
 
-  default          refined_insertion(field, grid, tolerance=tau)                     (today's default)
+  default          refined_insertion(field, grid, tolerance=tau)  (leak-blind: the default until 2026-11-27, now
+                   `lpnn place --leaks ignore`; the name is kept so benchmarks.md "Light leaks"'s commands still run)
   repair3          the default's probes + 3 rounds of leak_repaired (the naive repair: a probe per leaking tetrahedron)
   seed-repair      refined_insertion(..., leaks=raycaster, leak_weight=1): the repaired seed, refined as usual
   weight4          refined_insertion(..., leaks=raycaster, leak_weight=4, repair_rounds=0): weighting only
   aware2/4/8/16    refined_insertion(..., leaks=raycaster, leak_weight=2/4/8/16): repaired seed + weighted refinement
+                   (aware8 is today's default, `lpnn place`'s `--leaks avoid`: leaks.md "A leak-aware default")
   aware8-r1/-r3    aware8 with 1 or 3 repair rounds instead of REPAIR_ROUNDS
   count-of-aware8  refined_insertion(field, grid, budget=K/N) with K = aware8's probes (the control: the count alone)
 

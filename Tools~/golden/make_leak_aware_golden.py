@@ -18,6 +18,13 @@ decision is decided by construction (the wall spans the whole scene in y and z a
 column, so a segment is blocked exactly when its ends lie on either side); the seed leaks, the repair ends leaks, and
 the leak-aware answer at tau leaks less than the answer without the option.
 
+The pinned case (leaks.md with pins.md): the PINNED inner points nearest the wall are pinned with a keep distance of
+KEEP_DISTANCE_IDS cells. Checked before writing, in exact integer ids (not by pins.py's blocking): every point the
+repair adds is at least KEEP_DISTANCE_IDS from every pin; the seed has a leaking point nearer than that to a pin,
+which the repair without the pins' blocked points would add (so the case exercises the rule); every set holds every
+pin; the budget answer holds exactly the budget's count, pins included; the answer at tau leaks less than the same
+pins' answer without the option; the five sets' tetrahedralisations are certified Delaunay as above.
+
     PYTHONPATH=Training~ python Tools~/golden/make_leak_aware_golden.py Tests/Data
 """
 
@@ -33,6 +40,7 @@ import numpy as np
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.atomic import write_text_atomic
 from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.pins import pin_probes
 from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.placement.policies import budget_count
@@ -47,6 +55,8 @@ EXTENT = 512  # ids of the enclosing tetrahedron's corners
 WALL_ID = 200  # the wall lies between id columns x = 200 and 201
 BUDGET = 0.15
 TOLERANCE = 0.08
+PINNED = 3  # the pinned case pins the inner points nearest the wall (ties: the lower index) ...
+KEEP_DISTANCE_IDS = 30  # ... with this keep distance, in cells (ids): it blocks leaking points the repair would add
 
 
 def wall() -> AxisBox:
@@ -80,6 +90,55 @@ def walled_room(seed: int) -> tuple[np.ndarray, np.ndarray]:
     factor = np.where(ids[:, 0] <= WALL_ID, 1.5, 0.5) + rng.uniform(-0.2, 0.2, ids.shape[0])
     factor[is_corner] = 1.0
     return ids, base[None, :] * factor[:, None]
+
+
+def pinned_case(ids: np.ndarray, field, grid, raycaster: AnalyticBoxRaycaster, count: int) -> dict[str, Any]:
+    """The pinned case of the module text: its sets, checked as the text says, for the golden."""
+    corners = {(0, 0, 0), (EXTENT, 19, 45), (27, EXTENT, 5), (14, 35, EXTENT)}
+    inner = [i for i in range(ids.shape[0]) if tuple(int(v) for v in ids[i]) not in corners]
+    gap = np.abs(ids[:, 0] - (WALL_ID + 0.5))
+    pinned = np.asarray(sorted(inner, key=lambda i: (gap[i], i))[:PINNED], dtype=np.int64)
+    pins = pin_probes(field.world[pinned], field.world, CELL, KEEP_DISTANCE_IDS * CELL)
+    if pins.indices.tolist() != pinned.tolist():
+        raise SystemExit(f"the pins must stand for the points they sit on: {pins.indices} != {pinned}")
+
+    def far_from_pins(point: int) -> bool:  # exact: squared integer distances, the keep distance in ids
+        return all(int(((ids[point] - ids[p]) ** 2).sum()) >= KEEP_DISTANCE_IDS ** 2 for p in pinned)
+
+    n = field.point_count
+    seed = InsertionOrder(field, grid, pins=pins).selection()(seed_count(RECOMMENDED_REFINE, count, n))
+    repaired = leak_repaired(field, seed, raycaster, blocked=pins.blocked)
+    unpinned_repair = leak_repaired(field, seed, raycaster)
+    budget = refined_insertion(field, grid, budget=BUDGET, leaks=raycaster, pins=pins)
+    tolerance = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=raycaster, pins=pins)
+    plain = refined_insertion(field, grid, tolerance=TOLERANCE, pins=pins)
+    added = np.setdiff1d(repaired, seed)
+    if not (added.shape[0] > 0 and all(far_from_pins(int(p)) for p in added)):
+        raise SystemExit(f"the pinned repair must add probes, none within {KEEP_DISTANCE_IDS} of a pin: {added}")
+    seed_leaks = leaking_points(field, seed, raycaster)[0]
+    near_leaks = [int(p) for p in np.flatnonzero(seed_leaks) if not far_from_pins(int(p))]
+    if not near_leaks or all(far_from_pins(int(p)) for p in np.setdiff1d(unpinned_repair, seed)):
+        raise SystemExit("the pinned case must have a leaking point near a pin that the unpinned repair would add")
+    sets = (("pinned seed", seed), ("pinned repaired seed", repaired), ("pinned budget answer", budget.indices),
+            ("pinned tolerance answer", tolerance.indices), ("pinned answer without leaks", plain.indices))
+    for name, probes in sets:
+        if not np.isin(pinned, probes).all():
+            raise SystemExit(f"the {name} must hold every pin")
+        if not certify_delaunay(ids, probes, tetrahedralize(field.world[probes], field.frame).tets, EXTENT):
+            raise SystemExit(f"the {name}'s Delaunay tetrahedralisation is not unique with a margin: choose other pins")
+    if budget.indices.shape[0] != count:
+        raise SystemExit(f"the pinned budget answer must hold the budget's {count} probes, pins included")
+    leaks = {name: int(leaking_points(field, indices, raycaster)[0].sum())
+             for name, indices in (("seed", seed), ("repaired", repaired), ("tolerance", tolerance.indices),
+                                   ("tolerance_without_leaks", plain.indices))}
+    if not leaks["tolerance"] < leaks["tolerance_without_leaks"]:
+        raise SystemExit(f"the pinned leak-aware answer must leak less than the plain one: {leaks}")
+    return {"pins": pinned.tolist(), "positions": exact(pins.positions), "keep_distance": KEEP_DISTANCE_IDS * CELL,
+            "blocked": np.flatnonzero(pins.blocked).tolist(), "leaking_near_pins": near_leaks,
+            "seed": seed.tolist(), "repaired_seed": repaired.tolist(),
+            "budget_indices": budget.indices.tolist(), "budget_mean_error": budget.mean_error,
+            "tolerance_indices": tolerance.indices.tolist(), "tolerance_mean_error": tolerance.mean_error,
+            "without_leaks": plain.indices.tolist(), "leaking_points": leaks}
 
 
 def main(out_dir: str) -> None:
@@ -117,6 +176,7 @@ def main(out_dir: str) -> None:
         "tolerance_case": {"tolerance": TOLERANCE, "indices": tolerance.indices.tolist(),
                            "mean_error": tolerance.mean_error, "without_leaks": plain.indices.tolist()},
         "leaking_points": leaks,
+        "pinned_case": pinned_case(ids, field, grid, raycaster, count),
     }
     text = json.dumps(golden, indent=None, separators=(",", ":"))
     write_text_atomic(Path(out_dir) / "leak_aware_golden.json", text + "\n")

@@ -2,7 +2,7 @@
 
   lpnn bench CAPTURES... [--model M.onnx] [--budgets 0.01,0.05,0.1,0.2,0.3] [--tolerance TAU]
              [--repeats 3] [--workers N] [--scheduler ADDRESS] [--methods M1,M2] [--no-budgets]
-             [--reference-stop E | --no-reference] --out DIR
+             [--reference-stop E | --no-reference] [--leaks avoid|ignore] --out DIR
 
 For every capture x method (the table's names, Documentation~/methods.md: uniform, random, heuristic, apv, insertion,
 insertion-refined; with --model the methods that read the scores: network-topk, network, guided, guided-refined and
@@ -29,6 +29,7 @@ down to there, without the dearest tail), --no-reference computes none (probes, 
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -36,7 +37,7 @@ from typing import Any
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..quality.placement.methods import BENCH_METHODS
-    from ..quality.placement.policy_rules import (DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT,
+    from ..quality.placement.policy_rules import (DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_REFERENCE_LIMIT, LEAK_CHOICES,
                                                   REFINE_BENCH_LIMIT)
     from .arguments import add_engine_arguments, fractions, tolerance
 
@@ -70,6 +71,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--no-reference", action="store_true",
                         help="compute no reference (every ratio NaN; yardstick column 'none'): where neither the full nor "
                              "the blockwise reference fits in the time, the rows still give probes, error and time")
+    parser.add_argument("--leaks", choices=LEAK_CHOICES, default="avoid",
+                        help="the insertion-refined rows (the default placement): avoid light leaking through walls "
+                             "where the capture's geometry is known (default; Documentation~/leaks.md) or ignore them")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (bench.csv and PNG figures)")
     parser.set_defaults(handler=run)
 
@@ -107,7 +111,8 @@ def run(args: argparse.Namespace) -> int:
                          repeats=args.repeats, reference_repeats=args.reference_repeats, seed=args.seed,
                          workers=inner_workers, full_reference_limit=args.full_reference_limit,
                          refine_limit=args.refine_limit, checkpoints=args.out, methods=args.methods,
-                         reference_stop=args.reference_stop, yardstick="none" if args.no_reference else "auto")
+                         reference_stop=args.reference_stop, yardstick="none" if args.no_reference else "auto",
+                         leaks=args.leaks)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     stems = figure_stems(files)
@@ -165,6 +170,7 @@ def bench_one(task: BenchTask) -> Any:
     """In a worker: every method on one capture (a CaptureResult)."""
     from ..core.capture_file import read_capture
     from ..quality.bench.run import bench_capture
+    from ..quality.placement.leak_aware import NO_GEOMETRY
     from ..scenes.capture_geometry import capture_raycaster
     from .errors import user_errors
 
@@ -177,8 +183,12 @@ def bench_one(task: BenchTask) -> Any:
             scorer = (OnnxScorer(task.model) if task.scorer_threads is None
                       else OnnxScorer(task.model, threads=task.scorer_threads))
             scorer.check_capture(capture, str(task.path))
-        # The level's surfaces when the tools can load them (an OpenArena import): every row then reports its leaks.
-        return bench_capture(task.path.stem, capture, task.config, scorer, geometry=capture_raycaster(capture)[0])
+        # The level's surfaces when the tools can load them (an OpenArena import): every row then reports its leaks,
+        # and the default placement's rows avoid them.
+        geometry = capture_raycaster(capture)[0]
+        if geometry is None and task.config.leaks == "avoid" and task.config.wants("insertion-refined"):
+            print(f"{task.path.stem}: insertion-refined: {NO_GEOMETRY}", file=sys.stderr, flush=True)
+        return bench_capture(task.path.stem, capture, task.config, scorer, geometry=geometry)
 
 
 def figure_stems(files: list[Path]) -> list[str]:

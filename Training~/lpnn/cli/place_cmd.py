@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     from ..quality.placement.methods import BY_NAME, DEFAULT_METHOD, PLACEABLE
+    from ..quality.placement.policy_rules import LEAK_CHOICES
     from .arguments import add_policy_arguments
 
     parser = subparsers.add_parser("place", help="place probes in a capture (budget or error tolerance)",
@@ -69,6 +70,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "method keeps them, counts them in the budget and the error, and puts no new probe near one")
     parser.add_argument("--keep-distance", type=float, metavar="D",
                         help="with --keep: no new probe closer than D to a kept probe (capture units; default one cell)")
+    parser.add_argument("--leaks", choices=LEAK_CHOICES, default="avoid",
+                        help="insertion-refined: avoid light leaking through walls where the capture's geometry is known "
+                             "(the default; Documentation~/leaks.md: more probes, far fewer leaking points) or ignore them "
+                             "(fewer probes, leaks accepted)")
     parser.add_argument("--no-report", action="store_true",
                         help="with a method that reads the scores: skip the final error evaluation (the dense lighting "
                              "of every point, one tetrahedralisation of the probes, every point located; ~half of a "
@@ -220,6 +225,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             select = uniform_selector(grid)
             what = "uniform lattice"
         elif args.method == "insertion-refined":
+            from ..quality.placement.leak_aware import leaks_to_avoid
             from ..quality.placement.refined_insertion import refined_insertion
 
             name = Path(args.capture).name
@@ -227,7 +233,9 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             removed, close_removed = progress_bar(f"{name}: batched refinement")
             try:
                 refined = refined_insertion(field, grid, budget=args.budget, tolerance=args.tolerance,
-                                            insertion_progress=ranked, refinement_progress=removed, pins=pins)
+                                            insertion_progress=ranked, refinement_progress=removed, pins=pins,
+                                            leaks=leaks_to_avoid(field, args.leaks,
+                                                                 lambda text: print(f"{name}: {text}", file=sys.stderr)))
             finally:
                 close_ranked()
                 close_removed()

@@ -30,6 +30,7 @@ from ..quality.placement.methods import BY_NAME, DEFAULT_METHOD
 from ..quality.metric.metric import PlacementQuality, ReferenceField, evaluate_placement
 from ..quality.placement.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.placement.decimation.reference_fast import fast_decimation
+from ..quality.placement.leak_aware import leaks_to_avoid
 from ..quality.placement.refined_insertion import refined_insertion
 from ..quality.placement.warmup import compile_placement_kernels
 
@@ -89,10 +90,11 @@ def _lpnn(name: str, placement: LpnnPlacement, inference: float) -> MethodResult
 
 def _default_placement(capture: Capture, tolerance: float, field_: ReferenceField | None = None,
                        grid: EvaluationGrid | None = None) -> MethodResult:
-    """The package's default on a capture: insertion refined in batches at the tolerance, timed."""
+    """The package's default on a capture: insertion refined in batches at the tolerance, leak-aware with the level's
+    geometry (leaks.md "A leak-aware default"; the demo's OpenArena levels have it), timed."""
     field_ = field_with_geometry(capture) if field_ is None else field_
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids) if grid is None else grid
-    placed = refined_insertion(field_, grid, tolerance=tolerance)
+    placed = refined_insertion(field_, grid, tolerance=tolerance, leaks=leaks_to_avoid(field_))
     return MethodResult("insertion-refined", placed.indices, evaluate_placement(field_, placed.indices),
                         {"selection": placed.selection_seconds, "refinement": placed.refinement_seconds})
 

@@ -10,11 +10,12 @@ from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.grid import EvaluationGrid
 from lpnn.core.grid_box import Box
 from lpnn.core.grid_builder import build_grid
-from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.placement.batched_refinement import BatchedRefinement, batched_refinement, greedy_independent_set
 from lpnn.quality.placement.batched_state import evaluate, trial_of, without
 from lpnn.quality.placement.leak_aware import LeakWeighting, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.metric.metric import MetricError, ReferenceField, mean_placement_error, point_errors
+from lpnn.quality.placement.pins import PinError, Pins, pin_probes
 from lpnn.quality.placement.refined_insertion import refined_insertion
 
 TOLERANCE = 0.05
@@ -128,3 +129,61 @@ def test_the_option_is_off_by_default_and_refinement_without_it_is_unchanged(roo
     budget = refined_insertion(field, grid, budget=0.1, leaks=WALLED)
     assert budget.indices.shape[0] == round(0.1 * field.point_count)  # a count stays a count
     assert budget.mean_error == pytest.approx(mean_placement_error(field, budget.indices))
+
+
+def _pins_by_the_wall(field: ReferenceField, grid: EvaluationGrid) -> Pins:
+    """Two pins on lattice points just below the wall (x = 0), with a keep distance of 1.5 cells: points on both sides
+    of the wall near them are blocked, some of which the corners' stencils make leak."""
+    at = [int(np.flatnonzero(np.all(np.isclose(field.world, p), axis=1))[0]) for p in ((0.0, 1.0, 1.0), (0.0, 0.5, 2.0))]
+    return pin_probes(field.world[at], field.world, grid.cell_size, 1.5 * grid.cell_size)
+
+
+def test_with_pins_the_repair_adds_no_probe_within_their_keep_distance(rooms) -> None:
+    field, grid = rooms
+    pins = _pins_by_the_wall(field, grid)
+    probes = np.union1d(_corners(field), pins.indices)
+    leaking = leaking_points(field, probes, WALLED)[0]
+    assert (leaking & pins.blocked).any()  # a leaking point near a pin: the case the rule is for
+    unpinned = np.setdiff1d(leak_repaired(field, probes, WALLED, rounds=1), probes)
+    assert pins.blocked[unpinned].any()  # without the pins' blocked points, the repair would put a probe there
+    pinned = np.setdiff1d(leak_repaired(field, probes, WALLED, rounds=1, blocked=pins.blocked), probes)
+    assert pinned.shape[0] > 0 and not pins.blocked[pinned].any() and np.all(leaking[pinned])
+    # Each leaking tetrahedron gets its worst leaking point among those that may become probes: the same choice as an
+    # unblocked repair wherever that worst point is free.
+    assert np.all(np.isin(unpinned[~pins.blocked[unpinned]], pinned))
+    with pytest.raises(MetricError, match="blocked must flag each"):
+        leak_repaired(field, probes, WALLED, blocked=pins.blocked[:-1])
+
+
+def test_leaks_and_pins_together_keep_the_pins_count_them_and_leak_less(rooms) -> None:
+    field, grid = rooms
+    pins = _pins_by_the_wall(field, grid)
+    at_tau = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=WALLED, pins=pins)
+    plain = refined_insertion(field, grid, tolerance=TOLERANCE, pins=pins)
+    for placed in (at_tau, plain):
+        assert np.all(np.isin(pins.indices, placed.indices)) and placed.mean_error <= TOLERANCE
+        new = np.setdiff1d(placed.indices, pins.indices)
+        assert not pins.blocked[new].any()  # no new probe near a pin, repaired or inserted
+    assert int(leaking_points(field, at_tau.indices, WALLED)[0].sum()) < int(
+        leaking_points(field, plain.indices, WALLED)[0].sum())
+    budget = refined_insertion(field, grid, budget=0.1, leaks=WALLED, pins=pins)
+    assert budget.indices.shape[0] == round(0.1 * field.point_count)  # the pins count in the budget
+    assert np.all(np.isin(pins.indices, budget.indices)) and not pins.blocked[np.setdiff1d(budget.indices, pins.indices)].any()
+    with pytest.raises(PinError, match="raise the budget"):
+        refined_insertion(field, grid, budget=1.0 / field.point_count, leaks=WALLED, pins=pins)
+
+
+@pytest.mark.parametrize("leaks", [None, WALLED])
+def test_a_refined_set_whose_fresh_error_exceeds_tau_is_not_the_answer(rooms, monkeypatch, leaks) -> None:
+    """The refinement's incremental error can disagree with the metric's fresh one (leaks.md "A leak-aware default":
+    ctf_compromise); refined_insertion takes the refined set only when its error, evaluated afresh, is within tau."""
+    import lpnn.quality.placement.refined_insertion as module
+
+    field, grid = rooms
+    corners = _corners(field)  # 8 probes: far above tau, whatever the refinement believes
+    assert mean_placement_error(field, corners) > TOLERANCE
+    monkeypatch.setattr(module, "batched_refinement", lambda *args, **kwargs: BatchedRefinement(
+        indices=corners, mean_error=0.0, rounds=1, stop_reason="tolerance", seconds=0.0))
+    fooled = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=leaks)
+    assert not np.array_equal(fooled.indices, corners)  # the search's answer instead
+    assert fooled.mean_error == pytest.approx(mean_placement_error(field, fooled.indices)) and fooled.mean_error <= TOLERANCE

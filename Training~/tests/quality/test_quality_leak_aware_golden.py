@@ -16,6 +16,7 @@ from lpnn.quality.placement.insertion import InsertionOrder
 from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.pins import pin_probes
 from lpnn.quality.placement.policies import budget_count
 from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
 
@@ -67,3 +68,33 @@ def test_the_answers_at_a_budget_and_at_tau_are_the_goldens(room) -> None:
     assert leaking_points(field, at_tau.indices, raycaster)[0].sum() == leaks["tolerance"]
     assert leaking_points(field, plain.indices, raycaster)[0].sum() == leaks["tolerance_without_leaks"]
     assert leaks["tolerance"] < leaks["tolerance_without_leaks"]
+
+
+def test_the_pinned_case_is_the_goldens(room) -> None:
+    """Leaks and pins together: the pinned seed, its repair (no probe within the keep distance of a pin), and the
+    answers at a budget (the pins counted) and at tau, with the same pins without the option for comparison."""
+    document, field, grid, raycaster = room
+    case = document["pinned_case"]
+    pins = pin_probes(np.asarray(case["positions"]), field.world, grid.cell_size, case["keep_distance"])
+    assert pins.indices.tolist() == case["pins"]
+    assert np.flatnonzero(pins.blocked).tolist() == case["blocked"]
+    count = document["budget"]["count"]
+    seed = InsertionOrder(field, grid, pins=pins).selection()(seed_count(RECOMMENDED_REFINE, count, field.point_count))
+    assert seed.tolist() == case["seed"]
+    repaired = leak_repaired(field, seed, raycaster, blocked=pins.blocked)
+    assert repaired.tolist() == case["repaired_seed"]
+    # What the case is for: some leaking points lie within the keep distance, and the repair leaves them to the pins.
+    assert set(case["leaking_near_pins"]) <= set(case["blocked"]) and case["leaking_near_pins"]
+    assert not pins.blocked[np.setdiff1d(repaired, seed)].any()
+    at_budget = refined_insertion(field, grid, budget=document["budget"]["fraction"], leaks=raycaster, pins=pins)
+    assert at_budget.indices.tolist() == case["budget_indices"] and len(case["budget_indices"]) == count
+    assert at_budget.mean_error == pytest.approx(case["budget_mean_error"], rel=1e-9)
+    tau = document["tolerance_case"]["tolerance"]
+    at_tau = refined_insertion(field, grid, tolerance=tau, leaks=raycaster, pins=pins)
+    assert at_tau.indices.tolist() == case["tolerance_indices"]
+    assert at_tau.mean_error == pytest.approx(case["tolerance_mean_error"], rel=1e-9)
+    plain = refined_insertion(field, grid, tolerance=tau, pins=pins)
+    assert plain.indices.tolist() == case["without_leaks"]
+    leaks = case["leaking_points"]
+    assert leaking_points(field, at_tau.indices, raycaster)[0].sum() == leaks["tolerance"] < leaks["tolerance_without_leaks"]
+    assert leaking_points(field, plain.indices, raycaster)[0].sum() == leaks["tolerance_without_leaks"]

@@ -25,6 +25,7 @@ namespace Lpnn.Probes.Editor
         public SerializedProperty Tolerance { get; }
         public SerializedProperty KeepBoundsCorners { get; }
         public SerializedProperty KeepPinnedProbes { get; }
+        public SerializedProperty AvoidLightLeaks { get; }
         public SerializedProperty GroundTruthGroup { get; }
         public SerializedProperty DatasetFolder { get; }
         public SerializedProperty InUseRule { get; }
@@ -55,6 +56,7 @@ namespace Lpnn.Probes.Editor
             Tolerance = volume.FindProperty(LpnnVolume.Fields.Tolerance);
             KeepBoundsCorners = volume.FindProperty(LpnnVolume.Fields.KeepBoundsCorners);
             KeepPinnedProbes = volume.FindProperty(LpnnVolume.Fields.KeepPinnedProbes);
+            AvoidLightLeaks = volume.FindProperty(LpnnVolume.Fields.AvoidLightLeaks);
             GroundTruthGroup = volume.FindProperty(LpnnVolume.Fields.GroundTruthGroup);
             DatasetFolder = volume.FindProperty(LpnnVolume.Fields.DatasetFolder);
             InUseRule = volume.FindProperty(LpnnVolume.Fields.InUseRule);

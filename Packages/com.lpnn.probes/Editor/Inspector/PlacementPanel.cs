@@ -47,10 +47,12 @@ namespace Lpnn.Probes.Editor
             InspectorLayout.Field(properties.KeepBoundsCorners);
             // Shown for the Network method too while it is on, so the toggle Apply's refusal names can be turned off there.
             if (byInsertion || volume.KeepPinnedProbes) InspectorLayout.Field(properties.KeepPinnedProbes);
+            // The leak weighting acts through the batched refinement, so only the refined methods show the toggle.
+            bool refines = PlacementMethods.RefinesInBatches(volume.Method);
+            if (refines) InspectorLayout.Field(properties.AvoidLightLeaks);
             edited.ApplyModifiedProperties();
             if (byInsertion) PinButtons(volume, edited);
             // Refinement takes seconds, so the preview shows the policy's own selection and Apply refines it.
-            bool refines = PlacementMethods.RefinesInBatches(volume.Method);
             var preview = PreviewCount(volume, session);
             var placement = steps[PipelineStep.Placement];
             long points = session.Grid != null ? session.Grid.Count : 0;

@@ -177,7 +177,7 @@ namespace Lpnn.Probes.Editor
                 : null;
             var pins = PinsOf(volume, session, grid);
             selection = PlacementMethods.RanksByInsertion(volume.Method)
-                ? SelectByInsertion(session, grid, GuideScores(volume), settings, measure, PlacementMethods.RefinesInBatches(volume.Method), progress, cancel, pins)
+                ? SelectByInsertion(volume, session, grid, GuideScores(volume), settings, measure, PlacementMethods.RefinesInBatches(volume.Method), progress, cancel, pins)
                 : ProbeSelector.Select(PlacementInputs.Scored(grid, LpnnScores.For(volume)), settings, measure);
             return ApplySteps.PositionsOf(grid, selection, pins);
         }
@@ -185,9 +185,10 @@ namespace Lpnn.Probes.Editor
         /// <summary>The insertion methods' selection, reading the insertion order (guided by <paramref name="guideScores"/> when
         /// given) only as far as the policy needs (a budget's points, the tolerance search's prefixes), or the whole ranking
         /// when it is already known; with <paramref name="refine"/>, refined in batches from twice its count of the ranking
-        /// (Core.Quality.RefinedSelection, quality.md §5.3).</summary>
-        private static SelectionResult SelectByInsertion(LpnnSession session, EvaluationGrid grid, float[] guideScores, SelectionSettings settings,
-            IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel, Pins pins)
+        /// (Core.Quality.RefinedSelection, quality.md §5.3) — leak-aware when the volume avoids light leaks (Documentation~/leaks.md):
+        /// the refinement's segment tests are physics casts in the volume's scene, as the Features step and the leak report cast.</summary>
+        private static SelectionResult SelectByInsertion(LpnnVolume volume, LpnnSession session, EvaluationGrid grid, float[] guideScores,
+            SelectionSettings settings, IPlacementErrorMeasure measure, bool refine, ProgressCallback progress, CancellationToken cancel, Pins pins)
         {
             // The step itself is the core's (Core.Pipeline.ApplySteps), so the editor-free rehearsal runs this code.
             bool[] valid = PlacementInputs.ValidPoints(session, grid);
@@ -196,7 +197,14 @@ namespace Lpnn.Probes.Editor
             int[] known = PlacementInputs.KnownInsertionRanking(session, grid, guideScores, pins);
             var order = known == null ? PlacementInputs.InsertionOrder(session, grid, guideScores, pins) : null;
             var evaluator = refine ? PlacementInputs.Evaluator(session, grid) : null;
-            return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel, pins);
+            if (!(refine && volume.AvoidLightLeaks))
+                return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel, pins);
+            using (new RaycastScope(volume, volume.AddTemporaryColliders))
+            {
+                var rays = new PhysicsRaycaster(volume.gameObject.scene);
+                return ApplySteps.SelectByInsertion(grid, valid, known, order, settings, measure, refine, evaluator, progress, cancel, pins,
+                    ApplySteps.LeakWeightingOf(volume.AvoidLightLeaks, rays));
+            }
         }
 
         /// <summary>The volume's pinned probes snapped to <paramref name="grid"/>'s valid points (Documentation~/pins.md), or null

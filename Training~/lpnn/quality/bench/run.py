@@ -5,7 +5,8 @@ capture and makes its rows; results.py holds the rows and their CSV, methods.py 
 Methods: uniform, random, heuristic, apv (APV-style geometry density, placement/apv.py; when the capture has the
 `nearest_surface` feature), insertion (error-driven coarse-to-fine insertion, placement/insertion.py), insertion-refined
 (insertion refined in batches, placement/refined_insertion.py: the best non-learned method, the bar for the learned
-tier); with a model the five methods that read the scores (placement/lpnn_placement.py, run as the table of
+tier; the default placement, so leak-aware where the capture's geometry is known unless `leaks` is "ignore": leaks.md);
+with a model the five methods that read the scores (placement/lpnn_placement.py, run as the table of
 placement/methods.py says): network-topk (the raw top-K, for comparison), network (spread ranking), guided (insertion guided by the scores, placement/insertion.py), guided-refined (guided insertion
 refined in batches: what a Unity volume does; above the guide's point limit its rows are insertion-refined's plus the
 inference) and guided-exact-refined (guided insertion + seeded exact refinement, factor `refine`); the fast reference, and the
@@ -53,6 +54,7 @@ from ..placement.insertion import guide_of
 from ..placement.lpnn_placement import feature_seconds, lpnn_placement
 from ..placement.methods import BY_NAME, SCORED
 from ..placement.policies import Placement, budget_count, place_tolerance, reference_tolerance
+from ..placement.leak_aware import leaks_to_avoid
 from ..placement.refined_insertion import refined_insertion
 from .methods import Method, Yardstick, capture_methods, insertion_method, timed
 from .results import BenchConfig, BenchFailure, BenchRow, CaptureResult, failure_reason
@@ -213,11 +215,14 @@ def _guided_tier_rows(name: str, method: str, scores: np.ndarray, inference: flo
 def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, config: BenchConfig, yardstick: Yardstick,
                   method: str = "insertion-refined", guide: np.ndarray | None = None) -> list[BenchRow]:
     """Insertion refined in batches (placement/refined_insertion.py; guided by `guide` when given) at every budget and
-    the tolerance: each row places afresh, so its time is what that placement costs (selection + refinement)."""
+    the tolerance: each row places afresh, so its time is what that placement costs (selection + refinement). The
+    insertion-refined rows are the default placement's: leak-aware with the capture's geometry (config.leaks)."""
     policies = _policies(config, yardstick)
+    leaks = leaks_to_avoid(field_, config.leaks) if method == "insertion-refined" else None
     rows = []
     for policy, parameter, chosen in policies:
-        placed = refined_insertion(field_, grid, refine=config.refine, guide=guide, **chosen)  # minutes on a level: once
+        placed = refined_insertion(field_, grid, refine=config.refine, guide=guide, leaks=leaks,
+                                   **chosen)  # minutes on a level: once
         timing = _Timing(placed.selection_seconds + placed.refinement_seconds, selection=placed.selection_seconds,
                          refine=placed.refinement_seconds)
         rows.append(_policy_row(name, field_, method, policy, parameter, evaluate_placement(field_, placed.indices),

@@ -3,6 +3,8 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
 
     weighting = LeakWeighting(raycaster)                     # leaking points' errors count LEAK_WEIGHT times
     repaired = leak_repaired(field, probes, raycaster)       # a probe inside every leaking tetrahedron, a few rounds
+    repaired = leak_repaired(field, probes, raycaster, blocked=pins.blocked)   # none within the pins' keep distance
+    leaks_to_avoid(field, "avoid", warn)                     # the default's raycaster: field.geometry, or None (warned)
 
 - The weighting makes the refinement's removal costs and its tolerance read leaks: a removal that lets a point's
   stencil reach through a wall costs that point's error LEAK_WEIGHT times, so the refinement keeps the probes that
@@ -10,12 +12,16 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
   sides equally lit, or both black) costs nothing.
 - The repair gives the refinement a seed with few leaks to start from: decimation only removes probes, so a leak of
   the seed cannot be undone by it.
+- With pinned probes (pins.py) the repair never adds a probe within a pin's keep distance: a leaking point there is
+  left to the pinned probe (the artist put a probe there; pins.md "Every method"), and its tetrahedron gets the worst
+  leaking point that may become a probe, if it holds one.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -23,7 +29,10 @@ from ...core.features import Raycaster
 from ..metric.leak_rule import stencil_leaks
 from ..metric.location import Stencil
 from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
+from .policy_rules import LEAK_CHOICES
 
+NO_GEOMETRY = ("leaks cannot be checked for this capture (the tools cannot load its geometry): the placement is the "
+               "leak-blind one")
 LEAK_WEIGHT = 8.0  # a leaking point's error counts this many times (benchmarks.md "Light leaks": 2, 4, 8, 16 measured)
 REPAIR_ROUNDS = 2  # leak repair rounds on the seed (1 and 3 measured: benchmarks.md "Light leaks")
 
@@ -53,19 +62,38 @@ class LeakWeighting:
         return out
 
 
+def leaks_to_avoid(field: ReferenceField, choice: str = "avoid",
+                   warn: Callable[[str], None] | None = None) -> Raycaster | None:
+    """The raycaster the default placement avoids leaks with (refined_insertion(..., leaks=)): with "avoid" (the
+    default, leaks.md "A leak-aware default") the field's geometry, or None when the capture's geometry is not known,
+    which `warn` is told (NO_GEOMETRY); with "ignore" (the opt-out: fewer probes, leaks accepted) None."""
+    if choice not in LEAK_CHOICES:
+        raise MetricError(f"leaks {choice!r}: choose one of {', '.join(LEAK_CHOICES)}")
+    if choice == "ignore":
+        return None
+    if field.geometry is None and warn is not None:
+        warn(NO_GEOMETRY)
+    return field.geometry
+
+
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
-                  rounds: int = REPAIR_ROUNDS) -> np.ndarray:
+                  rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None) -> np.ndarray:
     """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties: the
     lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
     triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
-    Stops early when nothing leaks. Sorted point indices."""
+    `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking one is passed over (module
+    text). Stops early when no point that may become a probe leaks. Sorted point indices."""
     if int(rounds) < 0:
         raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
+    if blocked is not None and np.shape(blocked) != (field.point_count,):
+        raise MetricError(f"blocked must flag each of the {field.point_count:,} points, got shape {list(np.shape(blocked))}")
     current = np.sort(np.asarray(probes, dtype=np.int64))
     for _ in range(int(rounds)):
         indices, others, stencil = probe_stencil(field, current, coherent=True)
         leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
                                 raycaster)
+        if blocked is not None:
+            leaking &= ~np.asarray(blocked, dtype=bool)[others]
         if not leaking.any():
             break
         errors = stencil_point_errors(field, indices, others, stencil)

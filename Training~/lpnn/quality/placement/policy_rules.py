@@ -44,3 +44,8 @@ def tolerance_problem(value: float) -> str | None:
     if math.isfinite(value) and value > 0.0:
         return None
     return f"must be a mean error > 0, e.g. {DEFAULT_TOLERANCE:g} (the default of bench, the demo and the editor)"
+
+
+# `--leaks` of `lpnn place` and `lpnn bench` (Documentation~/leaks.md "A leak-aware default"): the default placement
+# avoids light leaks where the capture's geometry is known; "ignore" is the opt-out (fewer probes, leaks accepted).
+LEAK_CHOICES = ("avoid", "ignore")

@@ -3,7 +3,7 @@
     refined_insertion(field, grid, budget=0.2)             # K = round(f N) probes
     refined_insertion(field, grid, tolerance=0.05)         # the fewest probes found within tau
     refined_insertion(field, grid, budget=0.2, guide=w)    # seeded by guided insertion (the LPNN tier)
-    refined_insertion(field, grid, tolerance=0.05, leaks=raycaster)   # leak-aware (off by default for now)
+    refined_insertion(field, grid, tolerance=0.05, leaks=raycaster)   # leak-aware (the callers' default: leaks.md)
 
 - budget f: K = round(f N); seed = the insertion order's first min(N, max(round(F K), MINIMUM_SEED)) points
   (+ tetrahedron guarantee), decimated in batches down to K.
@@ -14,9 +14,15 @@
   (leak_repaired) and the refinement weighs leaking points' errors LEAK_WEIGHT times in its costs and its tolerance;
   with tau the answer is the refinement's set whenever its weighted mean error is <= tau (it may hold more probes than
   K0: that is the price of fewer leaks), else the search's. `mean_error` is always the plain, unweighted error.
+  Without `leaks` the placement is leak-blind; the callers that place by default (`lpnn place`, `lpnn bench`'s
+  insertion-refined row, the demo) pass the capture's geometry when it is known (field.geometry), unless told to
+  ignore leaks (`--leaks ignore`).
+- pins (pins.py): insertion starts from them, the refinement never removes them (`keep`), a budget counts them; with
+  `leaks` the repair adds no probe within their keep distance (a leaking point there is left to the pinned probe).
 F = RECOMMENDED_REFINE (2), the refined methods' seed factor (methods.py). The C# core runs the same steps (BatchedRefinement.cs) with
 Unity's tetrahedralisation: what an LPNN volume does by default. The C# core has the leak option too (LeakWeighting,
-LeakRepair, RefinedSelection; Tests/Data/leak_aware_golden.json), off by default there as here.
+LeakRepair, RefinedSelection; Tests/Data/leak_aware_golden.json), which a Unity volume's Apply turns on by default
+(LpnnVolume "Avoid light leaks").
 """
 
 from __future__ import annotations
@@ -35,7 +41,7 @@ from .insertion import InsertionOrder
 from .methods import RECOMMENDED_REFINE  # re-exported: the refined tiers' seed factor
 from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
 from ..metric.metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
-from .pins import PinError, Pins, checked_pinned_count, pinned_smallest
+from .pins import Pins, checked_pinned_count, pinned_smallest
 from .policies import budget_count, place_tolerance
 
 MINIMUM_SEED = 64  # a seed of 2K points cannot reach a sparse answer at tiny K (lpnn_placement.MINIMUM_SEED)
@@ -68,15 +74,14 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
     `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
     and (probes removed, probes to remove at most) during the refinement. `pins` (pins.py): insertion starts from them
-    and never ranks a point near one, the refinement never removes them, and a budget counts them."""
+    and never ranks a point near one, the refinement never removes them, a budget counts them, and the leak repair
+    adds no probe near one."""
     if (budget is None) == (tolerance is None):
         raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
     factor = float(refine)
     if not (math.isfinite(factor) and factor > 1.0):
         raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
                           f"{RECOMMENDED_REFINE:g} is recommended)")
-    if pins is not None and leaks is not None:  # leak repair adds probes wherever a point leaks, pins or not
-        raise PinError("the leak-aware option does not keep pinned probes yet: give pins or leaks, not both")
     weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
     n = field.point_count
     start = time.perf_counter()
@@ -93,20 +98,27 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     start = time.perf_counter()
     seed = select(seed_count(factor, target, n))
     if weighting is not None:
-        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds)
+        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds, None if pins is None else pins.blocked)
     if tolerance is None:
         refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
-        indices, error = refined.indices, refined.mean_error
+        # With leaks the refinement's mean is the weighted one, not the metric's.
+        indices = refined.indices
+        error = refined.mean_error if weighting is None else mean_placement_error(field, indices)
     else:
         refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
         assert found is not None
         # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
-        better = refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
-        indices, error = (refined.indices, refined.mean_error) if better else (found.indices, found.mean_error)
-    if weighting is not None and (tolerance is None or better):
-        error = mean_placement_error(field, indices)  # the weighted mean is the refinement's, not the metric's
+        # The refinement updates its errors incrementally, locating only the points a removal touched; the metric locates
+        # every point afresh by its coherent walk, and the two can disagree (ctf_compromise's reachable points: about 70
+        # points; one, inside the hull on an interior edge, the walk calls outside and projects onto a hull triangle
+        # 1.6 m away, where it leaks; plain error 0.0513 > tau; leaks.md). So the set's plain error is evaluated afresh
+        # before it replaces the search's answer, as the C# core's RefinedSelection does.
+        fresh = (mean_placement_error(field, refined.indices)
+                 if refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
+                 else math.inf)
+        indices, error = (refined.indices, fresh) if fresh <= tolerance else (found.indices, found.mean_error)
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,

@@ -71,9 +71,13 @@ namespace Lpnn.Probes.Core.Pipeline
         /// ranking (Core.Quality.RefinedSelection, quality.md §5.3) with <paramref name="evaluator"/>. <paramref name="pins"/> (null:
         /// none; Documentation~/pins.md): the order must start with them (InsertionOrder.OfValid with the same pins); the
         /// selection holds every pin (a tolerance search that stops below the pins' count gets the rest added), a count
-        /// policy's count must hold them, and the refinement keeps them.</summary>
+        /// policy's count must hold them, and the refinement keeps them. <paramref name="leaks"/> (null: leak-blind; the
+        /// volume's "Avoid light leaks", Documentation~/leaks.md): the refinement is the leak-aware one, its segment tests cast
+        /// through the weighting's raycaster (the volume's physics in the editor); without <paramref name="refine"/> it has
+        /// nothing to act on.</summary>
         public static SelectionResult SelectByInsertion(EvaluationGrid grid, bool[] valid, int[] known, InsertionOrder order, SelectionSettings settings,
-            IPlacementErrorMeasure measure, bool refine, PlacementEvaluator evaluator, ProgressCallback progress, CancellationToken cancel, Pins pins = null)
+            IPlacementErrorMeasure measure, bool refine, PlacementEvaluator evaluator, ProgressCallback progress, CancellationToken cancel, Pins pins = null,
+            LeakWeighting leaks = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             RankingPrefix prefix;
@@ -107,8 +111,13 @@ namespace Lpnn.Probes.Core.Pipeline
                 selection = WithPins(selection, pins);
             }
             if (!refine) return selection;
-            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, null, valid, progress, cancel, pins);
+            return RefinedSelection.Refine(grid, selection, prefix, candidates, settings, evaluator, leaks, valid, progress, cancel, pins);
         }
+
+        /// <summary>The leak weighting an Apply's refinement uses (Documentation~/leaks.md "A leak-aware default"): the default
+        /// weight over <paramref name="rays"/> (the volume's physics in the editor) when the volume avoids light leaks, else
+        /// null (the leak-blind refinement, the volume's opt-out).</summary>
+        public static LeakWeighting LeakWeightingOf(bool avoidLightLeaks, IRaycaster rays) => avoidLightLeaks ? new LeakWeighting(rays) : null;
 
         /// <summary>The inspector's preview of the insertion methods (Documentation~/pins.md "Where"): the selection Apply makes
         /// before its refinement — the one it writes when Refine in batches is off — from the whole insertion ranking already
@@ -171,9 +180,11 @@ namespace Lpnn.Probes.Core.Pipeline
         /// features (their back-face fractions say which points are valid), <paramref name="tetrahedralizer"/> stands in for
         /// Unity's, and the positions go to <paramref name="writer"/> only after every step finished uncancelled. Each step
         /// publishes its result into <paramref name="state"/> (null: a fresh one) only when it completed, as the editor's
-        /// steps do into the session: a cancel leaves the previous state.</summary>
+        /// steps do into the session: a cancel leaves the previous state. <paramref name="leakRays"/> (null: leak-blind): the
+        /// scene's rays for the leak-aware refinement, what a volume that avoids light leaks (its default) refines with.</summary>
         public static SelectionResult Rehearse(EvaluationGrid grid, ILightSampler lighting, FeatureStep features, ITetrahedralizer tetrahedralizer,
-            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, ApplyState state = null)
+            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, ApplyState state = null,
+            IRaycaster leakRays = null)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (writer == null) throw new ArgumentNullException(nameof(writer));
@@ -189,14 +200,14 @@ namespace Lpnn.Probes.Core.Pipeline
             cancel.ThrowIfCancellationRequested();
             state.PublishFeatures(set);
             // Placement step (LpnnPipeline.Apply).
-            return Place(state, tetrahedralizer, settings, refine, writer, progress, cancel);
+            return Place(state, tetrahedralizer, settings, refine, writer, progress, cancel, leakRays);
         }
 
         /// <summary>The Placement step alone on what <paramref name="state"/> holds (the inspector's Apply: LpnnPipeline.Apply →
         /// SelectedPositions → SelectByInsertion, with PlacementInputs' kept insertion order, reused however far an earlier —
-        /// possibly cancelled — run computed it). Writes once, at the end.</summary>
+        /// possibly cancelled — run computed it). Writes once, at the end. <paramref name="leakRays"/>: as for <see cref="Rehearse"/>.</summary>
         public static SelectionResult Place(ApplyState state, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
-            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel)
+            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, IRaycaster leakRays = null)
         {
             if (state == null) throw new ArgumentNullException(nameof(state));
             if (writer == null) throw new ArgumentNullException(nameof(writer));
@@ -209,7 +220,8 @@ namespace Lpnn.Probes.Core.Pipeline
             var evaluator = new PlacementEvaluator(state.Reference, tetrahedralizer);
             var order = state.InsertionOrder(tetrahedralizer);
             var measure = settings.Policy == SelectionPolicy.Tolerance ? ReportingMeasure.Wrap(evaluator, grid.Count, progress, cancel) : null;
-            var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel);
+            var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel, null,
+                LeakWeightingOf(leakRays != null, leakRays));
             cancel.ThrowIfCancellationRequested();
             writer.Write(PositionsOf(grid, selection));
             return selection;

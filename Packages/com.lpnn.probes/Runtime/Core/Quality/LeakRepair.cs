@@ -3,6 +3,7 @@ using System.Collections.Generic;
 using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Quality
 {
@@ -10,28 +11,35 @@ namespace Lpnn.Probes.Core.Quality
     /// tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull triangle), the leaking point
     /// of largest error (ties: the lower index). A probe at a leaking point ends that point's leak and splits its
     /// tetrahedron where it leaked worst; batched refinement only removes probes, so a leak of its seed could not be undone
-    /// later. Port of lpnn/quality/placement/leak_aware.py leak_repaired.</summary>
+    /// later. With pinned probes (Documentation~/pins.md) no probe is added within a pin's keep distance: a leaking point
+    /// there is left to the pinned probe, and its tetrahedron gets the worst leaking point that may become a probe, if any.
+    /// Port of lpnn/quality/placement/leak_aware.py leak_repaired.</summary>
     internal static class LeakRepair
     {
         /// <summary>Repair rounds on the seed (lpnn/quality/placement/leak_aware.py REPAIR_ROUNDS; benchmarks.md "Light leaks" measured 1 and 3).</summary>
         public const int DefaultRounds = 2;
 
         /// <summary><paramref name="probes"/> (evaluation point indices) plus, in each of up to <paramref name="rounds"/>
-        /// rounds, the worst leaking point of every leaking tetrahedron; stops early when nothing leaks. Sorted.</summary>
+        /// rounds, the worst leaking point of every leaking tetrahedron; stops early when no point that may become a probe
+        /// leaks. <paramref name="blocked"/> (null: none; one flag per point, e.g. <see cref="Pins.Blocked"/>): points that
+        /// never become a probe, passed over when leaking. Sorted.</summary>
         public static int[] Repaired(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster,
-            int rounds = DefaultRounds, CancellationToken cancel = default)
+            int rounds = DefaultRounds, CancellationToken cancel = default, bool[] blocked = null)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
             if (raycaster == null) throw new ArgumentNullException(nameof(raycaster));
             if (rounds < 0) throw new PlacementErrorException("leak repair rounds " + rounds + " must be >= 0");
+            if (blocked != null && blocked.Length != reference.Count)
+                throw new PlacementErrorException("blocked must flag each of the " + InvariantFormat.Count(reference.Count) + " points, got " +
+                                                  InvariantFormat.Count(blocked.Length));
             ProbeIndices.Check(probes, reference.Count);
             var current = (int[])probes.Clone();
             Array.Sort(current);
             for (int round = 0; round < rounds; round++)
             {
                 cancel.ThrowIfCancellationRequested();
-                int[] added = WorstLeakPerCell(reference, tetrahedralizer, current, raycaster);
+                int[] added = WorstLeakPerCell(reference, tetrahedralizer, current, raycaster, blocked);
                 if (added.Length == 0) break;
                 var union = new SortedSet<int>(current);
                 union.UnionWith(added);
@@ -41,8 +49,8 @@ namespace Lpnn.Probes.Core.Quality
             return current;
         }
 
-        /// <summary>Per cell holding a leaking point, the leaking point of largest error (ties: the lower index).</summary>
-        private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster)
+        /// <summary>Per cell holding a leaking point that is not <paramref name="blocked"/>, the one of largest error (ties: the lower index).</summary>
+        private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster, bool[] blocked)
         {
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
@@ -60,7 +68,7 @@ namespace Lpnn.Probes.Core.Quality
             var worst = new Dictionary<int, int>();  // cell -> position in points; points ascend, so a tie keeps the lower index
             for (int i = 0; i < points.Count; i++)
             {
-                if (!leaking[i]) continue;
+                if (!leaking[i] || (blocked != null && blocked[points[i]])) continue;
                 int cell = stencils[i].Cell;
                 if (!worst.TryGetValue(cell, out int best) || errors[i] > errors[best]) worst[cell] = i;
             }

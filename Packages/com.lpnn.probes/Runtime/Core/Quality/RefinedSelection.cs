@@ -35,7 +35,8 @@ namespace Lpnn.Probes.Core.Quality
         /// <see cref="LeakRepair.DefaultRounds"/> repair rounds, the refinement weighs leaking points' errors, and with a
         /// tolerance the refined set is the answer whenever its weighted mean error is within τ, even with more probes than
         /// the search's (the price of fewer leaks). <paramref name="pins"/> (null: none; grid indices, pins.md): the refinement
-        /// never removes them and a count policy's count must hold them.</summary>
+        /// never removes them, a count policy's count must hold them, and the leak repair adds no probe within their keep
+        /// distance (a leaking point there is left to the pinned probe).</summary>
         internal static SelectionResult Refine(EvaluationGrid grid, SelectionResult selection, RankingPrefix prefix, int candidates, SelectionSettings settings,
             PlacementEvaluator evaluator, LeakWeighting leaks, bool[] valid = null, ProgressCallback progress = null, CancellationToken cancel = default,
             Pins pins = null)
@@ -50,8 +51,6 @@ namespace Lpnn.Probes.Core.Quality
             settings.Validate();
             if (settings.Policy == SelectionPolicy.Threshold)
                 throw new SelectionException("batched refinement refines a ranking's prefix; the score threshold policy has none: choose Tolerance, Spread or Budget");
-            if (pins != null && leaks != null)  // leak repair adds probes wherever a point leaks, pins or not
-                throw new PinException("the leak-aware option does not keep pinned probes yet: give pins or leaks, not both");
             int target = selection.Indices.Length;
             if (pins != null && settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(target);
             int seedCount = SeedCount(target, candidates);
@@ -64,7 +63,8 @@ namespace Lpnn.Probes.Core.Quality
             seed.CopyTo(seedPoints);
             var tetrahedralizer = evaluator.Tetrahedralizer;
             if (leaks != null)  // a leak of the seed could not be undone by a refinement that only removes probes
-                seedPoints = LeakRepair.Repaired(evaluator.Reference, tetrahedralizer, seedPoints, leaks.Raycaster, LeakRepair.DefaultRounds, cancel);
+                seedPoints = LeakRepair.Repaired(evaluator.Reference, tetrahedralizer, seedPoints, leaks.Raycaster, LeakRepair.DefaultRounds, cancel,
+                    pins?.Blocked);
             var kept = new List<int>();
             if (settings.KeepBoundsCorners) kept.AddRange(ProbeSelector.BoundsCorners(grid, valid));
             if (pins != null) kept.AddRange(pins.Indices);

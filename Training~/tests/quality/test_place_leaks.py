@@ -1,0 +1,110 @@
+"""The leak-aware default of `lpnn place` and `lpnn bench` (leaks.md "A leak-aware default"): `--leaks avoid` (the
+default) places leak-aware where the capture's geometry is known, says in one stderr line when it is not (and places
+leak-blind), and `--leaks ignore` is the leak-blind placement. The geometry is a wall across a synthetic room, given
+through capture_raycaster as an OpenArena import's level would be."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lpnn.quality.metric.leaks as leaks_module
+from lpnn.cli.main import main
+from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
+from lpnn.core.capture import Capture
+from lpnn.core.capture_file import write_capture
+from lpnn.quality.bench.results import BenchConfig
+from lpnn.quality.bench.run import bench_capture
+from lpnn.quality.placement.leak_aware import NO_GEOMETRY
+
+from quality_support import MEDIUM_ROOM, room_capture
+
+NO_GEOMETRY_START = NO_GEOMETRY.split("(")[0].strip()
+
+
+@pytest.fixture(scope="module")
+def room() -> Capture:
+    return room_capture(3, MEDIUM_ROOM, 0.4)
+
+
+def _wall(capture: Capture) -> AnalyticBoxRaycaster:
+    """A slab across the whole room, between the two lattice columns nearest its middle (no point inside it)."""
+    xs = np.unique(capture.positions[:, 0].astype(np.float64))
+    middle = xs[xs.shape[0] // 2]
+    gap = float(xs[1] - xs[0])
+    return AnalyticBoxRaycaster(obstacles=(AxisBox(min=np.array([middle + 0.3 * gap, -100.0, -100.0]),
+                                                   max=np.array([middle + 0.7 * gap, 100.0, 100.0])),))
+
+
+def _place(path: Path, out: Path, *extra: str) -> dict:
+    assert main(["place", str(path), "--tolerance", "0.05", "--out", str(out), *extra]) == 0
+    return json.loads(out.read_text(encoding="utf-8"))
+
+
+def test_place_avoids_leaks_by_default_where_the_geometry_is_known(room: Capture, tmp_path: Path,
+                                                                   monkeypatch: pytest.MonkeyPatch,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)
+    wall = _wall(room)
+    monkeypatch.setattr(leaks_module, "capture_raycaster", lambda capture, pak=None: (wall, ""))
+    default = _place(path, tmp_path / "default.json")
+    avoid = _place(path, tmp_path / "avoid.json", "--leaks", "avoid")
+    ignore = _place(path, tmp_path / "ignore.json", "--leaks", "ignore")
+    assert NO_GEOMETRY_START not in capsys.readouterr().err  # the geometry is known: nothing to warn about
+    assert default["positions"] == avoid["positions"]  # avoid is the default
+    # The wall makes the leak-blind placement leak; the default leaks less for more probes, within tau.
+    assert ignore["source"]["leaking"] > 0
+    assert avoid["source"]["leaking"] < ignore["source"]["leaking"]
+    assert len(avoid["positions"]) > len(ignore["positions"])
+    assert avoid["source"]["mean_error"] <= 0.05
+
+
+def test_place_without_geometry_says_so_once_and_places_leak_blind(room: Capture, tmp_path: Path,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)  # an analytic capture: the tools cannot load its geometry
+    avoid = _place(path, tmp_path / "avoid.json")
+    err = capsys.readouterr().err
+    assert err.count(NO_GEOMETRY) == 1 and f"room.lpnncap: {NO_GEOMETRY}" in err
+    ignore = _place(path, tmp_path / "ignore.json", "--leaks", "ignore")
+    assert NO_GEOMETRY_START not in capsys.readouterr().err  # told to ignore leaks: nothing to say
+    assert avoid["positions"] == ignore["positions"]
+    assert "leaking" not in avoid["source"]  # nothing to check leaks with: not reported either
+
+
+def test_place_refuses_an_unknown_leaks_choice(room: Capture, tmp_path: Path) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)
+    with pytest.raises(SystemExit):
+        main(["place", str(path), "--leaks", "sometimes", "--tolerance", "0.05", "--out", str(tmp_path / "x.json")])
+
+
+def test_bench_insertion_refined_row_is_the_default_placement(room: Capture) -> None:
+    wall = _wall(room)
+
+    def row(leaks: str, geometry: AnalyticBoxRaycaster | None):
+        config = BenchConfig(budgets=(), methods=frozenset({"insertion-refined"}), yardstick="none", repeats=1,
+                             leaks=leaks)
+        rows = [r for r in bench_capture("room", room, config, geometry=geometry).rows if r.method == "insertion-refined"]
+        assert len(rows) == 1
+        return rows[0]
+
+    avoid, ignore = row("avoid", wall), row("ignore", wall)
+    assert avoid.leaking < ignore.leaking and avoid.probes > ignore.probes and avoid.mean_error <= 0.05
+    without = row("avoid", None)  # no geometry: leak-blind (and nothing to report leaks with)
+    assert without.probes == ignore.probes and without.leaking != without.leaking
+
+
+def test_bench_cli_says_when_the_default_row_cannot_avoid_leaks(room: Capture, tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)
+    common = ["bench", str(path), "--methods", "insertion-refined", "--no-budgets", "--no-reference", "--repeats", "1"]
+    assert main([*common, "--out", str(tmp_path / "avoid")]) == 0
+    assert f"room: insertion-refined: {NO_GEOMETRY}" in capsys.readouterr().err
+    assert main([*common, "--leaks", "ignore", "--out", str(tmp_path / "ignore")]) == 0
+    assert NO_GEOMETRY_START not in capsys.readouterr().err
