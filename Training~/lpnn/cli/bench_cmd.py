@@ -72,7 +72,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="compute no reference (every ratio NaN; yardstick column 'none'): where neither the full nor "
                              "the blockwise reference fits in the time, the rows still give probes, error and time")
     parser.add_argument("--leaks", choices=LEAK_CHOICES, default="avoid",
-                        help="the insertion-refined rows (the default placement): avoid light leaking through walls "
+                        help="the refined rows (insertion-refined, guided-refined): avoid light leaking through walls "
                              "where the capture's geometry is known (default; Documentation~/leaks.md) or ignore them")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (bench.csv and PNG figures)")
     parser.set_defaults(handler=run)

@@ -1,7 +1,8 @@
 """`lpnn place`: probe positions for a capture by one of the placement methods (Documentation~/methods.md).
 
   lpnn place CAPTURE [--method NAME] [--model M.onnx | --scores SCORES.csv] [--no-report]
-             [--keep PINS.json [--keep-distance D]] (--budget FRACTION | --tolerance TAU) --out PROBES.json
+             [--keep PINS.json [--keep-distance D]] [--leaks avoid|ignore]
+             (--budget FRACTION | --tolerance TAU) --out PROBES.json
 
 --method names the method (quality/placement/methods.py, the one table): insertion-refined (the default, quality.md
 §5.3: the best method measured where the capture's dense lighting is available, which `lpnn place` always has, and
@@ -22,6 +23,9 @@ take it; the fast reference, the uniform lattice and the methods that read the s
 the pins at their own positions.
 Prints the probes kept, the error and (methods that read the scores) the time split; --no-report (those methods) skips
 the final error evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md "Scale: whole levels").
+--leaks avoid (the default) makes the methods refined in batches (insertion-refined, guided-refined) leak-aware where
+the capture's geometry is known (leaks.md "A leak-aware default": more probes, far fewer points lit through a wall);
+--leaks ignore places leak-blind (fewer probes, leaks accepted).
 """
 
 from __future__ import annotations
@@ -71,7 +75,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--keep-distance", type=float, metavar="D",
                         help="with --keep: no new probe closer than D to a kept probe (capture units; default one cell)")
     parser.add_argument("--leaks", choices=LEAK_CHOICES, default="avoid",
-                        help="insertion-refined: avoid light leaking through walls where the capture's geometry is known "
+                        help="the methods refined in batches (insertion-refined, guided-refined): avoid light leaking through "
+                             "walls where the capture's geometry is known "
                              "(the default; Documentation~/leaks.md: more probes, far fewer leaking points) or ignore them "
                              "(fewer probes, leaks accepted)")
     parser.add_argument("--no-report", action="store_true",
@@ -156,7 +161,7 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     (`all_ids`); only the valid points' scores are used."""
     from ..quality.placement.insertion import GUIDED_POINT_LIMIT, guide_applies
     from ..quality.placement.lpnn_placement import lpnn_placement
-    from ..quality.placement.methods import BY_NAME, EXACT, RECOMMENDED_REFINE
+    from ..quality.placement.methods import BATCHED, BY_NAME, EXACT, RECOMMENDED_REFINE
     from .progress import rounds_bar
 
     method = BY_NAME[args.method]
@@ -171,10 +176,19 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
         scorer, scores, what = None, scores if valid is None else scores[valid], f"scores {Path(args.scores).name}"
     with_bar = method.guided and method.refinement is None  # only guided insertion reports its rounds
     update, close_bar = rounds_bar(f"{Path(args.capture).name}: guided insertion") if with_bar else (None, None)
+    reference, leaks = None, None
+    if method.refinement == BATCHED:  # guided-refined avoids leaks as the default does (leaks.md)
+        from ..quality.metric.leaks import field_with_geometry
+        from ..quality.placement.leak_aware import leaks_to_avoid
+
+        reference = field_with_geometry(capture)
+        leaks = leaks_to_avoid(reference, args.leaks, warn=lambda text: print(f"{Path(args.capture).name}: {text}",
+                                                                              file=sys.stderr))
     try:
         placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
-                                   workers=args.workers, name=args.capture, full_ranking=False,
-                                   report=not args.no_report, progress=update, **method.lpnn_options())
+                                   reference=reference, leaks=leaks, workers=args.workers, name=args.capture,
+                                   full_ranking=False, report=not args.no_report, progress=update,
+                                   **method.lpnn_options())
     finally:
         if close_bar is not None:
             close_bar()

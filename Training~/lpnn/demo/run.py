@@ -26,7 +26,7 @@ from ..quality.metric.leaks import field_with_geometry
 from ..quality.placement.insertion import guide_of, insertion_ranking
 from ..quality.placement.decimation.decimation import Decimation
 from ..quality.placement.lpnn_placement import LpnnPlacement, lpnn_placement
-from ..quality.placement.methods import BY_NAME, DEFAULT_METHOD
+from ..quality.placement.methods import BATCHED, BY_NAME, DEFAULT_METHOD
 from ..quality.metric.metric import PlacementQuality, ReferenceField, evaluate_placement
 from ..quality.placement.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.placement.decimation.reference_fast import fast_decimation
@@ -140,8 +140,9 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     for name, full_ranking in (("guided-refined", True), ("guided", False), ("network", True),
                                ("guided-exact-refined", True)):
         log(f"placing: {BY_NAME[name].label} ({name}), tolerance {tolerance:g}")
+        leaks = leaks_to_avoid(field_) if BY_NAME[name].refinement == BATCHED else None  # as the default (leaks.md)
         lpnn[name] = lpnn_placement(capture, scores=scores, tolerance=tolerance, reference=field_, name=level,
-                                    full_ranking=full_ranking, **BY_NAME[name].lpnn_options())
+                                    full_ranking=full_ranking, leaks=leaks, **BY_NAME[name].lpnn_options())
         result.methods[name] = _lpnn(name, lpnn[name], inference)
 
     log("comparing: fast reference (exact greedy decimation; seconds)")

@@ -108,3 +108,31 @@ def test_bench_cli_says_when_the_default_row_cannot_avoid_leaks(room: Capture, t
     assert f"room: insertion-refined: {NO_GEOMETRY}" in capsys.readouterr().err
     assert main([*common, "--leaks", "ignore", "--out", str(tmp_path / "ignore")]) == 0
     assert NO_GEOMETRY_START not in capsys.readouterr().err
+
+
+def test_guided_refined_avoids_leaks_as_the_default_does(room: Capture, tmp_path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """guided-refined is refined in batches like the default, so it follows --leaks too (as Unity's Guided insertion,
+    refined follows Avoid light leaks); with flat scores its guide weighs every point alike."""
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)
+    scores = tmp_path / "scores.csv"
+    ids = room.ids
+    scores.write_text("index,i,j,k,score\n" + "".join(f"{n},{i},{j},{k},0.5\n" for n, (i, j, k) in enumerate(ids)),
+                      encoding="utf-8")
+    wall = _wall(room)
+    monkeypatch.setattr(leaks_module, "capture_raycaster", lambda capture, pak=None: (wall, ""))
+    guided = ("--method", "guided-refined", "--scores", str(scores))
+    avoid = _place(path, tmp_path / "avoid.json", *guided)
+    ignore = _place(path, tmp_path / "ignore.json", *guided, "--leaks", "ignore")
+    assert ignore["source"]["leaking"] > 0
+    assert avoid["source"]["leaking"] < ignore["source"]["leaking"]
+    assert avoid["source"]["mean_error"] <= 0.05
+
+
+def test_lpnn_placement_takes_leaks_only_with_the_refinement_in_batches(room: Capture) -> None:
+    from lpnn.quality.placement.lpnn_placement import lpnn_placement
+    from lpnn.quality.placement.policies import PolicyError
+
+    with pytest.raises(PolicyError, match="batched"):
+        lpnn_placement(room, scores=np.full(room.point_count, 0.5), tolerance=0.05, guided=True, leaks=_wall(room))

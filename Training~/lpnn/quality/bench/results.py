@@ -37,7 +37,7 @@ class BenchConfig:
     methods: frozenset[str] | None = None  # run only these methods (None: every one); the yardstick always runs
     reference_stop: float | None = None  # stop the fast reference above this mean error (None: down to 4 probes)
     yardstick: str = "auto"  # "auto": fast reference up to full_reference_limit, else blockwise; "none": no reference
-    leaks: str = "avoid"  # insertion-refined: "avoid" leaks where the geometry is known (the default placement), "ignore"
+    leaks: str = "avoid"  # the refined rows (insertion-refined, guided-refined): "avoid" leaks where the geometry is known (the default placement), "ignore"
 
     def wants(self, method: str) -> bool:
         """Whether `method` is to be run (run.py's module text)."""

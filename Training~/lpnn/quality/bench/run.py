@@ -216,9 +216,10 @@ def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, confi
                   method: str = "insertion-refined", guide: np.ndarray | None = None) -> list[BenchRow]:
     """Insertion refined in batches (placement/refined_insertion.py; guided by `guide` when given) at every budget and
     the tolerance: each row places afresh, so its time is what that placement costs (selection + refinement). The
-    insertion-refined rows are the default placement's: leak-aware with the capture's geometry (config.leaks)."""
+    rows are leak-aware with the capture's geometry unless config.leaks is "ignore" (the default placement's rule;
+    Unity's refined methods follow the volume's Avoid light leaks the same way)."""
     policies = _policies(config, yardstick)
-    leaks = leaks_to_avoid(field_, config.leaks) if method == "insertion-refined" else None
+    leaks = leaks_to_avoid(field_, config.leaks)  # both refined rows (insertion-refined, guided-refined) avoid leaks
     rows = []
     for policy, parameter, chosen in policies:
         placed = refined_insertion(field_, grid, refine=config.refine, guide=guide, leaks=leaks,

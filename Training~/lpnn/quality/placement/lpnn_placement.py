@@ -48,6 +48,7 @@ from typing import Any, Callable, Protocol
 
 import numpy as np
 
+from ...core.features import Raycaster
 from ...core.capture import Capture
 from ...core.grid import EvaluationGrid
 from ...core.selection import rank
@@ -133,7 +134,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
                    topk: bool = False, guided: bool = False, batched: bool = False,
                    reference: ReferenceField | None = None,
                    workers: int | None = None, name: str = "the capture", full_ranking: bool = True,
-                   report: bool = True, progress: Callable[[int, int], None] | None = None) -> LpnnPlacement:
+                   report: bool = True, progress: Callable[[int, int], None] | None = None,
+                   leaks: Raycaster | None = None) -> LpnnPlacement:
     """Probes for `capture` from an LPNN scorer (or precomputed `scores`, (N,)): exactly one of
     `budget` (fraction in (0, 1]) and `tolerance` (mean error > 0); `refine` F > 1 adds the seeded
     exact refinement, seeded by guided insertion; `topk` ranks by raw score instead of the spread ranking;
@@ -145,7 +147,9 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     `name` appears in error messages; full_ranking=False ranks only the points the policy reads
     (spread ranking: core.spread.SpreadPrefix; guided: the insertion rounds up to the count; the same probes;
     `ranking` is then the computed prefix; guided-exact-refined always returns its computed prefix); report=False skips the final error evaluation (`quality` None: no dense reference field
-    for a budget, no tetrahedralisation of the result). Raises PolicyError for bad parameters."""
+    for a budget, no tetrahedralisation of the result); `leaks` (with `batched`: guided-refined) the scene's raycaster,
+    for the leak-aware refinement of the default (refined_insertion's `leaks`, leaks.md). Raises PolicyError for bad
+    parameters."""
     if (budget is None) == (tolerance is None):
         raise PolicyError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.02)")
     if (scorer is None) == (scores is None):
@@ -155,6 +159,8 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
         raise PolicyError("guided insertion ranks by itself: use it without topk")
     if batched and (factor is None or topk):
         raise PolicyError("batched is a way to refine guided insertion: use it with refine (e.g. 2) and without topk")
+    if leaks is not None and not batched:  # the leak weighting acts through the batched refinement (leaks.md)
+        raise PolicyError("leaks apply to the refinement in batches (guided-refined): use them with batched")
     # The refinement's seed and its tolerance search come from the guided insertion order (unless topk): a better
     # start than the spread ranking's (benchmarks.md "The speed/accuracy trade, every method": within 1.07x the reference's error at every budget on the
     # crops).
@@ -173,7 +179,7 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     if batched:
         return _batched_placement(capture, grid, values, budget, tolerance, factor, reference, inference, report,
-                                  progress)
+                                  progress, leaks)
     start = time.perf_counter()
     lazy = None if (full_ranking or topk or by_insertion) else SpreadPrefix(capture.positions, values)
     order = None
@@ -235,11 +241,13 @@ def lpnn_placement(capture: Capture, scorer: Scorer | None = None, *, scores: np
 
 def _batched_placement(capture: Capture, grid: EvaluationGrid, scores: np.ndarray, budget: float | None,
                        tolerance: float | None, factor: float, reference: ReferenceField | None, inference: float,
-                       report: bool, progress: Callable[[int, int], None] | None) -> LpnnPlacement:
-    """guided-refined (methods.md): refined_insertion seeded by guided insertion (plain above its point limit)."""
+                       report: bool, progress: Callable[[int, int], None] | None,
+                       leaks: Raycaster | None = None) -> LpnnPlacement:
+    """guided-refined (methods.md): refined_insertion seeded by guided insertion (plain above its point limit);
+    leak-aware with `leaks` (the scene's raycaster), as the default insertion-refined is (leaks.md)."""
     reference = ReferenceField.from_capture(capture) if reference is None else reference
     placed = refined_insertion(reference, grid, budget=budget, tolerance=tolerance, refine=factor,
-                               guide=guide_of(scores), insertion_progress=progress)
+                               guide=guide_of(scores), insertion_progress=progress, leaks=leaks)
     quality = evaluate_placement(reference, placed.indices) if report else None
     checked = {} if tolerance is None else {placed.requested: placed.mean_error}
     return LpnnPlacement(indices=placed.indices, quality=quality, ranking=placed.indices, requested=placed.requested,
