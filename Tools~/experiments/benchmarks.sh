@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Reproduces the figures of Documentation~/benchmarks.md on this machine (about 15 minutes on 2 cores;
+# Reproduces figures of Documentation~/benchmarks.md on this machine (each part prints its own; minutes on 2 cores:
 # run it on an otherwise idle machine). Writes everything under Build~/benchmarks/ and prints the figures.
-#   bash Tools~/experiments/benchmarks.sh [scenes] [reference] [model] [bench] [report]   (default: all)
+#   bash Tools~/experiments/benchmarks.sh [scenes] [reference] [model] [report]   (default: all)
 # The inputs are the documented ones unless these are set (the smoke test, tests/tools/test_benchmarks_sh.py, sets tiny
-# ones): OUT, SCENES (levels), ROOM_CELL, REFERENCE_LEVELS and HELD_LEVELS (LEVEL:CELL ...), WORKERS (process counts),
+# ones): OUT, SCENES (levels), ROOM_CELL, REFERENCE_LEVELS (LEVEL:CELL ...), WORKERS (process counts),
 # MODEL_BENCH_OPTIONS (extra options of `lpnn model bench`).
 source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
@@ -15,7 +15,6 @@ ROOM_CELL="${ROOM_CELL:-0.28}"
 REFERENCE_LEVELS="${REFERENCE_LEVELS:-oa_dm1:1.1 oa_rpg3dm2:1.5 dm4ish:1.22 oa_dm6:1.17}"
 WORKERS="${WORKERS:-1 2}"
 MODEL_BENCH_OPTIONS="${MODEL_BENCH_OPTIONS:-}"
-HELD_LEVELS="${HELD_LEVELS:-oa_dm1:1.6256 oa_dm6:1.6256 dm4ish:1.6256 oa_rpg3dm2:1.6256 czest1dm:3.2512}"
 MODEL="Packages/com.lpnn.probes/Models/lpnn_default.onnx"
 mkdir -p "$OUT"
 lpnn() { "$REPO_ROOT/Tools~/bin/lpnn" "$@"; }
@@ -53,20 +52,6 @@ if want model; then
   log "model: onnxruntime scoring time of the shipped model and training throughput"
   # shellcheck disable=SC2086  # MODEL_BENCH_OPTIONS: words, on purpose
   lpnn model bench "$MODEL" $MODEL_BENCH_OPTIONS
-fi
-
-if want bench; then
-  # Whole held-out levels small enough for the reference to run in seconds at the default cell (the other
-  # held-out levels hold 19k-548k points); czest1dm (7,468 points) at twice the cell.
-  log "speed/accuracy benchmark: the shipped model on five held-out levels"
-  captures=()
-  for spec in $HELD_LEVELS; do
-    level=${spec%%:*}; cell=${spec##*:}
-    lpnn scene import "$level" --cell "$cell" --drop-unlit --out "$OUT/held_$level.lpnncap" > /dev/null
-    captures+=("$OUT/held_$level.lpnncap")
-  done
-  lpnn bench "${captures[@]}" --model "$MODEL" --tolerance 0.05 --out "$OUT/bench"
-  python3 "Tools~/experiments/bench-table.py" "$OUT/bench/bench.csv"
 fi
 
 if want report; then
