@@ -17,7 +17,7 @@ from lpnn.quality.metric.hull_projection import project_to_hull
 from lpnn.quality.metric.metric_kernel import PARALLEL_ROWS, chunk_count
 from lpnn.quality.metric.metric import POINT_ERRORS, ReferenceField, point_errors, probe_stencil, stencil_point_errors
 from lpnn.quality.placement.policies import prefix_selection
-from lpnn.quality.metric.triangulation import tetrahedralize
+from lpnn.quality.metric.triangulation import HULL, tetrahedralize
 
 
 def _numpy_tie_rule(tri, query, cell):
@@ -55,7 +55,7 @@ def _numpy_walk(tri, query):
         resolved[active[inside]] = True
         moving = active[~inside]
         step = tri.neighbours[cell[moving], worst[~inside]]
-        resolved[moving[step < 0]] = True
+        resolved[moving[step == HULL]] = True  # through a crack (INNER_BOUNDARY): left to the brute force
         cell[moving] = step
         active = moving[step >= 0]
     return _numpy_tie_rule(tri, query, result), resolved

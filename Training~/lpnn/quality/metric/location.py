@@ -1,7 +1,8 @@
 """Interpolation stencils: which 4 probes, with which weights, give the lighting at a point.
 
 Inside the hull: the tetrahedron containing the point (vectorised visibility walk from the
-tetrahedron whose centroid is nearest, with a brute-force fallback), barycentric weights clamped
+tetrahedron whose centroid is nearest, with a brute-force fallback for walks that cycle or meet a crack, faces without a
+tetrahedron across inside the hull: triangulation.py INNER_BOUNDARY), barycentric weights clamped
 to >= 0 and renormalised (they are >= -1e-9 before clamping). Outside: the nearest point on the
 hull surface and its triangle's weights (hull_projection.py); the fourth weight is 0.
 
@@ -79,7 +80,8 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     resolved = np.empty(m, dtype=bool)
     coordinates = np.empty((m, 4))
     # Point by point in parallel slices (metric_kernel.walk: the arithmetic of `barycentric`, numpy's argmin; ties
-    # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull.
+    # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull; through
+    # a crack (INNER_BOUNDARY) it may be in tetrahedra the walk cannot reach: unresolved, for the brute force.
     run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
              WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
     return result, resolved, coordinates
@@ -104,7 +106,7 @@ def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
         cell, smallest = _brute_force(tri, q)
         return np.where(smallest >= -INSIDE_TOLERANCE, cell, -1), np.zeros(m, dtype=bool), np.empty((m, 4))
     cell, walked, coordinates = _walk(tri, q, coherent)
-    stuck = np.flatnonzero(~walked)  # numerically cycling walks: rare, settle them exactly
+    stuck = np.flatnonzero(~walked)  # numerically cycling walks, walks into a crack: rare, settle them exactly
     if stuck.shape[0]:
         fallback, smallest = _brute_force(tri, q[stuck])
         cell[stuck] = np.where(smallest >= -INSIDE_TOLERANCE, fallback, -1)

@@ -14,6 +14,9 @@ metric and on walks through real tetrahedralisations):
 A point on a face, edge or vertex shared by several tetrahedra (its smallest coordinate within the inside tolerance of
 0) belongs to the lowest-index one of them (quality.md §1 "Ties"), wherever the walk reached it: only such points take
 the extra search (boundary_owner), so the walk costs the same elsewhere.
+A face with no tetrahedron across is on the hull (HULL) or, rarely, a crack inside it (INNER_BOUNDARY, triangulation.py):
+a walk leaving through a crack, or a tie's search reaching one, leaves the point to the brute force (tetrahedra lie
+beyond a crack, unconnected to the walk's).
 Compiled with numba and cached on disk (core/cache.py).
 """
 
@@ -23,6 +26,7 @@ import numpy as np
 
 from ...core.cache import use_project_cache_for_numba
 from ...core.features_kernel import pairwise_sum
+from .triangulation import HULL
 
 use_project_cache_for_numba()
 import numba  # noqa: E402  (after the cache folder is chosen)
@@ -128,8 +132,9 @@ def boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, start, toleran
     are searched from `start` across the faces the point lies within BOUNDARY_REACH of, through every tetrahedron it is
     inside within BOUNDARY_REACH. The point belongs to the candidate it is clearly inside (smallest coordinate >
     tolerance: at most one) if there is one, else to the lowest-index candidate. Returns that tetrahedron with lam[0..3]
-    the point's coordinates there (trial: scratch), or -1 when more than visited.shape[0] tetrahedra are near (the caller
-    settles the point by brute force)."""
+    the point's coordinates there (trial: scratch), or -1 when more than visited.shape[0] tetrahedra are near or the
+    point lies within BOUNDARY_REACH of a crack (candidates beyond it are not reachable): the caller settles the point by
+    brute force."""
     visited[0] = start
     count = 1
     lowest = start
@@ -140,8 +145,10 @@ def boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, start, toleran
         barycentric_into(points, tets, inverse, t, qx, qy, qz, lam)
         for face in range(4):
             u = neighbours[t, face]
-            if lam[face] > BOUNDARY_REACH or u < 0:
+            if lam[face] > BOUNDARY_REACH or u == HULL:
                 continue
+            if u < 0:  # a crack
+                return -1
             seen = False
             for k in range(count):
                 if visited[k] == u:
@@ -174,8 +181,9 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
     is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest
     is within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
     coordinates there (-1 when the walk leaves through a hull face: resolved, outside), resolved[m] False after
-    step_limit steps or a tie with too many candidates (the brute force settles those). Slices in parallel: with the tie
-    rule a point's cell does not depend on where its walk started, so neither on the slicing."""
+    step_limit steps, through a crack, or at a tie with too many candidates or beside a crack (the brute force settles
+    those). Slices in parallel: with the tie rule a point's cell does not depend on where its walk started, so neither
+    on the slicing."""
     chunks = chunk_count(query.shape[0])
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(query.shape[0], chunks, chunk)
@@ -208,8 +216,10 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
                         coordinates[m, i] = lam[i]
                     break
                 step = neighbours[current, worst]
-                if step < 0:  # beyond that hull face's plane: outside the hull
+                if step == HULL:  # beyond that hull face's plane: outside the hull
                     resolved[m] = True
+                    break
+                if step < 0:  # beyond a crack: tetrahedra this walk cannot reach may hold the point
                     break
                 current = step
 

@@ -7,7 +7,10 @@ disagree about a square's diagonal (C0-discontinuous interpolation) and that slo
 down. We add a tiny, deterministic height to each lifted point (a hash of its world position, at
 most 1e-5 of the squared point spacing): the result is a *regular* triangulation that is a Delaunay
 triangulation of the points with every tie broken consistently, so it
-- has no flat tetrahedra, keeps every point as a vertex and is conforming (C0 interpolation);
+- keeps every point as a vertex and, almost everywhere, has no flat tetrahedra and is conforming (C0 interpolation);
+  but Qhull merges lifted facets nearly on one hyperplane (e.g. five lattice points of a ramp whose float32 rounding
+  puts them within its precision of one sphere) and `Qt` triangulates such a facet with a flat simplex, which is
+  dropped: the faces it shared keep no tetrahedron across, inside the hull (a *crack*; INNER_BOUNDARY below);
 - is unique for a given set, and the same point always gets the same height, so removing a probe
   changes only the tetrahedra around it (the fast reference relies on this);
 - equals the plain Delaunay tetrahedralisation wherever that one is unique.
@@ -34,6 +37,12 @@ QHULL_OPTIONS = "Qt"  # triangulated output; no Qbb/Qz: those are for Qhull's ow
 VERTEX_KEY_BITS = 21  # three vertex ids fit one int64 face key when there are < 2^21 points
 QUERY_WORKERS = -1  # the spacing's nearest-neighbour query on every core (same distances; ~1 s less at 10^6 points)
 PARALLEL_QUERY = 20_000  # placement's k-d queries of at least this many points use QUERY_WORKERS, smaller ones one thread
+HULL = -1  # `neighbours` across a face on the convex hull: nothing lies beyond its plane
+INNER_BOUNDARY = -2  # `neighbours` across a face no tetrahedron shares that is not on the hull: the crack a dropped flat
+# tetrahedron leaves (module text). Beyond its plane there are tetrahedra, so a walk must not conclude "outside" there.
+HULL_SUPPORT_TOLERANCE = 1e-12  # a face is on the hull when no probe lies beyond its plane by more than this (local units:
+# rounding puts hull vertices <= 3e-16 beyond their own faces' planes, a crack has probes a cell or more beyond; a face
+# in between counts as a crack, which costs its points a brute-force location and nothing else)
 
 
 class GeometryError(InvalidInputError):
@@ -122,9 +131,9 @@ class Tetrahedralization:
     world: np.ndarray  # (K, 3) float64 probe positions
     points: np.ndarray  # (K, 3) float64 local coordinates
     tets: np.ndarray  # (T, 4) int64, positively oriented
-    neighbours: np.ndarray  # (T, 4) int64: tetrahedron across the face opposite vertex i, or -1
+    neighbours: np.ndarray  # (T, 4) int64: tetrahedron across the face opposite vertex i, else HULL or INNER_BOUNDARY
     inverse: np.ndarray  # (T, 3, 3): barycentric transform, lambda_1..3 = inverse @ (x - v0)
-    hull_faces: np.ndarray  # (H, 3) int64 boundary triangles, counter-clockwise seen from outside
+    hull_faces: np.ndarray  # (H, 3) int64 boundary triangles (a crack's included), counter-clockwise seen from outside
     hull_face_tets: np.ndarray  # (H,) int64 tetrahedron owning each boundary triangle
 
     @property
@@ -178,25 +187,51 @@ def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
     return np.unique(ordered, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
 
 
-def _adjacency(tets: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """neighbours (T, 4), boundary faces (H, 3) oriented outward, and their tetrahedra (H,)."""
+def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
+    and their tetrahedra (H,)."""
     count = tets.shape[0]
     opposite = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i, outward for positive tets
     faces = tets[:, opposite].reshape(-1, 3)  # (4T, 3)
-    keys = face_keys(faces, vertex_count)
+    keys = face_keys(faces, points.shape[0])
     order = np.argsort(keys, kind="stable")
     sorted_keys = keys[order]
     same_as_next = sorted_keys[1:] == sorted_keys[:-1]
     if np.any(same_as_next[1:] & same_as_next[:-1]):
         raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
                             "report this probe set as a bug")
-    neighbours = np.full(4 * count, -1, dtype=np.int64)
+    neighbours = np.full(4 * count, HULL, dtype=np.int64)
     first = order[:-1][same_as_next]
     second = order[1:][same_as_next]
     neighbours[first] = second // 4
     neighbours[second] = first // 4
     boundary = np.flatnonzero(neighbours < 0)
+    neighbours[boundary[~on_hull(points, faces[boundary])]] = INNER_BOUNDARY
     return neighbours.reshape(count, 4), faces[boundary], boundary // 4
+
+
+HULL_TEST_BLOCK = 1 << 20  # face-vertex pairs per block of on_hull's test (8 MiB of distances)
+
+
+def on_hull(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(F,) bool: which boundary faces (F, 3), counter-clockwise seen from outside, lie on the convex hull of `points`
+    (K, 3): no hull vertex beyond the face's plane by more than HULL_SUPPORT_TOLERANCE. The others are cracks
+    (INNER_BOUNDARY). Tested against Qhull's hull vertices (all points if Qhull fails: the same answer, slower)."""
+    if faces.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    try:
+        extreme = points[ConvexHull(points).vertices]
+    except QhullError:
+        extreme = points
+    a = points[faces[:, 0]]
+    normal = np.cross(points[faces[:, 1]] - a, points[faces[:, 2]] - a)
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    offset = np.einsum("ij,ij->i", normal, a)
+    beyond = np.empty(faces.shape[0])
+    step = max(1, HULL_TEST_BLOCK // extreme.shape[0])
+    for lo in range(0, faces.shape[0], step):
+        beyond[lo:lo + step] = (extreme @ normal[lo:lo + step].T).max(axis=0) - offset[lo:lo + step]
+    return beyond <= HULL_SUPPORT_TOLERANCE
 
 
 def lower_hull(lifted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -232,7 +267,8 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedral
     local = used_frame.to_local(positions)
     _check_not_duplicate(local, positions)
     _check_not_flat(local)
-    # Flat tetrahedra (vertical facets that slipped through) dropped, the rest oriented positively and inverted.
+    # Flat tetrahedra (vertical facets that slipped through, or Qt's in a merged facet) dropped (a crack where they were
+    # inside: module text), the rest oriented positively and inverted.
     tets, inverse, _, _ = orient_and_invert(local, lower_hull_tets(used_frame.lifted(positions)))
     used = np.zeros(count, dtype=bool)
     used[tets.reshape(-1)] = True
@@ -253,7 +289,7 @@ def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedrali
 
 def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray,
                inverse: np.ndarray | None = None) -> Tetrahedralization:
-    neighbours, hull_faces, hull_face_tets = _adjacency(tets, positions.shape[0])
+    neighbours, hull_faces, hull_face_tets = _adjacency(local, tets)
     if inverse is None:
         inverse = edge_inverse(local, tets)
     return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,

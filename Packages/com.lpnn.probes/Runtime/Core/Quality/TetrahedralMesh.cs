@@ -8,8 +8,11 @@ namespace Lpnn.Probes.Core.Quality
     /// ones dropped, each with the inverse of its edge matrix (barycentric weights in 9 multiplications), and the hull
     /// surface — the faces that belong to exactly one tetrahedron.
     ///
-    /// Flat (zero-volume) tetrahedra, which a tetrahedraliser may emit for cospherical probes, contain no point and
-    /// would turn interior faces into false hull faces, so they are left out (as the Python reference does).</summary>
+    /// Flat (zero-volume) tetrahedra, which a tetrahedraliser may emit for cospherical probes, contain no point and have
+    /// no barycentric transform, so they are left out (as the Python reference does). Where one joined two sides that cut
+    /// a quadrilateral along different diagonals, its faces are then each used by one tetrahedron and listed here among
+    /// the hull faces though inside the hull (a crack, Documentation~/quality.md §1), as in Python's hull_faces: the
+    /// locator never reads faces, and no point outside is nearer to an interior face than to the hull.</summary>
     internal sealed class TetrahedralMesh
     {
         /// <summary>A tetrahedron is flat when |6 × volume| is at or below this × |e1|·|e2|·|e3| (its edges from vertex 0):
