@@ -1,4 +1,4 @@
-"""Where a fit's lights start: at the peaks of the baked light, or on a regular grid of cells (lights.md §4).
+"""Where a fit's lights start: at the peaks of the baked light, the grid's cells as fallback (lights.md §4).
 
 The lightmaps say where the lights are. A point light at height h over a flat surface gives it, at tangential
 distance rho from the foot of the light, q3map2's
@@ -12,18 +12,19 @@ light and whose width grows with h (half the peak at rho = 0.766 h). So:
    saturated plateau gives one peak per PEAK_RADIUS);
 3. per peak, the bump above fitted to the light of the points within FIT_RADIUS on its plane (normals within
    FIT_COSINE, off the plane by at most FIT_PLANE_OFFSET): E = alpha s(|t - c|; h) + beta + g.t (a plane of the
-   other lights' light, smooth over the window) by least squares for
-   each height of HEIGHTS and each foot c among the plane's points within PEAK_RADIUS of the peak (the top of a
-   bright light is a saturated plateau whose first point is not its centre), keeping the pair of least residual;
-   saturated points (largest channel >= SATURATED bytes) are left out of the fit (ColorToBytes clamps them); a peak with too few
-   points gets DEFAULT_HEIGHT; one whose bump is lower than MIN_BUMP bytes is no light's (ambient, or a plateau);
-4. the start: the foot pushed out along the peak's normal by its height (halved down to MIN_HEIGHT until it is in open
-   space, dropped if never), with the estimated intensity alpha h^2 / 7500 (the fitted height's);
+   other lights' light, smooth over the window) by least squares for each height of HEIGHTS and each foot c among
+   the plane's points within PEAK_RADIUS of the peak (the top of a bright light is a saturated plateau whose first
+   point is not its centre), keeping the pair of least residual; saturated points (largest channel >= SATURATED
+   bytes) are left out of the fit (ColorToBytes clamps them); a peak with too few points gets DEFAULT_HEIGHT; one
+   whose bump is lower than MIN_BUMP bytes is no light's (ambient, or a plateau);
+4. the start: the foot pushed out along the peak's normal by its height (halved down to MIN_HEIGHT until it is in
+   open space, dropped if never), with the estimated intensity alpha h^2 / 7500 (the fitted height's);
 5. merged: highest bump (alpha) first, ties to the lower index — the surface nearest a light sees its sharpest,
    best-determined bump, while a far wall's broad one says little of the height —, a start within
    MERGE_DISTANCE of one kept is dropped; at most MAX_STARTS are kept;
-6. the grid as fallback: the open cell centres of the --grid (optimise.initial_grid) that are farther than FALLBACK_DISTANCE from every
-   start above (where nothing peaks: dim regions, or light from surfaces the fit recovers otherwise).
+6. the grid as fallback: the open cell centres of the --grid (optimise.initial_grid) farther than
+   FALLBACK_DISTANCE from every start above (where nothing peaks: dim regions, or light from surfaces the fit
+   recovers otherwise).
 
 Deterministic: no random numbers; every tie is broken by index.
 """
@@ -38,6 +39,7 @@ from scipy.spatial import cKDTree
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from .model import BYTE_MAX, POINT_SCALE
+from .optimise import CLEARANCE
 
 LIGHT_MIN_ALBEDO = 0.05  # mean albedo below which a point's light (radiance / albedo) is not read
 PEAK_RADIUS = 96.0  # Quake units: a peak is the brightest point within this distance
@@ -49,7 +51,7 @@ FIT_MIN_POINTS = 6
 SATURATED = BYTE_MAX - 2.0  # bytes: clamped points say nothing of the bump's shape
 HEIGHTS = (24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 192.0, 256.0)  # Quake units tried per peak
 DEFAULT_HEIGHT = 64.0
-MIN_HEIGHT = 24.0  # the fit's clearance penalty (optimise.CLEARANCE) starts here
+MIN_HEIGHT = CLEARANCE  # closer to a surface, the fit's clearance penalty pushes the light away
 MIN_BUMP = 8.0  # bytes of bump (alpha) below which a peak is not a light's
 MERGE_DISTANCE = 64.0  # Quake units
 MAX_STARTS = 160

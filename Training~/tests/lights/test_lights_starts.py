@@ -3,12 +3,17 @@ height of the bump fitted around them, on closed-form bumps and on the analytic 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
+from lit_bsp import lit_level
 from lpnn.lights.model import ForwardModel, Lights
 from lpnn.lights.optimise import Fitter, initial_intensity
+from lpnn.lights.pipeline import load_scene, start_positions
 from lpnn.lights.settings import SCHEMES
+from lpnn.scenes.levels import load_level
 from lpnn.lights.starts import (DEFAULT_HEIGHT, Starts, baked_light, bump_profile, fit_bump, light_peaks, peak_starts,
                                 with_grid_fallback)
 from synthetic_room import ROOM_SIDE, inside_room, lit_room
@@ -128,3 +133,16 @@ def test_a_fit_started_at_the_peaks_recovers_the_lights(room: ForwardModel) -> N
         assert np.linalg.norm(result.lights.positions[match] - position) < 0.5  # Quake units
         np.testing.assert_allclose(result.lights.colours[match] * result.lights.intensities[match], colour * intensity,
                                    rtol=0.01)
+
+
+def test_a_level_whose_baked_light_is_flat_starts_on_the_grid(tmp_path: Path) -> None:
+    """The synthetic lit level's quad holds one lightmap value and its patch one vertex colour: no bump, so the
+    peak start falls back to the whole grid (pipeline.start_positions)."""
+    path = tmp_path / "lit.bsp"
+    path.write_bytes(lit_level().to_bytes())
+    scene = load_scene(load_level(str(path)), textures=False)
+    peaks, grid = start_positions(scene, (2, 2, 2), "peaks"), start_positions(scene, (2, 2, 2), "grid")
+    assert peaks.from_peaks == 0 and len(grid.positions) > 0
+    np.testing.assert_array_equal(peaks.positions, grid.positions)
+    with pytest.raises(ValueError, match="start 'corners' is not one of grid, peaks"):
+        start_positions(scene, (2, 2, 2), "corners")
