@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What a level's real rig leaves unexplained (lights.md §7, benchmarks.md §8): the level's own light entities,
+"""What a level's real rig leaves unexplained (lights.md §7, benchmarks.md "The light rig"): the level's own light entities,
 spotlights, surface lights, suns and ambient through the forward model (lights.md §3), without and with its suns,
 then with one bounce added.
 

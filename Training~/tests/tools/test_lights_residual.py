@@ -1,4 +1,4 @@
-"""Tools~/experiments/lights-residual.py (lights.md §7, benchmarks.md §8) on the light-rig tests' synthetic level: it
+"""Tools~/experiments/lights-residual.py (lights.md §7, benchmarks.md "The light rig") on the light-rig tests' synthetic level: it
 keeps no light entity and its shaders have no script, so its real rig explains none of the baked light."""
 
 from __future__ import annotations
