@@ -1,6 +1,6 @@
 """`lpnn scene lights`: recover a level's point-light rig from its baked lightmaps (Documentation~/lights.md).
 
-  lpnn scene lights LEVEL [--grid NxNxM] [--scheme NAME] --out RIG.json
+  lpnn scene lights LEVEL [--grid NxNxM] [--start grid|peaks] [--scheme NAME] --out RIG.json
   lpnn scene lights --compare RIG.json LEVEL
 """
 
@@ -17,7 +17,8 @@ from .level_args import LEVEL_HELP, level_user_errors
 
 
 def register(actions: argparse._SubParsersAction) -> None:
-    from ..lights.settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
+    from ..lights.settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, SCHEMES, \
+        STARTS
 
     lights = actions.add_parser("lights", help="recover the level's point lights from its lightmaps (a rig file)",
                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -30,6 +31,10 @@ def register(actions: argparse._SubParsersAction) -> None:
     lights.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM",
                         help=f"initial lights: cells of the world box along x, y, z; only cells centred in open space "
                              f"get a light (default {'x'.join(map(str, DEFAULT_GRID))})")
+    lights.add_argument("--start", default=DEFAULT_START, choices=STARTS,
+                        help=f"where the lights start: 'grid', the open cells of --grid, or 'peaks', the peaks of the "
+                             f"baked light pushed out by their fitted height with those cells as fallback where "
+                             f"nothing peaks (lights.md §4; default {DEFAULT_START})")
     lights.add_argument("--scheme", default=DEFAULT_SCHEME, choices=sorted(SCHEMES),
                         help=f"optimisation phases (seed Table 5.1; default {DEFAULT_SCHEME})")
     lights.add_argument("--max-edge", default=str(DEFAULT_MAX_EDGE), metavar="UNITS",
@@ -117,12 +122,13 @@ def _lights(args: argparse.Namespace) -> None:
     try:
         with rig_user_errors():
             try:
-                result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots)
+                result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots,
+                                   start=args.start)
             except ValueError as exc:
                 raise UserError(str(exc)) from exc
     finally:
         bar.close()
-    rig = rig_of(scene, result, grid, args.scheme)
+    rig = rig_of(scene, result, grid, args.scheme, args.start)
     with rig_user_errors():
         path = write_rig(args.out, rig)
     stem = args.out.with_suffix("")

@@ -25,6 +25,17 @@ and function:
   projected solid angle over pi, A / (pi r^2) for a small facing patch, 1 for a whole hemisphere), negated
   for a two-sided light, then a shadow ray to the origin. On the grid (`LightContributionToPoint`) the
   normal is the direction to the light's origin.
+- **Suns** (shaders.c `ParseShaderFile`: `q3map_sun` / `q3map_sunExt R G B intensity degrees elevation`: the
+  colour normalised to unit length (VectorNormalize, not largest channel 1), the direction toward the sun
+  (cos a cos e, sin a cos e, sin e) with a = degrees and e = elevation in radians, the sky surfaceparm applied;
+  light.c `CreateSurfaceLights` makes one sun per shader drawn in the level unless worldspawn
+  `_noshadersun` is 1, `CreateSunLight`: photons = intensity x skyScale (1), flags LIGHT_SUN_DEFAULT, which
+  include angle attenuation). Its light at a luxel (light.c `LightContributionToSample`, EMIT_SUN):
+  colour x photons x (n . direction) bytes, when the trace toward the sun ends on a sky surface (C_SKY) and
+  nothing opaque is in between; on the grid (`LightContributionToPoint`) the same without the cosine. The
+  sky is not in the shadow-ray geometry (scenes/surfaces.py), so a sun ray is lit when the level's sky
+  triangles (`Suns.sky`) are hit before any other. `q3map_sunExt`'s deviance and samples (random jitter of
+  the direction) are read but not modelled: the one sun along the main direction carries all the photons.
 """
 
 from __future__ import annotations
@@ -108,6 +119,21 @@ def read_shader_scripts(paks: list[Path]) -> ShaderScripts:
     return ShaderScripts(blocks=blocks, sources=sources)
 
 
+UPDATE_PAK_MARK = "patch"  # OpenArena's later releases ship as updates: pak6-patch085.pk3, pak6-patch088.pk3
+
+
+def script_order(paks: list[Path], level_pak: Path | None) -> list[Path]:
+    """The paks in the order their shader scripts are read (a later definition of a shader overrides an earlier
+    one): the updates of later releases (a name with UPDATE_PAK_MARK) first, then the others in the engine's
+    order, unless the level ships in an update itself (then the engine's order). A level is compiled with its
+    release's scripts, so those win and an update only adds the shaders they lack: OpenArena 0.8.8's
+    `base_light/ceil1_22a` has q3map_surfacelight 10000, 0.8.1's pak0.pk3 300 (lights.md §1, §7)."""
+    if level_pak is not None and UPDATE_PAK_MARK in level_pak.name.lower():
+        return list(paks)
+    updates = [pak for pak in paks if UPDATE_PAK_MARK in pak.name.lower()]
+    return updates + [pak for pak in paks if UPDATE_PAK_MARK not in pak.name.lower()]
+
+
 def _parse_blocks(text: str):
     text = re.sub(r"//[^\n]*", "", text)
     position = 0
@@ -173,6 +199,41 @@ def shader_light(scripts: ShaderScripts, name: str, image_colour) -> ShaderLight
                        two_sided=two_sided, colour_source=source)
 
 
+SKY_KEYWORDS = ("q3map_sun", "q3map_sunext", "sun")  # shaders.c: these apply the sky surfaceparm
+
+
+def script_declares_sky(scripts: ShaderScripts, name: str) -> bool:
+    """The shader's script makes it sky (`surfaceparm sky`, or a sun line, which applies it: shaders.c). The BSP
+    stores the surface flags its compile gave each shader, so a sky script on a shader the BSP does not flag SURF_SKY
+    is not the script the level was compiled with (q3dm6ish's xtoxicsky_q3ctf3, lights.md §1)."""
+    for tokens in scripts.keywords(name):
+        key = tokens[0].lower()
+        if key in SKY_KEYWORDS or (key == "surfaceparm" and len(tokens) > 1 and tokens[1].lower() == "sky"):
+            return True
+    return False
+
+
+def shader_suns(scripts: ShaderScripts, name: str) -> list[tuple[np.ndarray, float, np.ndarray]]:
+    """The q3map_sun / q3map_sunExt lines of a shader (module docstring): (unit colour, photons, unit direction
+    toward the sun) each."""
+    suns = []
+    for tokens in scripts.keywords(name):
+        if tokens[0].lower() not in SKY_KEYWORDS or len(tokens) < 7:
+            continue
+        try:
+            red, green, blue, photons, degrees, elevation = (float(t) for t in tokens[1:7])
+        except ValueError:
+            continue
+        colour = np.array([red, green, blue])
+        length = float(np.linalg.norm(colour))
+        if length <= 0 or photons <= 0:
+            continue
+        a, e = math.radians(degrees), math.radians(elevation)
+        suns.append((colour / length, photons, np.array([math.cos(a) * math.cos(e), math.sin(a) * math.cos(e),
+                                                         math.sin(e)])))
+    return suns
+
+
 # ------------------------------------------------------------------------------------- emitters
 
 @dataclass
@@ -217,6 +278,24 @@ class Spots:
 
 
 @dataclass
+class Suns:
+    """q3map2 suns (EMIT_SUN, module docstring): directional light from the sky."""
+    directions: np.ndarray  # (K, 3) unit, toward the sun
+    colours: np.ndarray  # (K, 3) unit length (q3map2's VectorNormalize)
+    photons: np.ndarray  # (K,) bytes at normal incidence
+    shader: np.ndarray  # (K,) BSP shader index of the sky shader that made it
+    sky: EmbreeRaycaster | None = None  # the level's sky triangles: a sun ray is lit when it hits them first
+
+    @property
+    def count(self) -> int:
+        return len(self.photons)
+
+    @staticmethod
+    def empty() -> "Suns":
+        return Suns(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64))
+
+
+@dataclass
 class Emitters:
     """Everything of a compile that is held fixed in a fit: spotlights, area lights and their
     backsplash point lights (positions, colours, intensities in q3map2 `light` units)."""
@@ -227,6 +306,7 @@ class Emitters:
     splash_intensities: np.ndarray = field(default_factory=lambda: np.zeros(0))
     shaders: dict[int, ShaderLight] = field(default_factory=dict)  # BSP shader -> its surface light
     splash_shader: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # (B,) BSP shader
+    suns: Suns = field(default_factory=Suns.empty)
 
     def of_shader(self, shader: int, scale: float = 1.0) -> "Emitters":
         """The area lights and backsplash lights of one shader (no spotlights), their values x `scale`."""
@@ -279,6 +359,36 @@ def emitter_bytes(points: np.ndarray, normals: np.ndarray, emitters: Emitters,
         out[chunk] += _point_lights_at_surface(p, n, emitters.spots.positions, emitters.spots.colours,
                                                emitters.spots.intensities, emitters.spots, raycaster)
         out[chunk] += _areas_at_surface(p, n, emitters.areas, raycaster)
+        out[chunk] += _suns_at_surface(p, n, emitters.suns, raycaster)
+    return out
+
+
+SUN_RAY_LENGTH = 131072.0  # Quake units: past the far side of any level (the world is at most 2 x 65536 across)
+
+
+def sunlit(origins: np.ndarray, directions: np.ndarray, suns: Suns, raycaster: EmbreeRaycaster | None) -> np.ndarray:
+    """(R,) bool: the ray from each origin along its direction ends on the sky (hits the level's sky triangles
+    before any other geometry; light.c LightContributionToSample, EMIT_SUN: C_SKY and not opaque). Without a
+    raycaster (no geometry) every ray is lit; without sky triangles none is."""
+    if len(origins) == 0:
+        return np.zeros(0, bool)
+    if suns.sky is None:
+        return np.zeros(len(origins), bool) if raycaster is not None else np.ones(len(origins), bool)
+    sky, _ = suns.sky.cast(origins, directions, SUN_RAY_LENGTH)
+    if raycaster is None:
+        return np.isfinite(sky)
+    other, _ = raycaster.cast(origins, directions, SUN_RAY_LENGTH)
+    return np.isfinite(sky) & (sky < other)
+
+
+def _suns_at_surface(p, n, suns: Suns, raycaster) -> np.ndarray:
+    out = np.zeros((len(p), 3))
+    for k in range(suns.count):
+        cosine = n @ suns.directions[k]
+        facing = np.flatnonzero(cosine > 0)
+        origins = p[facing] + RAY_OFFSET * n[facing]
+        lit = facing[sunlit(origins, np.broadcast_to(suns.directions[k], origins.shape).copy(), suns, raycaster)]
+        out[lit] += (suns.photons[k] * cosine[lit])[:, None] * suns.colours[k]
     return out
 
 
@@ -383,7 +493,17 @@ def emitters_at_points(points: np.ndarray, emitters: Emitters, raycaster,
     colour = value[..., None] * colours[None]
     value = np.where(colour.max(axis=2) > 1.0, value, 0.0)
     value = _shadowed(points, positions, value, raycaster, min_value=0.0, inhibit=inhibit)
-    return value[..., None] * colours[None], unit
+    colour, unit = value[..., None] * colours[None], unit
+    suns = emitters.suns
+    if suns.count == 0:
+        return colour, unit
+    sun_colour = np.zeros((len(points), suns.count, 3))
+    for k in range(suns.count):  # LightContributionToPoint, EMIT_SUN: photons without a cosine
+        direction = np.broadcast_to(suns.directions[k], points.shape).copy()
+        lit = sunlit(points + inhibit * direction, direction, suns, raycaster)
+        sun_colour[lit, k] = suns.photons[k] * suns.colours[k]
+    sun_unit = np.broadcast_to(suns.directions[None], sun_colour.shape)
+    return np.concatenate([colour, sun_colour], axis=1), np.concatenate([unit, sun_unit], axis=1)
 
 
 # -------------------------------------------------------------------------- building from a level

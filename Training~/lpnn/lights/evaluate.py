@@ -29,14 +29,16 @@ from .emitters import emitter_bytes
 from .pipeline import (add_surface_lights, fit_scene, level_emitters, load_scene, point_lights_of, rig_emitters,
                        rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
-from .settings import DEFAULT_GRID, SCHEMES
+from .settings import DEFAULT_GRID, DEFAULT_START, PEAK_START, SCHEMES, STARTS
+from .starts import DEFAULT_PEAKS, PeakSettings
 
 HEADER = ("| level | scheme | target points | lights | objective | iterations | s / iteration | rays/s | "
           "matched within 1 m | distance real→rec. | grid error mean (p95) |\n|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
-                   surfaces: bool = False, spots: bool = False) -> list[dict[str, Any]]:
+                   surfaces: bool = False, spots: bool = False, start: str = DEFAULT_START,
+                   peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
@@ -45,7 +47,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
     rows: list[dict[str, Any]] = []
     started = time.perf_counter()
     emitters = level_emitters(level, real) if real.rig.count else None
-    if emitters is not None:
+    if emitters is not None and yardstick:
         lights = point_lights_of(real)
         scene.model.fixed = emitter_bytes(scene.model.points, scene.model.normals, emitters, raycaster)
         objective = scene.model.objective(lights, scene.model.visibility(lights), with_gradient=False).value
@@ -54,7 +56,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         g = compare_grid(stored, relight_stored_grid(level.bsp, stored, point_rig, raycaster, scene.is_open, emitters))
         print(f"{level.name}: real rig {objective:.4f}, grid {g.mean_error:.3f} in {time.perf_counter() - started:.1f} s "
               f"({emitters.spots.count} spotlights, {emitters.areas.count} area lights of "
-              f"{len(emitters.shaders)} shaders)", flush=True)
+              f"{len(emitters.shaders)} shaders, {emitters.suns.count} suns)", flush=True)
         rows.append(dict(level=level.name, scheme="real rig", points=scene.target.point_count, lights=real.rig.count,
                          objective=objective, grid_mean=g.mean_error, grid_p95=g.p95_error,
                          grid_plain=g.plain_relative, ambient=real.rig.ambient.tolist()))
@@ -67,13 +69,14 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
               flush=True)
     suffix += "+spots" if spots else ""
+    suffix += "+peaks" if start == PEAK_START else ""
     curves = {}
     for scheme in schemes:
         rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
         started = time.perf_counter()
-        result = fit_scene(scene, grid, scheme, spots=spots)
+        result = fit_scene(scene, grid, scheme, spots=spots, start=start, peaks=peaks)
         seconds = time.perf_counter() - started
-        rig = rig_of(scene, result, grid, scheme)
+        rig = rig_of(scene, result, grid, scheme, start)
         write_rig(out / f"{level.name}.{scheme}{suffix}.json", rig)
         write_curve_csv(out / f"{level.name}.{scheme}{suffix}.curve.csv", result.curve)
         curves[scheme] = result.curve
@@ -122,6 +125,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument("--surfaces", action="store_true", help="the fits also recover surface lights (lights.md §4)")
     parser.add_argument("--spots", action="store_true", help="every fitted light is a spotlight (lights.md §4)")
+    parser.add_argument("--start", default=DEFAULT_START, choices=STARTS,
+                        help="where the lights start: the grid's cells, or the peaks of the baked light (lights.md §4)")
+    parser.add_argument("--no-yardstick", action="store_true",
+                        help="skip the real rig's row (its objective and grid; the fits are still matched against it)")
     args = parser.parse_args(argv)
     grid = tuple(int(p) for p in args.grid.split("x"))
     args.out.mkdir(parents=True, exist_ok=True)
@@ -129,7 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for name in args.levels:
         level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces,  # type: ignore[arg-type]
-                                    args.spots)
+                                    args.spots, args.start, yardstick=not args.no_yardstick)
         rows += level_rows
         for row in level_rows:
             if row["scheme"] == "real rig":

@@ -91,9 +91,11 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
     return grid[is_open(grid)]
 
 
-def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None) -> Lights:
+def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None,
+                      relative: np.ndarray | None = None) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
     scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
+    With `relative` (J,) > 0, the lights' intensities are one common scale times these (starts.py's estimates).
     With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
     all the scales (scipy's nnls). `spots` (J,) bool: those lights are spotlights along SPOT_START_AXIS with
     SPOT_START_CONE, the others point lights."""
@@ -104,10 +106,13 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
         raise ValueError(f"{spot.size} spotlight flags for {count} lights")
     axes = np.where(spot[:, None], SPOT_START_AXIS, 0.0) if spot.any() else np.zeros((0, 3))
     cones = np.where(spot, SPOT_START_CONE, 0.0) if spot.any() else np.zeros(0)
-    unit = Lights(positions=positions, colours=np.ones((count, 3)), intensities=np.ones(count),
+    shape = np.ones(count) if relative is None else np.asarray(relative, dtype=np.float64) / np.mean(relative)
+    if shape.shape != (count,) or not np.all(shape > 0):
+        raise ValueError(f"relative intensities must be {count} positive numbers")
+    unit = Lights(positions=positions, colours=np.ones((count, 3)), intensities=shape.copy(),
                   surface_values=surfaces, spot_directions=axes, radius_by_dist=cones)
     visible = model.visibility(Lights(positions, unit.colours, np.full(count, 1000.0)))
-    lit = model.radiance_of(unit, visible).ravel()  # per unit intensity
+    lit = model.radiance_of(unit, visible).ravel()  # per unit of the common scale
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
     target = model.radiance.ravel()
@@ -119,7 +124,7 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     scale, ambient = np.linalg.lstsq(gram, rhs, rcond=None)[0] if np.all(np.isfinite(gram)) else (1.0, 0.0)
     if ambient < 0:  # a negative ambient is not a light: fit the scale alone
         scale, ambient = (rhs[0] / gram[0, 0] if gram[0, 0] > 0 else 1.0), 0.0
-    unit.intensities = np.full(len(positions), float(np.clip(scale, 1.0, MAX_INTENSITY)))
+    unit.intensities = np.clip(float(scale) * shape, 1.0, MAX_INTENSITY)
     unit.ambient = np.full(3, float(np.clip(ambient, 0.0, BYTE_MAX)))
     return unit
 
@@ -130,7 +135,7 @@ def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, f
     root = np.sqrt(weights)
     basis = np.concatenate([np.stack([lit, flat], axis=1), per_value.T], axis=1) * root[:, None]
     scales, _ = nnls(basis, target * root, maxiter=50 * basis.shape[1])
-    unit.intensities = np.full(unit.count, float(np.clip(scales[0], 1.0, MAX_INTENSITY)))
+    unit.intensities = np.clip(scales[0] * unit.intensities, 1.0, MAX_INTENSITY)
     unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
     unit.surface_values = np.clip(scales[2:], 0.0, MAX_SURFACE_VALUE)
     return unit

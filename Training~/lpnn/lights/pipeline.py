@@ -18,12 +18,15 @@ from ..scenes.coords import quake_to_unity
 from ..scenes.surfaces import SURF_SKY
 from .compare import SurfacePieces, equal_flux_intensity
 from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEFAULT_LIGHT_SUBDIVIDE,
-                       FORM_FACTOR_VALUE_SCALE, Emitters, ShaderLight, Spots, read_shader_scripts, shader_light,
-                       surface_bases, surface_emitters)
+                       FORM_FACTOR_VALUE_SCALE, Emitters, ShaderLight, ShaderScripts, Spots, Suns,
+                       read_shader_scripts, script_declares_sky, script_order,
+                       shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, SurfaceLight
-from .settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, SCHEMES
+from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, GRID_START,
+                       SCHEMES, STARTS)
+from .starts import DEFAULT_PEAKS, PeakSettings, Starts, peak_starts, with_grid_fallback
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
@@ -93,32 +96,55 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
                       is_open=is_open, bounds=bounds, max_edge=used_edge, seconds=seconds)
 
 
+def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = DEFAULT_START,
+                    peaks: PeakSettings = DEFAULT_PEAKS) -> Starts:
+    """Where the fit's lights start (starts.py, lights.md §4): the open cells of `grid`, or with `start` "peaks"
+    the peaks of the baked light with those cells as fallback."""
+    if start not in STARTS:
+        raise ValueError(f"start {start!r} is not one of {', '.join(STARTS)}")
+    cells = initial_grid(scene.bounds[0], scene.bounds[1], grid, scene.is_open)
+    if start == GRID_START:
+        return Starts(cells, np.zeros(len(cells)), 0)
+    target = scene.target
+    found = peak_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open, peaks)
+    inside = np.all((found.positions >= scene.bounds[0]) & (found.positions <= scene.bounds[1]), axis=1)
+    found = Starts(found.positions[inside], found.intensities[inside], int(inside.sum()))
+    return with_grid_fallback(found, cells, peaks.fallback_distance)
+
+
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
-              spots: bool = False) -> FitResult:
-    """With `spots`, every cell centre starts both a point light and a q3map2 spotlight (pointing down), the
+              spots: bool = False, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS) -> FitResult:
+    """With `spots`, every start position starts both a point light and a q3map2 spotlight (pointing down), the
     spotlights' axes and cones fitted too (lights.md §4)."""
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
-    start = initial_grid(scene.bounds[0], scene.bounds[1], grid, scene.is_open)
-    if len(start) == 0:
+    starts = start_positions(scene, grid, start, peaks)
+    if len(starts.positions) == 0:
         raise ValueError(f"{scene.level.name}: no cell centre of the {'x'.join(map(str, grid))} grid is in open "
-                         f"space; use a finer --grid")
+                         f"space and no peak of the baked light gave a start; use a finer --grid")
+    positions = starts.positions
+    relative = None
+    if starts.from_peaks:  # the peaks' estimated intensities; grid cells (no estimate) the peaks' median
+        relative = np.where(starts.intensities > 0, starts.intensities,
+                            np.median(starts.intensities[:starts.from_peaks]))
     flags = None
     if spots:
-        flags = np.repeat([False, True], len(start))
-        start = np.concatenate([start, start])
-    lights = initial_intensity(scene.model, start, spots=flags)
+        flags = np.repeat([False, True], len(positions))
+        positions = np.concatenate([positions, positions])
+        relative = None if relative is None else np.concatenate([relative, relative])
+    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress)
     return fitter.fit(lights, SCHEMES[scheme])
 
 
-def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], scheme: str) -> Rig:
+def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], scheme: str,
+           start: str = DEFAULT_START) -> Rig:
     """The fitted lights as a rig; lights that went dark (intensity 0) are dropped."""
     lights = result.lights
     lit = lights.intensities * lights.colours.max(axis=1) > 0
-    info = {"grid": list(grid), "initial_lights": int(lights.count), "iterations": result.iterations,
+    info = {"grid": list(grid), "start": start, "initial_lights": int(lights.count), "iterations": result.iterations,
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
@@ -151,7 +177,50 @@ def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> E
         return emitters
     surfaces_of = shader_emitters(level.bsp, script_lights(level))
     surfaces_of.spots = spots
+    surfaces_of.suns = level_suns(level)
     return surfaces_of
+
+
+def level_suns(level: Level) -> Suns:
+    """The suns of the shaders drawn in the level (their q3map_sun lines in the `scripts/*.shader` beside it), unless
+    worldspawn `_noshadersun` is 1 (light.c CreateSurfaceLights), with the level's sky triangles for their rays
+    (emitters.py)."""
+    bsp = level.bsp
+    world = bsp.entities[0] if bsp.entities else {}
+    if str(world.get("_noshadersun", "")).startswith("1"):
+        return Suns.empty()
+    scripts = level_scripts(level)
+    drawn = np.unique(bsp.faces["shader"])
+    directions, colours, photons, shader_of = [], [], [], []
+    for shader in drawn:
+        if not compiled_with_script(bsp, scripts, int(shader)):
+            continue
+        for colour, value, direction in shader_suns(scripts, bsp.shader_name(int(shader))):
+            directions.append(direction)
+            colours.append(colour)
+            photons.append(value)
+            shader_of.append(int(shader))
+    if not photons:
+        return Suns.empty()
+    sky_faces = np.flatnonzero(bsp.shaders["surface_flags"][bsp.faces["shader"]].astype(np.int64) & SURF_SKY)
+    sky = None
+    if sky_faces.size:
+        corners, _, _ = surface_triangles(bsp, sky_faces)
+        sky = EmbreeRaycaster(corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3))
+    return Suns(directions=np.array(directions), colours=np.array(colours), photons=np.array(photons),
+                shader=np.array(shader_of, np.int64), sky=sky)
+
+
+def compiled_with_script(bsp, scripts: ShaderScripts, shader: int) -> bool:
+    """False when the shader's script makes it sky but the BSP does not flag it SURF_SKY: the level was compiled
+    without that script (emitters.script_declares_sky), so its surface light and sun are not the level's."""
+    return not script_declares_sky(scripts, bsp.shader_name(shader)) or \
+        bool(int(bsp.shaders["surface_flags"][shader]) & SURF_SKY)
+
+
+def level_scripts(level: Level) -> ShaderScripts:
+    """The shader scripts of the pk3s beside the level, its release's winning (emitters.script_order)."""
+    return read_shader_scripts(script_order(texture_paks(level.pak, default_pak().parent), level.pak))
 
 
 def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLight]:
@@ -163,7 +232,7 @@ def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLig
     image (white without one) and q3map2's defaults."""
     bsp = level.bsp
     paks = texture_paks(level.pak, default_pak().parent)
-    scripts = read_shader_scripts(paks)
+    scripts = level_scripts(level)
     images: dict[str, np.ndarray | None] = {}
 
     def image_colour(path: str) -> np.ndarray | None:
@@ -175,6 +244,8 @@ def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLig
     shaders = {}
     for index in range(len(bsp.shaders)):
         name = bsp.shader_name(index)
+        if not compiled_with_script(bsp, scripts, index):
+            continue
         light = shader_light(scripts, name, image_colour)
         if light is not None:
             shaders[index] = light

@@ -10,6 +10,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 DEFAULT_GRID = (8, 8, 3)  # initial lights: cells of the world box along x, y, z
+# where the lights start (starts.py): "grid" (the cells above) or "peaks" (the peaks of the baked light, the
+# cells as fallback); peaks since 2026-11-27 (benchmarks.md "The light rig": it won on the training levels)
+GRID_START, PEAK_START = "grid", "peaks"
+STARTS = (GRID_START, PEAK_START)
+DEFAULT_START = PEAK_START
 # Subdivide target triangles to this longest edge (Quake units): a lightmap texel is 16 units, so 64
 # keeps ~4 texels between target points.
 DEFAULT_MAX_EDGE = 64.0

@@ -5,15 +5,18 @@ from __future__ import annotations
 
 import math
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from lpnn.lights.compare import grid_sample_points
-from lpnn.lights.emitters import (AREA_SCALE, FORM_FACTOR_VALUE_SCALE, AreaLights, Emitters, Spots, emitter_bytes,
-                                  form_factor, read_shader_scripts, shader_light, spot_factor, subdivide_winding)
+from lpnn.lights.emitters import (AREA_SCALE, FORM_FACTOR_VALUE_SCALE, AreaLights, Emitters, Spots, Suns, emitter_bytes,
+                                  emitters_at_points, form_factor, read_shader_scripts, script_declares_sky,
+                                  script_order, shader_light, shader_suns, spot_factor, subdivide_winding)
 from lpnn.lights.model import POINT_SCALE
 from lpnn.lights.rig import entity_lights
+from lpnn.scenes.raycast import EmbreeRaycaster
 
 
 def square(side: float, height: float) -> np.ndarray:
@@ -126,3 +129,133 @@ def test_grid_nodes_in_solid_are_nudged_as_trace_grid_does() -> None:
     np.testing.assert_allclose(got[0], [9.0, 9.0, -9.0])  # i = 3: +x, +y, -z at step 9
     np.testing.assert_allclose(got[1], nodes[1])  # already open
     np.testing.assert_allclose(got[2], nodes[2])  # nothing open within 18 units: unchanged
+
+
+def test_shader_sun_lines(tmp_path) -> None:
+    """q3map_sun R G B intensity degrees elevation (shaders.c): the colour to unit length, the direction toward the
+    sun from azimuth and elevation; q3map_sunExt's extra deviance and samples are read past."""
+    script = """textures/skies/night
+{
+    surfaceparm sky
+    q3map_sun 0.333333 0.45098 0.576471 155 360 90
+    q3map_surfacelight 20
+}
+textures/skies/hell
+{
+    q3map_sunExt 1 1 0.5 150 30 60 2 16
+}
+textures/skies/none
+{
+    q3map_sun 0 0 0 100 0 90
+}
+"""
+    pak = tmp_path / "a.pk3"
+    with zipfile.ZipFile(pak, "w") as archive:
+        archive.writestr("scripts/sky.shader", script)
+    scripts = read_shader_scripts([pak])
+    [(colour, photons, direction)] = shader_suns(scripts, "textures/skies/night")
+    norm = math.sqrt(0.333333 ** 2 + 0.45098 ** 2 + 0.576471 ** 2)
+    np.testing.assert_allclose(colour, np.array([0.333333, 0.45098, 0.576471]) / norm)
+    assert photons == 155
+    np.testing.assert_allclose(direction, [0.0, 0.0, 1.0], atol=1e-12)  # elevation 90: straight up to the sun
+    [(colour, photons, direction)] = shader_suns(scripts, "textures/skies/hell")
+    np.testing.assert_allclose(colour, np.array([1.0, 1.0, 0.5]) / 1.5)
+    np.testing.assert_allclose(direction, [math.cos(math.radians(30)) * 0.5, math.sin(math.radians(30)) * 0.5,
+                                           math.sqrt(3) / 2])
+    assert shader_suns(scripts, "textures/skies/none") == []  # black: no light
+    assert shader_suns(scripts, "textures/skies/missing") == []
+
+
+def sun_scene() -> tuple[Suns, EmbreeRaycaster]:
+    """A sky quad at z = 1000 over x, y in [-500, 500]; a roof quad at z = 100 over x in [100, 300] (the only
+    opaque geometry); a sun of 150 photons, colour (0.6, 0.8, 0), 60 degrees up along +x."""
+    def quad(x0: float, x1: float, y0: float, y1: float, z: float) -> tuple[np.ndarray, np.ndarray]:
+        vertices = np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]])
+        return vertices, np.array([[0, 1, 2], [0, 2, 3]])
+
+    sky = EmbreeRaycaster(*quad(-500, 500, -500, 500, 1000.0), threads=1)
+    roof = EmbreeRaycaster(*quad(100, 300, -50, 50, 100.0), threads=1)
+    elevation = math.radians(60)
+    direction = np.array([math.cos(elevation), 0.0, math.sin(elevation)])
+    suns = Suns(directions=direction[None], colours=np.array([[0.6, 0.8, 0.0]]), photons=np.array([150.0]),
+                shader=np.array([0]), sky=sky)
+    return suns, roof
+
+
+def test_sun_lights_a_luxel_that_sees_the_sky() -> None:
+    """LightContributionToSample, EMIT_SUN: colour x photons x cos to the surface's normal, when the ray toward the
+    sun meets the sky first; under the roof (its shadow) and facing away, nothing."""
+    suns, roof = sun_scene()
+    points = np.array([[-200.0, 0.0, 0.0],  # open sky toward the sun
+                       [150.0, 0.0, 0.0],  # the ray toward the sun (+x, up 60 degrees) passes x = 207 at z = 100: roof
+                       [-200.0, 0.0, 0.0],  # a wall facing -x: away from the sun
+                       [-200.0, 0.0, 0.0]])  # a wall facing +x
+    normals = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    got = emitter_bytes(points, normals, Emitters(suns=suns), roof)
+    colour = np.array([0.6, 0.8, 0.0])
+    np.testing.assert_allclose(got[0], 150.0 * math.sin(math.radians(60)) * colour)
+    np.testing.assert_allclose(got[1], 0.0)
+    np.testing.assert_allclose(got[2], 0.0)
+    np.testing.assert_allclose(got[3], 150.0 * math.cos(math.radians(60)) * colour)
+
+
+def test_sun_lights_the_grid_without_a_cosine() -> None:
+    """LightContributionToPoint, EMIT_SUN: photons x colour along the sun's direction, shadowed as on surfaces; a
+    sun without sky triangles lights nothing."""
+    suns, roof = sun_scene()
+    nodes = np.array([[-200.0, 0.0, 50.0], [150.0, 0.0, 50.0]])
+    colour, unit = emitters_at_points(nodes, Emitters(suns=suns), roof)
+    assert colour.shape == (2, 1, 3)
+    np.testing.assert_allclose(colour[0, 0], 150.0 * np.array([0.6, 0.8, 0.0]))
+    np.testing.assert_allclose(unit[0, 0], suns.directions[0])
+    np.testing.assert_allclose(colour[1, 0], 0.0)
+    skyless = Suns(suns.directions, suns.colours, suns.photons, suns.shader, sky=None)
+    np.testing.assert_allclose(emitters_at_points(nodes, Emitters(suns=skyless), roof)[0], 0.0)
+
+
+def test_scripts_of_the_level_release_win_over_later_updates(tmp_path) -> None:
+    """emitters.script_order: later releases' updates (pak6-patch*.pk3) are read first, so the level's release
+    defines a shader both have; a level shipped in an update reads the engine's order."""
+    def pak(name: str, value: int) -> Path:
+        path = tmp_path / name
+        with zipfile.ZipFile(path, "w") as archive:
+            archive.writestr("scripts/light.shader", f"textures/base_light/ceil1_22a\n{{\n q3map_surfacelight {value}\n}}\n")
+        return path
+
+    paks = [pak("pak0.pk3", 300), pak("pak1-maps.pk3", 0), pak("pak6-patch088.pk3", 10000)]
+    paks[1].unlink()
+    with zipfile.ZipFile(paks[1], "w") as archive:  # the level's pak: maps, no script
+        archive.writestr("maps/x.bsp", b"")
+    level_pak = paks[1]
+    order = script_order(paks, level_pak)
+    assert [p.name for p in order] == ["pak6-patch088.pk3", "pak0.pk3", "pak1-maps.pk3"]
+    light = shader_light(read_shader_scripts(order), "textures/base_light/ceil1_22a", lambda path: None)
+    assert light is not None and light.value == 300
+    assert script_order(paks, paks[2]) == paks  # a level of the update: the engine's order, the update wins
+    assert script_order(paks, None) == [paks[2], paks[0], paks[1]]
+
+
+def test_a_sky_script_on_a_shader_the_bsp_does_not_flag_sky_was_not_compiled(tmp_path) -> None:
+    """The BSP stores the surface flags its compile gave a shader; a script that makes the shader sky (surfaceparm
+    sky, or a sun line, which applies it) on a shader without SURF_SKY is not the script the level was built with."""
+    script = """textures/skies/a
+{
+    surfaceparm sky
+    q3map_surfacelight 100
+}
+textures/skies/b
+{
+    q3map_sun 1 1 1 50 0 90
+}
+textures/base/lamp
+{
+    q3map_surfacelight 100
+}
+"""
+    pak = tmp_path / "a.pk3"
+    with zipfile.ZipFile(pak, "w") as archive:
+        archive.writestr("scripts/s.shader", script)
+    scripts = read_shader_scripts([pak])
+    assert script_declares_sky(scripts, "textures/skies/a") and script_declares_sky(scripts, "textures/skies/b")
+    assert not script_declares_sky(scripts, "textures/base/lamp")
+    assert not script_declares_sky(scripts, "textures/none")

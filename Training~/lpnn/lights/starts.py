@@ -1,0 +1,213 @@
+"""Where a fit's lights start: at the peaks of the baked light, the grid's cells as fallback (lights.md §4).
+
+The lightmaps say where the lights are. A point light at height h over a flat surface gives it, at tangential
+distance rho from the foot of the light, q3map2's
+    E(rho) = 7500 I cos / d^2 = (7500 I / h^2) (h^2 / (h^2 + rho^2))^(3/2)  bytes
+(light_ydnar.c, LightContributionToSample: inverse square and Lambert cosine), a bump whose top is under the
+light and whose width grows with h (half the peak at rho = 0.766 h). So:
+
+1. the baked light of every target point, in bytes: its radiance over its albedo (target.py), where the albedo
+   is bright enough to divide by (LIGHT_MIN_ALBEDO), and whether its largest channel is saturated;
+2. peaks: points at least as bright as every other point within PEAK_RADIUS (ties to the lower index, so a
+   saturated plateau gives one peak per PEAK_RADIUS);
+3. per peak, the bump above fitted to the light of the points within FIT_RADIUS on its plane (normals within
+   FIT_COSINE, off the plane by at most FIT_PLANE_OFFSET): E = alpha s(|t - c|; h) + beta + g.t (a plane of the
+   other lights' light, smooth over the window) by least squares for each height of HEIGHTS and each foot c among
+   the plane's points within PEAK_RADIUS of the peak (the top of a bright light is a saturated plateau whose first
+   point is not its centre), keeping the pair of least residual; saturated points (largest channel >= SATURATED
+   bytes) are left out of the fit (ColorToBytes clamps them); a peak with too few points gets DEFAULT_HEIGHT; one
+   whose bump is lower than MIN_BUMP bytes is no light's (ambient, or a plateau);
+4. the start: the foot pushed out along the peak's normal by its height (halved down to MIN_HEIGHT until it is in
+   open space, dropped if never), with the estimated intensity alpha h^2 / 7500 (the fitted height's);
+5. merged: highest bump (alpha) first, ties to the lower index — the surface nearest a light sees its sharpest,
+   best-determined bump, while a far wall's broad one says little of the height —, a start within
+   MERGE_DISTANCE of one kept is dropped; at most MAX_STARTS are kept;
+6. the grid as fallback: the open cell centres of the --grid (optimise.initial_grid) farther than
+   FALLBACK_DISTANCE from every start above (where nothing peaks: dim regions, or light from surfaces the fit
+   recovers otherwise).
+
+Deterministic: no random numbers; every tie is broken by index.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..scenes.lightgrid import LINEAR_PER_BYTE
+from .model import BYTE_MAX, POINT_SCALE
+from .optimise import CLEARANCE
+
+LIGHT_MIN_ALBEDO = 0.05  # mean albedo below which a point's light (radiance / albedo) is not read
+PEAK_RADIUS = 96.0  # Quake units: a peak is the brightest point within this distance
+PEAK_NEIGHBOURS = 64  # the nearest points compared with a candidate peak (bounded by PEAK_RADIUS)
+FIT_RADIUS = 320.0  # Quake units around a peak whose light the bump is fitted to
+FIT_COSINE = 0.95  # normals within ~18 degrees of the peak's are on its plane
+FIT_PLANE_OFFSET = 8.0  # Quake units off the peak's plane
+FIT_MIN_POINTS = 6
+SATURATED = BYTE_MAX - 2.0  # bytes: clamped points say nothing of the bump's shape
+HEIGHTS = (24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 192.0, 256.0)  # Quake units tried per peak
+DEFAULT_HEIGHT = 64.0
+MIN_HEIGHT = CLEARANCE  # closer to a surface, the fit's clearance penalty pushes the light away
+MIN_BUMP = 8.0  # bytes of bump (alpha) below which a peak is not a light's
+MERGE_DISTANCE = 64.0  # Quake units
+MAX_STARTS = 160
+FALLBACK_DISTANCE = 512.0  # Quake units (13 m)
+
+OpenTest = Callable[[np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class PeakSettings:
+    peak_radius: float = PEAK_RADIUS
+    fit_radius: float = FIT_RADIUS
+    min_bump: float = MIN_BUMP
+    merge_distance: float = MERGE_DISTANCE
+    max_starts: int = MAX_STARTS
+    fallback_distance: float = FALLBACK_DISTANCE
+
+
+DEFAULT_PEAKS = PeakSettings()
+
+
+@dataclass(frozen=True)
+class Starts:
+    positions: np.ndarray  # (J, 3) Quake units
+    intensities: np.ndarray  # (J,) estimated q3map2 intensity (peaks), 0 for grid cells (no estimate)
+    from_peaks: int  # the first from_peaks positions come from peaks, the rest from the grid
+
+
+def baked_light(radiance: np.ndarray, albedo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """((N,) the baked light of each point in bytes, the mean over RGB of radiance / albedo, NaN where the albedo is
+    too dark to divide by; (N,) bool its largest channel is saturated, at SATURATED bytes or more: ColorToBytes
+    scales the colour down there, keeping its hue)."""
+    mean_albedo = albedo.mean(axis=1)
+    readable = mean_albedo >= LIGHT_MIN_ALBEDO
+    light = np.full(len(radiance), np.nan)
+    saturated = np.zeros(len(radiance), bool)
+    channels = radiance[readable] / (np.maximum(albedo[readable], LIGHT_MIN_ALBEDO) * LINEAR_PER_BYTE)
+    light[readable] = channels.mean(axis=1)
+    saturated[readable] = channels.max(axis=1) >= SATURATED
+    return light, saturated
+
+
+def light_peaks(points: np.ndarray, light: np.ndarray, radius: float = PEAK_RADIUS) -> np.ndarray:
+    """Indices (ascending) of the points at least as bright as every readable point within `radius`; an equal
+    neighbour of lower index wins the tie."""
+    readable = np.flatnonzero(np.isfinite(light))
+    if len(readable) == 0:
+        return readable
+    tree = cKDTree(points[readable])
+    k = min(PEAK_NEIGHBOURS, len(readable))
+    distance, neighbour = tree.query(points[readable], k=k, distance_upper_bound=radius)
+    distance, neighbour = distance.reshape(len(readable), k), neighbour.reshape(len(readable), k)
+    present = np.isfinite(distance)
+    other = readable[np.where(present, neighbour, 0)]
+    own = readable[:, None]
+    own_light, other_light = light[own], light[other]
+    beaten = present & (other != own) & ((other_light > own_light) | ((other_light == own_light) & (other < own)))
+    return readable[~beaten.any(axis=1)]
+
+
+def bump_profile(rho: np.ndarray, height: float | np.ndarray) -> np.ndarray:
+    """A point light's light on a plane at tangential distance rho, relative to its foot (module docstring)."""
+    return (height * height / (height * height + rho * rho)) ** 1.5
+
+
+@dataclass(frozen=True)
+class Bump:
+    foot: int  # index (into the centres given to fit_bump) of the light's foot
+    height: float  # Quake units
+    alpha: float  # bytes at the foot
+
+
+def fit_bump(tangential: np.ndarray, light: np.ndarray, centres: np.ndarray, normal: np.ndarray) -> Bump:
+    """The bump alpha s(|t - c|; h) + beta + g.t (a plane of other light: the other lights' light is smooth over
+    the window) that fits `light` at plane points `tangential` (M, 3, in the plane of `normal`) best by least
+    squares (alpha >= 0), over every foot c of `centres` (C, 3) and height h of HEIGHTS (ties: the lower index,
+    the lower height); Bump(0, DEFAULT_HEIGHT, 0) with fewer than FIT_MIN_POINTS points."""
+    count = len(light)
+    if count < FIT_MIN_POINTS or len(centres) == 0:
+        return Bump(0, DEFAULT_HEIGHT, 0.0)
+    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(normal, u)
+    background = np.stack([np.ones(count), tangential @ u, tangential @ v], axis=1)  # (M, 3)
+    projector = np.linalg.pinv(background)  # (3, M): least-squares coefficients of the background
+
+    def without_background(values: np.ndarray) -> np.ndarray:
+        return values - (values @ projector.T) @ background.T
+
+    rho = np.linalg.norm(tangential[None, :, :] - centres[:, None, :], axis=2)  # (C, M)
+    heights = np.asarray(HEIGHTS)
+    profile = without_background(bump_profile(rho[None], heights[:, None, None]))  # (H, C, M)
+    residual_light = without_background(light)
+    variance = np.einsum("hcm,hcm->hc", profile, profile)
+    covariance = np.einsum("hcm,m->hc", profile, residual_light)
+    alpha = np.where((variance > 0) & (covariance > 0), covariance / np.maximum(variance, 1e-300), 0.0)
+    residual = float(residual_light @ residual_light) - alpha * covariance  # least-squares residual of each (h, c)
+    best = int(np.argmin(residual.T.ravel()))  # centre-major: the first minimum is the lowest centre, then height
+    centre, height = divmod(best, len(heights))
+    return Bump(centre, float(heights[height]), float(alpha[height, centre]))
+
+
+def peak_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray, albedo: np.ndarray,
+                is_open: OpenTest, settings: PeakSettings = DEFAULT_PEAKS) -> Starts:
+    """Starts 1-5 of the module docstring: light positions and estimated intensities from the baked light."""
+    light, saturated = baked_light(radiance, albedo)
+    peaks = light_peaks(points, light, settings.peak_radius)
+    tree = cKDTree(points)
+    positions, intensities, bumps = [], [], []
+    for peak in peaks:
+        normal = normals[peak]
+        near = np.asarray(tree.query_ball_point(points[peak], settings.fit_radius), dtype=np.int64)
+        offset = points[near] - points[peak]
+        along = offset @ normal
+        on_plane = (normals[near] @ normal >= FIT_COSINE) & (np.abs(along) <= FIT_PLANE_OFFSET) & \
+            np.isfinite(light[near])
+        near, offset, along = near[on_plane], offset[on_plane], along[on_plane]
+        tangential = offset - along[:, None] * normal
+        distance = np.linalg.norm(tangential, axis=1)
+        centres = tangential[distance <= settings.peak_radius]  # the foot may be anywhere on a saturated top
+        unsaturated = ~saturated[near]
+        bump = fit_bump(tangential[unsaturated], light[near][unsaturated], centres, normal)
+        if bump.alpha < settings.min_bump and unsaturated.sum() >= FIT_MIN_POINTS:
+            continue
+        alpha = max(bump.alpha, settings.min_bump)
+        foot = points[peak] + (centres[bump.foot] if len(centres) else 0.0)
+        height = bump.height
+        while height >= MIN_HEIGHT:
+            position = foot + height * normal
+            if is_open(position[None])[0]:
+                positions.append(position)
+                intensities.append(alpha * bump.height * bump.height / POINT_SCALE)
+                bumps.append(alpha)
+                break
+            height /= 2.0
+    if not positions:
+        return Starts(np.zeros((0, 3)), np.zeros(0), 0)
+    positions_array, intensity_array = np.array(positions), np.array(intensities)
+    order = np.lexsort((np.arange(len(bumps)), -np.array(bumps)))  # highest bump first, ties to the lower index
+    kept: list[int] = []
+    for index in order:
+        if len(kept) == settings.max_starts:
+            break
+        if kept and np.min(np.linalg.norm(positions_array[kept] - positions_array[index], axis=1)) < settings.merge_distance:
+            continue
+        kept.append(int(index))
+    return Starts(positions_array[kept], intensity_array[kept], len(kept))
+
+
+def with_grid_fallback(peaks: Starts, grid: np.ndarray, distance: float = FALLBACK_DISTANCE) -> Starts:
+    """Step 6: the peaks' starts, then the grid cells (optimise.initial_grid) farther than `distance` from all of
+    them; the whole grid when nothing peaks."""
+    if peaks.from_peaks == 0:
+        return Starts(grid, np.zeros(len(grid)), 0)
+    if len(grid):
+        far, _ = cKDTree(peaks.positions).query(grid)
+        grid = grid[np.asarray(far) > distance]
+    return Starts(np.concatenate([peaks.positions, grid]), np.concatenate([peaks.intensities, np.zeros(len(grid))]),
+                  peaks.from_peaks)

@@ -1,0 +1,148 @@
+"""Where a fit's lights start (lpnn.lights.starts, lights.md §4): the peaks of the baked light, pushed out by the
+height of the bump fitted around them, on closed-form bumps and on the analytic room lit by lights we chose."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lit_bsp import lit_level
+from lpnn.lights.model import ForwardModel, Lights
+from lpnn.lights.optimise import Fitter, initial_intensity
+from lpnn.lights.pipeline import load_scene, start_positions
+from lpnn.lights.settings import SCHEMES
+from lpnn.scenes.levels import load_level
+from lpnn.lights.starts import (DEFAULT_HEIGHT, Starts, baked_light, bump_profile, fit_bump, light_peaks, peak_starts,
+                                with_grid_fallback)
+from synthetic_room import ROOM_SIDE, inside_room, lit_room
+
+# lights on mesh vertices of the 16-division room (16-unit spacing), 64 units (a height of starts.HEIGHTS) from
+# the nearest walls, so the peaks' feet and heights are exactly representable
+MESH_LIGHTS = Lights(positions=np.array([[64.0, 64.0, 192.0], [192.0, 192.0, 64.0]]),
+                     colours=np.array([[1.0, 0.8, 0.6], [0.5, 0.7, 1.0]]), intensities=np.array([100.0, 80.0]),
+                     ambient=np.array([12.0, 10.0, 8.0]))
+BOUNDS = (np.full(3, 1.0), np.full(3, ROOM_SIDE - 1.0))
+
+
+def open_room(points: np.ndarray) -> np.ndarray:
+    return inside_room(points, pillar=False)
+
+
+@pytest.fixture(scope="module")
+def room() -> ForwardModel:
+    return lit_room(MESH_LIGHTS, divisions=16, pillar=False)[0]
+
+
+def plane_points(spacing: float = 16.0, radius: float = 320.0) -> np.ndarray:
+    axis = np.arange(-radius, radius + spacing, spacing)
+    x, y = np.meshgrid(axis, axis, indexing="ij")
+    points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    return points[np.linalg.norm(points, axis=1) <= radius]
+
+
+def test_bump_profile_is_a_point_light_on_a_plane() -> None:
+    """7500 I cos / d^2 on a plane at height h, relative to its foot: (h^2 / (h^2 + rho^2))^(3/2)."""
+    height, rho = 96.0, np.array([0.0, 50.0, 96.0, 300.0])
+    distance = np.hypot(height, rho)
+    expected = (height / distance) / distance ** 2 * height ** 2
+    np.testing.assert_allclose(bump_profile(rho, height), expected)
+    assert bump_profile(np.array([0.766 * height]), height)[0] == pytest.approx(0.5, abs=2e-3)  # half width
+
+
+def test_fit_bump_finds_the_foot_the_height_and_the_size_over_a_sloping_background() -> None:
+    points = plane_points()
+    foot = np.array([32.0, -16.0, 0.0])
+    light = 120.0 * bump_profile(np.linalg.norm(points - foot, axis=1), 96.0) + 20.0 + 0.05 * points[:, 0]
+    centres = points[np.linalg.norm(points, axis=1) <= 96.0]
+    bump = fit_bump(points, light, centres, np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(centres[bump.foot], foot)
+    assert bump.height == 96.0
+    assert bump.alpha == pytest.approx(120.0, rel=1e-9)
+
+
+def test_fit_bump_with_too_few_points_keeps_the_default_height() -> None:
+    points = plane_points()[:3]
+    bump = fit_bump(points, np.ones(3), points, np.array([0.0, 0.0, 1.0]))
+    assert (bump.height, bump.alpha) == (DEFAULT_HEIGHT, 0.0)
+
+
+def test_light_peaks_are_local_maxima_ties_to_the_lower_index() -> None:
+    points = np.array([[x, 0.0, 0.0] for x in (0.0, 50.0, 100.0, 150.0, 400.0, 450.0, 900.0)])
+    light = np.array([1.0, 3.0, 3.0, 1.0, 2.0, 5.0, np.nan])
+    np.testing.assert_array_equal(light_peaks(points, light, radius=96.0), [1, 5])  # 2 ties with 1; NaN never
+
+
+def test_baked_light_divides_by_the_albedo_and_flags_saturated_channels() -> None:
+    albedo = np.array([[0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.01, 0.01, 0.01]])
+    per_byte = 4.0 / 255.0
+    radiance = albedo * per_byte * np.array([[100.0, 50.0, 30.0], [255.0, 128.0, 64.0], [10.0, 10.0, 10.0]])
+    light, saturated = baked_light(radiance, albedo)
+    np.testing.assert_allclose(light[:2], [60.0, 149.0])
+    assert np.isnan(light[2])  # too dark to read
+    np.testing.assert_array_equal(saturated, [False, True, False])
+
+
+def test_peaks_start_at_the_lights_of_the_room(room: ForwardModel) -> None:
+    starts = peak_starts(room.points, room.normals, room.radiance, room.albedo, open_room)
+    assert starts.from_peaks == len(starts.positions) == 2  # a start per light; the other walls' merged or weak
+    distance = np.linalg.norm(starts.positions[:, None] - MESH_LIGHTS.positions[None], axis=2)
+    assert distance.min(axis=0).max() < 1e-9
+    order = distance.argmin(axis=0)
+    # the estimate is the bump's size x h^2 / 7500; the other light's share of the wall goes to the background
+    # plane, so it is low by up to ~15 % here
+    np.testing.assert_allclose(starts.intensities[order], MESH_LIGHTS.intensities, rtol=0.15)
+
+
+def test_peak_starts_are_deterministic(room: ForwardModel) -> None:
+    first = peak_starts(room.points, room.normals, room.radiance, room.albedo, open_room)
+    second = peak_starts(room.points, room.normals, room.radiance, room.albedo, open_room)
+    np.testing.assert_array_equal(first.positions, second.positions)
+    np.testing.assert_array_equal(first.intensities, second.intensities)
+
+
+def test_grid_fallback_fills_only_where_nothing_peaks() -> None:
+    peaks = Starts(positions=np.array([[0.0, 0.0, 0.0]]), intensities=np.array([50.0]), from_peaks=1)
+    grid = np.array([[100.0, 0.0, 0.0], [600.0, 0.0, 0.0], [0.0, 0.0, 513.0]])
+    got = with_grid_fallback(peaks, grid, distance=512.0)
+    np.testing.assert_array_equal(got.positions, [[0.0, 0.0, 0.0], [600.0, 0.0, 0.0], [0.0, 0.0, 513.0]])
+    np.testing.assert_array_equal(got.intensities, [50.0, 0.0, 0.0])
+    assert got.from_peaks == 1
+    nothing = with_grid_fallback(Starts(np.zeros((0, 3)), np.zeros(0), 0), grid)
+    np.testing.assert_array_equal(nothing.positions, grid)
+    assert nothing.from_peaks == 0
+
+
+def test_initial_intensity_keeps_the_estimates_ratios(room: ForwardModel) -> None:
+    positions = np.array([[64.0, 64.0, 192.0], [192.0, 192.0, 64.0], [128.0, 128.0, 128.0]])
+    relative = np.array([4.0, 2.0, 1.0])
+    lights = initial_intensity(room, positions, relative=relative)
+    np.testing.assert_allclose(lights.intensities / lights.intensities[2], relative / relative[2])
+    with pytest.raises(ValueError, match="positive"):
+        initial_intensity(room, positions, relative=np.array([1.0, 0.0, 1.0]))
+
+
+def test_a_fit_started_at_the_peaks_recovers_the_lights(room: ForwardModel) -> None:
+    starts = peak_starts(room.points, room.normals, room.radiance, room.albedo, open_room)
+    lights = initial_intensity(room, starts.positions, relative=starts.intensities)
+    result = Fitter(room, BOUNDS, open_room, room.points).fit(lights, SCHEMES["lbfgs"])
+    assert result.objective < 1e-6
+    for position, colour, intensity in zip(MESH_LIGHTS.positions, MESH_LIGHTS.colours, MESH_LIGHTS.intensities):
+        match = np.argmin(np.linalg.norm(result.lights.positions - position, axis=1))
+        assert np.linalg.norm(result.lights.positions[match] - position) < 0.5  # Quake units
+        np.testing.assert_allclose(result.lights.colours[match] * result.lights.intensities[match], colour * intensity,
+                                   rtol=0.01)
+
+
+def test_a_level_whose_baked_light_is_flat_starts_on_the_grid(tmp_path: Path) -> None:
+    """The synthetic lit level's quad holds one lightmap value and its patch one vertex colour: no bump, so the
+    peak start falls back to the whole grid (pipeline.start_positions)."""
+    path = tmp_path / "lit.bsp"
+    path.write_bytes(lit_level().to_bytes())
+    scene = load_scene(load_level(str(path)), textures=False)
+    peaks, grid = start_positions(scene, (2, 2, 2), "peaks"), start_positions(scene, (2, 2, 2), "grid")
+    assert peaks.from_peaks == 0 and len(grid.positions) > 0
+    np.testing.assert_array_equal(peaks.positions, grid.positions)
+    with pytest.raises(ValueError, match="start 'corners' is not one of grid, peaks"):
+        start_positions(scene, (2, 2, 2), "corners")
