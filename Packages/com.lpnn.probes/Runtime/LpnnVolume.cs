@@ -119,9 +119,9 @@ namespace Lpnn.Probes
         [SerializeField] private Vector3[] pinnedProbes = new Vector3[0];
 
         // Added after 0.1.0: a volume saved before it loads with the default, on.
-        [Tooltip("Insertion methods: Apply's refinement avoids light leaking through walls (Documentation~/leaks.md): it repairs the " +
+        [Tooltip("The refined methods: Apply's refinement avoids light leaking through walls (Documentation~/leaks.md): it repairs the " +
                  "tetrahedra whose probes a point cannot see (physics casts, as the Features step) and weighs leaking points 8x. " +
-                 "Measured with lpnn place on 15 levels' points in use (benchmarks.md \"Light leaks\"): leaking points 8-38 % -> 0-1 % on 13 of them " +
+                 "Measured with lpnn place on 15 levels' points in use (benchmarks.md \"Light leaks\"): leaking points 8-38 % -> 0-1.2 % on 14 of them " +
                  "for a median +13 % probes, lower error near surfaces; on a whole-grid volume the price is higher (136,512 points: " +
                  "761 -> 2,854 probes, 91 % -> 14 % leaking, 2x the time). Off: fewer probes, leaks accepted.")]
         [SerializeField] private bool avoidLightLeaks = true;
