@@ -9,6 +9,8 @@ import numpy as np
 
 from ...core.features import Raycaster
 from ...core.segments import segments_free
+from .leak_rule_kernel import UNKNOWN, looked_up, remember
+from .metric_kernel import run_rows
 
 # Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of zero), not light.
 LEAK_MIN_WEIGHT = 1e-6
@@ -45,8 +47,8 @@ class SegmentVisibility:
     Memory: 5 bytes a slot and 1 per point (41 bytes a point with 8 slots: 47 MB at 1.15 x 10^6 points)."""
 
     def __init__(self, raycaster: Raycaster, positions: np.ndarray, slots: int = MEMO_SLOTS) -> None:
-        if int(slots) < 4:
-            raise ValueError(f"{slots!r} slots per point: at least a whole stencil (4) is needed")
+        if not 4 <= int(slots) <= 127:
+            raise ValueError(f"{slots!r} slots per point: at least a whole stencil (4), at most 127")
         self.raycaster = raycaster
         self.positions = np.asarray(positions, dtype=np.float64)
         count = self.positions.shape[0]
@@ -58,41 +60,24 @@ class SegmentVisibility:
 
     def free(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
         """(S,) bool: whether point starts[k] sees point ends[k] (indices into `positions`, starts != ends or not)."""
-        starts = np.asarray(starts, dtype=np.int64)
-        ends = np.asarray(ends, dtype=np.int64)
-        match = self._partner[starts] == ends[:, None]
-        known = match.any(axis=1)
-        free = self._sees[starts, np.argmax(match, axis=1)] & known
-        unknown = np.flatnonzero(~known)
+        starts = np.ascontiguousarray(starts, dtype=np.int64)
+        ends = np.ascontiguousarray(ends, dtype=np.int64)
+        answers = np.empty(starts.shape[0], dtype=np.int8)
+        run_rows(looked_up, starts.shape[0], self._partner, self._sees, starts, ends, answers)
+        free = answers == 1
+        unknown = np.flatnonzero(answers == UNKNOWN)
         self.asked += int(starts.shape[0])
         if unknown.shape[0] == 0:
             return free
-        # One cast per distinct new segment (a pair may be asked twice in one call).
+        # One cast per distinct new segment (a pair may be asked twice in one call), remembered in key order.
         keys, first, back = np.unique(starts[unknown] * self.positions.shape[0] + ends[unknown], return_index=True,
                                       return_inverse=True)
         new_starts, new_ends = starts[unknown[first]], ends[unknown[first]]
         seen = segments_free(self.raycaster, self.positions[new_starts], self.positions[new_ends])
         self.rays += int(keys.shape[0])
         free[unknown] = seen[back.reshape(-1)]
-        self._remember(new_starts, new_ends, seen)
+        remember(self._partner, self._sees, self._next, new_starts, new_ends.astype(np.int32), seen)
         return free
-
-    def _remember(self, starts: np.ndarray, ends: np.ndarray, seen: np.ndarray) -> None:
-        """Each point's new partners (`starts` ascending, as np.unique leaves them) take its next slots in turn."""
-        slots = self._partner.shape[1]
-        group = np.r_[True, starts[1:] != starts[:-1]]
-        begins = np.flatnonzero(group)
-        sizes = np.diff(np.r_[begins, starts.shape[0]])
-        rank = np.arange(starts.shape[0]) - np.repeat(begins, sizes)
-        # More new partners than slots in one call: only a point's last `slots` stay (distinct slots, no clash).
-        keep = rank >= np.repeat(sizes, sizes) - slots
-        starts, ends, seen, rank = starts[keep], ends[keep], seen[keep], rank[keep]
-        column = (self._next[starts].astype(np.int64) + rank) % slots
-        self._partner[starts, column] = ends
-        self._sees[starts, column] = seen
-        added = np.bincount(starts, minlength=self._next.shape[0])
-        touched = np.flatnonzero(added)
-        self._next[touched] = (self._next[touched].astype(np.int64) + added[touched]) % slots
 
     def stencil_leaks(self, points: np.ndarray, probes: np.ndarray, vertices: np.ndarray,
                       weights: np.ndarray) -> np.ndarray:
