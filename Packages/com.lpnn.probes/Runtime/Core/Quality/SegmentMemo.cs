@@ -32,7 +32,7 @@ namespace Lpnn.Probes.Core.Quality
                 throw new ArgumentOutOfRangeException(nameof(slots), slots, "at least a whole stencil (4), at most 255");
             this.slots = slots;
             PointCount = pointCount;
-            partner = new int[pointCount * slots];
+            partner = new int[checked(pointCount * slots)];
             sees = new bool[pointCount * slots];
             next = new byte[pointCount];
             for (int i = 0; i < partner.Length; i++) partner[i] = -1;
