@@ -250,12 +250,14 @@ namespace Lpnn.Probes.Core.Tests
         {
             private readonly IRaycaster inner;
             public int Casts;
+            public long Rays;
 
             public CountingRaycaster(IRaycaster inner) => this.inner = inner;
 
             public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
             {
                 Casts++;
+                Rays += origins.Length;
                 inner.Cast(origins, directions, maxDistance, results);
             }
         }
@@ -300,6 +302,64 @@ namespace Lpnn.Probes.Core.Tests
             var unrefined = new CountingRaycaster(Room.Wall);
             Assert.That(apply(false, unrefined).Indices, Is.EqualTo(apply(false, null).Indices), "without refinement the option has nothing to act on");
             Assert.That(unrefined.Casts, Is.EqualTo(0));
+        }
+
+        // ---- remembered segments (SegmentMemo) --------------------------------------------------------------------------
+
+        /// <summary>The memo answers as a fresh cast over the stencils of successive probe sets of the golden room (they
+        /// share most segments, as a refinement's rounds do), with few slots (4: partners evicted) and the default.</summary>
+        [TestCase(4)]
+        [TestCase(SegmentMemo.DefaultSlots)]
+        public void RememberedSegmentsAnswerAsAFreshCast(int slots)
+        {
+            var reference = Room.Evaluator.Reference;
+            var memo = new SegmentMemo(reference.Count, slots);
+            var counting = new CountingRaycaster(Room.Wall);
+            long pairs = 0;
+            int leaks = 0;
+            foreach (int count in new[] { 8, 12, 16, 12, 24, 20, 32 })
+            {
+                int[] probes = Room.Order.Prefix(count).Take(count).OrderBy(p => p).ToArray();
+                var positions = probes.Select(p => reference.GetPosition(p)).ToArray();
+                var points = new System.Collections.Generic.List<int>();
+                var stencils = new System.Collections.Generic.List<Stencil>();
+                PlacementError.InterpolateOthers(reference, probes, Room.Evaluator.Tetrahedralizer.Tetrahedralize(positions),
+                    (int n, ref Stencil stencil, double[] interpolated) =>
+                    {
+                        points.Add(n);
+                        stencils.Add(stencil);
+                    });
+                bool[] fresh = LeakCheck.Leaking(reference, probes, points, stencils, Room.Wall);
+                Assert.That(LeakCheck.Leaking(reference, probes, points, stencils, counting, memo), Is.EqualTo(fresh), "probes " + count);
+                pairs += stencils.Sum(s => new[] { s.Weight0, s.Weight1, s.Weight2, s.Weight3 }.Count(w => w > LeakCheck.MinimumWeight));
+                leaks += fresh.Count(x => x);
+            }
+            Assert.That(leaks, Is.GreaterThan(0), "some stencils must leak for the answers to mean anything");
+            Assert.That(memo.Asked, Is.EqualTo(pairs));
+            Assert.That(counting.Rays, Is.EqualTo(memo.Asked - memo.Known), "every segment not remembered is cast, once");
+            Assert.That(memo.Known, Is.GreaterThan(0));
+        }
+
+        [Test]
+        public void TheLeakAwareToleranceCastsMostSegmentsOnce()
+        {
+            var c = Room.Golden.Get("tolerance_case");
+            var counting = new CountingRaycaster(Room.Wall);
+            var weighting = new LeakWeighting(counting);
+            var placed = Room.Place(SelectionSettings.Tolerance(c.Get("tolerance").AsNumber), weighting);
+            Assert.That(placed.Indices, Is.EqualTo(Ints(c.Get("indices"))), "the same answer as the Python reference");
+            var memo = weighting.MemoFor(Room.Evaluator.Reference);
+            Assert.That(counting.Rays, Is.EqualTo(memo.Asked - memo.Known), "the repair and the refinement share the memo");
+            Assert.That(counting.Rays, Is.LessThan(memo.Asked / 2), "most segments asked again were remembered");
+        }
+
+        [Test]
+        public void AMemoOfAnotherReferenceIsRefused()
+        {
+            var reference = Room.Evaluator.Reference;
+            Assert.Throws<ArgumentException>(() => LeakCheck.Leaking(reference, new[] { 0, 1, 2, 3 }, new int[0], new Stencil[0], Room.Wall,
+                new SegmentMemo(reference.Count + 1)));
+            Assert.Throws<ArgumentOutOfRangeException>(() => new SegmentMemo(10, 3));
         }
 
         /// <summary>Cancels its source on the first cast, so a repair is cancelled during its first round.</summary>

@@ -12,7 +12,9 @@ from lpnn.core.grid_box import Box
 from lpnn.core.grid_builder import build_grid
 from lpnn.quality.placement.batched_refinement import BatchedRefinement, batched_refinement, greedy_independent_set
 from lpnn.quality.placement.batched_state import evaluate, trial_of, without
+from lpnn.quality.placement import leak_aware
 from lpnn.quality.placement.leak_aware import LeakWeighting, leak_repaired
+from lpnn.quality.metric.leak_rule import SegmentVisibility, stencil_leaks
 from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.metric.metric import MetricError, ReferenceField, mean_placement_error, point_errors
 from lpnn.quality.placement.pins import PinError, Pins, pin_probes
@@ -187,3 +189,96 @@ def test_a_refined_set_whose_fresh_error_exceeds_tau_is_not_the_answer(rooms, mo
     fooled = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=leaks)
     assert not np.array_equal(fooled.indices, corners)  # the search's answer instead
     assert fooled.mean_error == pytest.approx(mean_placement_error(field, fooled.indices)) and fooled.mean_error <= TOLERANCE
+
+
+# Remembered segments (metric/leak_rule.py SegmentVisibility): the same answers as casting every segment anew, with
+# fewer rays.
+
+class CountingRaycaster:
+    """A raycaster that counts the rays it is asked to cast."""
+
+    def __init__(self, inner) -> None:
+        self.inner = inner
+        self.rays = 0
+
+    def cast(self, origins: np.ndarray, directions: np.ndarray, max_distance: float):
+        self.rays += int(origins.shape[0])
+        return self.inner.cast(origins, directions, max_distance)
+
+
+def _stencils(rng: np.random.Generator, points: int, probes: int, rows: int):
+    """Random stencils over few points and probes, so pairs repeat and points get more partners than slots."""
+    at = rng.integers(0, points, rows)
+    vertices = np.stack([rng.choice(probes, 4, replace=False) for _ in range(rows)])
+    weights = rng.dirichlet(np.ones(4), rows)
+    weights[rng.random((rows, 4)) < 0.2] = 0.0  # zero weights: not cast, not leaking
+    return at, vertices, weights
+
+
+@pytest.mark.parametrize("slots", [4, 8])
+def test_remembered_segments_answer_as_a_fresh_cast_in_any_order(slots: int) -> None:
+    rng = np.random.default_rng(7)
+    # Points on both sides of the wall (x in [0.1, 0.4]) and probes among them.
+    positions = np.column_stack([rng.uniform(-2.0, 2.0, 60), rng.uniform(0.0, 2.0, 60), rng.uniform(0.0, 2.0, 60)])
+    positions = positions[(positions[:, 0] < 0.05) | (positions[:, 0] > 0.45)]
+    counting = CountingRaycaster(WALLED)
+    memo = SegmentVisibility(counting, positions, slots=slots)
+    probes = np.arange(12)
+    asked = 0
+    for _ in range(30):
+        points = np.arange(12, positions.shape[0])
+        at, vertices, weights = _stencils(rng, points.shape[0], probes.shape[0], 40)
+        expected = stencil_leaks(positions[points[at]], positions[probes], vertices, weights, WALLED)
+        assert np.array_equal(memo.stencil_leaks(points[at], probes, vertices, weights), expected)
+        asked += int(np.count_nonzero(weights > 1e-6))
+    assert expected.any() and not expected.all()  # both answers were exercised
+    assert memo.asked == asked and counting.rays == memo.rays < asked  # remembered: fewer rays than segments asked
+    # No more pairs exist than points x probes: with a slot per probe nothing is cast twice.
+    if slots >= probes.shape[0]:
+        assert memo.rays <= (positions.shape[0] - 12) * probes.shape[0]
+
+
+def test_fewer_than_four_slots_are_refused() -> None:
+    with pytest.raises(ValueError, match="slots"):
+        SegmentVisibility(WALLED, np.zeros((5, 3)), slots=3)
+
+
+def test_the_memo_must_be_of_the_weighting_s_raycaster_and_field(rooms) -> None:
+    field, _ = rooms
+    other = AnalyticBoxRaycaster(obstacles=(AxisBox(min=[0.1, -10.0, -10.0], max=[0.4, 10.0, 10.0]),))
+    with pytest.raises(MetricError, match="own raycaster"):
+        LeakWeighting(WALLED, 8.0, SegmentVisibility(other, field.world))
+    with pytest.raises(MetricError, match="raycaster the repair"):
+        leak_repaired(field, _corners(field), WALLED, visibility=SegmentVisibility(other, field.world))
+    with pytest.raises(MetricError, match="remember them for this field"):
+        leak_repaired(field, _corners(field), WALLED, visibility=SegmentVisibility(WALLED, field.world[:-1]))
+
+
+def _placed(field, grid, monkeypatch, remember: bool, **options):
+    """The leak-aware default with (remember) or without the memo (every segment cast anew, as before it), and the
+    rays it cast."""
+    counting = CountingRaycaster(WALLED)
+    with monkeypatch.context() as patch:
+        if not remember:
+            patch.setattr(leak_aware.LeakWeighting, "remembering", lambda self, field: self)
+        placed = refined_insertion(field, grid, leaks=counting, **options)
+    return placed, counting.rays
+
+
+@pytest.mark.parametrize("options", [{"tolerance": TOLERANCE}, {"budget": 0.1}], ids=["tolerance", "budget"])
+def test_the_leak_aware_default_places_the_same_probes_with_fewer_rays(rooms, monkeypatch, options) -> None:
+    field, grid = rooms
+    fresh, fresh_rays = _placed(field, grid, monkeypatch, False, **options)
+    remembered, rays = _placed(field, grid, monkeypatch, True, **options)
+    assert np.array_equal(remembered.indices, fresh.indices)
+    assert remembered.rounds == fresh.rounds and remembered.seed_count == fresh.seed_count
+    assert remembered.mean_error == fresh.mean_error
+    assert 0 < rays < fresh_rays / 2, (rays, fresh_rays)
+
+
+def test_pinned_leak_aware_placement_is_unchanged_by_the_memo(rooms, monkeypatch) -> None:
+    field, grid = rooms
+    pins = _pins_by_the_wall(field, grid)
+    fresh, _ = _placed(field, grid, monkeypatch, False, tolerance=TOLERANCE, pins=pins)
+    remembered, _ = _placed(field, grid, monkeypatch, True, tolerance=TOLERANCE, pins=pins)
+    assert np.array_equal(remembered.indices, fresh.indices)

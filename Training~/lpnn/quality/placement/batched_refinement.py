@@ -132,7 +132,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     the two. A seed whose error already exceeds the tolerance is returned as it is (stop_reason says so). `keep`:
     point indices never removed (e.g. the bounds corners a Unity volume keeps). `trace` gets every round's inputs and
     decisions (the golden file's generator certifies them: Tools~/golden/make_batched_refinement_golden.py). `progress` gets (probes removed, probes the seed has beyond the goal) after every round.
-    `leaks` (leak_aware.py): every error summed — costs, tolerance, mean_error — is the leak-weighted one."""
+    `leaks` (leak_aware.py): every error summed — costs, tolerance, mean_error — is the leak-weighted one; its segments
+    are remembered for the whole call (a fresh memo unless `leaks` brings one: LeakWeighting.remembering)."""
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
@@ -144,6 +145,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     goal = max(MINIMUM_PROBES, int(count)) if count is not None else MINIMUM_PROBES
     limit = math.inf if tau is None else tau * n  # the error sum allowed
     start = time.perf_counter()
+    if leaks is not None and leaks.visibility is None:
+        leaks = leaks.remembering(field)
     state = evaluate(field, np.flatnonzero(mask), leaks)
     if tau is not None and state.error_sum > limit:  # nothing within the tolerance to start from: the caller's answer
         return BatchedRefinement(indices=state.probes.copy(), mean_error=state.error_sum / n, rounds=0,

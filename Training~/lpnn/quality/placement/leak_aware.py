@@ -2,8 +2,10 @@
 it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
 
     weighting = LeakWeighting(raycaster)                     # leaking points' errors count LEAK_WEIGHT times
+    weighting = weighting.remembering(field)                 # each segment cast once for the whole placement
     repaired = leak_repaired(field, probes, raycaster)       # a probe inside every leaking tetrahedron, a few rounds
     repaired = leak_repaired(field, probes, raycaster, blocked=pins.blocked)   # none within the pins' keep distance
+    repaired = leak_repaired(field, probes, raycaster, visibility=weighting.visibility)   # sharing the memo
     leaks_to_avoid(field, "avoid", warn)                     # the default's raycaster: field.geometry, or None (warned)
 
 - The weighting makes the refinement's removal costs and its tolerance read leaks: a removal that lets a point's
@@ -15,6 +17,10 @@ it is given the scene's raycaster (refined_insertion(..., leaks=raycaster)).
 - With pinned probes (pins.py) the repair never adds a probe within a pin's keep distance: a leaking point there is
   left to the pinned probe (the artist put a probe there; pins.md "Every method"), and its tetrahedron gets the worst
   leaking point that may become a probe, if it holds one.
+- Both ask the same segments again and again (a point's new stencil usually shares 3 of its 4 probes with the old
+  one), and a segment's visibility never changes: one SegmentVisibility (metric/leak_rule.py) per placement remembers
+  each point's recent answers, so the repair, every trial and every commit cast a segment about once, with the same
+  answers (on ctf_compromise whole: see leaks.md).
 """
 
 from __future__ import annotations
@@ -26,7 +32,7 @@ from typing import Callable
 import numpy as np
 
 from ...core.features import Raycaster
-from ..metric.leak_rule import stencil_leaks
+from ..metric.leak_rule import SegmentVisibility, stencil_leaks
 from ..metric.location import Stencil
 from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
 from .policy_rules import LEAK_CHOICES
@@ -43,6 +49,7 @@ class LeakWeighting:
 
     raycaster: Raycaster
     weight: float = LEAK_WEIGHT
+    visibility: SegmentVisibility | None = None  # remembered segments of the raycaster (remembering()), else none
 
     def __post_init__(self) -> None:
         weight = float(self.weight)
@@ -50,13 +57,19 @@ class LeakWeighting:
             raise MetricError(f"leak weight {self.weight!r} must be a finite number >= 1 (1: leaks count as any error; "
                               f"{LEAK_WEIGHT:g} is recommended)")
         object.__setattr__(self, "weight", weight)
+        if self.visibility is not None and self.visibility.raycaster is not self.raycaster:
+            raise MetricError("the leak weighting's remembered segments must come from its own raycaster")
+
+    def remembering(self, field: ReferenceField) -> "LeakWeighting":
+        """This weighting with a fresh memo of the segments between `field`'s points (module text): the same answers,
+        fewer rays. Use it for one placement on that field."""
+        return LeakWeighting(self.raycaster, self.weight, SegmentVisibility(self.raycaster, field.world))
 
     def weighted(self, field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
                  errors: np.ndarray) -> np.ndarray:
         """errors (N,) with the entries of the leaking points among `others` (their stencils `stencil`, vertices
         positions in the probe indices `indices`) multiplied by the weight; a new array."""
-        leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
-                                self.raycaster)
+        leaking = _stencil_leaks(field, indices, others, stencil, self.raycaster, self.visibility)
         out = np.array(errors, dtype=np.float64, copy=True)
         out[others[leaking]] *= self.weight
         return out
@@ -76,22 +89,38 @@ def leaks_to_avoid(field: ReferenceField, choice: str = "avoid",
     return field.geometry
 
 
+def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+                   raycaster: Raycaster, visibility: SegmentVisibility | None) -> np.ndarray:
+    """stencil_leaks of the points `others` under `stencil` (vertices: positions in the probe indices `indices`),
+    through the remembered segments when there are some (they must be of `field`'s points)."""
+    if visibility is None:
+        return stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights, raycaster)
+    if visibility.positions.shape[0] != field.point_count:
+        raise MetricError(f"the remembered segments are of {visibility.positions.shape[0]:,} points, the field has "
+                          f"{field.point_count:,}: remember them for this field (LeakWeighting.remembering)")
+    return visibility.stencil_leaks(others, indices, stencil.vertices, stencil.weights)
+
+
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
-                  rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None) -> np.ndarray:
+                  rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None,
+                  visibility: SegmentVisibility | None = None) -> np.ndarray:
     """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties: the
     lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
     triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
     `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking one is passed over (module
-    text). Stops early when no point that may become a probe leaks. Sorted point indices."""
+    text). Stops early when no point that may become a probe leaks. `visibility`: remembered segments of `raycaster`
+    between the field's points (LeakWeighting.remembering), shared with the refinement that follows. Sorted point
+    indices."""
     if int(rounds) < 0:
         raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
     if blocked is not None and np.shape(blocked) != (field.point_count,):
         raise MetricError(f"blocked must flag each of the {field.point_count:,} points, got shape {list(np.shape(blocked))}")
+    if visibility is not None and visibility.raycaster is not raycaster:
+        raise MetricError("the remembered segments must come from the raycaster the repair is given")
     current = np.sort(np.asarray(probes, dtype=np.int64))
     for _ in range(int(rounds)):
         indices, others, stencil = probe_stencil(field, current, coherent=True)
-        leaking = stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights,
-                                raycaster)
+        leaking = _stencil_leaks(field, indices, others, stencil, raycaster, visibility)
         if blocked is not None:
             leaking &= ~np.asarray(blocked, dtype=bool)[others]
         if not leaking.any():

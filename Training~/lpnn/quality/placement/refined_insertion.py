@@ -82,7 +82,8 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     if not (math.isfinite(factor) and factor > 1.0):
         raise MetricError(f"refine {refine!r} must be a factor > 1 (the seed holds refine x K points; "
                           f"{RECOMMENDED_REFINE:g} is recommended)")
-    weighting = None if leaks is None else LeakWeighting(leaks, leak_weight)  # checks the weight before any work
+    # Checks the weight before any work; one memo of the segments for the repair and the refinement (leak_aware.py).
+    weighting = None if leaks is None else LeakWeighting(leaks, leak_weight).remembering(field)
     n = field.point_count
     start = time.perf_counter()
     order = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins)
@@ -98,7 +99,8 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     start = time.perf_counter()
     seed = select(seed_count(factor, target, n))
     if weighting is not None:
-        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds, None if pins is None else pins.blocked)
+        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds, None if pins is None else pins.blocked,
+                             weighting.visibility)
     if tolerance is None:
         refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
                                      leaks=weighting)

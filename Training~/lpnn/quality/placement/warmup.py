@@ -3,8 +3,9 @@
 numba compiles each loop on its first call in a checkout and caches the machine code (core/cache.py); a placement that
 runs first in a fresh checkout would otherwise count ~10 s of compilation as its own time (`make demo` on a fresh clone:
 the default's selection 11.8 s, 0.3 s on the second run). `compile_placement_kernels` places probes in a small
-synthetic room with the default, which calls every kernel the default calls with the same argument types, and returns
-the seconds it took (near 0 once cached).
+synthetic room with the default, leak-aware through the room's own walls (leaks.md: the remembered segments' loops
+too), which calls every kernel the default calls with the same argument types, and returns the seconds it took (near 0
+once cached).
 """
 
 from __future__ import annotations
@@ -23,7 +24,9 @@ WARM_UP_CELL = 0.5  # ~1,000 points: large enough that point location walks inst
 def compile_placement_kernels() -> float:
     """Runs the default placement once on a synthetic room; the seconds it took."""
     start = time.perf_counter()
-    capture = AnalyticScene.random(1, cell_size=WARM_UP_CELL).capture(name="warm-up")
+    scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
+    capture = scene.capture(name="warm-up")
     field = ReferenceField.from_capture(capture)
-    refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), tolerance=WARM_UP_TOLERANCE)
+    refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), tolerance=WARM_UP_TOLERANCE,
+                      leaks=scene.raycaster)
     return time.perf_counter() - start

@@ -71,6 +71,69 @@ namespace Lpnn.Probes.Core.Quality
             return leaking;
         }
 
+        /// <summary>As <see cref="Leaking(ReferenceLighting, int[], IReadOnlyList{int}, IReadOnlyList{Stencil}, IRaycaster)"/>, the
+        /// segments looked up in <paramref name="memo"/> first (null: none) and those cast remembered there: the same answers,
+        /// each segment cast about once over a placement (<see cref="SegmentMemo"/>).</summary>
+        internal static bool[] Leaking(ReferenceLighting reference, int[] probes, IReadOnlyList<int> points, IReadOnlyList<Stencil> stencils,
+            IRaycaster raycaster, SegmentMemo memo)
+        {
+            if (memo == null) return Leaking(reference, probes, points, stencils, raycaster);
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (memo.PointCount != reference.Count)
+                throw new ArgumentException("the segment memo is of " + InvariantFormat.Count(memo.PointCount) + " points, the reference has " +
+                                            InvariantFormat.Count(reference.Count), nameof(memo));
+            if (points.Count != stencils.Count)
+                throw new ArgumentException("points (" + points.Count + ") and stencils (" + stencils.Count + ") differ in length");
+            var leaking = new bool[points.Count];
+            var askers = new List<int>();  // per segment to cast: its position in points, the probe's point index, both ends
+            var others = new List<int>();
+            var starts = new List<Double3>();
+            var ends = new List<Double3>();
+            for (int start = 0; start < points.Count; start += PointsPerBatch)
+            {
+                int stop = Math.Min(points.Count, start + PointsPerBatch);
+                askers.Clear();
+                others.Clear();
+                starts.Clear();
+                ends.Clear();
+                for (int i = start; i < stop; i++)
+                {
+                    var s = stencils[i];
+                    Ask(reference, memo, probes, i, points[i], s.Probe0, s.Weight0, leaking, askers, others, starts, ends);
+                    Ask(reference, memo, probes, i, points[i], s.Probe1, s.Weight1, leaking, askers, others, starts, ends);
+                    Ask(reference, memo, probes, i, points[i], s.Probe2, s.Weight2, leaking, askers, others, starts, ends);
+                    Ask(reference, memo, probes, i, points[i], s.Probe3, s.Weight3, leaking, askers, others, starts, ends);
+                }
+                if (askers.Count == 0) continue;
+                var free = InUseRays.SegmentsFree(starts.ToArray(), ends.ToArray(), raycaster, "leaks: segment rays", null, CancellationToken.None);
+                for (int pair = 0; pair < free.Length; pair++)
+                {
+                    memo.Remember(points[askers[pair]], others[pair], free[pair]);
+                    if (!free[pair]) leaking[askers[pair]] = true;
+                }
+            }
+            return leaking;
+        }
+
+        /// <summary>The memo's answer for a weighing pair, or the pair queued to be cast.</summary>
+        private static void Ask(ReferenceLighting reference, SegmentMemo memo, int[] probes, int asker, int point, int probe, double weight,
+            bool[] leaking, List<int> askers, List<int> others, List<Double3> starts, List<Double3> ends)
+        {
+            if (!(weight > MinimumWeight)) return;
+            if ((uint)probe >= (uint)probes.Length)
+                throw new ArgumentOutOfRangeException(nameof(probe), probe, "stencil probe index must be in 0.." + (probes.Length - 1));
+            int other = probes[probe];
+            if (memo.TryGet(point, other, out bool free))
+            {
+                if (!free) leaking[asker] = true;
+                return;
+            }
+            askers.Add(asker);
+            others.Add(other);
+            starts.Add(Double3.FromVector3(reference.GetPosition(point)));
+            ends.Add(Double3.FromVector3(reference.GetPosition(other)));
+        }
+
         /// <summary>For each point, whether a probe of its stencil (indices into <paramref name="probePositions"/>) with weight
         /// above <see cref="MinimumWeight"/> is hidden from it; one batched cast for every weighing pair.</summary>
         public static bool[] StencilLeaks(Vector3[] points, Vector3[] probePositions, Stencil[] stencils, IRaycaster raycaster) =>

@@ -22,9 +22,10 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary><paramref name="probes"/> (evaluation point indices) plus, in each of up to <paramref name="rounds"/>
         /// rounds, the worst leaking point of every leaking tetrahedron; stops early when no point that may become a probe
         /// leaks. <paramref name="blocked"/> (null: none; one flag per point, e.g. <see cref="Pins.Blocked"/>): points that
-        /// never become a probe, passed over when leaking. Sorted.</summary>
+        /// never become a probe, passed over when leaking. <paramref name="memo"/> (null: none): segments remembered across the
+        /// rounds and shared with the refinement that follows (<see cref="LeakWeighting.MemoFor"/>). Sorted.</summary>
         public static int[] Repaired(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster,
-            int rounds = DefaultRounds, CancellationToken cancel = default, bool[] blocked = null)
+            int rounds = DefaultRounds, CancellationToken cancel = default, bool[] blocked = null, SegmentMemo memo = null)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             if (tetrahedralizer == null) throw new ArgumentNullException(nameof(tetrahedralizer));
@@ -39,7 +40,7 @@ namespace Lpnn.Probes.Core.Quality
             for (int round = 0; round < rounds; round++)
             {
                 cancel.ThrowIfCancellationRequested();
-                int[] added = WorstLeakPerCell(reference, tetrahedralizer, current, raycaster, blocked);
+                int[] added = WorstLeakPerCell(reference, tetrahedralizer, current, raycaster, blocked, memo);
                 if (added.Length == 0) break;
                 var union = new SortedSet<int>(current);
                 union.UnionWith(added);
@@ -50,7 +51,8 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>Per cell holding a leaking point that is not <paramref name="blocked"/>, the one of largest error (ties: the lower index).</summary>
-        private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster, bool[] blocked)
+        private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster, bool[] blocked,
+            SegmentMemo memo)
         {
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
@@ -64,7 +66,7 @@ namespace Lpnn.Probes.Core.Quality
                 stencils.Add(stencil);
                 errors.Add(PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale));
             });
-            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster);
+            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster, memo);
             var worst = new Dictionary<int, int>();  // cell -> position in points; points ascend, so a tie keeps the lower index
             for (int i = 0; i < points.Count; i++)
             {

@@ -19,6 +19,9 @@ namespace Lpnn.Probes.Core.Quality
         public IRaycaster Raycaster { get; }
         public double Weight { get; }
 
+        private SegmentMemo memo;
+        private ReferenceLighting memoReference;
+
         /// <param name="raycaster">The scene's rays (Unity's physics in the editor), for the segment test of the leak rule.</param>
         /// <param name="weight">At least 1 (1: leaks count as any error).</param>
         public LeakWeighting(IRaycaster raycaster, double weight = DefaultWeight)
@@ -30,12 +33,26 @@ namespace Lpnn.Probes.Core.Quality
             Weight = weight;
         }
 
+        /// <summary>The segments between <paramref name="reference"/>'s points this weighting has cast, remembered
+        /// (<see cref="SegmentMemo"/>; a new memo for another reference): the leak repair of the seed shares it with the
+        /// refinement, so a placement casts each segment about once.</summary>
+        internal SegmentMemo MemoFor(ReferenceLighting reference)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (!ReferenceEquals(reference, memoReference))
+            {
+                memo = new SegmentMemo(reference.Count);
+                memoReference = reference;
+            }
+            return memo;
+        }
+
         /// <summary>Multiplies by <see cref="Weight"/> the <paramref name="errors"/> (indexed by point) of those of
         /// <paramref name="points"/> that leak through their <paramref name="stencils"/> (probe-list indices into
         /// <paramref name="probes"/>).</summary>
         internal void Weigh(ReferenceLighting reference, int[] probes, List<int> points, List<Stencil> stencils, double[] errors)
         {
-            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, Raycaster);
+            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, Raycaster, MemoFor(reference));
             for (int i = 0; i < points.Count; i++)
                 if (leaking[i]) errors[points[i]] *= Weight;
         }

@@ -64,7 +64,7 @@ namespace Lpnn.Probes.Core.Quality
             var tetrahedralizer = evaluator.Tetrahedralizer;
             if (leaks != null)  // a leak of the seed could not be undone by a refinement that only removes probes
                 seedPoints = LeakRepair.Repaired(evaluator.Reference, tetrahedralizer, seedPoints, leaks.Raycaster, LeakRepair.DefaultRounds, cancel,
-                    pins?.Blocked);
+                    pins?.Blocked, leaks.MemoFor(evaluator.Reference));
             var kept = new List<int>();
             if (settings.KeepBoundsCorners) kept.AddRange(ProbeSelector.BoundsCorners(grid, valid));
             if (pins != null) kept.AddRange(pins.Indices);
