@@ -40,7 +40,8 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..core.capture import Capture
-    from ..quality.metric.metric import PlacementQuality
+    from ..core.features import Raycaster
+    from ..quality.metric.metric import PlacementQuality, ReferenceField
     from ..quality.placement.pins import Pins
 
 
@@ -179,11 +180,9 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     reference, leaks = None, None
     if method.refinement == BATCHED:  # guided-refined avoids leaks as the default does (leaks.md)
         from ..quality.metric.leaks import field_with_geometry
-        from ..quality.placement.leak_aware import leaks_to_avoid
 
         reference = field_with_geometry(capture)
-        leaks = leaks_to_avoid(reference, args.leaks, warn=lambda text: print(f"{Path(args.capture).name}: {text}",
-                                                                              file=sys.stderr))
+        leaks = _leaks_to_avoid(args, reference)
     try:
         placement = lpnn_placement(capture, scorer, scores=scores, budget=args.budget, tolerance=args.tolerance,
                                    reference=reference, leaks=leaks, workers=args.workers, name=args.capture,
@@ -206,6 +205,14 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
            f"{what} ({tier})", {"scores": what, "seconds": round(t.total, 4)}, f"; {split}", searched)
     return 0
 
+
+def _leaks_to_avoid(args: argparse.Namespace, field: ReferenceField) -> Raycaster | None:
+    """The raycaster the refined methods avoid leaks with (--leaks; leak_aware.leaks_to_avoid), telling stderr, under
+    the capture's name, when its geometry is unknown and the placement is leak-blind."""
+    from ..quality.placement.leak_aware import leaks_to_avoid
+
+    name = Path(args.capture).name
+    return leaks_to_avoid(field, args.leaks, lambda text: print(f"{name}: {text}", file=sys.stderr))
 
 def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None) -> int:
     from ..core.grid import EvaluationGrid
@@ -239,7 +246,6 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             select = uniform_selector(grid)
             what = "uniform lattice"
         elif args.method == "insertion-refined":
-            from ..quality.placement.leak_aware import leaks_to_avoid
             from ..quality.placement.refined_insertion import refined_insertion
 
             name = Path(args.capture).name
@@ -248,8 +254,7 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
             try:
                 refined = refined_insertion(field, grid, budget=args.budget, tolerance=args.tolerance,
                                             insertion_progress=ranked, refinement_progress=removed, pins=pins,
-                                            leaks=leaks_to_avoid(field, args.leaks,
-                                                                 lambda text: print(f"{name}: {text}", file=sys.stderr)))
+                                            leaks=_leaks_to_avoid(args, field))
             finally:
                 close_ranked()
                 close_removed()
