@@ -149,8 +149,7 @@ def _compare(args: argparse.Namespace) -> None:
     from ..lights.rig import Rig, entity_lights, read_rig
     from ..scenes.solid import SolidTester
     from ..scenes.levels import load_level
-    from ..scenes.raycast import EmbreeRaycaster
-    from ..scenes.surfaces import ray_geometry
+    from ..lights.shadows import shadow_raycaster
 
     with rig_user_errors():
         rig = read_rig(args.compare)
@@ -175,8 +174,7 @@ def _compare(args: argparse.Namespace) -> None:
               f"point light of equal flux)")
     else:
         print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
-    geometry = ray_geometry(level.bsp)
-    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    raycaster = shadow_raycaster(level.bsp)  # q3map2's shadow casters (lights.md §3)
     solid = SolidTester(level.bsp)
 
     def is_open(points):

@@ -31,6 +31,7 @@ from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.levels import Level
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
+from ..scenes.surfaces import ray_geometry
 from .model import POINT_SCALE, ForwardModel, Lights, saturate
 from .pipeline import load_scene
 from .pointlight import visible_light
@@ -59,28 +60,40 @@ DEFAULT_BAKE = BakeSettings()
 @dataclass(frozen=True)
 class BakeScene:
     """The geometry a rig lights, in Quake units: lit surfaces (positions, normals, albedo of the
-    radiance target, and its triangles) and every occluder of the ray geometry."""
+    radiance target, and its triangles), every occluder of the ray geometry (what a gather ray sees) and the
+    shadow casters of q3map2's compile (what the direct light and the surfaces' radiance are shadowed by,
+    shadows.py; the occluders when not given)."""
 
     target: RadianceTarget
     triangles: np.ndarray  # (T, 3) into target.positions
     occluders: EmbreeRaycaster
     surfaces: EmbreeRaycaster
     reach: float  # the longest gather ray (Quake units): the diagonal of the surfaces' box
+    shadows: EmbreeRaycaster
 
     @classmethod
-    def build(cls, target: RadianceTarget, triangles: np.ndarray, occluders: EmbreeRaycaster) -> "BakeScene":
+    def build(cls, target: RadianceTarget, triangles: np.ndarray, occluders: EmbreeRaycaster,
+              shadows: EmbreeRaycaster | None = None) -> "BakeScene":
         triangles = np.asarray(triangles, dtype=np.int64)
         positions = target.positions
         reach = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0))) if len(positions) else 0.0
         return cls(target=target, triangles=triangles, occluders=occluders,
-                   surfaces=EmbreeRaycaster(positions, triangles), reach=max(reach, 1.0))
+                   surfaces=EmbreeRaycaster(positions, triangles), reach=max(reach, 1.0),
+                   shadows=occluders if shadows is None else shadows)
 
+    def rays_cast(self) -> int:
+        """Rays cast so far by the scene's raycasters (the shadow casters counted once when they are the occluders)."""
+        raycasters = {id(r): r for r in (self.occluders, self.surfaces, self.shadows)}
+        return sum(r.rays_cast for r in raycasters.values())
 
     @classmethod
     def from_level(cls, level: Level) -> "BakeScene":
-        """The level's lit surfaces as `lpnn scene lights` builds them (default subdivision, textures)."""
+        """The level's lit surfaces as `lpnn scene lights` builds them (default subdivision, textures), its shadow
+        casters (the scene's forward model's) and its whole ray geometry as the gather's occluders."""
         scene = load_scene(level)
-        return cls.build(scene.target, scene.triangles, scene.model.raycaster)
+        geometry = ray_geometry(level.bsp)
+        return cls.build(scene.target, scene.triangles, EmbreeRaycaster(geometry.vertices, geometry.triangles),
+                         shadows=scene.model.raycaster)
 
 
 @dataclass
@@ -109,7 +122,7 @@ def rig_lights(rig: Rig) -> Lights:
 
 def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
     """(V, 3) the radiance the rig gives the lit surfaces' vertices (model.py, shadow rays included)."""
-    model = ForwardModel(scene.target, scene.occluders)
+    model = ForwardModel(scene.target, scene.shadows)
     lights = rig_lights(rig)
     return model.radiance_of(lights, model.visibility(lights))
 
@@ -126,7 +139,7 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
         raise ValueError(f"bake positions must be finite (N, 3) Unity metres, got shape {points.shape}")
     quake = unity_to_quake(points)
     result = BakeResult(sh=np.zeros((len(points), SH_FLOATS)))
-    rays_before = scene.occluders.rays_cast + scene.surfaces.rays_cast
+    rays_before = scene.rays_cast()
     clock = time.perf_counter()
     radiance = surface_radiance(scene, rig) if settings.bounce else None
     result.seconds["surfaces"] = time.perf_counter() - clock
@@ -137,7 +150,7 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
     for start in range(0, len(points), POINTS_PER_CHUNK):
         chunk = slice(start, min(start + POINTS_PER_CHUNK, len(points)))
         clock = time.perf_counter()
-        sh = direct_sh(quake[chunk], lights, emitted, scene.occluders)
+        sh = direct_sh(quake[chunk], lights, emitted, scene.shadows)
         result.seconds["direct"] += time.perf_counter() - clock
         if radiance is not None:
             clock = time.perf_counter()
@@ -148,7 +161,7 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
         result.sh[chunk] = sh
         if progress is not None:
             progress(chunk.stop, len(points))
-    result.rays = scene.occluders.rays_cast + scene.surfaces.rays_cast - rays_before
+    result.rays = scene.rays_cast() - rays_before
     return result
 
 

@@ -13,7 +13,6 @@ from ..scenes.errors import BspError
 from ..scenes.levels import Level, default_pak
 from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
-from ..scenes.surfaces import ray_geometry
 from ..scenes.coords import quake_to_unity
 from ..scenes.surfaces import SURF_SKY
 from .compare import SurfacePieces, equal_flux_intensity
@@ -24,6 +23,7 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, SurfaceLight
+from .shadows import shadow_raycaster
 from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, GRID_START,
                        SCHEMES, STARTS)
 from .starts import DEFAULT_PEAKS, PeakSettings, Starts, peak_starts, with_grid_fallback
@@ -83,8 +83,7 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
         raise BspError(f"{level.location}: no surface carries baked light (every lightmap texel and vertex colour "
                        f"of its {target.point_count:,} target points is black): compile the level with q3map2 -light")
     clock = time.perf_counter()
-    geometry = ray_geometry(bsp)
-    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    raycaster = shadow_raycaster(bsp)  # q3map2's shadow casters: no patches, no entity surfaces by default
     solid = SolidTester(bsp)
     seconds["geometry"] = time.perf_counter() - clock
 
