@@ -130,10 +130,9 @@ def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
 def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: BakeSettings = DEFAULT_BAKE,
             progress: Callable[[int, int], None] | None = None) -> BakeResult:
     """SH (N, 27) at points (N, 3) in Unity metres lit by `rig` (module docstring)."""
-    if rig.surfaces:
-        raise RigError(f"the probe baker bakes a rig's point lights and ambient only; this rig has "
-                       f"{len(rig.surfaces)} surface light(s) ({', '.join(s.shader for s in rig.surfaces[:3])}...): "
-                       f"recover it without --surfaces")
+    reason = not_bakeable(rig)
+    if reason is not None:
+        raise RigError(f"the probe baker bakes a rig's point lights and ambient only; this rig {reason}")
     points = np.asarray(unity_points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] != 3 or not np.isfinite(points).all():
         raise ValueError(f"bake positions must be finite (N, 3) Unity metres, got shape {points.shape}")
@@ -163,6 +162,18 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
             progress(chunk.stop, len(points))
     result.rays = scene.rays_cast() - rays_before
     return result
+
+
+def not_bakeable(rig: Rig) -> str | None:
+    """What the baker would leave out of the rig (its surface lights, its suns), or None: such a rig is refused."""
+    parts = []
+    if rig.surfaces:
+        parts.append(f"has {len(rig.surfaces)} surface light(s) ({', '.join(s.shader for s in rig.surfaces[:3])}...): "
+                     f"recover it without --surfaces")
+    if rig.suns:
+        parts.append(f"has {len(rig.suns)} sun(s), which it does not bake: recover the rig without --suns, or remove "
+                     f"its 'suns' list (their light is then missing from the probes)")
+    return "; it ".join(parts) if parts else None
 
 
 def direct_sh(points: np.ndarray, lights: np.ndarray, emitted: np.ndarray,

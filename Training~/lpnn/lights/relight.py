@@ -14,7 +14,7 @@ import numpy as np
 
 from ..scenes.errors import BspError
 from ..scenes.levels import Level
-from .bake import DEFAULT_BAKE, BakeScene, BakeSettings, bake_sh
+from .bake import DEFAULT_BAKE, BakeScene, BakeSettings, bake_sh, not_bakeable
 from .rig import Rig, RigError, read_rig
 
 GRID_SOURCE = {"lighting": "grid"}
@@ -31,6 +31,9 @@ class RigLighting:
     @classmethod
     def read(cls, path: Path, settings: BakeSettings = DEFAULT_BAKE) -> "RigLighting":
         rig = read_rig(path)
+        reason = not_bakeable(rig)
+        if reason is not None:
+            raise RigError(f"{path}: the probe baker bakes a rig's point lights and ambient only; this rig {reason}")
         return cls(rig=rig, name=Path(path).name, sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
                    settings=settings)
 
