@@ -52,8 +52,7 @@ def register(actions: argparse._SubParsersAction) -> None:
                              "too, and the rig holds them as spots (lights.md §4)")
     lights.add_argument("--suns", action="store_true",
                         help="also recover one q3map2 sun (direction, colour, intensity in photons) lighting what sees "
-                             "the level's sky surfaces; the rig then holds it (lights.md §4-5; the probe baker does "
-                             "not bake suns)")
+                             "the level's sky surfaces; the rig then holds it (lights.md §4-5)")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 

@@ -1,6 +1,6 @@
 """Suns in rigs and fits (lights.md §3-5): the rig format's version 3 `suns`, a sun's light against hand-computed
 values, its gradient against finite differences and the numpy reference, a fit that recovers a sun, the grid
-re-lit from a rig's sun, and the probe baker's refusal."""
+re-lit from a rig's sun, the real-rig export and the probe baker's sun."""
 
 from __future__ import annotations
 
@@ -17,7 +17,8 @@ from lpnn.lights.model import ForwardModel, Lights
 from lpnn.lights.optimise import Fitter, initial_intensity
 from lpnn.lights.pipeline import real_rig, rig_suns
 from lpnn.lights.relight import RigLighting
-from lpnn.lights.rig import Rig, RigError, Sun, entity_lights, read_rig, write_rig
+from lpnn.lights.bake import BakeScene, BakeSettings, bake_sh
+from lpnn.lights.rig import Rig, RigError, Sun, SurfaceLight, entity_lights, read_rig, write_rig
 from lpnn.lights.settings import SCHEMES
 from lpnn.lights.shadows import shadow_raycaster
 from lpnn.scenes.bsp import read_bsp
@@ -224,8 +225,29 @@ def test_the_real_rig_export_holds_the_levels_suns(tmp_path: Path) -> None:
     np.testing.assert_allclose(rig.suns[0].quake_direction(), [0.0, 0.0, 1.0], atol=1e-6)
 
 
-def test_the_probe_baker_refuses_a_rig_with_suns_naming_the_file(tmp_path: Path) -> None:
-    path = write_rig(tmp_path / "sunny.json", sample_rig())
-    with pytest.raises(RigError, match=r"sunny\.json: .*has 1 sun\(s\), which it does not bake: recover the rig "
-                                       r"without --suns"):
+def test_the_probe_baker_bakes_a_sun_as_the_point_light_along_it_and_refuses_surface_lights(tmp_path: Path) -> None:
+    """A sun's lobe at a probe is that of a point light straight along the sun's direction giving the same bytes
+    (LightContributionToPoint, EMIT_SUN: no falloff); in the pillar's shadow it gives nothing. A rig with surface
+    lights is refused, naming the file and what to do."""
+    vertices, normals, triangles, casters, sky = yard(8)
+    target = room_target(vertices, normals, triangles, np.zeros_like(vertices), np.full_like(vertices, 0.5))
+    scene = BakeScene.build(target, triangles, casters, sky=sky)
+    direction = TRUE_SUN
+    rig = Rig(positions=np.zeros((0, 3)), colours=np.zeros((0, 3)), intensities=np.zeros(0), ambient=np.zeros(3),
+              suns=[Sun.from_quake(direction, np.array([1.0, 0.9, 0.7]), 120.0)])
+    open_point, shadowed = np.array([40.0, 40.0, 40.0]), np.array([200.0, 200.0, 40.0])  # the pillar is toward the sun
+    baked = bake_sh(scene, rig, quake_to_unity(np.stack([open_point, shadowed])), BakeSettings(bounce=False)).sh
+    distance = 500.0  # the point light 500 units along the sun's direction: 7500 I / r^2 = 120 bytes
+    lamp = Rig.from_quake((open_point + distance * direction)[None], np.array([[1.0, 0.9, 0.7]]),
+                          np.array([120.0 * distance ** 2 / 7500.0]), ambient=np.zeros(3))
+    expected = bake_sh(scene, lamp, quake_to_unity(open_point[None]), BakeSettings(bounce=False)).sh[0]
+    assert np.abs(expected).max() > 0
+    np.testing.assert_allclose(baked[0], expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(baked[1], 0.0)
+    with_surfaces = sample_rig()
+    with_surfaces.surfaces = [SurfaceLight("textures/base_light/ceil1_22a", 2500.0, np.ones(3))]
+    path = write_rig(tmp_path / "lamps.json", with_surfaces)
+    with pytest.raises(RigError, match=r"lamps\.json: .*has 1 surface light\(s\) \(textures/base_light/ceil1_22a.*recover it "
+                                       r"without --surfaces"):
         RigLighting.read(path)
+    assert RigLighting.read(write_rig(tmp_path / "sunny.json", sample_rig())).rig.suns  # suns are baked
