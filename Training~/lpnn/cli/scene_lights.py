@@ -50,9 +50,10 @@ def register(actions: argparse._SubParsersAction) -> None:
     lights.add_argument("--spots", action="store_true",
                         help="every fitted light is a q3map2 spotlight: its axis and cone (radiusByDist) are fitted "
                              "too, and the rig holds them as spots (lights.md §4)")
-    lights.add_argument("--suns", action="store_true",
+    lights.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,
                         help="also recover one q3map2 sun (direction, colour, intensity in photons) lighting what sees "
-                             "the level's sky surfaces; the rig then holds it (lights.md §4-5)")
+                             "the level's sky surfaces; the rig then holds it (lights.md §4-5; default: where the level "
+                             "has sky surfaces; --no-suns: never)")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -137,7 +138,7 @@ def _lights(args: argparse.Namespace) -> None:
     stem = args.out.with_suffix("")
     write_curve_csv(stem.with_name(stem.name + ".curve.csv"), result.curve)
     write_curve_png(stem.with_name(stem.name + ".curve.png"), {args.scheme: result.curve}, f"{level.name}: {args.scheme}")
-    if args.suns:
+    if "suns" in rig.extra:
         print(f"{path}: suns " + (", ".join(f"toward {', '.join(f'{v:.3f}' for v in sun.direction)} (Unity axes), "
                                            f"{sun.intensity:.1f} photons" for sun in rig.suns) or "none"))
     casting = scene.model.raycaster.cast_seconds if scene.model.raycaster is not None else 0.0

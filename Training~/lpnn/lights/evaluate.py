@@ -26,8 +26,8 @@ from ..scenes.levels import load_level
 from .compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
 from .emitters import emitter_bytes
-from .pipeline import (add_surface_lights, fit_scene, level_emitters, load_scene, point_lights_of, real_rig,
-                       rig_emitters, rig_of, shader_power, surface_pieces)
+from .pipeline import (add_surface_lights, fit_scene, fits_sun, level_emitters, load_scene, point_lights_of,
+                       real_rig, rig_emitters, rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
 from .settings import DEFAULT_GRID, DEFAULT_START, PEAK_START, SCHEMES, STARTS
 from .starts import DEFAULT_PEAKS, PeakSettings
@@ -38,7 +38,8 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
                    surfaces: bool = False, spots: bool = False, start: str = DEFAULT_START,
-                   peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True, suns: bool = False) -> list[dict[str, Any]]:
+                   peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True,
+                   suns: bool | None = None) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
@@ -71,6 +72,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
               flush=True)
     suffix += "+spots" if spots else ""
+    suns = fits_sun(scene, suns) if schemes else False
     suffix += "+suns" if suns else ""
     suffix += "+peaks" if start == PEAK_START else ""
     curves = {}
@@ -144,7 +146,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--spots", action="store_true", help="every fitted light is a spotlight (lights.md §4)")
     parser.add_argument("--start", default=DEFAULT_START, choices=STARTS,
                         help="where the lights start: the grid's cells, or the peaks of the baked light (lights.md §4)")
-    parser.add_argument("--suns", action="store_true", help="the fits also recover one sun (lights.md §4)")
+    parser.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,
+                        help="the fits also recover one sun (default: where the level has sky surfaces, lights.md §4)")
     parser.add_argument("--no-yardstick", action="store_true",
                         help="skip the real rig's row (its objective and grid; the fits are still matched against it)")
     args = parser.parse_args(argv)

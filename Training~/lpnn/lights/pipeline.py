@@ -24,8 +24,8 @@ from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
 from .shadows import shadow_raycaster
-from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, GRID_START,
-                       SCHEMES, STARTS)
+from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
+                       GRID_START, SCHEMES, STARTS)
 from .starts import DEFAULT_PEAKS, PeakSettings, Starts, peak_starts, with_grid_fallback
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
@@ -116,12 +116,11 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
               spots: bool = False, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
-              suns: bool = False) -> FitResult:
+              suns: bool | None = None) -> FitResult:
     """With `spots`, every start position starts both a point light and a q3map2 spotlight (pointing down), the
-    spotlights' axes and cones fitted too; with `suns`, one sun (overhead, white) whose direction, colour and
-    intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
-    if suns and scene.model.sky is None:
-        raise ValueError(f"{scene.level.name}: no sky surface (SURF_SKY) for a sun to shine through; fit without --suns")
+    spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one sun whose direction, colour
+    and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
+    suns = fits_sun(scene, suns)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
     starts = start_positions(scene, grid, start, peaks)
@@ -142,6 +141,16 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress)
     return fitter.fit(lights, SCHEMES[scheme])
+
+
+def fits_sun(scene: LevelScene, suns: bool | None) -> bool:
+    """Whether a fit recovers a sun: as asked, or by default (None) DEFAULT_SUNS where the level has sky surfaces. Asked
+    on a level without sky, refused."""
+    if suns is None:
+        return DEFAULT_SUNS and scene.model.sky is not None
+    if suns and scene.model.sky is None:
+        raise ValueError(f"{scene.level.name}: no sky surface (SURF_SKY) for a sun to shine through; fit with --no-suns")
+    return suns
 
 
 def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], scheme: str,
