@@ -57,7 +57,7 @@ SPOT_START_AXIS = (0.0, 0.0, -1.0)
 # a sun (fit_scene(suns=True), lights.md §4): the direction toward the sun d = u / |u|, u in [-1, 1]^3 (renormalised
 # at every refresh), optimised with the positions; white at the start, intensity in photons. Its start is the best of
 # SUN_START_ELEVATIONS x SUN_START_AZIMUTHS by the closed-form fit: straight overhead alone is a saddle (every floor's
-# gradient is along the direction itself, every wall is edge-on), which a first version starting there never left.
+# gradient is along the direction itself, every wall is edge-on): a first version's sun started there never moved.
 SUN_UNIT = 100.0  # photons per scaled unit
 MAX_SUN_INTENSITY = 1e4
 SUN_START_ELEVATIONS = (90.0, 70.0, 50.0, 30.0)  # degrees; 90 is overhead (one direction)
