@@ -50,6 +50,10 @@ def register(actions: argparse._SubParsersAction) -> None:
     lights.add_argument("--spots", action="store_true",
                         help="every fitted light is a q3map2 spotlight: its axis and cone (radiusByDist) are fitted "
                              "too, and the rig holds them as spots (lights.md §4)")
+    lights.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,
+                        help="also recover one q3map2 sun (direction, colour, intensity in photons) lighting what sees "
+                             "the level's sky surfaces; the rig then holds it (lights.md §4-5; default: where the level "
+                             "has sky surfaces; --no-suns: never)")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -123,7 +127,7 @@ def _lights(args: argparse.Namespace) -> None:
         with rig_user_errors():
             try:
                 result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots,
-                                   start=args.start)
+                                   start=args.start, suns=args.suns)
             except ValueError as exc:
                 raise UserError(str(exc)) from exc
     finally:
@@ -134,6 +138,9 @@ def _lights(args: argparse.Namespace) -> None:
     stem = args.out.with_suffix("")
     write_curve_csv(stem.with_name(stem.name + ".curve.csv"), result.curve)
     write_curve_png(stem.with_name(stem.name + ".curve.png"), {args.scheme: result.curve}, f"{level.name}: {args.scheme}")
+    if "suns" in rig.extra:
+        print(f"{path}: suns " + (", ".join(f"toward {', '.join(f'{v:.3f}' for v in sun.direction)} (Unity axes), "
+                                           f"{sun.intensity:.1f} photons" for sun in rig.suns) or "none"))
     casting = scene.model.raycaster.cast_seconds if scene.model.raycaster is not None else 0.0
     if args.surfaces:
         print(f"{path}: surface lights " + (", ".join(f"{s.shader} {s.value:.0f}" for s in rig.surfaces) or "none"))
@@ -149,15 +156,14 @@ def _compare(args: argparse.Namespace) -> None:
     from ..lights.rig import Rig, entity_lights, read_rig
     from ..scenes.solid import SolidTester
     from ..scenes.levels import load_level
-    from ..scenes.raycast import EmbreeRaycaster
-    from ..scenes.surfaces import ray_geometry
+    from ..lights.shadows import shadow_raycaster
 
     with rig_user_errors():
         rig = read_rig(args.compare)
         level = load_level(args.level)
         real = entity_lights(level.bsp.entities, level.name)
         stored = stored_grid(level.bsp)
-        own_emitters = rig_emitters(level, rig) if rig.surfaces else None
+        own_emitters = rig_emitters(level, rig) if rig.surfaces or rig.suns else None
     if rig.bsp_sha256 and rig.bsp_sha256 != level.sha256:
         print(f"warning: {args.compare} was recovered from a different file than {level.location} "
               f"(sha256 {rig.bsp_sha256[:12]}... vs {level.sha256[:12]}...)", file=sys.stderr)
@@ -175,8 +181,7 @@ def _compare(args: argparse.Namespace) -> None:
               f"point light of equal flux)")
     else:
         print(f"{level.name} kept no point-light entities: no rig-vs-rig comparison")
-    geometry = ray_geometry(level.bsp)
-    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    raycaster = shadow_raycaster(level.bsp)  # q3map2's shadow casters (lights.md §3)
     solid = SolidTester(level.bsp)
 
     def is_open(points):

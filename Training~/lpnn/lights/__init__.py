@@ -7,12 +7,13 @@ Modules, one responsibility each:
   surfaces    the lit surfaces of a level as one attributed triangle mesh (lightmap / vertex-lit)
   textures    albedo from the level's pk3 textures (Pillow), with the documented fallback
   target      Algorithm 4.1: texture x lightmap projected onto the mesh vertices; subdivision
-  model       radiance of point lights (and fitted surface lights) at the target points, its gradient,
+  model       radiance of point lights (and fitted surface lights and suns) at the target points, its gradient,
               shadow-ray visibility
+  shadows     q3map2's shadow casters: the geometry of every visibility ray (no patches, no entity surfaces)
   objective_kernel   the objective and its gradient as one compiled pass over the visible pairs
   visibility_kernel  a visibility refresh's candidate pairs and rays, one compiled pass
   emitters    spotlights and shader surface lights of a compile; per-shader bases of the fitted ones
-  rig         the rig file (JSON, version 2: point, spot, surface lights): write, read, validate; the
+  rig         the rig file (JSON, version 3: point, spot, surface lights, suns): write, read, validate; the
               level's own light entities
   optimise    initial grid in open space, penalties, Adam / L-BFGS phases, schemes
   pointlight  what a point light gives a free point (grid rule): shared by compare and bake

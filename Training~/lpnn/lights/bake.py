@@ -6,7 +6,9 @@ lightmaps (4/255 per byte, "texture at full brightness"), the stored SH is the s
   - direct light: every light j visible from p (pointlight.py: q3map2's 7500 I / max(r, 16)^2 bytes, no
     cosine, <= 1 byte dropped, Embree shadow ray) adds a clamped-cosine lobe c_j max(0, n . l_j), its
     normal-incidence value c_j clamped to 255 bytes keeping the hue (no single light brighter than a
-    saturated luxel), projected onto L2 (sh.clamped_cosine_factors, Unity axes);
+    saturated luxel), projected onto L2 (sh.clamped_cosine_factors, Unity axes); every sun whose ray from p
+    meets the sky first (emitters.sunlit) adds the lobe of c = colour x intensity along its direction, clamped
+    the same way (q3map2's LightContributionToPoint, EMIT_SUN);
   - one bounce: the rig re-lights the level's surfaces (the forward model of model.py: albedo x
     saturated luxel, i.e. the radiance target [lights] fits), and K fixed directions w_k (a
     Fibonacci sphere, gather_directions) gather the radiance L_k of the first surface they hit in
@@ -31,6 +33,8 @@ from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.levels import Level
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
+from ..scenes.surfaces import ray_geometry
+from .emitters import Suns, sunlit
 from .model import POINT_SCALE, ForwardModel, Lights, saturate
 from .pipeline import load_scene
 from .pointlight import visible_light
@@ -59,28 +63,41 @@ DEFAULT_BAKE = BakeSettings()
 @dataclass(frozen=True)
 class BakeScene:
     """The geometry a rig lights, in Quake units: lit surfaces (positions, normals, albedo of the
-    radiance target, and its triangles) and every occluder of the ray geometry."""
+    radiance target, and its triangles), every occluder of the ray geometry (what a gather ray sees) and the
+    shadow casters of q3map2's compile (what the direct light and the surfaces' radiance are shadowed by,
+    shadows.py; the occluders when not given)."""
 
     target: RadianceTarget
     triangles: np.ndarray  # (T, 3) into target.positions
     occluders: EmbreeRaycaster
     surfaces: EmbreeRaycaster
     reach: float  # the longest gather ray (Quake units): the diagonal of the surfaces' box
+    shadows: EmbreeRaycaster
+    sky: EmbreeRaycaster | None = None  # the level's sky triangles, which a sun's ray must meet first
 
     @classmethod
-    def build(cls, target: RadianceTarget, triangles: np.ndarray, occluders: EmbreeRaycaster) -> "BakeScene":
+    def build(cls, target: RadianceTarget, triangles: np.ndarray, occluders: EmbreeRaycaster,
+              shadows: EmbreeRaycaster | None = None, sky: EmbreeRaycaster | None = None) -> "BakeScene":
         triangles = np.asarray(triangles, dtype=np.int64)
         positions = target.positions
         reach = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0))) if len(positions) else 0.0
         return cls(target=target, triangles=triangles, occluders=occluders,
-                   surfaces=EmbreeRaycaster(positions, triangles), reach=max(reach, 1.0))
+                   surfaces=EmbreeRaycaster(positions, triangles), reach=max(reach, 1.0),
+                   shadows=occluders if shadows is None else shadows, sky=sky)
 
+    def rays_cast(self) -> int:
+        """Rays cast so far by the scene's raycasters (the shadow casters counted once when they are the occluders)."""
+        raycasters = {id(r): r for r in (self.occluders, self.surfaces, self.shadows)}
+        return sum(r.rays_cast for r in raycasters.values())
 
     @classmethod
     def from_level(cls, level: Level) -> "BakeScene":
-        """The level's lit surfaces as `lpnn scene lights` builds them (default subdivision, textures)."""
+        """The level's lit surfaces as `lpnn scene lights` builds them (default subdivision, textures), its shadow
+        casters (the scene's forward model's) and its whole ray geometry as the gather's occluders."""
         scene = load_scene(level)
-        return cls.build(scene.target, scene.triangles, scene.model.raycaster)
+        geometry = ray_geometry(level.bsp)
+        return cls.build(scene.target, scene.triangles, EmbreeRaycaster(geometry.vertices, geometry.triangles),
+                         shadows=scene.model.raycaster, sky=scene.model.sky)
 
 
 @dataclass
@@ -104,12 +121,15 @@ def gather_directions(count: int) -> np.ndarray:
 
 def rig_lights(rig: Rig) -> Lights:
     return Lights(positions=rig.quake_positions(), colours=rig.colours.copy(), intensities=rig.intensities.copy(),
-                  ambient=rig.ambient.copy())
+                  ambient=rig.ambient.copy(), sun_directions=np.array([s.quake_direction() for s in rig.suns]).reshape(-1, 3),
+                  sun_colours=np.array([s.colour for s in rig.suns], dtype=np.float64).reshape(-1, 3),
+                  sun_intensities=np.array([s.intensity for s in rig.suns], dtype=np.float64))
 
 
 def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
-    """(V, 3) the radiance the rig gives the lit surfaces' vertices (model.py, shadow rays included)."""
-    model = ForwardModel(scene.target, scene.occluders)
+    """(V, 3) the radiance the rig gives the lit surfaces' vertices (model.py, shadow rays and suns included)."""
+    model = ForwardModel(scene.target, scene.shadows)
+    model.sky = scene.sky
     lights = rig_lights(rig)
     return model.radiance_of(lights, model.visibility(lights))
 
@@ -117,16 +137,16 @@ def surface_radiance(scene: BakeScene, rig: Rig) -> np.ndarray:
 def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: BakeSettings = DEFAULT_BAKE,
             progress: Callable[[int, int], None] | None = None) -> BakeResult:
     """SH (N, 27) at points (N, 3) in Unity metres lit by `rig` (module docstring)."""
-    if rig.surfaces:
-        raise RigError(f"the probe baker bakes a rig's point lights and ambient only; this rig has "
-                       f"{len(rig.surfaces)} surface light(s) ({', '.join(s.shader for s in rig.surfaces[:3])}...): "
-                       f"recover it without --surfaces")
+    reason = not_bakeable(rig)
+    if reason is not None:
+        raise RigError(f"the probe baker bakes a rig's point lights, suns and ambient, not its surface lights; "
+                       f"this rig {reason}")
     points = np.asarray(unity_points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] != 3 or not np.isfinite(points).all():
         raise ValueError(f"bake positions must be finite (N, 3) Unity metres, got shape {points.shape}")
     quake = unity_to_quake(points)
     result = BakeResult(sh=np.zeros((len(points), SH_FLOATS)))
-    rays_before = scene.occluders.rays_cast + scene.surfaces.rays_cast
+    rays_before = scene.rays_cast()
     clock = time.perf_counter()
     radiance = surface_radiance(scene, rig) if settings.bounce else None
     result.seconds["surfaces"] = time.perf_counter() - clock
@@ -137,7 +157,7 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
     for start in range(0, len(points), POINTS_PER_CHUNK):
         chunk = slice(start, min(start + POINTS_PER_CHUNK, len(points)))
         clock = time.perf_counter()
-        sh = direct_sh(quake[chunk], lights, emitted, scene.occluders)
+        sh = direct_sh(quake[chunk], lights, emitted, scene.shadows) + sun_sh(quake[chunk], rig, scene)
         result.seconds["direct"] += time.perf_counter() - clock
         if radiance is not None:
             clock = time.perf_counter()
@@ -148,8 +168,30 @@ def bake_sh(scene: BakeScene, rig: Rig, unity_points: np.ndarray, settings: Bake
         result.sh[chunk] = sh
         if progress is not None:
             progress(chunk.stop, len(points))
-    result.rays = scene.occluders.rays_cast + scene.surfaces.rays_cast - rays_before
+    result.rays = scene.rays_cast() - rays_before
     return result
+
+
+def not_bakeable(rig: Rig) -> str | None:
+    """What the baker would leave out of the rig (its surface lights), or None: such a rig is refused."""
+    if rig.surfaces:
+        return (f"has {len(rig.surfaces)} surface light(s) ({', '.join(s.shader for s in rig.surfaces[:3])}...): "
+                f"recover it without --surfaces, or remove its 'surfaces' list (their light is then missing from the "
+                f"probes)")
+    return None
+
+
+def sun_sh(points: np.ndarray, rig: Rig, scene: BakeScene) -> np.ndarray:
+    """(C, 27): the lobe of every sun whose ray from the point meets the sky before a shadow caster (Quake units in)."""
+    out = np.zeros((len(points), SH_FLOATS))
+    sky = Suns(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64), sky=scene.sky)
+    for sun in rig.suns:
+        direction = sun.quake_direction()
+        lit = sunlit(points, np.broadcast_to(direction, points.shape).copy(), sky, scene.shadows)
+        colour = saturate((sun.colour * sun.intensity)[None])[0] * LINEAR_PER_BYTE
+        factors = clamped_cosine_factors(quake_to_unity(direction[None], scale=1.0))[0]  # (9,)
+        out[lit] += np.outer(colour, factors).reshape(-1)
+    return out
 
 
 def direct_sh(points: np.ndarray, lights: np.ndarray, emitted: np.ndarray,

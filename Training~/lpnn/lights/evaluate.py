@@ -26,8 +26,8 @@ from ..scenes.levels import load_level
 from .compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
 from .emitters import emitter_bytes
-from .pipeline import (add_surface_lights, fit_scene, level_emitters, load_scene, point_lights_of, rig_emitters,
-                       rig_of, shader_power, surface_pieces)
+from .pipeline import (add_surface_lights, fit_scene, fits_sun, level_emitters, load_scene, point_lights_of,
+                       real_rig, rig_emitters, rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
 from .settings import DEFAULT_GRID, DEFAULT_START, PEAK_START, SCHEMES, STARTS
 from .starts import DEFAULT_PEAKS, PeakSettings
@@ -38,7 +38,8 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
                    surfaces: bool = False, spots: bool = False, start: str = DEFAULT_START,
-                   peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True) -> list[dict[str, Any]]:
+                   peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True,
+                   suns: bool | None = None) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
@@ -60,6 +61,8 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         rows.append(dict(level=level.name, scheme="real rig", points=scene.target.point_count, lights=real.rig.count,
                          objective=objective, grid_mean=g.mean_error, grid_p95=g.p95_error,
                          grid_plain=g.plain_relative, ambient=real.rig.ambient.tolist()))
+    if emitters is not None:  # the real rig as a rig file (lights.md §5): point lights, spots, surfaces, suns
+        write_rig(out / f"{level.name}.real.json", real_rig(level, real, emitters))
     suffix = ""
     basis_seconds = 0.0
     if surfaces and schemes:
@@ -69,19 +72,21 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
               flush=True)
     suffix += "+spots" if spots else ""
+    suns = fits_sun(scene, suns) if schemes else False
+    suffix += "+suns" if suns else ""
     suffix += "+peaks" if start == PEAK_START else ""
     curves = {}
     for scheme in schemes:
         rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
         started = time.perf_counter()
-        result = fit_scene(scene, grid, scheme, spots=spots, start=start, peaks=peaks)
+        result = fit_scene(scene, grid, scheme, spots=spots, start=start, peaks=peaks, suns=suns)
         seconds = time.perf_counter() - started
         rig = rig_of(scene, result, grid, scheme, start)
         write_rig(out / f"{level.name}.{scheme}{suffix}.json", rig)
         write_curve_csv(out / f"{level.name}.{scheme}{suffix}.curve.csv", result.curve)
         curves[scheme] = result.curve
         cast = raycaster.cast_seconds - cast_before
-        own = rig_emitters(level, rig) if rig.surfaces else None
+        own = rig_emitters(level, rig) if rig.surfaces or rig.suns else None
         row = dict(level=level.name, scheme=scheme + suffix, points=scene.target.point_count, lights=rig.count,
                    spotlights=int(rig.spot.sum()),
                    surface_lights=len(rig.surfaces), basis_seconds=basis_seconds,
@@ -89,7 +94,10 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
                    seconds=seconds, seconds_per_iteration=seconds / max(result.iterations, 1),
                    rays=scene.model.rays - rays_before,
                    rays_per_second=(scene.model.rays - rays_before) / cast if cast > 0 else 0.0,
-                   ambient=rig.ambient.tolist())
+                   ambient=rig.ambient.tolist(), suns=[dict(direction=sun.direction.tolist(), colour=sun.colour.tolist(),
+                                                            intensity=sun.intensity) for sun in rig.suns])
+        if emitters is not None and emitters.suns.count and rig.suns:
+            row.update(sun_error(rig, emitters))
         if emitters is not None:
             c = compare_rigs(rig, real.rig, real_surfaces=surface_pieces(level.bsp, emitters),
                              shader_power=shader_power(level.bsp, own) if own is not None else {})
@@ -105,6 +113,17 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
     write_curve_png(out / f"{level.name}{suffix}.curves.png", curves, f"{level.name}: objective by scheme "
                     f"({'x'.join(map(str, grid))} initial grid)")
     return rows
+
+
+def sun_error(rig: Rig, emitters) -> dict[str, float]:
+    """The recovered sun against the level's brightest real one: the angle between their directions (degrees) and
+    the ratio of their intensities x largest colour component (photons at normal incidence, brightest channel)."""
+    real = int(np.argmax(emitters.suns.photons * emitters.suns.colours.max(axis=1)))
+    found = max(rig.suns, key=lambda sun: sun.intensity * float(np.max(sun.colour)))
+    cosine = float(np.clip(found.quake_direction() @ emitters.suns.directions[real], -1.0, 1.0))
+    real_power = float(emitters.suns.photons[real] * emitters.suns.colours[real].max())
+    return dict(sun_angle=float(np.degrees(np.arccos(cosine))),
+                sun_intensity_ratio=found.intensity * float(np.max(found.colour)) / real_power)
 
 
 def table_row(row: dict[str, Any]) -> str:
@@ -127,6 +146,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--spots", action="store_true", help="every fitted light is a spotlight (lights.md §4)")
     parser.add_argument("--start", default=DEFAULT_START, choices=STARTS,
                         help="where the lights start: the grid's cells, or the peaks of the baked light (lights.md §4)")
+    parser.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,
+                        help="the fits also recover one sun (default: where the level has sky surfaces, lights.md §4)")
     parser.add_argument("--no-yardstick", action="store_true",
                         help="skip the real rig's row (its objective and grid; the fits are still matched against it)")
     args = parser.parse_args(argv)
@@ -136,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for name in args.levels:
         level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces,  # type: ignore[arg-type]
-                                    args.spots, args.start, yardstick=not args.no_yardstick)
+                                    args.spots, args.start, yardstick=not args.no_yardstick, suns=args.suns)
         rows += level_rows
         for row in level_rows:
             if row["scheme"] == "real rig":

@@ -34,6 +34,7 @@ from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
 from . import objective_kernel, visibility_kernel
 from .emitters import SPOT_EDGE  # a spotlight's soft cone edge, units (light_ydnar.c LightContributionToSample)
+from .emitters import RAY_OFFSET as SUN_RAY_OFFSET, Suns, sunlit
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -63,10 +64,20 @@ class Lights:
     # radiusByDist, 0 for a point light; both empty: every light is a point light
     spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # suns (q3map2's EMIT_SUN, emitters.py): (K, 3) direction toward the sun, Quake axes (unit in rigs), (K, 3)
+    # colour, (K,) intensity in photons: a luxel that sees the sky along the direction gets
+    # colour x intensity x max(0, n . direction) bytes
+    sun_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    sun_colours: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    sun_intensities: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def count(self) -> int:
         return len(self.positions)
+
+    @property
+    def sun_count(self) -> int:
+        return len(self.sun_intensities)
 
     def cones(self) -> tuple[np.ndarray, np.ndarray]:
         """((J, 3) axes, (J,) radiusByDist, 0 for a point light), float64 and contiguous, for every light."""
@@ -89,6 +100,9 @@ class Gradient:
     surface_values: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (S,)
     spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # (J, 3): dL/d(axis), axis as given
     radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (J,); both 0 for point lights
+    sun_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # (K, 3): dL/d(direction) as given
+    sun_colours: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # (K, 3)
+    sun_intensities: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (K,)
 
 
 class ForwardModel:
@@ -109,6 +123,10 @@ class ForwardModel:
         # (S, N, 3) bytes each surface light (a shader's emitting surfaces, emitters.py) adds at every point per
         # unit of its q3map_surfacelight value: linear in the value, so the fit recovers the value (rig.py)
         self.surface_basis = np.zeros((0, len(self.points), 3))
+        # the level's sky triangles: a fitted sun lights a point whose ray toward it hits them first (emitters.sunlit)
+        self.sky: EmbreeRaycaster | None = None
+        self._sun_lit_of: np.ndarray | None = None  # the visibility matrix the suns' rays were cast with
+        self._sun_lit = np.zeros((len(self.points), 0), dtype=bool)
         self.rays = 0
         # threads of the compiled objective: 1, since a second thread waiting for a busy core made it 3x slower
         # on this shared 2-core machine (lights.md §3); the numbers do not depend on it
@@ -126,14 +144,66 @@ class ForwardModel:
     def surface_count(self) -> int:
         return len(self.surface_basis)
 
-    def fixed_bytes(self, lights: Lights) -> np.ndarray:
-        """(N, 3) bytes of the elements that are not point lights: the fixed emitters and the surface lights."""
-        if self.surface_count == 0:
-            return self.fixed
-        values = np.asarray(lights.surface_values, dtype=np.float64)
-        if values.shape != (self.surface_count,):
-            raise ValueError(f"{values.size} surface light values for the model's {self.surface_count} surface lights")
-        return self.fixed + np.einsum("s,snk->nk", values, self.surface_basis)
+    def fixed_bytes(self, lights: Lights, visible: np.ndarray) -> np.ndarray:
+        """(N, 3) bytes of the elements that are not point lights: the fixed emitters, the surface lights and the
+        lights' suns (their sky rays held fixed with `visible`, sun_lit)."""
+        out = self.fixed
+        if self.surface_count:
+            values = np.asarray(lights.surface_values, dtype=np.float64)
+            if values.shape != (self.surface_count,):
+                raise ValueError(f"{values.size} surface light values for the model's {self.surface_count} surface "
+                                 f"lights")
+            out = out + np.einsum("s,snk->nk", values, self.surface_basis)
+        if lights.sun_count:
+            weight = self.sun_weights(lights, self.sun_lit(lights, visible))  # (N, K)
+            out = out + weight @ (lights.sun_colours * lights.sun_intensities[:, None])
+        return out
+
+    # ----------------------------------------------------------------------------------- suns
+
+    def sun_visibility(self, lights: Lights) -> np.ndarray:
+        """(N, K) bool: point i faces sun k and its ray toward it (from RAY_OFFSET off the surface) meets the sky
+        before any shadow caster (emitters.sunlit; without a raycaster every facing point is lit)."""
+        lit = np.zeros((self.point_count, lights.sun_count), dtype=bool)
+        sky = Suns(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64), sky=self.sky)
+        for k, direction in enumerate(np.asarray(lights.sun_directions, dtype=np.float64)):
+            length = float(np.linalg.norm(direction))
+            if length == 0:
+                continue
+            unit = direction / length
+            facing = np.flatnonzero(self.normals @ unit > 0)
+            origins = self.points[facing] + SUN_RAY_OFFSET * self.normals[facing]
+            lit[facing, k] = sunlit(origins, np.broadcast_to(unit, origins.shape).copy(), sky, self.raycaster)
+            if self.raycaster is not None:
+                self.rays += 2 * len(facing)
+        return lit
+
+    def sun_lit(self, lights: Lights, visible: np.ndarray) -> np.ndarray:
+        """The suns' sky rays cast with `visible` (visibility() casts them), or cast now for another matrix: held
+        fixed between refreshes like the point lights' shadow rays."""
+        if self._sun_lit_of is not visible or self._sun_lit.shape[1] != lights.sun_count:
+            self._sun_lit, self._sun_lit_of = self.sun_visibility(lights), visible
+        return self._sun_lit
+
+    def sun_weights(self, lights: Lights, lit: np.ndarray) -> np.ndarray:
+        """(N, K) lit x max(0, n . direction): the bytes per unit of a sun's colour x intensity."""
+        return lit * np.maximum(0.0, self.normals @ np.asarray(lights.sun_directions, dtype=np.float64).T)
+
+    def _sun_gradient(self, lights: Lights, visible: np.ndarray,
+                      upstream: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """dL/d(direction, colour, intensity) of every sun from dL/dE (N, 3), its sky rays fixed: with w_ik = lit_ik
+        max(0, n_i . d_k) and e_k = colour_k x intensity_k, dL/de_k = sum_i w_ik dL/dE_i and dL/dd_k = sum_i lit_ik
+        [n_i . d_k > 0] (dL/dE_i . e_k) n_i (exact for any direction, not only unit ones)."""
+        count = lights.sun_count
+        if count == 0 or len(upstream) == 0:
+            return np.zeros((count, 3)), np.zeros((count, 3)), np.zeros(count)
+        lit = self.sun_lit(lights, visible)
+        emitted = lights.sun_colours * lights.sun_intensities[:, None]  # (K, 3)
+        d_emitted = self.sun_weights(lights, lit).T @ upstream  # (K, 3)
+        front = lit & (self.normals @ np.asarray(lights.sun_directions, dtype=np.float64).T > 0)  # (N, K)
+        d_direction = (front * (upstream @ emitted.T)).T @ self.normals  # (K, 3)
+        return d_direction, d_emitted * lights.sun_intensities[:, None], np.einsum("kc,kc->k", d_emitted,
+                                                                                   lights.sun_colours)
 
     # ------------------------------------------------------------------------------ visibility
 
@@ -160,6 +230,8 @@ class ForwardModel:
             self.rays += int(reachable.sum())
             free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
             visible[point[reachable][free], light[reachable][free]] = True
+        if lights.sun_count:  # the suns' sky rays, held with this matrix until the next refresh
+            self._sun_lit, self._sun_lit_of = self.sun_visibility(lights), visible
         return visible
 
     def visibility_numpy(self, lights: Lights) -> np.ndarray:
@@ -195,7 +267,7 @@ class ForwardModel:
         """(N, 3) modelled radiance m_i."""
         out = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]  # (J, 3)
-        fixed = self.fixed_bytes(lights)
+        fixed = self.fixed_bytes(lights, visible)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
             light = lights.ambient + fixed[chunk] + POINT_SCALE * _sum_by(
@@ -261,9 +333,9 @@ class ForwardModel:
         grad_cones = np.zeros((chunks, lights.count))
         grad_ambient = np.zeros((chunks, 3))
         axes, cones = lights.cones()
-        fixed = self.fixed_bytes(lights)
-        # dL/dE per point, for the surface lights' gradient (written only when they exist)
-        upstream = np.zeros((self.point_count if self.surface_count and with_gradient else 0, 3))
+        fixed = self.fixed_bytes(lights, visible)
+        # dL/dE per point, for the surface lights' and the suns' gradients (written only when they exist)
+        upstream = np.zeros((self.point_count if (self.surface_count or lights.sun_count) and with_gradient else 0, 3))
         emitted = np.ascontiguousarray(lights.colours * lights.intensities[:, None], dtype=np.float64)
         objective_kernel.run(min(self.threads, objective_kernel.threads_for(self.point_count)),
                              *(_f64(a) for a in (self.points, self.normals, self.albedo, self.radiance,
@@ -274,6 +346,7 @@ class ForwardModel:
                              with_gradient, values, grad_pos, grad_emitted, grad_axes, grad_cones, grad_ambient, upstream)
         # the slices summed in slice order: the same bits on any number of threads
         emitted_sum = _ordered_sum(grad_emitted)
+        sun_directions, sun_colours, sun_intensities = self._sun_gradient(lights, visible, upstream)
         return Gradient(
             value=float(_ordered_sum(values)) / self.norm,
             positions=_ordered_sum(grad_pos),
@@ -283,6 +356,7 @@ class ForwardModel:
             surface_values=self._surface_gradient(upstream),
             spot_directions=_ordered_sum(grad_axes),
             radius_by_dist=_ordered_sum(grad_cones),
+            sun_directions=sun_directions, sun_colours=sun_colours, sun_intensities=sun_intensities,
         )
 
     def _surface_gradient(self, upstream: np.ndarray) -> np.ndarray:
@@ -303,7 +377,7 @@ class ForwardModel:
         grad_ambient = np.zeros(3)
         upstream_all = np.zeros((self.point_count, 3))
         emitted = lights.colours * lights.intensities[:, None]
-        fixed = self.fixed_bytes(lights)
+        fixed = self.fixed_bytes(lights, visible)
         for chunk, pairs in self._chunks(visible):
             t = self._transfer(lights, pairs)
             local = pairs.point - chunk.start
@@ -334,6 +408,8 @@ class ForwardModel:
             grad_pos += _sum_by(pairs.light, per_pair, lights.count)
             grad_axes += _sum_by(pairs.light, (u * t.g)[:, None] * d_axis, lights.count)
             grad_cones += np.bincount(pairs.light, weights=u * t.g * d_cone, minlength=lights.count)
+        sun_directions, sun_colours, sun_intensities = self._sun_gradient(
+            lights, visible, upstream_all if with_gradient else np.zeros((0, 3)))
         return Gradient(
             value=value / self.norm,
             positions=grad_pos,
@@ -343,6 +419,7 @@ class ForwardModel:
             surface_values=self._surface_gradient(upstream_all) if with_gradient else np.zeros(self.surface_count),
             spot_directions=grad_axes,
             radius_by_dist=grad_cones,
+            sun_directions=sun_directions, sun_colours=sun_colours, sun_intensities=sun_intensities,
         )
 
 

@@ -26,7 +26,7 @@ Deterministic: no random numbers; the same level and settings give the same rig.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -54,6 +54,14 @@ SPOT_MIN_CONE = 0.05
 SPOT_MAX_CONE = 4.0
 SPOT_START_CONE = 1.0
 SPOT_START_AXIS = (0.0, 0.0, -1.0)
+# a sun (fit_scene(suns=True), lights.md §4): the direction toward the sun d = u / |u|, u in [-1, 1]^3 (renormalised
+# at every refresh), optimised with the positions; white at the start, intensity in photons. Its start is the best of
+# SUN_START_ELEVATIONS x SUN_START_AZIMUTHS by the closed-form fit: straight overhead alone is a saddle (every floor's
+# gradient is along the direction itself, every wall is edge-on): a first version's sun started there never moved.
+SUN_UNIT = 100.0  # photons per scaled unit
+MAX_SUN_INTENSITY = 1e4
+SUN_START_ELEVATIONS = (90.0, 70.0, 50.0, 30.0)  # degrees; 90 is overhead (one direction)
+SUN_START_AZIMUTHS = 8  # every 45 degrees
 
 
 
@@ -92,13 +100,14 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
 
 
 def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None,
-                      relative: np.ndarray | None = None) -> Lights:
+                      relative: np.ndarray | None = None, sun: bool = False) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
     scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
     With `relative` (J,) > 0, the lights' intensities are one common scale times these (starts.py's estimates).
     With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
     all the scales (scipy's nnls). `spots` (J,) bool: those lights are spotlights along SPOT_START_AXIS with
-    SPOT_START_CONE, the others point lights."""
+    SPOT_START_CONE, the others point lights. With `sun`, one white sun too, its intensity in the same
+    non-negative fit, along the start direction (sun_start_directions) whose fit leaves the least residual."""
     surfaces = np.zeros(model.surface_count)
     count = len(positions)
     spot = np.zeros(count, bool) if spots is None else np.asarray(spots, dtype=bool)
@@ -116,8 +125,17 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
     target = model.radiance.ravel()
+    if sun:
+        best: tuple[Lights, float] | None = None
+        for direction in sun_start_directions():  # the first of equal residuals: deterministic
+            trial = replace(unit, sun_directions=direction[None], sun_colours=np.ones((1, 3)), sun_intensities=np.zeros(1))
+            found = _initial_with_surfaces(model, trial, lit, flat, weights, target)
+            if best is None or found[1] < best[1]:
+                best = found
+        assert best is not None
+        return best[0]
     if model.surface_count:
-        return _initial_with_surfaces(model, unit, lit, flat, weights, target)
+        return _initial_with_surfaces(model, unit, lit, flat, weights, target)[0]
     basis = np.stack([lit, flat], axis=1)
     gram = basis.T @ (weights[:, None] * basis)
     rhs = basis.T @ (weights * target)
@@ -129,21 +147,41 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     return unit
 
 
+def sun_start_directions() -> np.ndarray:
+    """(D, 3) unit directions toward the sun a fitted sun may start from: overhead, then SUN_START_AZIMUTHS azimuths
+    at each lower elevation of SUN_START_ELEVATIONS (Quake axes: z up)."""
+    out = []
+    for elevation in SUN_START_ELEVATIONS:
+        e = np.radians(elevation)
+        for azimuth in np.radians(np.arange(SUN_START_AZIMUTHS) * 360.0 / SUN_START_AZIMUTHS)[:1 if elevation == 90 else None]:
+            out.append([np.cos(azimuth) * np.cos(e), np.sin(azimuth) * np.cos(e), np.sin(e)])
+    directions = np.array(out)
+    return directions / np.linalg.norm(directions, axis=1, keepdims=True)
+
+
 def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, flat: np.ndarray, weights: np.ndarray,
-                           target: np.ndarray) -> Lights:
-    per_value = (model.albedo[None] * LINEAR_PER_BYTE * model.surface_basis).reshape(model.surface_count, -1)
+                           target: np.ndarray) -> tuple[Lights, float]:
+    """The nnls fit of the lights' common scale, the ambient, every surface light's value and every sun's
+    intensity (a white sun's radiance per photon: albedo x 4/255 x lit x cos), and its residual norm."""
+    per_value = (model.albedo[None] * LINEAR_PER_BYTE * model.surface_basis).reshape(model.surface_count,
+                                                                                     3 * model.point_count)
+    sun_lit = model.sun_visibility(unit)
+    per_photon = (model.albedo[:, None, :] * LINEAR_PER_BYTE * model.sun_weights(unit, sun_lit)[:, :, None])
+    per_photon = per_photon.transpose(1, 0, 2).reshape(unit.sun_count, 3 * model.point_count)
     root = np.sqrt(weights)
-    basis = np.concatenate([np.stack([lit, flat], axis=1), per_value.T], axis=1) * root[:, None]
-    scales, _ = nnls(basis, target * root, maxiter=50 * basis.shape[1])
+    basis = np.concatenate([np.stack([lit, flat], axis=1), per_value.T, per_photon.T], axis=1) * root[:, None]
+    scales, residual = nnls(basis, target * root, maxiter=50 * basis.shape[1])
     unit.intensities = np.clip(scales[0] * unit.intensities, 1.0, MAX_INTENSITY)
     unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
-    unit.surface_values = np.clip(scales[2:], 0.0, MAX_SURFACE_VALUE)
-    return unit
+    unit.surface_values = np.clip(scales[2:2 + model.surface_count], 0.0, MAX_SURFACE_VALUE)
+    unit.sun_intensities = np.clip(scales[2 + model.surface_count:], 0.0, MAX_SUN_INTENSITY)
+    return unit, float(residual)
 
 
 class Fitter:
     """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled), with
-    spotlights their (J, 4) rows (axis u, radiusByDist; optimised with the positions), the surface lights' values
+    spotlights their (J, 4) rows (axis u, radiusByDist; optimised with the positions), the suns' (K, 7) rows
+    (direction u, optimised with the positions; colour; intensity / SUN_UNIT), the surface lights' values
     (S, scaled), then the ambient (3, scaled); the ambient and the surface values are optimised with the
     intensities. The lights whose start has a cone (Lights.radius_by_dist > 0) are spotlights; when any is, every
     light has spot rows, held at 0 (a point light) for the others."""
@@ -168,6 +206,7 @@ class Fitter:
         self.count = 0  # lights (set by fit)
         self.spots = False  # some lights are spotlights: the vector has spot rows (set by fit)
         self.spot_mask = np.zeros(0, bool)  # (J,) which lights are spotlights (set by fit)
+        self.sun_count = 0  # suns (set by fit)
 
     # ------------------------------------------------------------------------ packing
 
@@ -181,7 +220,10 @@ class Fitter:
         if self.spots:
             axes, cones = lights.cones()
             spots = np.where(self.spot_mask[:, None], np.concatenate([_unit_rows(axes), cones[:, None]], axis=1), 0.0)
-        return np.concatenate([rows.ravel(), spots.ravel(), values / SURFACE_UNIT, lights.ambient / AMBIENT_UNIT])
+        suns = np.concatenate([lights.sun_directions, lights.sun_colours,
+                               lights.sun_intensities[:, None] / SUN_UNIT], axis=1) if self.sun_count else np.zeros((0, 7))
+        return np.concatenate([rows.ravel(), spots.ravel(), suns.ravel(), values / SURFACE_UNIT,
+                               lights.ambient / AMBIENT_UNIT])
 
     @property
     def _spot_size(self) -> int:
@@ -190,6 +232,11 @@ class Fitter:
     def _spot_rows(self, x: np.ndarray) -> np.ndarray:
         """The spotlights' (J, 4) rows (axis u, radiusByDist) of a parameter vector (a view; (0, 4) without)."""
         return x[7 * self.count:7 * self.count + self._spot_size].reshape(-1, 4)
+
+    def _sun_rows(self, x: np.ndarray) -> np.ndarray:
+        """The suns' (K, 7) rows (direction u, colour, intensity / SUN_UNIT) of a parameter vector (a view)."""
+        start = 7 * self.count + self._spot_size
+        return x[start:start + 7 * self.sun_count].reshape(-1, 7)
 
     @property
     def surfaces_count(self) -> int:
@@ -202,10 +249,13 @@ class Fitter:
     def _unpack(self, x: np.ndarray) -> Lights:
         rows = self._rows(x)
         spots = self._spot_rows(x)
+        suns = self._sun_rows(x)
         return Lights(positions=rows[:, 0:3] * POSITION_UNIT, colours=rows[:, 3:6].copy(),
                       intensities=rows[:, 6] * INTENSITY_UNIT, ambient=x[-3:] * AMBIENT_UNIT,
                       surface_values=x[len(x) - 3 - self.surfaces_count:-3] * SURFACE_UNIT,
-                      spot_directions=_unit_rows(spots[:, 0:3]), radius_by_dist=spots[:, 3].copy())
+                      spot_directions=_unit_rows(spots[:, 0:3]), radius_by_dist=spots[:, 3].copy(),
+                      sun_directions=_unit_rows(suns[:, 0:3]), sun_colours=suns[:, 3:6].copy(),
+                      sun_intensities=suns[:, 6] * SUN_UNIT)
 
     def _mask(self, parameters: tuple[str, ...], count: int) -> np.ndarray:
         columns = np.zeros(7, dtype=bool)
@@ -213,7 +263,9 @@ class Fitter:
         columns[3:6] = COLOUR in parameters
         columns[6] = INTENSITY in parameters
         spots = np.repeat(self.spot_mask & (POSITION in parameters), 4) if self.spots else np.zeros(0, bool)
-        return np.concatenate([np.tile(columns, count), spots, np.full(self.surfaces_count + 3, INTENSITY in parameters)])
+        suns = np.tile(columns, self.sun_count)  # direction with the positions, colour, intensity
+        return np.concatenate([np.tile(columns, count), spots, suns,
+                               np.full(self.surfaces_count + 3, INTENSITY in parameters)])
 
     def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         low = np.concatenate([self.lower / POSITION_UNIT, np.zeros(3), [0.0]])
@@ -222,9 +274,11 @@ class Fitter:
         spot = self.spot_mask[:, None] if self.spots else np.zeros((0, 1), bool)
         spot_low = np.where(spot, [-1.0, -1.0, -1.0, SPOT_MIN_CONE], 0.0).ravel()  # point lights: held at 0
         spot_high = np.where(spot, [1.0, 1.0, 1.0, SPOT_MAX_CONE], 0.0).ravel()
-        return (np.concatenate([np.tile(low, count), spot_low, np.zeros(surfaces), np.zeros(3)]),
-                np.concatenate([np.tile(high, count), spot_high, np.full(surfaces, MAX_SURFACE_VALUE / SURFACE_UNIT),
-                                np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
+        sun_low = np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0], self.sun_count)
+        sun_high = np.tile([1.0, 1.0, 1.0, 1.0, 1.0, 1.0, MAX_SUN_INTENSITY / SUN_UNIT], self.sun_count)
+        return (np.concatenate([np.tile(low, count), spot_low, sun_low, np.zeros(surfaces), np.zeros(3)]),
+                np.concatenate([np.tile(high, count), spot_high, sun_high,
+                                np.full(surfaces, MAX_SURFACE_VALUE / SURFACE_UNIT), np.full(3, BYTE_MAX / AMBIENT_UNIT)]))
 
     # ---------------------------------------------------------------------- objective
 
@@ -242,15 +296,13 @@ class Fitter:
         rows[:, 0:3] += (-2.0 * CLEARANCE_WEIGHT * short / CLEARANCE)[:, None] * away / safe * POSITION_UNIT
         self.evaluations += 1
         spots = np.zeros((0, 4))
-        if self.spots:  # N = u / |u|: dL/du = (dL/dN - N (N . dL/dN)) / |u|
-            u = self._spot_rows(x)[:, 0:3]
-            length = np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
-            axis = u / length
-            d_axis = fit.spot_directions
-            d_u = (d_axis - axis * np.einsum("jk,jk->j", axis, d_axis)[:, None]) / length
-            spots = np.concatenate([d_u, fit.radius_by_dist[:, None]], axis=1)
-        return fit.value, penalty, np.concatenate([rows.ravel(), spots.ravel(), fit.surface_values * SURFACE_UNIT,
-                                                   fit.ambient * AMBIENT_UNIT])
+        if self.spots:
+            spots = np.concatenate([_through_unit(self._spot_rows(x)[:, 0:3], fit.spot_directions),
+                                    fit.radius_by_dist[:, None]], axis=1)
+        suns = np.concatenate([_through_unit(self._sun_rows(x)[:, 0:3], fit.sun_directions), fit.sun_colours,
+                               fit.sun_intensities[:, None] * SUN_UNIT], axis=1)
+        return fit.value, penalty, np.concatenate([rows.ravel(), spots.ravel(), suns.ravel(),
+                                                   fit.surface_values * SURFACE_UNIT, fit.ambient * AMBIENT_UNIT])
 
     def _record(self, phase: int, algorithm: str, value: float, penalty: float) -> None:
         self.curve.append(CurvePoint(phase=phase, algorithm=algorithm, iteration=self.iterations,
@@ -266,9 +318,10 @@ class Fitter:
         if blocked.any():
             x = x.copy()
             self._rows(x)[blocked, 0:3] = anchor[blocked]
-        if self.spots:  # the axes back to unit length, so u stays well inside its box
+        if self.spots or self.sun_count:  # axes and sun directions back to unit length, so u stays inside its box
             x = x.copy()
             self._spot_rows(x)[:, 0:3] = _unit_rows(self._spot_rows(x)[:, 0:3])
+            self._sun_rows(x)[:, 0:3] = _unit_rows(self._sun_rows(x)[:, 0:3])
         visible = self.model.visibility(self._unpack(x))
         self._keep_best(x, visible)
         return x, visible
@@ -286,6 +339,7 @@ class Fitter:
         self.count = lights.count
         self.spot_mask = lights.cones()[1] > 0
         self.spots = bool(self.spot_mask.any())
+        self.sun_count = lights.sun_count
         x = self._pack(lights)
         self._best = None
         value, penalty = self._keep_best(x, self.model.visibility(lights))
@@ -360,6 +414,13 @@ class Fitter:
             if result.nit < limit:  # converged for this visibility: the phase is done
                 break
         return x
+
+
+def _through_unit(u: np.ndarray, d_unit: np.ndarray) -> np.ndarray:
+    """dL/du from dL/dN for N = u / |u| (rows): (dL/dN - N (N . dL/dN)) / |u|."""
+    length = np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
+    unit = u / length
+    return (d_unit - unit * np.einsum("jk,jk->j", unit, d_unit)[:, None]) / length
 
 
 def _unit_rows(u: np.ndarray) -> np.ndarray:

@@ -4,7 +4,7 @@ and the fit (initial grid, scheme), wired together once for the CLI, the evaluat
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -13,7 +13,6 @@ from ..scenes.errors import BspError
 from ..scenes.levels import Level, default_pak
 from ..scenes.raycast import EmbreeRaycaster
 from ..scenes.solid import SolidTester
-from ..scenes.surfaces import ray_geometry
 from ..scenes.coords import quake_to_unity
 from ..scenes.surfaces import SURF_SKY
 from .compare import SurfacePieces, equal_flux_intensity
@@ -23,9 +22,10 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
                        shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
-from .rig import EntityLights, Rig, RigError, SurfaceLight
-from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, GRID_START,
-                       SCHEMES, STARTS)
+from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
+from .shadows import shadow_raycaster
+from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
+                       GRID_START, SCHEMES, STARTS)
 from .starts import DEFAULT_PEAKS, PeakSettings, Starts, peak_starts, with_grid_fallback
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
@@ -83,8 +83,7 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
         raise BspError(f"{level.location}: no surface carries baked light (every lightmap texel and vertex colour "
                        f"of its {target.point_count:,} target points is black): compile the level with q3map2 -light")
     clock = time.perf_counter()
-    geometry = ray_geometry(bsp)
-    raycaster = EmbreeRaycaster(geometry.vertices, geometry.triangles)
+    raycaster = shadow_raycaster(bsp)  # q3map2's shadow casters: no patches, no entity surfaces by default
     solid = SolidTester(bsp)
     seconds["geometry"] = time.perf_counter() - clock
 
@@ -92,7 +91,9 @@ def load_scene(level: Level, max_edge: float | None = DEFAULT_MAX_EDGE, textures
         return ~solid.solid_or_outside(points)
 
     bounds = (bsp.world_mins + BOX_MARGIN, bsp.world_maxs - BOX_MARGIN)
-    return LevelScene(level=level, target=target, triangles=mesh.triangles, albedo=albedo, model=ForwardModel(target, raycaster),
+    model = ForwardModel(target, raycaster)
+    model.sky = sky_raycaster(bsp)  # for fitted suns (fit_scene(suns=...))
+    return LevelScene(level=level, target=target, triangles=mesh.triangles, albedo=albedo, model=model,
                       is_open=is_open, bounds=bounds, max_edge=used_edge, seconds=seconds)
 
 
@@ -114,9 +115,12 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
-              spots: bool = False, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS) -> FitResult:
+              spots: bool = False, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
+              suns: bool | None = None) -> FitResult:
     """With `spots`, every start position starts both a point light and a q3map2 spotlight (pointing down), the
-    spotlights' axes and cones fitted too (lights.md §4)."""
+    spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one sun whose direction, colour
+    and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
+    suns = fits_sun(scene, suns)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
     starts = start_positions(scene, grid, start, peaks)
@@ -133,10 +137,20 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
         flags = np.repeat([False, True], len(positions))
         positions = np.concatenate([positions, positions])
         relative = None if relative is None else np.concatenate([relative, relative])
-    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative)
+    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress)
     return fitter.fit(lights, SCHEMES[scheme])
+
+
+def fits_sun(scene: LevelScene, suns: bool | None) -> bool:
+    """Whether a fit recovers a sun: as asked, or by default (None) DEFAULT_SUNS where the level has sky surfaces. Asked
+    on a level without sky, refused."""
+    if suns is None:
+        return DEFAULT_SUNS and scene.model.sky is not None
+    if suns and scene.model.sky is None:
+        raise ValueError(f"{scene.level.name}: no sky surface (SURF_SKY) for a sun to shine through; fit with --no-suns")
+    return suns
 
 
 def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], scheme: str,
@@ -154,6 +168,11 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             light = scene.surface_emitters.shaders[shader]
             surfaces.append(SurfaceLight(shader=scene.level.bsp.shader_name(shader), value=float(value),
                                          colour=light.colour.copy()))
+    fitted_suns = [Sun.from_quake(direction, colour, intensity) for direction, colour, intensity in
+                   zip(lights.sun_directions, lights.sun_colours, lights.sun_intensities)]
+    fitted_suns = [sun for sun in fitted_suns if sun.intensity > 0]
+    if lights.sun_count:
+        info["suns"] = len(fitted_suns)
     axes, cones = lights.cones()
     spot = {}
     if np.any(cones > 0):  # spotlights (fit_scene(spots=True)): unit axes in Unity axes, radiusByDist (0: a point)
@@ -161,7 +180,7 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
         info["spots"] = True
     return Rig.from_quake(lights.positions[lit], lights.colours[lit], lights.intensities[lit], ambient=lights.ambient,
                           level=scene.level.name, bsp_sha256=scene.level.sha256, scheme=scheme,
-                          objective=float(result.objective), extra=info, surfaces=surfaces, **spot)
+                          objective=float(result.objective), extra=info, surfaces=surfaces, suns=fitted_suns, **spot)
 
 
 def level_emitters(level: Level, real: EntityLights, surfaces: bool = True) -> Emitters:
@@ -202,13 +221,26 @@ def level_suns(level: Level) -> Suns:
             shader_of.append(int(shader))
     if not photons:
         return Suns.empty()
-    sky_faces = np.flatnonzero(bsp.shaders["surface_flags"][bsp.faces["shader"]].astype(np.int64) & SURF_SKY)
-    sky = None
-    if sky_faces.size:
-        corners, _, _ = surface_triangles(bsp, sky_faces)
-        sky = EmbreeRaycaster(corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3))
     return Suns(directions=np.array(directions), colours=np.array(colours), photons=np.array(photons),
-                shader=np.array(shader_of, np.int64), sky=sky)
+                shader=np.array(shader_of, np.int64), sky=sky_raycaster(bsp))
+
+
+def sky_raycaster(bsp) -> EmbreeRaycaster | None:
+    """The level's sky triangles (faces whose shader is SURF_SKY), which a sun's ray must meet first; None without."""
+    sky_faces = np.flatnonzero(bsp.shaders["surface_flags"][bsp.faces["shader"]].astype(np.int64) & SURF_SKY)
+    if sky_faces.size == 0:
+        return None
+    corners, _, _ = surface_triangles(bsp, sky_faces)
+    return EmbreeRaycaster(corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3))
+
+
+def rig_suns(bsp, rig: Rig) -> Suns:
+    """A rig's suns as emitters.Suns (Quake axes) with the level's sky triangles."""
+    if not rig.suns:
+        return Suns.empty()
+    return Suns(directions=np.array([sun.quake_direction() for sun in rig.suns]),
+                colours=np.array([sun.colour for sun in rig.suns]), photons=np.array([sun.intensity for sun in rig.suns]),
+                shader=np.full(len(rig.suns), -1, np.int64), sky=sky_raycaster(bsp))
 
 
 def compiled_with_script(bsp, scripts: ShaderScripts, shader: int) -> bool:
@@ -299,7 +331,8 @@ def shader_power(bsp, emitters: Emitters) -> dict[str, float]:
 
 
 def rig_emitters(level: Level, rig: Rig) -> Emitters:
-    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values."""
+    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values, and
+    its suns."""
     names = {level.bsp.shader_name(index).lower(): index for index in range(len(level.bsp.shaders))}
     missing = [s.shader for s in rig.surfaces if s.shader.lower() not in names]
     if missing:
@@ -310,7 +343,24 @@ def rig_emitters(level: Level, rig: Rig) -> Emitters:
                                                     backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
                                                     colour_source="rig")
                for s in rig.surfaces if s.value > 0}
-    return shader_emitters(level.bsp, shaders)
+    emitters = shader_emitters(level.bsp, shaders)
+    emitters.suns = rig_suns(level.bsp, rig)
+    return emitters
+
+
+def real_rig(level: Level, real: EntityLights, emitters: Emitters) -> Rig:
+    """The level's real rig as a rig file holds it (the export of lights.md §5): its light entities (point lights and
+    spotlights) and ambient, the surface lights of its shader scripts at their script values and colours, and its
+    suns (`emitters` = level_emitters). A rig's surface lights take q3map2's defaults for what the scripts may set
+    besides (q3map_lightSubdivide, backsplash, two-sided), so the file re-lights a level whose scripts change
+    those (kaos's sky: subdivided at 256) a little differently from the yardstick."""
+    bsp = level.bsp
+    surfaces = [SurfaceLight(shader=bsp.shader_name(shader), value=light.value, colour=light.colour.copy())
+                for shader, light in sorted(emitters.shaders.items())]
+    suns = [Sun.from_quake(direction, colour, photons) for direction, colour, photons in
+            zip(emitters.suns.directions, emitters.suns.colours, emitters.suns.photons)]
+    return replace(real.rig, bsp_sha256=level.sha256, scheme="real rig", surfaces=surfaces, suns=suns,
+                   extra={"source": "the level's light entities, worldspawn ambient, shader scripts and suns"})
 
 
 def point_lights_of(real: EntityLights) -> Lights:

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..scenes.errors import BspError
 from ..scenes.levels import Level
-from .bake import DEFAULT_BAKE, BakeScene, BakeSettings, bake_sh
+from .bake import DEFAULT_BAKE, BakeScene, BakeSettings, bake_sh, not_bakeable
 from .rig import Rig, RigError, read_rig
 
 GRID_SOURCE = {"lighting": "grid"}
@@ -31,6 +31,10 @@ class RigLighting:
     @classmethod
     def read(cls, path: Path, settings: BakeSettings = DEFAULT_BAKE) -> "RigLighting":
         rig = read_rig(path)
+        reason = not_bakeable(rig)
+        if reason is not None:
+            raise RigError(f"{path}: the probe baker bakes a rig's point lights, suns and ambient, not its surface "
+                           f"lights; this rig {reason}")
         return cls(rig=rig, name=Path(path).name, sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
                    settings=settings)
 
@@ -38,7 +42,9 @@ class RigLighting:
     def of_rig(cls, rig: Rig, name: str, settings: BakeSettings = DEFAULT_BAKE) -> "RigLighting":
         """A rig made in memory (a relit variant): its hash is that of its canonical JSON."""
         canonical = json.dumps({"ambient": rig.ambient.tolist(), "positions": rig.positions.tolist(),
-                                "colours": rig.colours.tolist(), "intensities": rig.intensities.tolist()})
+                                "colours": rig.colours.tolist(), "intensities": rig.intensities.tolist(),
+                                **({"suns": [[*s.direction.tolist(), *s.colour.tolist(), s.intensity] for s in rig.suns]}
+                                   if rig.suns else {})})
         return cls(rig=rig, name=name, sha256=hashlib.sha256(canonical.encode()).hexdigest(), settings=settings)
 
     def check_level(self, level: Level) -> None:

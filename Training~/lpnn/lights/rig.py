@@ -6,8 +6,9 @@ with a colour normalised to a largest component of 1 and an intensity in q3map2 
 direction and q3map2's radiusByDist cone) — plus surface lights (a shader's emitting surfaces of
 the level with their q3map_surfacelight value, emitters.py) and the level's ambient in lightmap
 bytes, so a recovered rig and a level's light entities, shader lights and worldspawn ambient are
-directly comparable. Version 2 added spotlights and surface lights; version 1 files (point lights
-only) are still read.
+directly comparable. Version 2 added spotlights and surface lights, version 3 suns (q3map2's directional
+light from the sky: a unit direction toward the sun in Unity axes, a colour and an intensity in photons);
+version 1 and 2 files are still read.
 """
 
 from __future__ import annotations
@@ -28,8 +29,8 @@ from ..scenes.errors import BspError
 from .model import BYTE_MAX
 
 FORMAT = "lpnn-light-rig"
-VERSION = 2
-READABLE_VERSIONS = (1, 2)
+VERSION = 3
+READABLE_VERSIONS = (1, 2, 3)
 POINT, SPOT = "point", "spot"
 FALLOFF = "q3map2-point"  # 7500 * I * cos / max(r, 16 units)^2 bytes (model.py)
 DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light` / `light`
@@ -49,6 +50,27 @@ class SurfaceLight:
     colour: np.ndarray  # (3,) largest component 1
 
 
+@dataclass(frozen=True)
+class Sun:
+    """q3map2's sun (EMIT_SUN, emitters.py): a lit luxel of normal n gets colour x intensity x max(0, n . direction)
+    bytes. A q3map_sun's unit-length colour c and photons P are colour c / max(c) and intensity P max(c) here, so
+    the colour's largest component is 1 as everywhere in a rig (Sun.from_quake)."""
+    direction: np.ndarray  # (3,) unit, Unity axes, toward the sun
+    colour: np.ndarray  # (3,) largest component 1
+    intensity: float  # photons per unit colour, >= 0
+
+    @classmethod
+    def from_quake(cls, direction: np.ndarray, colour: np.ndarray, photons: float) -> "Sun":
+        """From Quake axes and a colour of any scale (its largest component moves into the intensity)."""
+        colour = np.asarray(colour, dtype=np.float64)
+        peak = float(colour.max())
+        return cls(direction=quake_to_unity(np.asarray(direction, dtype=np.float64)[None], scale=1.0)[0],
+                   colour=colour / peak if peak > 0 else np.ones(3), intensity=float(photons) * max(peak, 0.0))
+
+    def quake_direction(self) -> np.ndarray:
+        return unity_to_quake(np.asarray(self.direction, dtype=np.float64)[None], scale=1.0)[0]
+
+
 @dataclass
 class Rig:
     positions: np.ndarray  # (J, 3) Unity metres
@@ -64,6 +86,7 @@ class Rig:
     spot_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     radius_by_dist: np.ndarray = field(default_factory=lambda: np.zeros(0))
     surfaces: list[SurfaceLight] = field(default_factory=list)
+    suns: list[Sun] = field(default_factory=list)
 
     @property
     def count(self) -> int:
@@ -78,7 +101,7 @@ class Rig:
 
     @property
     def point_lights_only(self) -> bool:
-        return not self.spot.any() and not self.surfaces
+        return not self.spot.any() and not self.surfaces and not self.suns
 
     def quake_positions(self) -> np.ndarray:
         return unity_to_quake(self.positions)
@@ -110,7 +133,8 @@ def write_rig(path: Path, rig: Rig) -> Path:
         "level": rig.level,
         "bsp_sha256": rig.bsp_sha256,
         "units": {"position": "m, Unity axes", "intensity": "q3map2 light", "direction": "unit, Unity axes",
-                  "surface value": "q3map2 q3map_surfacelight"},
+                  "surface value": "q3map2 q3map_surfacelight",
+                  "sun intensity": "q3map2 photons (bytes at normal incidence per unit colour)"},
         "falloff": FALLOFF,
         "scheme": rig.scheme,
         "objective": rig.objective,
@@ -118,6 +142,8 @@ def write_rig(path: Path, rig: Rig) -> Path:
         "lights": lights,
         "surfaces": [{"shader": surface.shader, "value": round(float(surface.value), 4),
                       "color": [round(float(v), 6) for v in surface.colour]} for surface in rig.surfaces],
+        "suns": [{"direction": [round(float(v), 6) for v in sun.direction], "color": [round(float(v), 6) for v in sun.colour],
+                  "intensity": round(float(sun.intensity), 4)} for sun in rig.suns],
         "info": rig.extra,
     }
     return write_text_atomic(path, json.dumps(document, indent=1, allow_nan=False) + "\n")
@@ -143,8 +169,12 @@ def read_rig(path: Path) -> Rig:
     surfaces_in = document.get("surfaces", []) if version >= 2 else []
     if not isinstance(surfaces_in, list):
         raise RigError(f"{where}: 'surfaces' = {surfaces_in!r} must be a list of surface lights")
-    if not isinstance(lights, list) or (not lights and not surfaces_in):
-        raise RigError(f"{where}: 'lights' must be a list of lights, non-empty unless 'surfaces' has surface lights")
+    suns_in = document.get("suns", []) if version >= 3 else []
+    if not isinstance(suns_in, list):
+        raise RigError(f"{where}: 'suns' = {suns_in!r} must be a list of suns")
+    if not isinstance(lights, list) or (not lights and not surfaces_in and not suns_in):
+        raise RigError(f"{where}: 'lights' must be a list of lights, non-empty unless 'surfaces' has surface lights "
+                       f"or 'suns' has suns")
     positions, colours, intensities, directions, cones = [], [], [], [], []
     for index, light in enumerate(lights):
         if not isinstance(light, dict):
@@ -171,11 +201,19 @@ def read_rig(path: Path) -> Rig:
         surfaces.append(SurfaceLight(shader=surface["shader"],
                                      value=_numbers([surface.get("value")], 1, f"{what}: 'value'")[0],
                                      colour=np.array(_numbers(surface.get("color"), 3, f"{what}: 'color'"))))
+    suns = []
+    for index, sun in enumerate(suns_in):
+        what = f"{where}: sun {index}"
+        if not isinstance(sun, dict):
+            raise RigError(f"{what} = {sun!r} is not an object with direction, color and intensity")
+        suns.append(Sun(direction=np.array(_numbers(sun.get("direction"), 3, f"{what}: 'direction'")),
+                        colour=np.array(_numbers(sun.get("color"), 3, f"{what}: 'color'")),
+                        intensity=_numbers([sun.get("intensity")], 1, f"{what}: 'intensity'")[0]))
     objective = document.get("objective")
     ambient = _numbers(document.get("ambient"), 3, f"{where}: 'ambient'")
     rig = Rig(positions=np.array(positions).reshape(-1, 3), colours=np.array(colours).reshape(-1, 3),
               intensities=np.array(intensities), ambient=np.array(ambient),
-              spot_directions=np.array(directions).reshape(-1, 3), radius_by_dist=np.array(cones), surfaces=surfaces,
+              spot_directions=np.array(directions).reshape(-1, 3), radius_by_dist=np.array(cones), surfaces=surfaces, suns=suns,
               level=str(document.get("level", "")), bsp_sha256=str(document.get("bsp_sha256", "")),
               scheme=str(document.get("scheme", "")),
               objective=float(objective) if isinstance(objective, (int, float)) else None,
@@ -215,8 +253,18 @@ def validate_rig(rig: Rig, where: str) -> None:
         if colour.shape != (3,) or not np.isfinite(colour).all() or (colour < 0).any() or (colour > 1 + 1e-9).any():
             raise RigError(f"{where}: surface light {index} ({surface.shader}): color {colour.tolist()} must be 3 "
                            f"numbers in [0, 1]")
-    if rig.count == 0 and not rig.surfaces:
-        raise RigError(f"{where}: the rig has no light and no surface light")
+    for index, sun in enumerate(rig.suns):
+        intensity, colour, direction = float(sun.intensity), np.asarray(sun.colour), np.asarray(sun.direction)
+        if not math.isfinite(intensity) or intensity < 0:
+            raise RigError(f"{where}: sun {index}: intensity {intensity!r} must be a finite number >= 0 (q3map2 photons)")
+        if colour.shape != (3,) or not np.isfinite(colour).all() or (colour < 0).any() or (colour > 1 + 1e-9).any():
+            raise RigError(f"{where}: sun {index}: color {colour.tolist()} must be 3 numbers in [0, 1]")
+        if direction.shape != (3,) or not np.isfinite(direction).all() or \
+                abs(float(np.linalg.norm(direction)) - 1.0) > 1e-4:
+            raise RigError(f"{where}: sun {index}: direction {direction.tolist()} must be a unit vector (Unity axes, "
+                           f"toward the sun)")
+    if rig.count == 0 and not rig.surfaces and not rig.suns:
+        raise RigError(f"{where}: the rig has no light, no surface light and no sun")
 
 
 def _numbers(value: Any, count: int, what: str) -> list[float]:

@@ -71,9 +71,12 @@ def select_ray_faces(bsp: Bsp) -> FaceSelection:
     return FaceSelection(is_geometry=is_geometry, excluded=excluded)
 
 
-def ray_geometry(bsp: Bsp, patch_level: int = PATCH_LEVEL) -> TriangleSoup:
-    """The triangles rays can hit: indexed polygons/meshes plus tessellated patches."""
+def ray_geometry(bsp: Bsp, patch_level: int = PATCH_LEVEL, faces_kept: np.ndarray | None = None) -> TriangleSoup:
+    """The triangles rays can hit: indexed polygons/meshes plus tessellated patches; with `faces_kept` ((faces,)
+    bool), only those of the faces it keeps (the light rig's shadow casters, lights/shadows.py)."""
     selected = select_ray_faces(bsp).is_geometry
+    if faces_kept is not None:
+        selected = selected & faces_kept
     faces = bsp.faces
     positions = bsp.vertices["position"].astype(np.float64)
 

@@ -51,7 +51,7 @@ def test_recover_with_surface_lights(lit_bsp: Path, tmp_path: Path, capsys: pyte
     printed = capsys.readouterr().out
     assert "lit: 1 surface-light shaders to recover" in printed
     document = json.loads(out.read_text())
-    assert document["version"] == 2 and all(light["type"] == "point" for light in document["lights"])
+    assert document["version"] == 3 and all(light["type"] == "point" for light in document["lights"])
     assert all(surface["shader"] == "textures/test/sky" and surface["value"] > 0 for surface in document["surfaces"])
     assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
     assert "surface lights recovered" in capsys.readouterr().out
@@ -112,3 +112,34 @@ def test_bad_settings(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixtu
                       message: str) -> None:
     assert main(["scene", "lights", str(lit_bsp), option, value, "--out", str(tmp_path / "r.json"), "--quiet"]) == 1
     assert message in capsys.readouterr().err
+
+
+def test_recover_a_sun(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """By default (and with --suns) one sun is fitted through the level's sky quad; the rig records how many were kept,
+    and --compare re-lights the grid with it. --no-suns fits none; a level without sky surfaces fits none by default
+    and is refused with --suns, with its name and what to do."""
+    out = tmp_path / "rig.json"
+    for flag in ([], ["--suns"]):
+        assert main(["scene", "lights", str(lit_bsp), "--grid", "2x2x2", "--scheme", "quick", "--no-textures",
+                     "--out", str(out), "--quiet", *flag]) == 0
+        printed = capsys.readouterr().out
+        assert f"{out}: suns" in printed
+        document = json.loads(out.read_text())
+        assert document["version"] == 3 and document["info"]["suns"] == len(document["suns"])
+        for sun in document["suns"]:
+            assert abs(np.linalg.norm(sun["direction"]) - 1.0) < 1e-5 and max(sun["color"]) == pytest.approx(1.0)
+    assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
+    assert "light grid re-lit from the rig vs stored" in capsys.readouterr().out
+    assert main(["scene", "lights", str(lit_bsp), "--grid", "2x2x2", "--scheme", "quick", "--no-textures",
+                 "--no-suns", "--out", str(out), "--quiet"]) == 0
+    document = json.loads(out.read_text())
+    assert "suns" not in document["info"] and document["suns"] == []
+    skyless = lit_level()
+    skyless.shaders = [(name, 0, contents) for name, _, contents in skyless.shaders]
+    path = tmp_path / "skyless.bsp"
+    path.write_bytes(skyless.to_bytes())
+    common = ["scene", "lights", str(path), "--grid", "2x2x2", "--scheme", "quick", "--no-textures", "--quiet"]
+    assert main([*common, "--out", str(tmp_path / "default.json")]) == 0
+    assert json.loads((tmp_path / "default.json").read_text())["suns"] == []
+    assert main([*common, "--suns", "--out", str(tmp_path / "none.json")]) != 0
+    assert "skyless: no sky surface (SURF_SKY) for a sun to shine through; fit with --no-suns" in capsys.readouterr().err

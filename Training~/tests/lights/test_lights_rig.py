@@ -86,7 +86,7 @@ def test_a_version_1_rig_is_still_read(tmp_path: Path) -> None:
     np.testing.assert_allclose(rig.positions[0], [0.5, 1.0, -2.0])
     np.testing.assert_allclose(rig.intensities, [120.0, 80.0])
     again = json.loads(write_rig(tmp_path / "new.json", rig).read_text())
-    assert again["version"] == 2 and [light["type"] for light in again["lights"]] == ["point", "point"]
+    assert again["version"] == 3 and [light["type"] for light in again["lights"]] == ["point", "point"]
 
 
 def test_spotlights_and_surface_lights_round_trip(tmp_path: Path) -> None:
