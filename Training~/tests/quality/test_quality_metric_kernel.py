@@ -125,6 +125,8 @@ def test_the_compiled_errors_equal_the_numpy_formulas(scene, count: int) -> None
 def test_the_coherent_walk_finds_the_same_stencils(scene, count: int) -> None:
     # point_errors walks each point from where the previous one ended (location.locate_local's coherent walk): the
     # same tetrahedron, weights and errors, points on shared faces and edges included (the tie rule, quality.md §1).
+    # ~8,000 points make one parallel slice, so the coherent walk starts from nearest_centroids (location.FEW_STARTS)
+    # and the other from the k-d tree.
     field, select = scene
     indices, others, nearest = probe_stencil(field, select(count))
     _, _, coherent = probe_stencil(field, indices, coherent=True)
@@ -220,3 +222,20 @@ def test_compiled_outside_stencils_equal_numpy(scene) -> None:
                                                                        axis=1))
     np.testing.assert_array_equal(stencil.cell[far], owner)
     np.testing.assert_array_equal(stencil.anchor[far], projection.anchor)
+
+
+@pytest.mark.parametrize("queries", [1, 17, 64])
+def test_a_few_walk_starts_are_the_nearest_centroids_a_k_d_tree_finds(queries: int) -> None:
+    """location.FEW_STARTS: one compiled pass over the tetrahedra instead of a k-d tree over their centroids; the same
+    nearest distances (a tie may pick another tetrahedron, which the walk's tie rule makes irrelevant)."""
+    from lpnn.quality.metric.metric_kernel import nearest_centroids
+
+    rng = np.random.default_rng(queries)
+    tri = tetrahedralize(rng.random((300, 3)) * [4.0, 2.0, 3.0] + 1.0e5)
+    query = rng.random((queries, 3)) * 1.2 - 0.1
+    found = np.full(queries, -1, dtype=np.int64)
+    nearest_centroids(tri.points, tri.tets, query, found)
+    centroids = tri.points[tri.tets].mean(axis=1)
+    distance, _ = cKDTree(centroids).query(query, k=1)
+    np.testing.assert_allclose(np.linalg.norm(centroids[found] - query, axis=1), distance, rtol=1e-12, atol=1e-15)
+

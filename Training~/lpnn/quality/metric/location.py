@@ -21,13 +21,15 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, outside_stencils,
-                            run_rows, walk)
+from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, nearest_centroids,
+                            outside_stencils, run_rows, walk)
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
 BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
 WALK_STEP_LIMIT = 10_000
+FEW_STARTS = 64  # walks with at most this many starts find them in one pass over the tetrahedra, without a k-d tree
+# (a coherent walk starts once per parallel slice, <= 64: the tree over ~10^5 centroids cost ~25 ms a call, the pass ~2 ms)
 
 
 @dataclass(frozen=True)
@@ -68,14 +70,18 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
     from its nearest centroid)."""
     m = query.shape[0]
-    centroids = tri.points[tri.tets].mean(axis=1)
     if coherent:
         chunks = chunk_count(m) if m else 0
         first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
     else:
         first = query
-    workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
-    start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
+    if first.shape[0] <= FEW_STARTS:
+        start = np.zeros(first.shape[0], dtype=np.int64)
+        nearest_centroids(tri.points, tri.tets, np.ascontiguousarray(first, dtype=np.float64), start)
+    else:
+        centroids = tri.points[tri.tets].mean(axis=1)
+        workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
+        start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
     result = np.empty(m, dtype=np.int64)
     resolved = np.empty(m, dtype=bool)
     coordinates = np.empty((m, 4))

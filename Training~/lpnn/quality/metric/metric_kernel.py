@@ -173,6 +173,23 @@ def boundary_owner(points, tets, inverse, neighbours, qx, qy, qz, start, toleran
     return lowest
 
 
+@njit(cache=True)
+def nearest_centroids(points, tets, query, out):
+    """out[q] = the tetrahedron whose centroid is nearest query[q] (the first of equals), one pass over the
+    tetrahedra for all queries: a few walk starts without building a k-d tree over every centroid (location.py)."""
+    best = np.full(query.shape[0], np.inf)
+    for t in range(tets.shape[0]):
+        cx = 0.25 * (points[tets[t, 0], 0] + points[tets[t, 1], 0] + points[tets[t, 2], 0] + points[tets[t, 3], 0])
+        cy = 0.25 * (points[tets[t, 0], 1] + points[tets[t, 1], 1] + points[tets[t, 2], 1] + points[tets[t, 3], 1])
+        cz = 0.25 * (points[tets[t, 0], 2] + points[tets[t, 1], 2] + points[tets[t, 2], 2] + points[tets[t, 3], 2])
+        for q in range(query.shape[0]):
+            dx, dy, dz = cx - query[q, 0], cy - query[q, 1], cz - query[q, 2]
+            d = dx * dx + dy * dy + dz * dz
+            if d < best[q]:
+                best[q] = d
+                out[q] = t
+
+
 @njit(cache=True, parallel=True)
 def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
          coherent):

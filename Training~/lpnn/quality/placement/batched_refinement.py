@@ -51,10 +51,11 @@ ctf_compromise) 0.1 keeps 305/968/1,670/183/753 probes against 0.05's 305/968/1,
 fewer rounds; at 1,151,667 points (ctf_compromise at 0.81 m) 932 against 906, 61 s against 75 s in all. Down to a
 count, 0.1 raised the crops' error over the reference's at 1/5/10/20/30 % from 1.010/1.082/1.050/1.048/1.044x to
 1.007/1.108/1.070/1.064/1.080x, so budgets keep 0.05 (benchmarks.md "The speed/accuracy trade, every method").
-Each round costs one Qhull tetrahedralisation (the trial's), the trial's location of the points whose stencil weighs
-a candidate (~40 % of them; no other point enters a cost) and the commit's of the points its removed probes touched (a
-few %); the committed set's tetrahedra are derived, not recomputed (batched_state.py; the C# core, with Unity's native
-tetrahedraliser, calls it twice). Against two Qhull calls and two locations of every point per round: 2.0-3.8x less
+Each round costs the trial's tetrahedra, refilled star by star rather than tetrahedralised (trial_fills.py; Qhull only
+where a refill fails its checks), the trial's location of the points whose stencil weighs a candidate (~40 % of them;
+no other point enters a cost) and the commit's of the points its removed probes touched (a few %); the committed set's
+tetrahedra are derived, not recomputed (batched_state.py; the C# core, with Unity's native tetrahedraliser, calls it
+twice). Against two Qhull calls and two locations of every point per round: 2.0-3.8x less
 CPU on whole levels (oa_bases7 53 -> 23 s, ctf_compromise 52 -> 26 s; the same tau counts on the validation crops;
 measured 2026-11-26; today's times: benchmarks.md "Scale: whole levels").
 """

@@ -28,6 +28,7 @@ from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
+from .trial_fills import Fills, star_fills
 from ..metric.triangulation import GeometryError, Tetrahedralization
 
 
@@ -128,6 +129,7 @@ class Trial:
     candidates: np.ndarray
     costs: np.ndarray
     tets: np.ndarray  # (T, 4)
+    fills: Fills | None = None  # each candidate's refill (trial_fills.py); None when Qhull tetrahedralised the trial
 
 
 def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) -> Trial:
@@ -138,10 +140,23 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     attributed = stencils_using(state, candidates, state.owners)
     is_candidate = np.zeros(n, dtype=bool)
     is_candidate[candidates] = True
-    trial = evaluated_at(field, np.setdiff1d(state.probes, candidates), attributed, weighting=state.weighting)
+    remaining = np.setdiff1d(state.probes, candidates)
+    fills = star_fills(field, state, candidates)
+    trial = None
+    if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
+        tets = np.concatenate([state.tets[~is_candidate[state.tets].any(axis=1)], fills.tets])
+        if np.unique(tets).shape[0] == remaining.shape[0]:
+            try:
+                trial = evaluated_at(field, remaining, attributed, tets, state.weighting)
+            except GeometryError:
+                trial = None
+        if trial is None:
+            fills = None
+    if trial is None:
+        trial = evaluated_at(field, remaining, attributed, weighting=state.weighting)
     total = np.zeros(n)  # one candidate per stencil: a candidate point itself, else the candidate its stencil weighs
     attributed_costs(state.owners, attributed, is_candidate, trial.errors, state.errors, total)
-    return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets])
+    return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets], fills=fills)
 
 
 def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:
@@ -189,9 +204,11 @@ def refilled(field: ReferenceField, state: MeshState, trial: Trial, removed: np.
     those stars. Removing a probe retriangulates its own star and nothing else (the tie-broken Delaunay is unique) and
     the candidates' stars are disjoint, so each new tetrahedron of the trial lies in exactly one candidate's star."""
     before = state.tets
-    fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(before, state.probes))]
     gone = np.zeros(field.point_count, dtype=bool)
     gone[removed] = True
+    if trial.fills is not None:  # each refill's star is known
+        return np.concatenate([before[~gone[before].any(axis=1)], trial.fills.tets[gone[trial.fills.owner]]])
+    fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(before, state.probes))]
     kept = before[~gone[before].any(axis=1)]
     return np.concatenate([kept, fills[gone[stars(field, state, trial, fills)]]])
 

@@ -1,0 +1,152 @@
+"""The tetrahedra that refill each candidate's star in a batched refinement trial, without a global tetrahedralisation
+(quality.md §5.3).
+
+    fills = star_fills(field, state, candidates)   # None: let Qhull tetrahedralise the trial instead
+    trial_tets = np.concatenate([state.tets[no candidate], fills.tets])
+
+Why. A trial removes an independent set of candidates; their stars are disjoint and each is refilled by its own link
+(metric/triangulation.py: the tie-broken Delaunay is unique, so nothing outside the stars changes). The fills are the
+regular tetrahedra of the lifted link that lie in the star — for a probe that is not a vertex of the hull, the gift
+wrapping of the fast reference (decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex
+(or a hole the wrapping could not close), the lower hull of its lifted link, keeping the tetrahedra whose centroid lies
+in its star (the tetrahedra of Del(link) inside the star are exactly the refill: the star minus the part the hull loses
+is covered by the refill, which belongs to Del(link) too, and two tetrahedra of one triangulation do not overlap).
+One global Qhull call per round was ~30 % of the refinement's time on whole levels (benchmarks.md "Scale: whole
+levels"); the fills cost a fraction of it and give the same tetrahedra.
+
+Checked before use: an interior star's fills have its volume (to VOLUME_TOLERANCE), a hull vertex's at most its volume;
+the caller then assembles the whole trial mesh, which must use every remaining probe and be a manifold. Any failure,
+or a star next to a crack (INNER_BOUNDARY: a flat tetrahedron Qhull dropped, so the star is not closed), returns None
+and the round tetrahedralises with Qhull as before.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from .decimation.hole_wrap import wrap_holes
+from ..metric.metric import ReferenceField
+from ..metric.tet_geometry import edge_frames, is_flat
+from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, lower_hull_tets
+
+VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
+INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
+
+
+@dataclass(frozen=True)
+class Fills:
+    """Each candidate star's refill: tetrahedra (F, 4), global point ids, positively oriented, and the candidate whose
+    star each fills."""
+
+    tets: np.ndarray
+    owner: np.ndarray
+
+
+def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | None:
+    """The refill of every candidate's star (module text), or None when the round should tetrahedralise with Qhull.
+    `state`: a batched_state.MeshState; `candidates`: independent in its Delaunay graph."""
+    mesh = state.mesh
+    probes = state.probes
+    local = mesh.points
+    position = np.searchsorted(probes, candidates)  # candidates as positions in the probes
+    is_candidate = np.zeros(probes.shape[0], dtype=bool)
+    is_candidate[position] = True
+    tets = mesh.tets
+    holds = is_candidate[tets]  # independent candidates: at most one per tetrahedron
+    in_star = holds.any(axis=1)
+    if np.any(mesh.neighbours[in_star] == INNER_BOUNDARY):
+        return None
+    star_rows = np.flatnonzero(in_star)
+    star_owner = tets[star_rows][holds[star_rows]]  # the candidate (position) of each star tetrahedron
+    by_owner = np.argsort(star_owner, kind="stable")
+    star_rows, star_owner = star_rows[by_owner], star_owner[by_owner]
+    bounds = np.searchsorted(star_owner, position)
+    ends = np.searchsorted(star_owner, position, side="right")
+    on_surface = np.zeros(probes.shape[0], dtype=bool)
+    on_surface[tets[_faces_on_hull(mesh)]] = True
+    try:
+        extreme = np.zeros(probes.shape[0], dtype=bool)
+        extreme[ConvexHull(local).vertices] = True
+    except QhullError:
+        return None
+    tie = field.frame.tie_heights(mesh.world)
+    count = position.shape[0]
+    candidate_at = np.zeros(probes.shape[0], dtype=np.int64)  # position -> the candidate's place in `candidates`
+    candidate_at[position] = np.arange(count)
+    star_volume = np.bincount(candidate_at[star_owner], np.abs(edge_frames(local, tets[star_rows])[3]), minlength=count)
+    inside = np.flatnonzero(~extreme[position])
+    wrapped = wrap_holes(local, tie, position[inside].tolist(), [tets[star_rows[bounds[k]:ends[k]]] for k in inside],
+                         on_surface[position[inside]].tolist())
+    closed = [k for k, fill in zip(inside.tolist(), wrapped) if fill is not None]
+    parts = [fill for fill in wrapped if fill is not None]
+    owner = np.repeat(np.asarray(closed, dtype=np.int64), [fill.shape[0] for fill in parts])
+    fill, volume6, kept = _oriented(local, np.concatenate(parts) if parts else np.zeros((0, 4), dtype=np.int64))
+    owner = owner[kept]
+    filled = np.bincount(owner, volume6, minlength=count)
+    good = np.zeros(count, dtype=bool)
+    good[closed] = True
+    good &= np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume
+    keep = good[owner]
+    fill, owner = [fill[keep]], [owner[keep]]
+    for k in np.flatnonzero(~good).tolist():  # hull vertices, holes the wrapping did not close: the lifted link
+        star = tets[star_rows[bounds[k]:ends[k]]]
+        linked = _link_fill(local, tie, int(position[k]), star)
+        if linked is None:
+            return None
+        volume = float(linked[1].sum())
+        if volume > star_volume[k] * (1.0 + VOLUME_TOLERANCE) or (
+                not extreme[position[k]] and abs(volume - star_volume[k]) > VOLUME_TOLERANCE * star_volume[k]):
+            return None
+        fill.append(linked[0])
+        owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
+    return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
+
+
+def _faces_on_hull(mesh) -> np.ndarray:
+    """(T, 4) bool: the vertices of each tetrahedron that lie on a face of the convex hull (not a crack's)."""
+    on = np.zeros(mesh.tets.shape, dtype=bool)
+    rows, faces = np.nonzero(mesh.neighbours == HULL)
+    for j in range(4):  # the face opposite vertex `faces` holds the other three
+        on[rows, j] |= faces != j
+    return on
+
+
+def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The tetrahedra positively oriented, the flat ones dropped, as the tetrahedralisation does (a flat fill is one
+    Qhull's `Qt` leaves out too: metric/triangulation.py): tetrahedra, 6 x volumes, the mask of the rows kept."""
+    e1, e2, e3, det = edge_frames(local, tets)
+    kept = ~is_flat(e1, e2, e3, det)
+    out = tets[kept].copy()
+    negative = det[kept] < 0.0
+    out[negative, 2], out[negative, 3] = tets[kept][negative, 3], tets[kept][negative, 2]
+    return out, np.abs(det[kept]), kept
+
+
+def _link_fill(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The regular tetrahedra of v's link whose centroid lies in v's star (module text), oriented, and their 6 x
+    volumes; None when Qhull cannot tetrahedralise the link."""
+    link = np.unique(star[star != v])
+    relative = local[link] - local[v]
+    lifted = np.concatenate([relative, (np.einsum("ij,ij->i", relative, relative) + tie[link])[:, None]], axis=1)
+    try:
+        candidates = link[lower_hull_tets(lifted)]
+    except GeometryError:
+        return None
+    if candidates.shape[0] == 0:
+        return None
+    e1, e2, e3, _ = edge_frames(local, star)
+    # Barycentric weights of a point x in star tetrahedron (s0, s1, s2, s3): solve [e1 e2 e3] w = x - s0.
+    frames = np.stack([e1, e2, e3], axis=2)  # (S, 3, 3), columns the edges
+    try:
+        to_weights = np.linalg.inv(frames)
+    except np.linalg.LinAlgError:
+        return None
+    centroids = local[candidates].mean(axis=1)
+    offsets = centroids[:, None, :] - local[star[:, 0]][None, :, :]  # (C, S, 3)
+    weights = np.einsum("syx,csx->csy", to_weights, offsets)
+    inside = ((weights.min(axis=2) >= -INSIDE_TOLERANCE) & (weights.sum(axis=2) <= 1.0 + INSIDE_TOLERANCE)).any(axis=1)
+    return _oriented(local, candidates[inside])[:2]

@@ -1,0 +1,123 @@
+"""Batched refinement's trial refills (placement/trial_fills.py): the stars' refills must give exactly the tetrahedra a
+global tetrahedralisation of the remaining probes gives, by gift wrapping or by the lifted link, and a refinement must
+answer the same with them as with Qhull."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from lpnn.core.capture import Capture
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.metric.triangulation import INNER_BOUNDARY
+from lpnn.quality.placement import batched_state, trial_fills
+from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.placement.batched_state import evaluate, trial_of
+from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.trial_fills import star_fills
+
+from quality_support import MEDIUM_ROOM, room_capture
+
+
+def _state(capture: Capture, count: int):
+    field = ReferenceField.from_capture(capture)
+    probes = InsertionOrder(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)).selection()(count)
+    return field, evaluate(field, probes)
+
+
+def _candidates(field: ReferenceField, state, order: str, seed: int = 0) -> np.ndarray:
+    """An independent set, its greedy order putting the volume's corners (hull vertices) first or last, or random."""
+    corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
+    probes = state.probes
+    if order == "random":
+        ordered = np.random.default_rng(seed).permutation(probes)
+    else:
+        ordered = probes[np.argsort(~corner[probes] if order == "corners first" else corner[probes], kind="stable")]
+    rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
+    rank[ordered] = np.arange(ordered.shape[0])
+    return greedy_independent_set(probes, state.edges, rank)
+
+
+def _qhull_tets(field: ReferenceField, state, candidates: np.ndarray) -> list[tuple[int, ...]]:
+    fresh = evaluate(field, np.setdiff1d(state.probes, candidates))
+    return sorted(map(tuple, np.sort(fresh.tets, axis=1).tolist()))
+
+
+def _filled_tets(field: ReferenceField, state, candidates: np.ndarray, fills) -> list[tuple[int, ...]]:
+    is_candidate = np.zeros(field.point_count, dtype=bool)
+    is_candidate[candidates] = True
+    kept = state.tets[~is_candidate[state.tets].any(axis=1)]
+    return sorted(map(tuple, np.sort(np.concatenate([kept, fills.tets]), axis=1).tolist()))
+
+
+@pytest.fixture(scope="module")
+def lattice_state():
+    """A room's grid (cospherical ties everywhere) and 160 probes of its insertion order: interior probes, probes on
+    the hull's faces and the hull's corners."""
+    return _state(room_capture(3, MEDIUM_ROOM, 0.4), 160)
+
+
+@pytest.mark.parametrize("order", ["corners first", "corners last", "random"])
+def test_the_stars_refills_are_the_tetrahedralisation_of_the_remaining_probes(lattice_state, order: str) -> None:
+    field, state = lattice_state
+    candidates = _candidates(field, state, order)
+    fills = star_fills(field, state, candidates)
+    assert fills is not None
+    assert set(fills.owner.tolist()) <= set(candidates.tolist())
+    assert _filled_tets(field, state, candidates, fills) == _qhull_tets(field, state, candidates)
+    # Every refill lies in its owner's star: its vertices are the owner's Delaunay neighbours.
+    neighbours = {(int(a), int(b)) for a, b in state.edges.tolist()}
+    for tet, owner in zip(fills.tets.tolist(), fills.owner.tolist()):
+        assert all((owner, v) in neighbours for v in tet)
+
+
+def test_hull_corners_are_among_the_candidates_so_the_lifted_link_path_is_exercised(lattice_state) -> None:
+    field, state = lattice_state
+    candidates = _candidates(field, state, "corners first")
+    corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
+    assert np.count_nonzero(corner[candidates]) >= 2
+
+
+def test_without_the_gift_wrapping_the_lifted_link_alone_gives_the_same_tetrahedra(lattice_state, monkeypatch) -> None:
+    field, state = lattice_state
+    candidates = _candidates(field, state, "random", seed=3)
+    monkeypatch.setattr(trial_fills, "wrap_holes", lambda local, tie, vertices, stars, on_hull: [None] * len(vertices))
+    fills = star_fills(field, state, candidates)
+    assert fills is not None
+    assert _filled_tets(field, state, candidates, fills) == _qhull_tets(field, state, candidates)
+
+
+def test_a_star_next_to_a_crack_falls_back_to_qhull_with_the_same_costs(lattice_state) -> None:
+    """A crack (a face a dropped flat tetrahedron leaves without a neighbour) opens a star: no refill, and the trial
+    tetrahedralises with Qhull instead, which gives the same costs."""
+    field, state = lattice_state
+    candidates = _candidates(field, state, "corners last")
+    holds = np.isin(state.tets, candidates).any(axis=1)
+    cracked = state.mesh.neighbours.copy()
+    row = int(np.flatnonzero(holds)[0])
+    cracked[row, int(np.argmax(cracked[row] >= 0))] = INNER_BOUNDARY
+    opened = dataclasses.replace(state, mesh=dataclasses.replace(state.mesh, neighbours=cracked))
+    assert star_fills(field, opened, candidates) is None
+    filled = trial_of(field, state, candidates)
+    fallback = trial_of(field, opened, candidates)
+    assert filled.fills is not None and fallback.fills is None
+    np.testing.assert_allclose(fallback.costs, filled.costs, rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("mode", [{"tolerance": 0.05}, {"count": 40}])
+def test_a_refinement_answers_the_same_with_refills_as_with_qhull(mode: dict, monkeypatch) -> None:
+    capture = room_capture(5, MEDIUM_ROOM, 0.4)
+    field = ReferenceField.from_capture(capture)
+    seed = InsertionOrder(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)).selection()(200)
+    used = []
+    monkeypatch.setattr(batched_state, "star_fills",
+                        lambda *args: used.append(trial_fills.star_fills(*args)) or used[-1])
+    filled = batched_refinement(field, seed, **mode)
+    assert sum(fills is not None for fills in used) >= 0.9 * len(used) > 0  # the refills did the rounds
+    monkeypatch.setattr(batched_state, "star_fills", lambda field, state, candidates: None)
+    qhull = batched_refinement(field, seed, **mode)
+    np.testing.assert_array_equal(filled.indices, qhull.indices)
+    assert filled.rounds == qhull.rounds and filled.mean_error == pytest.approx(qhull.mean_error, rel=1e-12)
