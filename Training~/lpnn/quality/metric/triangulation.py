@@ -187,6 +187,18 @@ def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
     return np.unique(ordered, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
 
 
+def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of positions whose face keys are equal (each face in two tetrahedra); GeometryError when a face is in
+    three."""
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    same_as_next = sorted_keys[1:] == sorted_keys[:-1]
+    if np.any(same_as_next[1:] & same_as_next[:-1]):
+        raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
+                            "report this probe set as a bug")
+    return order[:-1][same_as_next], order[1:][same_as_next]
+
+
 _OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i (opposite vertex i), outward for positive tets
 
 
@@ -195,16 +207,8 @@ def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nda
     and their tetrahedra (H,)."""
     count = tets.shape[0]
     faces = tets[:, _OPPOSITE].reshape(-1, 3)  # (4T, 3)
-    keys = face_keys(faces, points.shape[0])
-    order = np.argsort(keys, kind="stable")
-    sorted_keys = keys[order]
-    same_as_next = sorted_keys[1:] == sorted_keys[:-1]
-    if np.any(same_as_next[1:] & same_as_next[:-1]):
-        raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
-                            "report this probe set as a bug")
+    first, second = _face_pairs(face_keys(faces, points.shape[0]))
     neighbours = np.full(4 * count, HULL, dtype=np.int64)
-    first = order[:-1][same_as_next]
-    second = order[1:][same_as_next]
     neighbours[first] = second // 4
     neighbours[second] = first // 4
     boundary = np.flatnonzero(neighbours < 0)
@@ -315,14 +319,8 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     open_faces = np.concatenate([np.flatnonzero(((before >= 0) & (neighbours[:before.size].reshape(before.shape) < 0))
                                                 .reshape(-1)), 4 * kept.shape[0] + np.arange(4 * added.shape[0])])
     faces = tets[:, _OPPOSITE].reshape(-1, 3)
-    keys = face_keys(faces[open_faces], positions.shape[0])
-    order = np.argsort(keys, kind="stable")
-    sorted_keys = keys[order]
-    same_as_next = sorted_keys[1:] == sorted_keys[:-1]
-    if np.any(same_as_next[1:] & same_as_next[:-1]):
-        raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
-                            "report this probe set as a bug")
-    first, second = open_faces[order[:-1][same_as_next]], open_faces[order[1:][same_as_next]]
+    first, second = _face_pairs(face_keys(faces[open_faces], positions.shape[0]))
+    first, second = open_faces[first], open_faces[second]
     neighbours[open_faces] = HULL
     neighbours[first], neighbours[second] = second // 4, first // 4
     boundary = np.flatnonzero(neighbours < 0)
