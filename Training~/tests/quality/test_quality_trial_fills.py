@@ -12,7 +12,7 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.metric.metric import ReferenceField
-from lpnn.quality.metric.triangulation import INNER_BOUNDARY
+from lpnn.quality.metric.triangulation import INNER_BOUNDARY, assembled
 from lpnn.quality.placement import batched_state, trial_fills
 from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
 from lpnn.quality.placement.batched_state import evaluate, trial_of
@@ -121,3 +121,23 @@ def test_a_refinement_answers_the_same_with_refills_as_with_qhull(mode: dict, mo
     qhull = batched_refinement(field, seed, **mode)
     np.testing.assert_array_equal(filled.indices, qhull.indices)
     assert filled.rounds == qhull.rounds and filled.mean_error == pytest.approx(qhull.mean_error, rel=1e-12)
+
+
+@pytest.mark.parametrize("order", ["corners first", "random"])
+def test_the_mesh_derived_from_the_state_is_the_one_assembled_afresh_bit_for_bit(lattice_state, order: str) -> None:
+    """batched_state.derived_mesh (triangulation.assembled_after_removal) keeps the kept tetrahedra's transforms and
+    neighbours and matches only the open faces: every array must equal assembling the same tetrahedra from scratch."""
+    field, state = lattice_state
+    candidates = _candidates(field, state, order, seed=7)
+    fills = star_fills(field, state, candidates)
+    removed = np.zeros(field.point_count, dtype=bool)
+    removed[candidates] = True
+    remaining = state.probes[~removed[state.probes]]
+    tets = np.concatenate([state.tets[~removed[state.tets].any(axis=1)], fills.tets])
+    fresh = assembled(field.world[remaining], field.frame, np.searchsorted(remaining, tets))
+    derived = batched_state.derived_mesh(field, state, removed, fills.tets)
+    assert derived is not None
+    for name in ("tets", "neighbours", "inverse", "hull_faces", "hull_face_tets", "points", "world"):
+        np.testing.assert_array_equal(getattr(derived, name), getattr(fresh, name), err_msg=name)
+    # A face shared by three tetrahedra (a refill listed twice) is not a manifold: no mesh, the round uses Qhull.
+    assert batched_state.derived_mesh(field, state, removed, np.concatenate([fills.tets, fills.tets[:1]])) is None

@@ -175,13 +175,15 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
 
 
 def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False, points: np.ndarray | None = None,
-               tets: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
+               tets: np.ndarray | None = None, mesh: Tetrahedralization | None = None
+               ) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
     """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices).
     `points` (ascending point indices, none a probe): locate only those instead of every other point (batched
     refinement re-evaluates only the points whose stencil changed). `tets` (T, 4), positions in `probes`: the
-    tetrahedralisation when it is already known (derived by batched refinement), instead of tetrahedralising again."""
+    tetrahedralisation when it is already known (derived by batched refinement), instead of tetrahedralising again;
+    `mesh`: the same, already assembled (triangulation.assembled_after_removal)."""
     indices = checked_probes(field, probes)
-    tri = (tetrahedralize(field.world[indices], field.frame) if tets is None
+    tri = (mesh if mesh is not None else tetrahedralize(field.world[indices], field.frame) if tets is None
            else assembled(field.world[indices], field.frame, tets))
     if points is None:
         is_probe = np.zeros(field.point_count, dtype=bool)

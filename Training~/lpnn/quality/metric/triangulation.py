@@ -187,22 +187,28 @@ def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
     return np.unique(ordered, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
 
 
-def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
-    and their tetrahedra (H,)."""
-    count = tets.shape[0]
-    opposite = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i, outward for positive tets
-    faces = tets[:, opposite].reshape(-1, 3)  # (4T, 3)
-    keys = face_keys(faces, points.shape[0])
+def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of positions whose face keys are equal (each face in two tetrahedra); GeometryError when a face is in
+    three."""
     order = np.argsort(keys, kind="stable")
     sorted_keys = keys[order]
     same_as_next = sorted_keys[1:] == sorted_keys[:-1]
     if np.any(same_as_next[1:] & same_as_next[:-1]):
         raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
                             "report this probe set as a bug")
+    return order[:-1][same_as_next], order[1:][same_as_next]
+
+
+_OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i (opposite vertex i), outward for positive tets
+
+
+def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
+    and their tetrahedra (H,)."""
+    count = tets.shape[0]
+    faces = tets[:, _OPPOSITE].reshape(-1, 3)  # (4T, 3)
+    first, second = _face_pairs(face_keys(faces, points.shape[0]))
     neighbours = np.full(4 * count, HULL, dtype=np.int64)
-    first = order[:-1][same_as_next]
-    second = order[1:][same_as_next]
     neighbours[first] = second // 4
     neighbours[second] = first // 4
     boundary = np.flatnonzero(neighbours < 0)
@@ -285,6 +291,43 @@ def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedrali
     transforms as tetrahedralize computes them. Raises GeometryError when the tetrahedra do not form a manifold."""
     positions = checked_positions(world, "probe positions")
     return _assembled(frame, positions, frame.to_local(positions), np.asarray(tets, dtype=np.int64).reshape(-1, 4))
+
+
+def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_map: np.ndarray, world: np.ndarray,
+                            added: np.ndarray) -> Tetrahedralization:
+    """assembled(world, old.frame, tets) for tets = [vertex_map[old.tets[keep]]; added], the tetrahedralisation of `old`'s
+    probes after some were removed (world: the remaining probes' positions; vertex_map: each old probe's position among
+    them, -1 if removed; added (F, 4): positively oriented tetrahedra that refill the removed probes' stars, new
+    positions), the same arrays bit for bit without redoing the whole mesh: a kept tetrahedron keeps its barycentric
+    transform (the same vertices in the same order) and its neighbours across faces whose neighbour was kept; only the
+    added tetrahedra's faces and the kept faces left open are matched again. Raises GeometryError when they do not form
+    a manifold."""
+    positions = checked_positions(world, "probe positions")
+    local = old.frame.to_local(positions)
+    kept = np.flatnonzero(keep)
+    added = np.asarray(added, dtype=np.int64).reshape(-1, 4)
+    tets = np.concatenate([vertex_map[old.tets[kept]], added])
+    if np.any(tets < 0):
+        raise GeometryError("a kept tetrahedron has a removed vertex: not a tetrahedralisation of the remaining probes")
+    inverse = np.concatenate([old.inverse[kept], edge_inverse(local, added)])
+    renumbered = np.full(old.tets.shape[0] + 1, -1, dtype=np.int64)  # old tetrahedron -> new (last slot: boundary)
+    renumbered[kept] = np.arange(kept.shape[0])
+    before = old.neighbours[kept]
+    neighbours = np.where(before >= 0, renumbered[np.where(before >= 0, before, -1)], before).reshape(-1)
+    neighbours = np.concatenate([neighbours, np.full(4 * added.shape[0], HULL, dtype=np.int64)])
+    # Faces to match: the kept ones whose neighbour went, and every face of the added tetrahedra.
+    open_faces = np.concatenate([np.flatnonzero(((before >= 0) & (neighbours[:before.size].reshape(before.shape) < 0))
+                                                .reshape(-1)), 4 * kept.shape[0] + np.arange(4 * added.shape[0])])
+    faces = tets[:, _OPPOSITE].reshape(-1, 3)
+    first, second = _face_pairs(face_keys(faces[open_faces], positions.shape[0]))
+    first, second = open_faces[first], open_faces[second]
+    neighbours[open_faces] = HULL
+    neighbours[first], neighbours[second] = second // 4, first // 4
+    boundary = np.flatnonzero(neighbours < 0)
+    neighbours[boundary] = np.where(on_hull(local, faces[boundary]), HULL, INNER_BOUNDARY)
+    return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets,
+                              neighbours=neighbours.reshape(-1, 4), inverse=inverse, hull_faces=faces[boundary],
+                              hull_face_tets=boundary // 4)
 
 
 def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray,

@@ -5,6 +5,7 @@ where it can change.
     state = evaluate(field, probes)                  # every point located (the seed)
     trial = trial_of(field, state, candidates)       # costs; located only where a candidate's weight reached
     state = without(field, state, removed, trial)    # located only where a removed probe was touched; no Qhull
+    mesh = derived_mesh(field, state, removed, refills)   # both meshes from the state's, not assembled afresh
 
 With a LeakWeighting (evaluate(field, probes, weighting)) every error the state holds, sums and compares is the weighted
 one (leak_aware.py): a leaking point's error counts several times, in the costs and in the tolerance alike.
@@ -29,7 +30,7 @@ from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
 from .trial_fills import Fills, star_fills
-from ..metric.triangulation import GeometryError, Tetrahedralization
+from ..metric.triangulation import GeometryError, Tetrahedralization, assembled_after_removal
 
 
 @dataclass(frozen=True)
@@ -77,12 +78,14 @@ class Located:
 
 
 def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray | None,
-                 tets: np.ndarray | None = None, weighting: LeakWeighting | None = None) -> Located:
-    """The sorted probes' tetrahedralisation (given by `tets`, global ids, when known) and, at `points` (every other
-    point when None), their errors (weighted by leaks with a `weighting`), owners and touched ids."""
+                 tets: np.ndarray | None = None, weighting: LeakWeighting | None = None,
+                 mesh: Tetrahedralization | None = None) -> Located:
+    """The sorted probes' tetrahedralisation (given by `tets`, global ids, or assembled as `mesh`, when known) and, at
+    `points` (every other point when None), their errors (weighted by leaks with a `weighting`), owners and touched
+    ids."""
     ordered = np.sort(probes)
     local_tets = None if tets is None else np.searchsorted(ordered, tets)
-    indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets)
+    indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets, mesh=mesh)
     errors = stencil_point_errors(field, indices, others, stencil)
     if weighting is not None:
         errors = weighting.weighted(field, indices, others, stencil, errors)
@@ -144,19 +147,37 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     fills = star_fills(field, state, candidates)
     trial = None
     if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
-        tets = np.concatenate([state.tets[~is_candidate[state.tets].any(axis=1)], fills.tets])
-        if np.unique(tets).shape[0] == remaining.shape[0]:
-            try:
-                trial = evaluated_at(field, remaining, attributed, tets, state.weighting)
-            except GeometryError:
-                trial = None
-        if trial is None:
+        mesh = derived_mesh(field, state, is_candidate, fills.tets)
+        if mesh is not None:
+            trial = evaluated_at(field, remaining, attributed, weighting=state.weighting, mesh=mesh)
+        else:
             fills = None
     if trial is None:
         trial = evaluated_at(field, remaining, attributed, weighting=state.weighting)
     total = np.zeros(n)  # one candidate per stencil: a candidate point itself, else the candidate its stencil weighs
     attributed_costs(state.owners, attributed, is_candidate, trial.errors, state.errors, total)
     return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets], fills=fills)
+
+
+def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, added: np.ndarray
+                 ) -> Tetrahedralization | None:
+    """The tetrahedralisation of state.probes without the `removed` ((N,) bool) probes: the state's tetrahedra without a
+    removed vertex, then `added` (global ids, positively oriented: the removed probes' refills), assembled from the
+    state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh). None when they
+    are not a tetrahedralisation of the remaining probes (a probe unused, or not a manifold)."""
+    kept_probe = ~removed[state.probes]
+    remaining = state.probes[kept_probe]
+    vertex_map = np.full(state.probes.shape[0], -1, dtype=np.int64)
+    vertex_map[kept_probe] = np.arange(remaining.shape[0])
+    keep = ~removed[state.tets].any(axis=1)
+    try:
+        mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining],
+                                       np.searchsorted(remaining, added))
+    except GeometryError:
+        return None
+    used = np.zeros(remaining.shape[0], dtype=bool)
+    used[mesh.tets.reshape(-1)] = True
+    return mesh if used.all() else None
 
 
 def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:
@@ -224,6 +245,13 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     tetrahedralisation comes from refilled instead of Qhull."""
     affected = stencils_using(state, removed, state.touched)
     probes = np.setdiff1d(state.probes, removed)
+    if trial is not None and trial.fills is not None:  # the removed probes' refills are known: no new mesh to assemble
+        gone = np.zeros(field.point_count, dtype=bool)
+        gone[removed] = True
+        mesh = derived_mesh(field, state, gone, trial.fills.tets[gone[trial.fills.owner]])
+        if mesh is not None:
+            return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
+                                                           mesh=mesh), reuse)
     tets = None if trial is None else refilled(field, state, trial, removed)
     if tets is not None and np.unique(tets).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
@@ -233,6 +261,11 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
         if tets is None:
             raise
         located = evaluated_at(field, probes, affected, weighting=state.weighting)  # not a manifold: Qhull decides
+    return _replaced(state, affected, located, reuse)
+
+
+def _replaced(state: MeshState, affected: np.ndarray, located: Located, reuse: bool) -> MeshState:
+    """The new state: `state`'s per-point rows with the `affected` ones from `located` (in place with `reuse`)."""
     replaced = None
     if reuse:  # the state's (N, ...) arrays become the new state's; `replaced` can bring the old rows back
         errors, owners, touched = state.errors, state.owners, state.touched
