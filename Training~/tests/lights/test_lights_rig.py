@@ -11,6 +11,7 @@ import pytest
 from lpnn.lights.rig import Rig, RigError, SurfaceLight, entity_lights, read_rig, write_rig
 from lpnn.scenes.coords import quake_to_unity
 from lpnn.scenes.entities import parse_entities
+from rig_files import edited_rig
 
 
 def sample_rig() -> Rig:
@@ -31,14 +32,6 @@ def test_round_trip_normalises_colour_and_converts_to_unity_metres(tmp_path: Pat
     assert (back.level, back.scheme, back.objective, back.bsp_sha256) == ("room", "mixed", 0.0125, "ab" * 32)
     document = json.loads(path.read_text())
     assert document["format"] == "lpnn-light-rig" and document["falloff"] == "q3map2-point"
-
-
-def edited(tmp_path: Path, change) -> Path:
-    path = write_rig(tmp_path / "rig.json", sample_rig())
-    document = json.loads(path.read_text())
-    change(document)
-    path.write_text(json.dumps(document))
-    return path
 
 
 @pytest.mark.parametrize("change, message", [
@@ -68,7 +61,7 @@ def edited(tmp_path: Path, change) -> Path:
         "no ambient", "format", "version"])
 def test_hostile_rig_files_are_rejected_with_the_value(tmp_path: Path, change, message: str) -> None:
     with pytest.raises(RigError, match=message):
-        read_rig(edited(tmp_path, change))
+        read_rig(edited_rig(tmp_path, sample_rig(), change))
 
 
 def test_a_version_1_rig_is_still_read(tmp_path: Path) -> None:

@@ -25,6 +25,7 @@ from lpnn.scenes.bsp import read_bsp
 from lpnn.scenes.coords import quake_to_unity
 from lpnn.scenes.lightgrid import LINEAR_PER_BYTE
 from lpnn.scenes.raycast import EmbreeRaycaster
+from rig_files import edited_rig
 from gradient_checks import assert_close, finite_difference
 from synthetic_bsp import make_level
 from synthetic_room import box_walls, room_target
@@ -170,14 +171,6 @@ def test_a_version_2_rig_is_still_read_and_its_suns_key_is_not_its_own(tmp_path:
     assert rig.suns == [] and rig.count == 1
 
 
-def edited(tmp_path: Path, change) -> Path:
-    path = write_rig(tmp_path / "rig.json", sample_rig())
-    document = json.loads(path.read_text())
-    change(document)
-    path.write_text(json.dumps(document))
-    return path
-
-
 @pytest.mark.parametrize("change, message", [
     (lambda d: d["suns"][0].update(direction=[0.0, 2.0, 0.0]),
      r"rig\.json: sun 0: direction \[0\.0, 2\.0, 0\.0\] must be a unit vector"),
@@ -191,7 +184,7 @@ def edited(tmp_path: Path, change) -> Path:
 ], ids=["direction", "direction type", "colour", "intensity", "missing", "not an object", "not a list", "empty"])
 def test_hostile_suns_are_rejected_with_file_index_key_and_value(tmp_path: Path, change, message: str) -> None:
     with pytest.raises(RigError, match=message):
-        read_rig(edited(tmp_path, change))
+        read_rig(edited_rig(tmp_path, sample_rig(), change))
 
 
 def test_the_grid_is_relit_from_a_rigs_sun_through_the_levels_sky() -> None:
