@@ -105,12 +105,12 @@ namespace Lpnn.Probes.Core.Placement
         /// <summary>The leak-aware refinement (the volume's default, Avoid light leaks): the leak repair of the seed plus the
         /// refinement in the C# leak-aware Apply of five validation levels (benchmarks.md "The C# core under Mono", "The
         /// leak-aware Apply": 2026-11-27, Mono 6.8, Python's Qhull over a pipe for Unity's tetrahedraliser and a C# hierarchy
-        /// over the level's triangles for Unity's physics, under a load of 4–6): q3dm6ish 0.1 + 3.1 s, fan 0.6 + 14.6 s,
-        /// oa_koth1 2.9 + 35.7 s, ctf_compromise 6.0 + 107.3 s and at 0.8128 m 34.4 + 611.1 s. Priced through all five (linearly
-        /// between them, in proportion below the smallest, along the last segment beyond the largest): a line through the
-        /// two large levels alone would charge its ~42 s intercept to every small volume, which takes a few seconds.</summary>
+        /// over the level's triangles for Unity's physics, load average ~2): q3dm6ish 0.1 + 2.1 s, fan 0.3 + 7.6 s, oa_koth1
+        /// 1.3 + 19.5 s, ctf_compromise 3.9 + 59.7 s and at 0.8128 m 31.9 + 419.6 s. Priced through all five (linearly between
+        /// them, in proportion below the smallest, along the last segment beyond the largest): a line through the two large
+        /// levels alone would charge its 11 s intercept to every small volume, where q3dm6ish's took 2.2 s.</summary>
         private static readonly long[] LeakAwarePoints = { 2100, 6940, 41931, SmallerMeasuredLevel, LargestMeasuredLevel };
-        private static readonly double[] LeakAwareSeconds = { 0.1 + 3.1, 0.6 + 14.6, 2.9 + 35.7, 6.0 + 107.3, 34.4 + 611.1 };
+        private static readonly double[] LeakAwareSeconds = { 0.1 + 2.1, 0.3 + 7.6, 1.3 + 19.5, 3.9 + 59.7, 31.9 + 419.6 };
 
         private static double PerPoint(double atSmaller, double atLargest) => (atLargest - atSmaller) / (LargestMeasuredLevel - SmallerMeasuredLevel);
         private static double Fixed(double atSmaller, double atLargest) => atSmaller - PerPoint(atSmaller, atLargest) * SmallerMeasuredLevel;
