@@ -20,14 +20,18 @@ namespace Lpnn.Probes.Core.Tests.Support
     public static class RehearsalApply
     {
         /// <summary>ApplySteps.Rehearse on <paramref name="capture"/> (its grid: <paramref name="grid"/>, Capture.ToGrid()),
-        /// the positions written added to <paramref name="writes"/>.</summary>
+        /// the positions written added to <paramref name="writes"/>. <paramref name="leakRays"/> (null: leak-blind): the level's
+        /// rays, for the leak-aware refinement a volume that avoids light leaks runs (<see cref="TriangleSoupRaycaster"/> over
+        /// the capture's triangles standing in for Unity's physics); <paramref name="rememberSegments"/> false casts every
+        /// segment anew instead of remembering it (the same probes, more rays: LeakWeighting's switch, for the benchmark).</summary>
         public static SelectionResult Run(Capture capture, EvaluationGrid grid, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
-            List<Vector3[]> writes, ProgressCallback progress, CancellationToken cancel)
+            List<Vector3[]> writes, ProgressCallback progress, CancellationToken cancel, IRaycaster leakRays = null, bool rememberSegments = true)
         {
             if (capture == null) throw new ArgumentNullException(nameof(capture));
             if (writes == null) throw new ArgumentNullException(nameof(writes));
+            var leaks = leakRays == null ? null : new LeakWeighting(leakRays, LeakWeighting.DefaultWeight, rememberSegments);
             return ApplySteps.Rehearse(grid, new CaptureLighting(capture, grid), CaptureFeatures(capture), tetrahedralizer, settings, refine,
-                new RecordingWriter(writes), progress, cancel);
+                new RecordingWriter(writes), progress, cancel, null, leaks);
         }
 
         /// <summary>The capture's SH at the points asked for (the Lighting step asks in batches of grid points: each position is

@@ -9,15 +9,15 @@ namespace Lpnn.Probes.Editor
     internal static class HeavyOperations
     {
         /// <summary>Apply, or Find probes (<paramref name="searchOnly"/>: the search without the refinement); no insertion rounds
-        /// when the whole ranking is known (<paramref name="rankingKnown"/>).</summary>
+        /// when the whole ranking is known (<paramref name="rankingKnown"/>); the refinement avoids leaks as the volume does.</summary>
         public static List<HeavyOperation> Placement(LpnnVolume volume, SelectionPolicy policy, bool searchOnly, bool rankingKnown = false) =>
-            HeavyOperationPolicy.PlacementOperations(volume.Method, policy == SelectionPolicy.Tolerance, searchOnly,
+            HeavyOperationPolicy.PlacementOperations(volume.Method, policy == SelectionPolicy.Tolerance, searchOnly, volume.AvoidLightLeaks,
                 RankingUsed(volume, rankingKnown));
 
-        /// <summary>The placement panel's line of Apply's expected time (the text is Core's <see cref="HeavyOperationPolicy.ApplyLine"/>);
-        /// <paramref name="previewKnown"/>: Apply writes the preview as it is.</summary>
+        /// <summary>The placement panel's line of Apply's expected time (the text is Core's <see cref="HeavyOperationPolicy.ApplyLine"/>,
+        /// priced leak-aware when the volume avoids light leaks); <paramref name="previewKnown"/>: Apply writes the preview as it is.</summary>
         public static string ApplyLine(LpnnVolume volume, SelectionPolicy policy, long points, bool rankingKnown, bool previewKnown) =>
-            HeavyOperationPolicy.ApplyLine(points, volume.Method, policy, RankingUsed(volume, rankingKnown), previewKnown);
+            HeavyOperationPolicy.ApplyLine(points, volume.Method, policy, RankingUsed(volume, rankingKnown), previewKnown, volume.AvoidLightLeaks);
 
         /// <summary>A known ranking spares Apply the rounds (with pinned probes kept, the known ranking is the pinned order's:
         /// PlacementPanel asks PlacementInputs with the pins).</summary>

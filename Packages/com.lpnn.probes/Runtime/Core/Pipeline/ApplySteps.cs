@@ -184,7 +184,15 @@ namespace Lpnn.Probes.Core.Pipeline
         /// scene's rays for the leak-aware refinement, what a volume that avoids light leaks (its default) refines with.</summary>
         public static SelectionResult Rehearse(EvaluationGrid grid, ILightSampler lighting, FeatureStep features, ITetrahedralizer tetrahedralizer,
             SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, ApplyState state = null,
-            IRaycaster leakRays = null)
+            IRaycaster leakRays = null) =>
+            Rehearse(grid, lighting, features, tetrahedralizer, settings, refine, writer, progress, cancel, state, LeakWeightingOf(leakRays != null, leakRays));
+
+        /// <summary>As the public <see cref="Rehearse(EvaluationGrid, ILightSampler, FeatureStep, ITetrahedralizer, SelectionSettings, bool, IProbeGroupWriter, ProgressCallback, CancellationToken, ApplyState, IRaycaster)"/>,
+        /// with the refinement's leak weighting given (null: leak-blind): the Apply benchmark's switch between remembering
+        /// segments and casting them anew.</summary>
+        internal static SelectionResult Rehearse(EvaluationGrid grid, ILightSampler lighting, FeatureStep features, ITetrahedralizer tetrahedralizer,
+            SelectionSettings settings, bool refine, IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, ApplyState state,
+            LeakWeighting leaks)
         {
             if (grid == null) throw new ArgumentNullException(nameof(grid));
             if (writer == null) throw new ArgumentNullException(nameof(writer));
@@ -200,14 +208,19 @@ namespace Lpnn.Probes.Core.Pipeline
             cancel.ThrowIfCancellationRequested();
             state.PublishFeatures(set);
             // Placement step (LpnnPipeline.Apply).
-            return Place(state, tetrahedralizer, settings, refine, writer, progress, cancel, leakRays);
+            return Place(state, tetrahedralizer, settings, refine, writer, progress, cancel, leaks);
         }
 
         /// <summary>The Placement step alone on what <paramref name="state"/> holds (the inspector's Apply: LpnnPipeline.Apply →
         /// SelectedPositions → SelectByInsertion, with PlacementInputs' kept insertion order, reused however far an earlier —
         /// possibly cancelled — run computed it). Writes once, at the end. <paramref name="leakRays"/>: as for <see cref="Rehearse"/>.</summary>
         public static SelectionResult Place(ApplyState state, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
-            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, IRaycaster leakRays = null)
+            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, IRaycaster leakRays = null) =>
+            Place(state, tetrahedralizer, settings, refine, writer, progress, cancel, LeakWeightingOf(leakRays != null, leakRays));
+
+        /// <summary>As the public Place, with the refinement's leak weighting given (null: leak-blind).</summary>
+        internal static SelectionResult Place(ApplyState state, ITetrahedralizer tetrahedralizer, SelectionSettings settings, bool refine,
+            IProbeGroupWriter writer, ProgressCallback progress, CancellationToken cancel, LeakWeighting leaks)
         {
             if (state == null) throw new ArgumentNullException(nameof(state));
             if (writer == null) throw new ArgumentNullException(nameof(writer));
@@ -220,8 +233,7 @@ namespace Lpnn.Probes.Core.Pipeline
             var evaluator = new PlacementEvaluator(state.Reference, tetrahedralizer);
             var order = state.InsertionOrder(tetrahedralizer);
             var measure = settings.Policy == SelectionPolicy.Tolerance ? ReportingMeasure.Wrap(evaluator, grid.Count, progress, cancel) : null;
-            var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel, null,
-                LeakWeightingOf(leakRays != null, leakRays));
+            var selection = SelectByInsertion(grid, valid, null, order, settings, measure, refine, evaluator, progress, cancel, null, leaks);
             cancel.ThrowIfCancellationRequested();
             writer.Write(PositionsOf(grid, selection));
             return selection;

@@ -22,6 +22,10 @@ namespace Lpnn.Probes.Core.Placement
         /// <summary>The insertion rounds Apply and Find probes read, lazily, up to the policy's answer (Quality.InsertionOrder),
         /// with the reference lighting and typical tetrahedron they start from.</summary>
         InsertionRounds = 7,
+        /// <summary>Refine in batches avoiding light leaks (Apply of a refined method with Avoid light leaks on, the volume's
+        /// default; Documentation~/leaks.md "A leak-aware default"): the leak repair of the seed and the leak-weighted
+        /// refinement, their segment casts included.</summary>
+        LeakAwareRefinement = 8,
     }
 
     /// <summary>What a heavy step will cost, and whether the inspector asks before running it.</summary>
@@ -98,11 +102,35 @@ namespace Lpnn.Probes.Core.Placement
         private const double SearchAtSmaller = 5.9, SearchAtLargest = 42.3;
         /// <summary>The batched refinement (150 and 181 tetrahedralisations): 18.3 s and 95.4 s.</summary>
         private const double RefinementAtSmaller = 18.3, RefinementAtLargest = 95.4;
+        /// <summary>The leak-aware refinement (the volume's default, Avoid light leaks): the leak repair of the seed plus the
+        /// refinement in the C# leak-aware Apply of five validation levels (benchmarks.md "The C# core under Mono", "The
+        /// leak-aware Apply": 2026-11-27, Mono 6.8, Python's Qhull over a pipe for Unity's tetrahedraliser and a C# hierarchy
+        /// over the level's triangles for Unity's physics, load average ~2): q3dm6ish 0.1 + 2.1 s, fan 0.3 + 7.6 s, oa_koth1
+        /// 1.3 + 19.5 s, ctf_compromise 3.9 + 59.7 s and at 0.8128 m 31.9 + 419.6 s. Priced through all five (linearly between
+        /// them, in proportion below the smallest, along the last segment beyond the largest): a line through the two large
+        /// levels alone would charge its 11 s intercept to every small volume, where q3dm6ish's took 2.2 s.</summary>
+        private static readonly long[] LeakAwarePoints = { 2100, 6940, 41931, SmallerMeasuredLevel, LargestMeasuredLevel };
+        private static readonly double[] LeakAwareSeconds = { 0.1 + 2.1, 0.3 + 7.6, 1.3 + 19.5, 3.9 + 59.7, 31.9 + 419.6 };
 
         private static double PerPoint(double atSmaller, double atLargest) => (atLargest - atSmaller) / (LargestMeasuredLevel - SmallerMeasuredLevel);
         private static double Fixed(double atSmaller, double atLargest) => atSmaller - PerPoint(atSmaller, atLargest) * SmallerMeasuredLevel;
 
-        /// <summary>Seconds per point of one operation under Mono, or NaN when only Unity can measure it.</summary>
+        /// <summary>Expected seconds of a measured operation on <paramref name="points"/> (> 0) points.</summary>
+        private static double Seconds(HeavyOperation operation, long points)
+        {
+            if (operation != HeavyOperation.LeakAwareRefinement) return Math.Max(0, FixedSeconds(operation) + SecondsPerPoint(operation) * points);
+            if (points <= LeakAwarePoints[0]) return LeakAwareSeconds[0] * points / LeakAwarePoints[0];
+            int above = 1;
+            while (above < LeakAwarePoints.Length - 1 && points > LeakAwarePoints[above]) above++;
+            return LeakAwareSeconds[above - 1] + LeakAwareSlope(above) * (points - LeakAwarePoints[above - 1]);
+        }
+
+        /// <summary>Seconds per point of the leak-aware refinement between its measured levels <paramref name="upper"/> - 1 and <paramref name="upper"/>.</summary>
+        private static double LeakAwareSlope(int upper) =>
+            (LeakAwareSeconds[upper] - LeakAwareSeconds[upper - 1]) / (LeakAwarePoints[upper] - LeakAwarePoints[upper - 1]);
+
+        /// <summary>Seconds per point of one operation under Mono (the leak-aware refinement's beyond its largest measured
+        /// level), or NaN when only Unity can measure it.</summary>
         public static double SecondsPerPoint(HeavyOperation operation)
         {
             switch (operation)
@@ -111,6 +139,7 @@ namespace Lpnn.Probes.Core.Placement
                 case HeavyOperation.InsertionRounds: return PerPoint(RoundsAtSmaller, RoundsAtLargest);
                 case HeavyOperation.ToleranceSearch: return PerPoint(SearchAtSmaller, SearchAtLargest);
                 case HeavyOperation.BatchedRefinement: return PerPoint(RefinementAtSmaller, RefinementAtLargest);
+                case HeavyOperation.LeakAwareRefinement: return LeakAwareSlope(LeakAwarePoints.Length - 1);
                 case HeavyOperation.Grid:
                 case HeavyOperation.Lighting:
                 case HeavyOperation.Features:
@@ -121,7 +150,8 @@ namespace Lpnn.Probes.Core.Placement
             }
         }
 
-        /// <summary>Seconds an operation costs whatever the size (its rounds), 0 for those priced per point alone or unmeasured.</summary>
+        /// <summary>Seconds an operation priced by a line costs whatever the size (its rounds); 0 for those priced per point
+        /// alone, through their measured levels (the leak-aware refinement) or unmeasured.</summary>
         public static double FixedSeconds(HeavyOperation operation)
         {
             switch (operation)
@@ -147,7 +177,7 @@ namespace Lpnn.Probes.Core.Placement
             {
                 double rate = SecondsPerPoint(operation);
                 if (double.IsNaN(rate)) { fullyMeasured = false; anyUnmeasured = true; }
-                else if (points > 0) seconds += Math.Max(0, FixedSeconds(operation) + rate * points);
+                else if (points > 0) seconds += Seconds(operation, points);
                 if (operation == HeavyOperation.InsertionRanking) excludesTetrahedralisations = true;
             }
             bool confirm = seconds > ConfirmAboveSeconds || (anyUnmeasured && points > LargeGrid);
@@ -156,14 +186,17 @@ namespace Lpnn.Probes.Core.Placement
 
         /// <summary>What Apply (or Find probes, <paramref name="searchOnly"/>) runs for a placement by <paramref name="method"/>:
         /// insertion methods read the insertion rounds up to the answer (none when the whole ranking is already known,
-        /// <paramref name="rankingKnown"/>), a tolerance policy searches, and the refined methods refine in batches.</summary>
-        public static List<HeavyOperation> PlacementOperations(PlacementMethod method, bool tolerance, bool searchOnly,
+        /// <paramref name="rankingKnown"/>), a tolerance policy searches, and the refined methods refine in batches — avoiding
+        /// light leaks when the volume does (<paramref name="avoidLeaks"/>, its Avoid light leaks; the leak-blind refinement
+        /// otherwise).</summary>
+        public static List<HeavyOperation> PlacementOperations(PlacementMethod method, bool tolerance, bool searchOnly, bool avoidLeaks,
             bool rankingKnown = false)
         {
             var operations = new List<HeavyOperation>();
             if (PlacementMethods.RanksByInsertion(method) && !rankingKnown) operations.Add(HeavyOperation.InsertionRounds);
             if (tolerance) operations.Add(HeavyOperation.ToleranceSearch);
-            if (PlacementMethods.RefinesInBatches(method) && !searchOnly) operations.Add(HeavyOperation.BatchedRefinement);
+            if (PlacementMethods.RefinesInBatches(method) && !searchOnly)
+                operations.Add(avoidLeaks ? HeavyOperation.LeakAwareRefinement : HeavyOperation.BatchedRefinement);
             return operations;
         }
 
@@ -183,14 +216,16 @@ namespace Lpnn.Probes.Core.Placement
         /// <summary>The placement panel's line of what Apply will cost for the volume's <paramref name="points"/>, shown before
         /// Apply is pressed: e.g. "Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the
         /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md "The C# core under Mono")".
-        /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).</summary>
-        public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool rankingKnown, bool previewKnown)
+        /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).
+        /// <paramref name="avoidLeaks"/>: the volume's Avoid light leaks — a refined method's refinement then avoids leaks, is
+        /// priced as such, and the line says so.</summary>
+        public static string ApplyLine(long points, PlacementMethod method, SelectionPolicy policy, bool rankingKnown, bool previewKnown, bool avoidLeaks)
         {
             if (points <= 0) return "Apply: its expected time shows once the grid is built.";
             string count = " for " + InvariantFormat.Count(points) + " points";
             if (previewKnown) return "Apply: under a second" + count + " (it writes the selection shown above).";
             bool byInsertion = PlacementMethods.RanksByInsertion(method);
-            var operations = PlacementOperations(method, policy == SelectionPolicy.Tolerance, false, rankingKnown);
+            var operations = PlacementOperations(method, policy == SelectionPolicy.Tolerance, false, avoidLeaks, rankingKnown);
             if (operations.Count == 0)
                 return "Apply: no insertion rounds, tolerance search or refinement to wait for" + count + " (it ranks the stored scores).";
             var estimate = Estimate(points, operations);
@@ -202,8 +237,10 @@ namespace Lpnn.Probes.Core.Placement
             if (PlacementMethods.GuidesInsertion(method) && !rankingKnown) notes.Add("guided rounds priced as plain insertion's");
             if (points > LargestMeasuredLevel)
                 notes.Add("extrapolated beyond the " + InvariantFormat.Count(LargestMeasuredLevel) + " points measured");
+            bool leakAware = operations.Contains(HeavyOperation.LeakAwareRefinement);
             return "Apply: " + ApproximateTime(estimate.Seconds) + count + " (" + JoinSteps(steps) +
-                   "; C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser, " +
+                   "; C# rates measured under Mono on real levels, Python's Qhull standing in for Unity's tetrahedraliser" +
+                   (leakAware ? " and a C# ray hierarchy for Unity's physics" : "") + ", " +
                    "Documentation~/benchmarks.md \"The C# core under Mono\"" + (notes.Count > 0 ? "; " + string.Join("; ", notes) : "") + ").";
         }
 
@@ -214,6 +251,7 @@ namespace Lpnn.Probes.Core.Placement
                 case HeavyOperation.InsertionRounds: return PlacementMethods.GuidesInsertion(method) ? "guided insertion rounds" : "insertion rounds";
                 case HeavyOperation.ToleranceSearch: return "the tolerance search";
                 case HeavyOperation.BatchedRefinement: return "the refinement in batches";
+                case HeavyOperation.LeakAwareRefinement: return "the refinement in batches avoiding light leaks";
                 case HeavyOperation.InsertionRanking: return "the whole insertion ranking";
                 default: return operation.ToString().ToLowerInvariant();
             }

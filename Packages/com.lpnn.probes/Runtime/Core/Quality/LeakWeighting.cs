@@ -24,21 +24,29 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <param name="raycaster">The scene's rays (Unity's physics in the editor), for the segment test of the leak rule.</param>
         /// <param name="weight">At least 1 (1: leaks count as any error).</param>
-        public LeakWeighting(IRaycaster raycaster, double weight = DefaultWeight)
+        /// <param name="remember">Whether segments are remembered (<see cref="MemoFor"/>); false casts every segment anew — the
+        /// same answers with more rays, which the Apply benchmark times (benchmarks.md "The C# core under Mono").</param>
+        public LeakWeighting(IRaycaster raycaster, double weight = DefaultWeight, bool remember = true)
         {
             Raycaster = raycaster ?? throw new ArgumentNullException(nameof(raycaster));
             if (!(weight >= 1.0) || double.IsInfinity(weight))
                 throw new PlacementErrorException("leak weight " + InvariantFormat.Number(weight) + " must be a finite number >= 1 (1: leaks count as any error; " +
                                                   InvariantFormat.Number(DefaultWeight) + " is recommended)");
             Weight = weight;
+            Remembers = remember;
         }
+
+        /// <summary>Whether the segments cast are remembered for the placement (the default), or cast anew each time.</summary>
+        public bool Remembers { get; }
 
         /// <summary>The segments between <paramref name="reference"/>'s points this weighting has cast, remembered
         /// (<see cref="SegmentMemo"/>; a new memo for another reference): the leak repair of the seed shares it with the
-        /// refinement, so a placement casts each segment about once.</summary>
+        /// refinement, so a placement casts each segment about once. Null when this weighting does not remember
+        /// (<see cref="Remembers"/>).</summary>
         internal SegmentMemo MemoFor(ReferenceLighting reference)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
+            if (!Remembers) return null;
             if (!ReferenceEquals(reference, memoReference))
             {
                 memo = new SegmentMemo(reference.Count);
