@@ -30,7 +30,7 @@ from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
 from .trial_fills import Fills, star_fills
-from ..metric.triangulation import GeometryError, Tetrahedralization, assembled_after_removal
+from ..metric.triangulation import INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal
 
 
 @dataclass(frozen=True)
@@ -164,7 +164,8 @@ def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, a
     """The tetrahedralisation of state.probes without the `removed` ((N,) bool) probes: the state's tetrahedra without a
     removed vertex, then `added` (global ids, positively oriented: the removed probes' refills), assembled from the
     state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh). None when they
-    are not a tetrahedralisation of the remaining probes (a probe unused, or not a manifold)."""
+    are not a tetrahedralisation of the remaining probes: a probe unused, not a manifold, or a new crack (a face without
+    a tetrahedron across inside the hull: a refill that left part of a star empty; the state's cracks are kept)."""
     kept_probe = ~removed[state.probes]
     remaining = state.probes[kept_probe]
     vertex_map = np.full(state.probes.shape[0], -1, dtype=np.int64)
@@ -177,7 +178,8 @@ def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, a
         return None
     used = np.zeros(remaining.shape[0], dtype=bool)
     used[mesh.tets.reshape(-1)] = True
-    return mesh if used.all() else None
+    cracks_before = np.count_nonzero(state.mesh.neighbours == INNER_BOUNDARY)
+    return mesh if used.all() and np.count_nonzero(mesh.neighbours == INNER_BOUNDARY) <= cracks_before else None
 
 
 def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:

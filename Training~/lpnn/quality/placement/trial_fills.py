@@ -15,7 +15,8 @@ One global Qhull call per round was ~30 % of the refinement's time on whole leve
 levels"); the fills cost a fraction of it and give the same tetrahedra.
 
 Checked before use: an interior star's fills have its volume (to VOLUME_TOLERANCE), a hull vertex's at most its volume;
-the caller then assembles the whole trial mesh, which must use every remaining probe and be a manifold. Any failure,
+the caller then assembles the whole trial mesh, which must use every remaining probe, be a manifold and have no crack
+the state had not (batched_state.derived_mesh: a hull vertex's refill that left part of its star empty). Any failure,
 or a star next to a crack (INNER_BOUNDARY: a flat tetrahedron Qhull dropped, so the star is not closed), returns None
 and the round tetrahedralises with Qhull as before.
 """
@@ -23,6 +24,7 @@ and the round tetrahedralises with Qhull as before.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
@@ -31,6 +33,9 @@ from .decimation.hole_wrap import wrap_holes
 from ..metric.metric import ReferenceField
 from ..metric.tet_geometry import edge_frames, is_flat
 from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, lower_hull_tets
+
+if TYPE_CHECKING:  # batched_state imports this module
+    from .batched_state import MeshState
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
 INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
@@ -45,9 +50,9 @@ class Fills:
     owner: np.ndarray
 
 
-def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | None:
+def star_fills(field: ReferenceField, state: "MeshState", candidates: np.ndarray) -> Fills | None:
     """The refill of every candidate's star (module text), or None when the round should tetrahedralise with Qhull.
-    `state`: a batched_state.MeshState; `candidates`: independent in its Delaunay graph."""
+    `candidates`: independent in the state's Delaunay graph."""
     mesh = state.mesh
     probes = state.probes
     local = mesh.points
