@@ -24,7 +24,6 @@ and the round tetrahedralises with Qhull as before.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
@@ -33,9 +32,6 @@ from .decimation.hole_wrap import wrap_holes
 from ..metric.metric import ReferenceField
 from ..metric.tet_geometry import edge_frames, is_flat
 from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, lower_hull_tets
-
-if TYPE_CHECKING:  # batched_state imports this module
-    from .batched_state import MeshState
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
 INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
@@ -50,9 +46,10 @@ class Fills:
     owner: np.ndarray
 
 
-def star_fills(field: ReferenceField, state: "MeshState", candidates: np.ndarray) -> Fills | None:
+def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | None:
     """The refill of every candidate's star (module text), or None when the round should tetrahedralise with Qhull.
-    `candidates`: independent in the state's Delaunay graph."""
+    `state`: a batched_state.MeshState (not imported: that module imports this one); `candidates`: independent in its
+    Delaunay graph."""
     mesh = state.mesh
     probes = state.probes
     local = mesh.points
