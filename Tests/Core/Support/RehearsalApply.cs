@@ -81,21 +81,14 @@ namespace Lpnn.Probes.Core.Tests.Support
     /// O(n²). Protocol: the script's docstring.</summary>
     public sealed class PythonTetrahedralizer : ITetrahedralizer, IDisposable
     {
-        private readonly System.Diagnostics.Process _process;
-        private readonly Stream _in, _out;
+        private readonly ScriptPipe _pipe;
         /// <summary>Tetrahedralisations asked for so far.</summary>
         public int Calls;
 
         /// <param name="script">A shell script that execs rehearsal_tetrahedralizer.py on the capture.</param>
         public PythonTetrahedralizer(string script)
         {
-            var info = new System.Diagnostics.ProcessStartInfo("/bin/sh", "\"" + script + "\"")
-            {
-                UseShellExecute = false, RedirectStandardInput = true, RedirectStandardOutput = true,
-            };
-            _process = System.Diagnostics.Process.Start(info);
-            _in = _process.StandardInput.BaseStream;
-            _out = _process.StandardOutput.BaseStream;
+            _pipe = new ScriptPipe(script, "rehearsal tetrahedraliser");
         }
 
         public int[] Tetrahedralize(Vector3[] positions)
@@ -109,38 +102,19 @@ namespace Lpnn.Probes.Core.Tests.Support
                 BitConverter.GetBytes(positions[n].Y).CopyTo(request, 8 + 12 * n);
                 BitConverter.GetBytes(positions[n].Z).CopyTo(request, 12 + 12 * n);
             }
-            _in.Write(request, 0, request.Length);
-            _in.Flush();
-            int count = BitConverter.ToInt32(Read(4), 0);
+            _pipe.Send(request);
+            int count = BitConverter.ToInt32(_pipe.Read(4), 0);
             if (count < 0)
             {
-                int length = BitConverter.ToInt32(Read(4), 0);
-                throw new PlacementErrorException(System.Text.Encoding.UTF8.GetString(Read(length)));
+                int length = BitConverter.ToInt32(_pipe.Read(4), 0);
+                throw new PlacementErrorException(System.Text.Encoding.UTF8.GetString(_pipe.Read(length)));
             }
-            var bytes = Read(16 * count);
+            var bytes = _pipe.Read(16 * count);
             var tets = new int[4 * count];
             Buffer.BlockCopy(bytes, 0, tets, 0, bytes.Length);
             return tets;
         }
 
-        private byte[] Read(int size)
-        {
-            var data = new byte[size];
-            int done = 0;
-            while (done < size)
-            {
-                int got = _out.Read(data, done, size - done);
-                if (got <= 0) throw new IOException("the rehearsal tetrahedraliser stopped");
-                done += got;
-            }
-            return data;
-        }
-
-        public void Dispose()
-        {
-            _in.Close();
-            if (!_process.WaitForExit(10000)) _process.Kill();
-            _process.Dispose();
-        }
+        public void Dispose() => _pipe.Dispose();
     }
 }

@@ -2,6 +2,7 @@ using System;
 using System.IO;
 using System.Numerics;
 using Lpnn.Probes.Core.Features;
+using Lpnn.Probes.Core.Tests.Support;
 
 /// <summary>The rays of `lpnn place`'s leak rule — Embree over the capture's level — from Python over a pipe
 /// (embree_raycaster_server.py, started through a shell script; protocol in its docstring): the Apply benchmark's way of
@@ -9,20 +10,13 @@ using Lpnn.Probes.Core.Features;
 /// raycaster's. <see cref="RaysCast"/> counts the rays.</summary>
 public sealed class PipeRaycaster : IRaycaster, IDisposable
 {
-    private readonly System.Diagnostics.Process _process;
-    private readonly Stream _in, _out;
+    private readonly ScriptPipe _pipe;
 
     public long RaysCast { get; private set; }
 
     public PipeRaycaster(string script)
     {
-        var info = new System.Diagnostics.ProcessStartInfo("/bin/sh", "\"" + script + "\"")
-        {
-            UseShellExecute = false, RedirectStandardInput = true, RedirectStandardOutput = true,
-        };
-        _process = System.Diagnostics.Process.Start(info);
-        _in = _process.StandardInput.BaseStream;
-        _out = _process.StandardOutput.BaseStream;
+        _pipe = new ScriptPipe(script, "Embree raycaster server");
     }
 
     public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
@@ -42,27 +36,14 @@ public sealed class PipeRaycaster : IRaycaster, IDisposable
             values[3 * (count + r) + 2] = directions[r].Z;
         }
         Buffer.BlockCopy(values, 0, request, 8, 24 * count);
-        _in.Write(request, 0, request.Length);
-        _in.Flush();
+        _pipe.Send(request);
         var reply = new float[4 * count];
-        var bytes = new byte[16 * count];
-        int done = 0;
-        while (done < bytes.Length)
-        {
-            int got = _out.Read(bytes, done, bytes.Length - done);
-            if (got <= 0) throw new IOException("the Embree raycaster server stopped");
-            done += got;
-        }
+        var bytes = _pipe.Read(16 * count);
         Buffer.BlockCopy(bytes, 0, reply, 0, bytes.Length);
         for (int r = 0; r < count; r++)
             results[r] = new RayHit { Distance = reply[r], Normal = new Vector3(reply[count + 3 * r], reply[count + 3 * r + 1], reply[count + 3 * r + 2]) };
         RaysCast += count;
     }
 
-    public void Dispose()
-    {
-        _in.Close();
-        if (!_process.WaitForExit(10000)) _process.Kill();
-        _process.Dispose();
-    }
+    public void Dispose() => _pipe.Dispose();
 }

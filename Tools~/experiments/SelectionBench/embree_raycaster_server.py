@@ -14,17 +14,8 @@ import sys
 import numpy as np
 
 from lpnn.core.capture_file import read_capture
+from lpnn.core.pipe_protocol import read_exactly
 from lpnn.scenes.capture_geometry import capture_raycaster
-
-
-def _read_exactly(stream, size: int) -> bytes:
-    data = bytearray()
-    while len(data) < size:
-        chunk = stream.read(size - len(data))
-        if not chunk:
-            raise EOFError
-        data.extend(chunk)
-    return bytes(data)
 
 
 def main(capture_path: str) -> int:
@@ -35,10 +26,10 @@ def main(capture_path: str) -> int:
     source, sink = sys.stdin.buffer, sys.stdout.buffer
     while True:
         try:
-            count, max_distance = struct.unpack("<if", _read_exactly(source, 8))
+            count, max_distance = struct.unpack("<if", read_exactly(source, 8))
         except EOFError:
             return 0
-        rays = np.frombuffer(_read_exactly(source, 24 * count), dtype="<f4").astype(np.float64)
+        rays = np.frombuffer(read_exactly(source, 24 * count), dtype="<f4").astype(np.float64)
         origins, directions = rays[:3 * count].reshape(count, 3), rays[3 * count:].reshape(count, 3)
         distances, normals = raycaster.cast(origins, directions, float(max_distance))
         sink.write(distances.astype("<f4").tobytes() + normals.astype("<f4").tobytes())

@@ -18,18 +18,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from lpnn.core.capture_file import read_capture
+from lpnn.core.pipe_protocol import read_exactly
 from lpnn.quality.metric.metric import ReferenceField
 from lpnn.quality.metric.triangulation import GeometryError, tetrahedralize
-
-
-def _read_exactly(stream, size: int) -> bytes:
-    data = bytearray()
-    while len(data) < size:
-        chunk = stream.read(size - len(data))
-        if not chunk:
-            raise EOFError
-        data.extend(chunk)
-    return bytes(data)
 
 
 def main(capture_path: str) -> int:
@@ -38,10 +29,10 @@ def main(capture_path: str) -> int:
     source, sink = sys.stdin.buffer, sys.stdout.buffer
     while True:
         try:
-            (count,) = struct.unpack("<i", _read_exactly(source, 4))
+            (count,) = struct.unpack("<i", read_exactly(source, 4))
         except EOFError:
             return 0
-        asked = np.frombuffer(_read_exactly(source, 12 * count), dtype="<f4").reshape(count, 3).astype(np.float64)
+        asked = np.frombuffer(read_exactly(source, 12 * count), dtype="<f4").reshape(count, 3).astype(np.float64)
         distance, indices = tree.query(asked)
         if count and float(distance.max()) > 1e-3:
             message = f"a probe at {asked[int(distance.argmax())].tolist()} is not a point of the capture".encode()
