@@ -229,8 +229,6 @@ def refilled(field: ReferenceField, state: MeshState, trial: Trial, removed: np.
     before = state.tets
     gone = np.zeros(field.point_count, dtype=bool)
     gone[removed] = True
-    if trial.fills is not None:  # each refill's star is known
-        return np.concatenate([before[~gone[before].any(axis=1)], trial.fills.tets[gone[trial.fills.owner]]])
     fills = trial.tets[~np.isin(tet_keys(trial.tets, state.probes), tet_keys(before, state.probes))]
     kept = before[~gone[before].any(axis=1)]
     return np.concatenate([kept, fills[gone[stars(field, state, trial, fills)]]])
@@ -244,7 +242,8 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     Delaunay is unique, so every tetrahedron outside the removed probes' stars survives, and a point outside the hull
     keeps its nearest hull point unless that point's triangle had a removed vertex (the new hull lies inside the old one
     and keeps every triangle without a removed vertex). With the round's `trial` (removed among its candidates), the
-    tetrahedralisation comes from refilled instead of Qhull."""
+    tetrahedralisation comes from it instead of Qhull: derived from the state's mesh and the removed probes' refills
+    (derived_mesh) when the trial has them, else from refilled; a derived mesh refused goes to Qhull."""
     affected = stencils_using(state, removed, state.touched)
     probes = np.setdiff1d(state.probes, removed)
     if trial is not None and trial.fills is not None:  # the removed probes' refills are known: no new mesh to assemble
@@ -254,6 +253,7 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
         if mesh is not None:
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
                                                            mesh=mesh), reuse)
+        trial = None  # the same refills assembled another way would pass what derived_mesh refused: Qhull decides
     tets = None if trial is None else refilled(field, state, trial, removed)
     if tets is not None and np.unique(tets).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
