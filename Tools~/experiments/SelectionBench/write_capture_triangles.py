@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 
+from lpnn.core.atomic import write_bytes_atomic
 from lpnn.core.capture_file import read_capture
 from lpnn.scenes.capture_geometry import capture_triangles
 
@@ -21,10 +22,9 @@ def main(capture_path: str, out_path: str) -> int:
         print(f"{capture_path}: no geometry to cast leak rays against: {why}", file=sys.stderr)
         return 1
     vertices, triangles = soup
-    with open(out_path, "wb") as out:
-        out.write(struct.pack("<ii", vertices.shape[0], triangles.shape[0]))
-        out.write(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
-        out.write(np.ascontiguousarray(triangles, dtype="<i4").tobytes())
+    write_bytes_atomic(out_path, struct.pack("<ii", vertices.shape[0], triangles.shape[0])
+                       + np.ascontiguousarray(vertices, dtype="<f8").tobytes()
+                       + np.ascontiguousarray(triangles, dtype="<i4").tobytes())
     return 0
 
 
