@@ -153,8 +153,12 @@ public static class ApplyBench
     /// through Python's Embree (<see cref="PipeRaycaster"/>); null with no geometry either: leak-blind.</param>
     /// <param name="rememberSegments">False: the leak-aware refinement casts every segment anew (LeakWeighting without its memo).</param>
     /// <param name="expected">lpnn place's probes file on the same capture, compared with the probes written; null: none.</param>
-    public static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected)
+    /// <param name="refills">False: the refinement tetrahedralises every trial and commit instead of refilling the
+    /// candidates' stars (BatchedRefinementState.ForceTetrahedralisation; the code before them, for a comparison under the same load).</param>
+    public static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected,
+        bool refills = true)
     {
+        BatchedRefinementState.ForceTetrahedralisation = !refills;
         var read = Stopwatch.StartNew();
         var capture = CaptureFile.Read(capturePath);
         var grid = capture.ToGrid();
@@ -177,6 +181,7 @@ public static class ApplyBench
             Console.WriteLine("leak-aware (Avoid light leaks), segments " + memo + ", rays through Python's Embree over a pipe (lpnn place's own answers)");
         }
         else Console.WriteLine("leak-blind (Avoid light leaks off)");
+        if (!refills) Console.WriteLine("no star refills: every trial and commit of the refinement tetrahedralised (--no-refills)");
         // The first stage's two parts, timed alone (the Apply computes the reference twice: its evaluator's and its order's).
         read.Restart();
         var reference = ReferenceLighting.FromGrid(grid, capture.Sh);

@@ -32,8 +32,9 @@ namespace Lpnn.Probes.Core.Quality
         /// committed set's tetrahedra.</summary>
         private StarRefills trialRefills;
 
-        /// <summary>Tests only: every trial and commit tetrahedralises the remaining probes, as before the refills (the
-        /// refinement must then keep the same probes). Per thread, so that a test cannot leak it into another's run.</summary>
+        /// <summary>Tests and the Apply bench's --no-refills only: every trial and commit tetrahedralises the remaining
+        /// probes, as before the refills (the refinement must then keep the same probes). Per thread, so that a test cannot
+        /// leak it into another's run.</summary>
         [System.ThreadStatic] internal static bool ForceTetrahedralisation;
 
         /// <summary>What the refills saved and cost in one refinement.</summary>
