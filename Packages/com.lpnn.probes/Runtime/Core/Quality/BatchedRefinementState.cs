@@ -188,7 +188,7 @@ namespace Lpnn.Probes.Core.Quality
             TetrahedralMesh mesh = null;
             if (trialRefills != null && AmongCandidates(removed, trialRefills.Candidates, n))
             {
-                trialRefills.Of(gone, out int[] added, out int[] owners);
+                trialRefills.OfRemoved(gone, out int[] added, out int[] owners);
                 mesh = Derived(reference, gone, next.Probes, added, owners);
             }
             Relocate(reference, next, mesh ?? Tetrahedralize(reference, tetrahedralizer, next.Probes), affected.ToArray());

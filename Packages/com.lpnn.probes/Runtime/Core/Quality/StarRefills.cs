@@ -140,7 +140,7 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The refill tetrahedra of the given candidates (a subset of <see cref="Candidates"/>) and their owners.</summary>
-        public void Of(bool[] removed, out int[] tetrahedra, out int[] owners)
+        public void OfRemoved(bool[] removed, out int[] tetrahedra, out int[] owners)
         {
             var kept = new List<int>();
             var keptOwners = new List<int>();
