@@ -100,6 +100,51 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(BatchedRefinement.IsFlat(reference, result.Indices), Is.False);
         }
 
+        /// <summary>The same tetrahedra with each one's vertices listed in another order: what Unity's tetrahedraliser
+        /// gives where Qhull or the refills gave other orders.</summary>
+        private sealed class RotatedVertexOrder : ITetrahedralizer
+        {
+            public int[] Tetrahedralize(Vector3[] positions)
+            {
+                int[] tets = new BowyerWatsonDelaunay().Tetrahedralize(positions);
+                var rotated = new int[tets.Length];
+                for (int t = 0; t < tets.Length; t += 4)
+                    for (int k = 0; k < 4; k++) rotated[t + k] = tets[t + (k + 1 + t / 4 % 3) % 4];
+                return rotated;
+            }
+        }
+
+        [Test]
+        public void CostsThatDifferByRoundingGiveTheSameProbes()
+        {
+            // Half the room evenly lit: removals there cost 0 in one vertex order and ±1e-16 in another; compared exactly
+            // those ties would decide the answer (quality.md §5.3 "Ties").
+            var positions = QualityFixtures.Jittered(QualityFixtures.Positions(QualityFixtures.Box(10, 6, 5, 0.5)), 0.05f, 3);
+            var random = new Random(3);
+            var sh = new float[27 * positions.Length];
+            for (int n = 0; n < positions.Length; n++)
+                for (int c = 0; c < 27; c++) sh[27 * n + c] = positions[n].X < 2.25f ? 0.7f : 0.2f + 0.8f * (float)random.NextDouble();
+            var reference = ReferenceLighting.Create(positions, sh);
+            int[] all = Enumerable.Range(0, positions.Length).ToArray();
+            var byCount = BatchedRefinement.ToCount(reference, new BowyerWatsonDelaunay(), all, 60);
+            var byCountRotated = BatchedRefinement.ToCount(reference, new RotatedVertexOrder(), all, 60);
+            Assert.That(byCountRotated.Indices, Is.EqualTo(byCount.Indices));
+            var byTolerance = BatchedRefinement.WithinTolerance(reference, new BowyerWatsonDelaunay(), all, 0.08);
+            var byToleranceRotated = BatchedRefinement.WithinTolerance(reference, new RotatedVertexOrder(), all, 0.08);
+            Assert.That(byToleranceRotated.Indices, Is.EqualTo(byTolerance.Indices));
+            Assert.That(byToleranceRotated.Rounds, Is.EqualTo(byTolerance.Rounds));
+        }
+
+        [Test]
+        public void CostsWithinTheTieBandGoByIndexAndStaleCostsComeFirst()
+        {
+            int[] ids = { 3, 7, 1, 9, 2, 5 };
+            double[] costs = { 1e-13, 0.0, 5e-3, double.NegativeInfinity, double.NegativeInfinity, -2e-13 };
+            Assert.That(BatchedRefinement.CheapestFirst(costs, ids).Select(k => ids[k]), Is.EqualTo(new[] { 2, 9, 3, 5, 7, 1 }));
+            costs[5] = -2e-9;  // beyond the band below 0: no longer tied
+            Assert.That(BatchedRefinement.CheapestFirst(costs, ids).Select(k => ids[k]), Is.EqualTo(new[] { 2, 9, 5, 3, 7, 1 }));
+        }
+
         [Test]
         public void AThinSlabIsNeverPrunedIntoOnePlane()
         {

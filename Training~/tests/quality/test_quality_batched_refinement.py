@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
-from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
+from lpnn.quality.placement import batched_refinement as batched_refinement_module
+from lpnn.quality.placement.batched_refinement import batched_refinement, cheapest_first, greedy_independent_set
 from lpnn.quality.metric.metric_kernel import run_rows
 from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_holding, stencil_ids
 from lpnn.quality.placement.batched_state import evaluate, refilled, restore, trial_of, without
@@ -259,3 +262,40 @@ def test_rows_holding_a_removed_probe_are_the_numpy_scans() -> None:
     gone = rng.uniform(size=500) < 0.05
     expected = np.flatnonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).any(axis=1) | gone)
     np.testing.assert_array_equal(rows_holding(ids, gone), expected)
+
+
+def test_costs_within_the_tie_band_go_by_index_and_stale_costs_come_first() -> None:
+    ids = np.array([3, 7, 1, 9, 2, 5])
+    cost = np.full(10, np.nan)
+    cost[ids] = [1e-13, 0.0, 5e-3, -np.inf, -np.inf, -2e-13]
+    # -inf (stale) first by index, then {-2e-13, 0, 1e-13} as one tie by index, then 5e-3
+    assert cheapest_first(ids, cost).tolist() == [2, 9, 3, 5, 7, 1]
+    cost[5] = -2e-9  # beyond the band below 0: no longer tied
+    assert cheapest_first(ids, cost).tolist() == [2, 9, 5, 3, 7, 1]
+
+
+def _half_even_field() -> ReferenceField:
+    """Half the room evenly lit (every removal there costs exactly 0, or a rounding away from it), half varied."""
+    positions = box_grid(10, 6, 5, 0.5)
+    rng = np.random.default_rng(3)
+    sh = np.where(positions[:, :1] < 2.25, 0.7, rng.uniform(0.2, 1.0, (positions.shape[0], 27)))
+    return ReferenceField.from_sh(positions, sh)
+
+
+@pytest.mark.parametrize("goal", [{"count": 60}, {"tolerance": 0.08}])
+def test_costs_that_differ_by_rounding_give_the_same_answer(monkeypatch: pytest.MonkeyPatch, goal: dict) -> None:
+    """The same tetrahedra listed in another vertex order (the refills against Qhull, Unity's tetrahedraliser against
+    both) change removal costs in the last bits; zeros become ±1e-12. The answer must not depend on it."""
+    field = _half_even_field()
+    plain = batched_refinement(field, np.arange(field.point_count), **goal)
+    rng = np.random.default_rng(11)
+    original_trial = batched_refinement_module.trial_of
+
+    def trial_with_rounding(*args, **kwargs):
+        trial = original_trial(*args, **kwargs)
+        return dataclasses.replace(trial, costs=trial.costs + rng.uniform(-2e-12, 2e-12, trial.costs.shape[0]))
+
+    monkeypatch.setattr(batched_refinement_module, "trial_of", trial_with_rounding)
+    rounded = batched_refinement(field, np.arange(field.point_count), **goal)
+    np.testing.assert_array_equal(rounded.indices, plain.indices)
+    assert rounded.rounds == plain.rounds

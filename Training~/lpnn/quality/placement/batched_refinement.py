@@ -71,6 +71,7 @@ import numpy as np
 
 from .batched_state import evaluate, restore, trial_of, without
 from .decimation.decimation import MINIMUM_PROBES, initial_mask
+from .insertion import TIE, largest_first
 from .leak_aware import LeakWeighting
 from ..metric.metric import MetricError, ReferenceField
 from .policies import checked_tolerance
@@ -103,10 +104,18 @@ def greedy_independent_set(vertices: np.ndarray, edges: np.ndarray, rank: np.nda
                              rank.shape[0])
 
 
+def cheapest_first(ids: np.ndarray, cost: np.ndarray) -> np.ndarray:
+    """`ids` by ascending cost, where a cost within TIE of the next smaller one counts as equal to it: each run of such
+    costs goes by id, lowest first. Costs the same removal gets from the same tetrahedra listed in another vertex order
+    differ in the last bits, and many are exactly 0 where the light is even: compared exactly, such ties would commit
+    by rounding (quality.md §5.3 "Ties"; the C# core's BatchedRefinement.CheapestFirst)."""
+    return ids[largest_first(-cost[ids], ids)]
+
+
 def _ranks(probes: np.ndarray, cost: np.ndarray, size: int) -> np.ndarray:
-    """Each probe's position in the order (cost, index); other ids rank last."""
+    """Each probe's position in cheapest_first's order; other ids rank last."""
     rank = np.full(size, np.iinfo(np.int64).max, dtype=np.int64)
-    rank[probes[np.lexsort((probes, cost[probes]))]] = np.arange(probes.shape[0])
+    rank[cheapest_first(probes, cost)] = np.arange(probes.shape[0])
     return rank
 
 
@@ -191,8 +200,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         fresh[candidates] = True
         measured = cost[probes][np.isfinite(cost[probes])]
         threshold = _commit_threshold(measured, fraction)
-        ordered = candidates[np.lexsort((candidates, cost[candidates]))]
-        commit = ordered[cost[ordered] <= threshold]
+        ordered = cheapest_first(candidates, cost)
+        commit = ordered[cost[ordered] <= threshold + TIE]  # a cost tied with the threshold is within it
         settled = bool(np.all(fresh[probes] | locked[probes]))
         if commit.shape[0] == 0 and settled:  # every cost is fresh: the cheapest candidate is the cheapest removal
             commit = ordered[:1]

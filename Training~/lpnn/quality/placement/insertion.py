@@ -196,7 +196,8 @@ def largest_first(values: np.ndarray, index: np.ndarray) -> np.ndarray:
     by_value = np.argsort(-values, kind="stable")
     ordered = values[by_value]
     run = np.zeros(ordered.shape[0], dtype=np.int64)  # runs numbered by the gaps above TIE before them
-    run[1:] = np.cumsum(ordered[:-1] - ordered[1:] > TIE)
+    with np.errstate(invalid="ignore"):  # equal infinite values (refinement's stale costs) differ by NaN: one run
+        run[1:] = np.cumsum(ordered[:-1] - ordered[1:] > TIE)
     return by_value[np.lexsort((index[by_value], run))]
 
 

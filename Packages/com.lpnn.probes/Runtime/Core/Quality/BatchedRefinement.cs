@@ -15,7 +15,8 @@ namespace Lpnn.Probes.Core.Quality
     /// Tests/Data/batched_refinement_golden.json.
     ///
     /// A round from the probe set P: (1) candidates = the greedy independent set of P's Delaunay graph by measured cost
-    /// (costs not fresh — never measured, or a neighbour removed since — first; ties: lower index), locked probes left
+    /// (costs not fresh — never measured, or a neighbour removed since — first; costs within <see cref="InsertionRanking.Tie"/>
+    /// of each other: lower index), locked probes left
     /// out, at most |P| − 4; if the rest is flat, only the first unlocked probe whose removal alone leaves a solid set; (2) one trial
     /// without them gives each its cost; (3) commit those within the
     /// <see cref="CountCommitFraction"/> (down to a count) or <see cref="ToleranceCommitFraction"/> (within a tolerance) quantile of all measured costs, cheapest first (none: the cheapest candidate once
@@ -182,20 +183,21 @@ namespace Lpnn.Probes.Core.Quality
         private static int[] Candidates(BatchedRefinementState state, double[] cost, bool[] fresh, bool[] locked, int limit, bool independent = true)
         {
             int[] probes = state.Probes;
-            var order = new List<int>(probes.Length);  // positions in probes
+            var unlocked = new List<int>(probes.Length);  // positions in probes
             for (int k = 0; k < probes.Length; k++)
-                if (!locked[probes[k]]) order.Add(k);
-            var key = new double[probes.Length];
-            for (int k = 0; k < probes.Length; k++) key[k] = fresh[probes[k]] ? cost[probes[k]] : double.NegativeInfinity;
-            order.Sort((a, b) =>
+                if (!locked[probes[k]]) unlocked.Add(k);
+            var ids = new int[unlocked.Count];
+            var key = new double[unlocked.Count];
+            for (int u = 0; u < ids.Length; u++)
             {
-                int byCost = key[a].CompareTo(key[b]);
-                return byCost != 0 ? byCost : probes[a].CompareTo(probes[b]);
-            });
+                ids[u] = probes[unlocked[u]];
+                key[u] = fresh[ids[u]] ? cost[ids[u]] : double.NegativeInfinity;
+            }
             var blocked = new bool[probes.Length];
             var chosen = new List<int>();
-            foreach (int k in order)
+            foreach (int u in CheapestFirst(key, ids))
             {
+                int k = unlocked[u];
                 if (blocked[k] && independent) continue;
                 chosen.Add(probes[k]);
                 for (int e = state.EdgeStart[k]; e < state.EdgeStart[k + 1]; e++)
@@ -207,8 +209,8 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The candidates within the <paramref name="fraction"/> quantile (lower, no interpolation) of the measured
-        /// costs of <paramref name="probes"/>, cheapest first (ties: lower index); when none is and every cost is fresh
-        /// (<paramref name="settled"/>), the cheapest candidate.</summary>
+        /// costs of <paramref name="probes"/>, cheapest first (ties within the band: lower index); when none is and every cost is fresh
+        /// (<paramref name="settled"/>), the cheapest candidate. Costs within <see cref="InsertionRanking.Tie"/> are equal (<see cref="CheapestFirst"/>).</summary>
         private static List<int> Commit(int[] candidates, double[] cost, int[] probes, double fraction, bool settled)
         {
             var measured = new List<double>(probes.Length);
@@ -216,17 +218,27 @@ namespace Lpnn.Probes.Core.Quality
                 if (!double.IsInfinity(cost[p]) && !double.IsNaN(cost[p])) measured.Add(cost[p]);
             measured.Sort();
             double threshold = measured[(int)Math.Floor(fraction * (measured.Count - 1))];
-            var ordered = (int[])candidates.Clone();
-            Array.Sort(ordered, (a, b) =>
-            {
-                int byCost = cost[a].CompareTo(cost[b]);
-                return byCost != 0 ? byCost : a.CompareTo(b);
-            });
+            var candidateCost = new double[candidates.Length];
+            for (int k = 0; k < candidates.Length; k++) candidateCost[k] = cost[candidates[k]];
+            int[] ordered = CheapestFirst(candidateCost, candidates);
             var commit = new List<int>();
-            foreach (int c in ordered)
-                if (cost[c] <= threshold) commit.Add(c);
-            if (commit.Count == 0 && settled) commit.Add(ordered[0]);
+            foreach (int k in ordered)
+                if (candidateCost[k] <= threshold + InsertionRanking.Tie) commit.Add(candidates[k]);  // tied with the threshold: within it
+            if (commit.Count == 0 && settled) commit.Add(candidates[ordered[0]]);
             return commit;
+        }
+
+        /// <summary>Positions of <paramref name="costs"/>, cheapest first, where a cost within <see cref="InsertionRanking.Tie"/>
+        /// of the next cheaper one counts as equal to it: each run of such costs goes by <paramref name="ids"/>, lowest first.
+        /// The same removal's cost from the same tetrahedra listed in another vertex order differs in the last bits, and many
+        /// costs are exactly 0 where the light is even: compared exactly, such ties would be decided by rounding, and Unity's
+        /// tetrahedraliser and Qhull would commit differently (quality.md §5.3 "Ties"; Python's
+        /// batched_refinement.cheapest_first).</summary>
+        internal static int[] CheapestFirst(double[] costs, int[] ids)
+        {
+            var negated = new double[costs.Length];
+            for (int k = 0; k < costs.Length; k++) negated[k] = -costs[k];
+            return InsertionRanking.LargestFirst(negated, ids);
         }
 
         private static void MarkNeighboursStale(BatchedRefinementState state, List<int> removed, bool[] fresh)

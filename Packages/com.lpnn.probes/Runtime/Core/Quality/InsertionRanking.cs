@@ -173,7 +173,8 @@ namespace Lpnn.Probes.Core.Quality
             for (int start = 0; start < count;)
             {
                 int end = start + 1;
-                while (end < count && negated[end] - negated[end - 1] <= Tie) end++;
+                // Equal values are one run even when infinite (their difference is NaN): refinement's stale costs, −∞.
+                while (end < count && (negated[end] == negated[end - 1] || negated[end] - negated[end - 1] <= Tie)) end++;
                 if (end - start > 1) Array.Sort(indexOf, byValue, start, end - start);
                 start = end;
             }
