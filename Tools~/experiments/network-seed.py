@@ -144,10 +144,16 @@ def labels(args: argparse.Namespace) -> int:
     return 0
 
 
-def _seeded(scorer, capture, field, grid, leaks, args):
-    """The seeded default: (placement, seed size, seconds of scoring, seconds in all)."""
+def _seeded(scorer, capture, field, grid, leaks, args, oracle=None):
+    """The seeded default: (placement, seed size, seconds of scoring, seconds in all). `oracle` (the default's answer):
+    the seed is that answer itself, the best a network could predict (no scoring)."""
     start = time.perf_counter()
-    seed = network_seed(kept_probabilities(scorer, capture, args.tile), args.factor)
+    if oracle is None:
+        seed = network_seed(kept_probabilities(scorer, capture, args.tile), args.factor)
+    else:
+        probabilities = np.zeros(capture.point_count)
+        probabilities[oracle] = 1.0
+        seed = network_seed(probabilities, 1.0)
     scoring = time.perf_counter() - start
     placed = _default(field, grid, args.tolerance, leaks, head=seed, refine=args.refine)
     return placed, int(seed.shape[0]), scoring, time.perf_counter() - start
@@ -158,8 +164,9 @@ def compare(args: argparse.Namespace) -> int:
     from lpnn.train.onnx_scoring import OnnxScorer
 
     refuse_held_out(args.captures, args.card)
-    scorer = OnnxScorer(args.model)
-    print(f"| capture | points | default: probes @τ={args.tolerance:g} | error | s | seeded (factor {args.factor:g}, "
+    scorer = None if args.oracle else OnnxScorer(args.model)
+    seeded_by = "the default's answer" if args.oracle else f"factor {args.factor:g}"
+    print(f"| capture | points | default: probes @τ={args.tolerance:g} | error | s | seeded ({seeded_by}, "
           f"refine {args.refine:g}): seed | probes | error | s (scoring) | probes ×default | s ×default |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|")
     ratios = []
@@ -168,7 +175,8 @@ def compare(args: argparse.Namespace) -> int:
         start = time.perf_counter()
         default = _default(field, grid, args.tolerance, leaks)
         default_seconds = time.perf_counter() - start
-        seeded, seed_size, scoring, seconds = _seeded(scorer, capture, field, grid, leaks, args)
+        seeded, seed_size, scoring, seconds = _seeded(scorer, capture, field, grid, leaks, args,
+                                                      default.indices if args.oracle else None)
         # A fresh evaluation of both answers (the placement's own errors are incremental ones).
         errors = [mean_placement_error(field, placed.indices) for placed in (default, seeded)]
         counts = [int(placed.indices.shape[0]) for placed in (default, seeded)]
@@ -208,14 +216,19 @@ def main(argv: list[str] | None = None) -> int:
     labelling.add_argument("--out", type=Path, required=True)
     labelling.add_argument("--min-tile", type=int, default=64, help="smaller tiles are not written (the trainer's min_points)")
     seeded = argparse.ArgumentParser(add_help=False)
-    seeded.add_argument("--model", type=Path, required=True, help="a network trained on `labels`' tiles")
+    seeded.add_argument("--model", type=Path, help="a network trained on `labels`' tiles")
     seeded.add_argument("--factor", type=float, default=SEED_FACTOR, help="seed = factor x the expected kept count")
     seeded.add_argument("--refine", type=float, default=REFINE_FACTOR, help="the refinement's seed: this x K0 points")
     comparing = commands.add_parser("compare", parents=[common, seeded], help="the default against the seeded default")
     comparing.add_argument("captures", nargs="+", type=Path)
+    comparing.add_argument("--oracle", action="store_true",
+                           help="seed with the default's own answer (the ceiling of any network; --model unused)")
     placing = commands.add_parser("place", parents=[common, seeded], help="the seeded default on one capture")
     placing.add_argument("capture", type=Path)
     args = parser.parse_args(argv)
+    if args.command != "labels" and args.model is None and not getattr(args, "oracle", False):
+        parser.error(f"{args.command} needs --model (a network trained on the labels' tiles)"
+                     + (" or --oracle" if args.command == "compare" else ""))
     return {"labels": labels, "compare": compare, "place": place}[args.command](args)
 
 
