@@ -11,14 +11,16 @@ it are skipped) and the refinement starts near its end. Three steps, each a sub-
                                         --leaks ignore); per point 1 = kept; written as labelled tiles of at most
                                         --tile points (the trainer's clouds), plus DIR/answers.json (the default's
                                         probes, seconds per level)
-  lpnn train DIR/train --val DIR/val --out seed.onnx --config cfg.json      (the ordinary trainer; module text of
-                                        benchmarks.md for the options used)
+  lpnn train TRAIN_DIR --val VAL_DIR/*.lpnncap --out seed.onnx --config options.json
+                                        the ordinary trainer on the training levels' tiles, selected on the
+                                        validation levels' tiles (benchmarks.md gives the options used)
   compare CAPTURE ... --model seed.onnx  per capture: the default and the seeded default, probes at tau, mean error
                                         (a fresh evaluation), seconds; the seed is the --factor x (expected kept
                                         count) points the network ranks highest, its expected count being the sum of
                                         its calibrated probabilities (the trainer weighs positives by the card's
                                         positive_weight w: p_true = p / (p + w (1 - p)))
-  place CAPTURE --model seed.onnx       the seeded default alone (for `farm-bench` against `lpnn place`)
+  place CAPTURE --model seed.onnx       the seeded default alone; with --unseeded instead of --model the default,
+                                        through the same reading and evaluation (`farm-bench` compares the two)
 
 The seeded default = refined_insertion(field, grid, tolerance=tau, head=seed, refine=F): insertion starts from its
 usual start plus the seed, the tolerance search from the seed's count (so K0 >= the seed), and the refinement from
@@ -159,6 +161,11 @@ def _seeded(scorer, capture, field, grid, leaks, args, oracle=None):
     return placed, int(seed.shape[0]), scoring, time.perf_counter() - start
 
 
+def _split(placed) -> str:
+    return (f"{placed.seed_count:,}, {placed.rounds}, {placed.selection_seconds:.1f} + "
+            f"{placed.refinement_seconds:.1f}")
+
+
 def compare(args: argparse.Namespace) -> int:
     from lpnn.quality.metric.metric import mean_placement_error
     from lpnn.train.onnx_scoring import OnnxScorer
@@ -167,8 +174,9 @@ def compare(args: argparse.Namespace) -> int:
     scorer = None if args.oracle else OnnxScorer(args.model)
     seeded_by = "the default's answer" if args.oracle else f"factor {args.factor:g}"
     print(f"| capture | points | default: probes @τ={args.tolerance:g} | error | s | seeded ({seeded_by}, "
-          f"refine {args.refine:g}): seed | probes | error | s (scoring) | probes ×default | s ×default |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|")
+          f"refine {args.refine:g}): seed | probes | error | s (scoring) | probes ×default | s ×default | "
+          "default: refined from, rounds, s insertion + refinement | seeded: the same |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     ratios = []
     for path in args.captures:
         capture, field, grid, leaks = _field(path, args.leaks)
@@ -183,7 +191,7 @@ def compare(args: argparse.Namespace) -> int:
         ratios.append((counts[1] / counts[0], seconds / default_seconds))
         print(f"| {path.stem} | {capture.point_count:,} | {counts[0]:,} | {errors[0]:.4f} | {default_seconds:.2f} | "
               f"{seed_size:,} | {counts[1]:,} | {errors[1]:.4f} | {seconds:.2f} ({scoring:.2f}) | {ratios[-1][0]:.3f} | "
-              f"{ratios[-1][1]:.2f} |", flush=True)
+              f"{ratios[-1][1]:.2f} | {_split(default)} | {_split(seeded)} |", flush=True)
     mean = np.exp(np.log(np.asarray(ratios)).mean(axis=0))
     print(f"geometric mean over {len(ratios)} captures: probes ×default {mean[0]:.3f}, seconds ×default {mean[1]:.2f}")
     return 0
@@ -195,7 +203,10 @@ def place(args: argparse.Namespace) -> int:
 
     refuse_held_out([args.capture], args.card)
     capture, field, grid, leaks = _field(args.capture, args.leaks)
-    placed, seed_size, scoring, seconds = _seeded(OnnxScorer(args.model), capture, field, grid, leaks, args)
+    if args.unseeded:  # the default itself, through the same reading and evaluation (farm-bench's other command)
+        placed, seed_size, scoring = _default(field, grid, args.tolerance, leaks), 0, 0.0
+    else:
+        placed, seed_size, scoring, _ = _seeded(OnnxScorer(args.model), capture, field, grid, leaks, args)
     print(f"{args.capture.name}: {placed.indices.shape[0]:,} probes from a seed of {seed_size:,}, mean error "
           f"{mean_placement_error(field, placed.indices):.4f}; scoring {scoring:.2f} s, insertion and search "
           f"{placed.selection_seconds:.2f} s, refinement {placed.refinement_seconds:.2f} s ({placed.rounds} rounds)")
@@ -225,10 +236,13 @@ def main(argv: list[str] | None = None) -> int:
                            help="seed with the default's own answer (the ceiling of any network; --model unused)")
     placing = commands.add_parser("place", parents=[common, seeded], help="the seeded default on one capture")
     placing.add_argument("capture", type=Path)
+    placing.add_argument("--unseeded", action="store_true",
+                         help="the default itself (no network), for timing against the seeded one; --model unused")
     args = parser.parse_args(argv)
-    if args.command != "labels" and args.model is None and not getattr(args, "oracle", False):
+    if args.command != "labels" and args.model is None and not (getattr(args, "oracle", False)
+                                                                 or getattr(args, "unseeded", False)):
         parser.error(f"{args.command} needs --model (a network trained on the labels' tiles)"
-                     + (" or --oracle" if args.command == "compare" else ""))
+                     + (" or --oracle" if args.command == "compare" else " or --unseeded"))
     return {"labels": labels, "compare": compare, "place": place}[args.command](args)
 
 
