@@ -81,8 +81,7 @@ def tiles(ids: np.ndarray, max_points: int) -> list[np.ndarray]:
 def kept_probabilities(scorer, capture, tile_points: int) -> np.ndarray:
     """(N,) the network's probability that the default keeps each point, scored per tile and calibrated for the
     trainer's positive weight w (weighted BCE trains the odds w times too high: p / (p + w (1 - p)))."""
-    weight = float(json.loads(scorer.model_path.with_suffix(".card.json").read_text(encoding="utf-8"))
-                   ["training"]["positive_weight"])
+    weight = float(scorer.card.training["positive_weight"])
     scores = np.empty(capture.point_count, dtype=np.float64)
     for part in tiles(np.asarray(capture.ids), tile_points):
         scores[part] = scorer.score(np.asarray(capture.features[part], dtype=np.float32))
