@@ -278,3 +278,41 @@ def test_extreme_points_take_the_lower_index_among_equal_values() -> None:
         values = [sum(s * int(v) for s, v in zip(direction, row)) for row in ids]
         assert chosen == values.index(max(values)), direction
     assert sum(1 for row in ids.tolist() if row[0] + row[1] == 2 and row[2] == 0) == 3  # the tie exists
+
+
+# ------------------------------------------------------------------------------------ a head (the network-seed experiment)
+
+def test_a_head_that_is_the_orders_own_rounds_continues_it_exactly(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    grid = _grid(medium_capture)
+    plain = InsertionOrder(field, grid)
+    start = plain.computed  # the start alone: no round has run yet
+    plain.prefix(60)
+    done = plain.computed  # a round boundary: the next round starts from exactly these points
+    assert done > 60 > start
+    headed = InsertionOrder(field, grid, head=plain.prefix(done)[start:])
+    assert headed.computed == done and headed.rounds == 0  # the head is ranked without any round
+    n = medium_capture.point_count
+    np.testing.assert_array_equal(headed.prefix(n), plain.prefix(n))
+
+
+def test_a_head_follows_the_start_in_its_own_order_without_repeating_a_start_point(medium_capture: Capture) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    grid = _grid(medium_capture)
+    plain = InsertionOrder(field, grid)
+    start = plain.computed
+    first = plain.prefix(start)
+    free = np.setdiff1d(np.arange(medium_capture.point_count), first)
+    head = np.array([free[7], first[2], free[3], free[30]])
+    headed = InsertionOrder(field, grid, head=head)
+    np.testing.assert_array_equal(headed.prefix(start + 3), np.concatenate([first, [free[7], free[3], free[30]]]))
+    ranking = headed.prefix(medium_capture.point_count)
+    np.testing.assert_array_equal(np.sort(ranking), np.arange(medium_capture.point_count))  # still every point once
+
+
+@pytest.mark.parametrize("head, message", [(np.array([0, 0]), "distinct"), (np.array([-1]), "must lie in"),
+                                           (np.array([10 ** 9]), "must lie in")])
+def test_bad_heads_are_refused_by_name(medium_capture: Capture, head: np.ndarray, message: str) -> None:
+    field = ReferenceField.from_capture(medium_capture)
+    with pytest.raises(MetricError, match=message):
+        InsertionOrder(field, _grid(medium_capture), head=head)

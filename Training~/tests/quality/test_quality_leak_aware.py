@@ -282,3 +282,15 @@ def test_pinned_leak_aware_placement_is_unchanged_by_the_memo(rooms, monkeypatch
     fresh, _ = _placed(field, grid, monkeypatch, False, tolerance=TOLERANCE, pins=pins)
     remembered, _ = _placed(field, grid, monkeypatch, True, tolerance=TOLERANCE, pins=pins)
     assert np.array_equal(remembered.indices, fresh.indices)
+
+
+def test_a_headed_default_searches_from_its_head_and_meets_the_tolerance(rooms) -> None:
+    """refined_insertion(..., head=): insertion starts from the head (Tools~/experiments/network-seed.py), so the
+    search's answer and the refinement's seed hold it, and the answer is still within tau, leak-aware or not."""
+    field, grid = rooms
+    head = np.arange(3, field.point_count, 9)
+    for leaks in (None, WALLED):
+        headed = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=leaks, head=head, refine=1.2)
+        assert headed.seed_count >= head.shape[0]
+        assert mean_placement_error(field, headed.indices) <= TOLERANCE
+        assert headed.mean_error == pytest.approx(mean_placement_error(field, headed.indices))

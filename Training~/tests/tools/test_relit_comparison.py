@@ -16,7 +16,7 @@ pytestmark = [pytest.mark.openarena, pytest.mark.slow]
 
 def test_a_row_per_run_on_the_same_held_out_crop(openarena_pak: Path, tmp_path: Path) -> None:
     out = run_experiment("relit-comparison.py", "--pak", str(openarena_pak), "--work", str(tmp_path),
-                         "--levels", "oa_dm1,oa_dm2,oa_dm4", "--crops-per-level", "1", "--epochs", "1",
+                         "--levels", "aggressor,oa_dm2,oa_dm4", "--crops-per-level", "1", "--epochs", "1",
                          env={"LPNN_OPENARENA_PAK": str(openarena_pak)}).stdout
     rows = {m.group(1): m for m in re.finditer(
         r"^\| (without|with-2) \| (\d+) \| (\d+) \| ([0-9.]+) \| ([0-9.]+) \| ([0-9.]+) / ([0-9.]+) / ([0-9.]+) \| "

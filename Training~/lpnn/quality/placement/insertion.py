@@ -209,9 +209,12 @@ class InsertionOrder:
 
     def __init__(self, field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,
                  growth: float = INSERTION_GROWTH, progress: Callable[[int, int], None] | None = None,
-                 guide: np.ndarray | None = None, pins: Pins | None = None) -> None:
+                 guide: np.ndarray | None = None, pins: Pins | None = None, head: np.ndarray | None = None) -> None:
         """`pins` (pins.py): the order starts with the pins, then the usual start without the points near a pin, and
-        no point near a pin is ever ranked (the order then holds fewer than N points)."""
+        no point near a pin is ever ranked (the order then holds fewer than N points). `head` (distinct point indices,
+        e.g. the points a network expects the default to keep, likeliest first; no pins): ranked right after the start
+        (those not already in it, in the given order), the rounds continuing from start + head
+        (Tools~/experiments/network-seed.py)."""
         checked_metric(metric)
         if not (math.isfinite(growth) and growth > 0.0):
             raise MetricError(f"growth {growth!r} must be a fraction > 0 of the current probes "
@@ -222,6 +225,8 @@ class InsertionOrder:
         self._candidates = None if pins is None else pins.candidates
         if pins is not None:
             self._order = pinned_start(grid, pins, self._order)
+        if head is not None:
+            self._order = with_head(self._order, head, field.point_count, pins)
         self._exhausted = False  # every remaining point is interpolated exactly: they follow by index
         # The last KEPT_ROUNDS rounds' probe sets (count ranked then, the set; insertion_state): the next round starts
         # from the last one, the tolerance search's mean_error from any of them.
@@ -290,6 +295,18 @@ class InsertionOrder:
             return ensure_tetrahedron(self._grid, provisional, prefix[:max(int(count), 1)])[0]
 
         return select
+
+
+def with_head(start: np.ndarray, head: np.ndarray, point_count: int, pins: Pins | None) -> np.ndarray:
+    """InsertionOrder's first points given a `head`: the start, then the head's points not in it, in the head's order."""
+    if pins is not None:
+        raise MetricError("an insertion order with a head takes no pins (the head would have to avoid their neighbours)")
+    points = np.asarray(head, dtype=np.int64).reshape(-1)
+    if points.shape[0] and (points.min() < 0 or points.max() >= point_count):
+        raise MetricError(f"head point indices must lie in [0, {point_count:,}), got {int(points.min())}..{int(points.max())}")
+    if np.unique(points).shape[0] != points.shape[0]:
+        raise MetricError("head point indices must be distinct")
+    return np.concatenate([start, points[~np.isin(points, start)]])
 
 
 def insertion_ranking(field: ReferenceField, grid: EvaluationGrid, metric: str = PRIMARY_METRIC,

@@ -69,13 +69,15 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
                       insertion_progress: Callable[[int, int], None] | None = None,
                       refinement_progress: Callable[[int, int], None] | None = None,
                       leaks: Raycaster | None = None, leak_weight: float = LEAK_WEIGHT,
-                      repair_rounds: int = REPAIR_ROUNDS, pins: Pins | None = None) -> RefinedPlacement:
+                      repair_rounds: int = REPAIR_ROUNDS, pins: Pins | None = None,
+                      head: np.ndarray | None = None) -> RefinedPlacement:
     """The module text's placement; exactly one of `budget` and `tolerance`. `guide` (insertion.checked_guide) seeds
     from guided insertion. `leaks`: the scene's raycaster, for the leak-aware variant (module text; `leak_weight` and
     `repair_rounds` tune it). The progress callbacks get (points ranked, points asked for) during the insertion rounds
     and (probes removed, probes to remove at most) during the refinement. `pins` (pins.py): insertion starts from them
     and never ranks a point near one, the refinement never removes them, a budget counts them, and the leak repair
-    adds no probe near one."""
+    adds no probe near one. `head` (InsertionOrder's; the network-seed experiment, Tools~/experiments/network-seed.py):
+    insertion starts from these points too, and the tolerance search from the count of start + head."""
     if (budget is None) == (tolerance is None):
         raise MetricError("give exactly one of budget (a fraction, e.g. 0.2) and tolerance (a mean error, e.g. 0.05)")
     factor = float(refine)
@@ -86,14 +88,15 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     weighting = None if leaks is None else LeakWeighting(leaks, leak_weight).remembering(field)
     n = field.point_count
     start = time.perf_counter()
-    order = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins)
+    order = InsertionOrder(field, grid, guide=guide, progress=insertion_progress, pins=pins, head=head)
     select = order.selection()
     keep = None if pins is None else pins.indices
     found = None
     if tolerance is None:
         target = checked_pinned_count(budget_count(budget, n), pins)  # type: ignore[arg-type]
     else:
-        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, pinned_smallest(pins), order.mean_error)
+        smallest = pinned_smallest(pins) if head is None else order.computed  # with a head: no count below it
+        found = place_tolerance(field, select, tolerance, PRIMARY_METRIC, smallest, order.mean_error)
         target = int(found.indices.shape[0])
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()
