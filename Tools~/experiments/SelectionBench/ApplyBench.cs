@@ -19,7 +19,8 @@ using Lpnn.Probes.Core.Tests.Support;
 /// tetrahedraliser over a pipe (<see cref="PythonTetrahedralizer"/>), wrapped to count the tetrahedralisations and the
 /// seconds spent waiting on them per stage. A stage is known from the C# frames that asked for the tetrahedralisation
 /// (InsertionOrder: an insertion round; ReportingMeasure: a tolerance-search evaluation; BatchedRefinementState.Evaluate,
-/// RemovalCosts, Without: the refinement's seed, trial, commit; RefinedSelection: the final check) and from the progress
+/// RemovalCosts, Without: the refinement's seed, trial, commit — only those whose star refills were refused or checked;
+/// StarRefills: a hull vertex's link, a few points, counted apart; RefinedSelection: the final check) and from the progress
 /// calls; wall time is charged to the stage running since the last switch. The leak-aware Apply's leak repair of the seed
 /// (LeakRepair) is a stage of its own; the rays each stage casts, and the seconds inside the raycaster, are counted by a
 /// wrapper of the raycaster. Prints figures, and whether the probes are those of <c>lpnn place</c>'s probes file when
@@ -34,6 +35,7 @@ public static class ApplyBench
     private const string Repair = "leak repair of the seed";
     private const string Refinement = "batched refinement";
     private const string Other = "other";
+    private const string Link = "link";
     private static readonly string[] Stages = { Before, Insertion, Search, Repair, Refinement, Other };
 
     private sealed class StagedTetrahedralizer : ITetrahedralizer
@@ -60,9 +62,23 @@ public static class ApplyBench
             Current = stage;
         }
 
+        /// <summary>Tetrahedralisations of one star's link (StarRefills: a hull vertex's refill, a few points each),
+        /// counted apart from the probe sets' (<see cref="Total"/>); their waiting is the refinement's.</summary>
+        public int LinkCalls;
+        public double LinkWaiting;
+
         public int[] Tetrahedralize(Vector3[] positions)
         {
             string kind = Classify(new StackTrace(1, false));
+            if (kind == Link)
+            {
+                LinkCalls++;
+                double asked = Elapsed;
+                int[] linkTetrahedra = _inner.Tetrahedralize(positions);
+                LinkWaiting += Elapsed - asked;
+                Add(Waiting, Refinement, Elapsed - asked);
+                return linkTetrahedra;
+            }
             string stage = kind.StartsWith("refinement", StringComparison.Ordinal) ? Refinement : kind;
             Switch(stage);
             Calls[kind] = Count(Calls, kind) + 1;
@@ -88,6 +104,7 @@ public static class ApplyBench
                 if (type.StartsWith("Lpnn.Probes.Core.Quality.LeakRepair", StringComparison.Ordinal)) return Repair;
                 if (type.StartsWith("Lpnn.Probes.Core.Selection.ReportingMeasure", StringComparison.Ordinal) ||
                     type.StartsWith("Lpnn.Probes.Core.Selection.ToleranceSearch", StringComparison.Ordinal)) return Search;
+                if (type.StartsWith("Lpnn.Probes.Core.Quality.StarRefills", StringComparison.Ordinal)) return Link;
                 if (type.StartsWith("Lpnn.Probes.Core.Quality.BatchedRefinementState", StringComparison.Ordinal))
                 {
                     if (method.Name == "Evaluate") return "refinement: seed";
@@ -136,8 +153,12 @@ public static class ApplyBench
     /// through Python's Embree (<see cref="PipeRaycaster"/>); null with no geometry either: leak-blind.</param>
     /// <param name="rememberSegments">False: the leak-aware refinement casts every segment anew (LeakWeighting without its memo).</param>
     /// <param name="expected">lpnn place's probes file on the same capture, compared with the probes written; null: none.</param>
-    public static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected)
+    /// <param name="refills">False: the refinement tetrahedralises every trial and commit instead of refilling the
+    /// candidates' stars (BatchedRefinementState.ForceTetrahedralisation; the code before them, for a comparison under the same load).</param>
+    public static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected,
+        bool refills = true)
     {
+        BatchedRefinementState.ForceTetrahedralisation = !refills;
         var read = Stopwatch.StartNew();
         var capture = CaptureFile.Read(capturePath);
         var grid = capture.ToGrid();
@@ -160,6 +181,7 @@ public static class ApplyBench
             Console.WriteLine("leak-aware (Avoid light leaks), segments " + memo + ", rays through Python's Embree over a pipe (lpnn place's own answers)");
         }
         else Console.WriteLine("leak-blind (Avoid light leaks off)");
+        if (!refills) Console.WriteLine("no star refills: every trial and commit of the refinement tetrahedralised (--no-refills)");
         // The first stage's two parts, timed alone (the Apply computes the reference twice: its evaluator's and its order's).
         read.Restart();
         var reference = ReferenceLighting.FromGrid(grid, capture.Sh);
@@ -209,6 +231,9 @@ public static class ApplyBench
             foreach (var pair in staged.Calls)
                 if (pair.Key.StartsWith("refinement: ", StringComparison.Ordinal)) refinementKinds.Add(pair.Key.Substring(12) + " " + pair.Value);
             refinementKinds.Sort(StringComparer.Ordinal);
+            Console.WriteLine(string.Format(CultureInfo.InvariantCulture,
+                "star refills' link tetrahedralisations (a hull vertex's few points each, not counted above): {0:N0}, {1:F1} s waiting (in the refinement's)",
+                staged.LinkCalls, staged.LinkWaiting));
             var search = selection.Tolerance;
             Console.WriteLine(string.Format(CultureInfo.InvariantCulture,
                 "probes kept: {0:N0} (written {1}x); search: {2:N0} probes after {3} evaluations; refinement from {4:N0} seed points, {5} commits " +

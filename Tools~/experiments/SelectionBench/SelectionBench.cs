@@ -17,7 +17,7 @@ using Lpnn.Probes.Core.Tests.Support;
 /// Last, one round of the batched refinement (Quality.BatchedRefinement), whose Unity-independent part is linear in the points.
 /// Usage: mono SelectionBench.exe [--batched] [n ...] (default 22 46 100: about 10⁴, 10⁵, 10⁶ points; --batched: only
 /// the batched refinement round); mono SelectionBench.exe --apply CAPTURE SCRIPT [--geometry TRIANGLES.bin | --embree
-/// SERVER.sh] [--no-memo] [--expect PROBES.json]: the whole default selection on a real capture with Python's
+/// SERVER.sh] [--no-memo] [--no-refills] [--expect PROBES.json]: the whole default selection on a real capture with Python's
 /// tetrahedraliser, leak-aware over the level's triangles (C#) or Python's Embree when given either, compared with lpnn
 /// place's probes when given them (<see cref="ApplyBench"/>).</summary>
 public static class SelectionBench
@@ -38,21 +38,22 @@ public static class SelectionBench
         if (args.Length > 0 && args[0] == "--apply")
         {
             const string usage = "usage: SelectionBench.exe --apply CAPTURE TETRAHEDRALIZER.sh [--geometry TRIANGLES.bin | --embree SERVER.sh] [--no-memo] " +
-                                 "[--expect PROBES.json]";
+                                 "[--no-refills] [--expect PROBES.json]";
             if (args.Length < 3) throw new ArgumentException(usage);
             string geometry = null, embree = null, expected = null;
-            bool remember = true;
+            bool remember = true, refills = true;
             for (int a = 3; a < args.Length; a++)
             {
                 if (args[a] == "--geometry" && a + 1 < args.Length) geometry = args[++a];
                 else if (args[a] == "--embree" && a + 1 < args.Length) embree = args[++a];
                 else if (args[a] == "--expect" && a + 1 < args.Length) expected = args[++a];
                 else if (args[a] == "--no-memo") remember = false;
+                else if (args[a] == "--no-refills") refills = false;
                 else throw new ArgumentException(usage + "; got " + args[a]);
             }
             if (geometry != null && embree != null) throw new ArgumentException("--geometry or --embree, not both");
             if (!remember && geometry == null && embree == null) throw new ArgumentException("--no-memo needs --geometry or --embree (the leak-aware Apply)");
-            return ApplyBench.Run(args[1], args[2], ApplyBench.Tolerance, geometry, embree, remember, expected);
+            return ApplyBench.Run(args[1], args[2], ApplyBench.Tolerance, geometry, embree, remember, expected, refills);
         }
         var sizes = new List<int>();
         bool batchedOnly = false;

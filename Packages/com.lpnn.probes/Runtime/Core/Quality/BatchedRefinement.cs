@@ -23,7 +23,8 @@ namespace Lpnn.Probes.Core.Quality
     /// every cost is fresh), capped by the count, or the longest prefix that keeps the error sum within τ·N (nothing
     /// committed: with a tolerance and every cost fresh, stop; else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
     /// (a hull vertex's effect on points outside, not attributed) brings the dearest removed probes back, locked.
-    /// Each round: two tetrahedralisations of the probes; only the points whose stencil held a removed probe are interpolated
+    /// Each round: the trial's and the committed set's tetrahedra derived from the candidates' star refills, not tetrahedralised
+    /// (<see cref="BatchedRefinementState"/>, <see cref="StarRefills"/>); only the points whose stencil held a removed probe are interpolated
     /// again (the tie-broken Delaunay is unique: every other tetrahedron survives a removal, and a point outside the hull
     /// keeps its nearest hull point unless that point's triangle had a removed vertex).</summary>
     public static class BatchedRefinement

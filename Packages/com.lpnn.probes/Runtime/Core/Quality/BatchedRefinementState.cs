@@ -4,14 +4,17 @@ using System.Numerics;
 namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>One probe set of <see cref="BatchedRefinement"/> evaluated (Documentation~/quality.md §5.3): per point its
-    /// error, the probes its stencil weighs and every probe its stencil touches; the Delaunay graph; the error sum. A trial
-    /// (<see cref="RemovalCosts"/>) is interpolated only at the points whose stencil weighs a candidate, and the set
-    /// without some probes (<see cref="Without"/>) only at the points whose stencil touched one: the tie-broken Delaunay
-    /// is unique, so every other tetrahedron survives a removal, and a point outside the shrinking hull keeps its nearest
-    /// hull point unless that point's triangle had a removed vertex. Port of lpnn/quality/placement/batched_state.py, except that
-    /// the set without some probes is tetrahedralised again (Unity's native tetrahedraliser) rather than derived.
-    /// With a <see cref="LeakWeighting"/> every error the state holds, sums and compares is the weighted one, and trials and
-    /// removals keep it, as the Python state does.</summary>
+    /// error, the probes its stencil weighs and every probe its stencil touches; the tetrahedra and their Delaunay graph;
+    /// the error sum. A trial (<see cref="RemovalCosts"/>) is interpolated only at the points whose stencil weighs a
+    /// candidate, and the set without some probes (<see cref="Without"/>) only at the points whose stencil touched one:
+    /// the tie-broken Delaunay is unique, so every other tetrahedron survives a removal, and a point outside the shrinking
+    /// hull keeps its nearest hull point unless that point's triangle had a removed vertex. For the same reason neither
+    /// tetrahedralises the remaining probes: the trial refills each candidate's star from its link
+    /// (<see cref="StarRefills"/>) and both derive their tetrahedra from this set's and the refills
+    /// (<see cref="TetrahedraAfterRemoval"/>); only when a refill or the result is refused is the set tetrahedralised
+    /// (the <see cref="ITetrahedralizer"/>, Unity's native one in the editor). Port of
+    /// lpnn/quality/placement/batched_state.py. With a <see cref="LeakWeighting"/> every error the state holds, sums and
+    /// compares is the weighted one, and trials and removals keep it, as the Python state does.</summary>
     internal sealed class BatchedRefinementState
     {
         internal int[] Probes;      // sorted evaluation point indices
@@ -22,6 +25,34 @@ namespace Lpnn.Probes.Core.Quality
         internal int[] EdgeTarget;  // neighbour point indices
         internal double ErrorSum;
         internal LeakWeighting Leaks;  // null: plain errors
+        internal TetrahedralMesh Mesh;  // the probes' tetrahedra (indices into Probes)
+        internal RefillCounts Counts;  // shared by every state of one refinement
+
+        /// <summary>The last trial's refills (null: it was tetrahedralised), from which <see cref="Without"/> derives the
+        /// committed set's tetrahedra.</summary>
+        private StarRefills trialRefills;
+
+        /// <summary>Tests and the Apply bench's --no-refills only: every trial and commit tetrahedralises the remaining
+        /// probes, as before the refills (the refinement must then keep the same probes). Per thread, so that a test cannot
+        /// leak it into another's run.</summary>
+        [System.ThreadStatic] internal static bool ForceTetrahedralisation;
+
+        /// <summary>What the refills saved and cost in one refinement.</summary>
+        internal sealed class RefillCounts
+        {
+            /// <summary>Trials and commits whose tetrahedra were derived from refills.</summary>
+            public int Derived;
+            /// <summary>Trials and commits that tetrahedralised the remaining probes (a refill or its result refused).</summary>
+            public int Tetrahedralised;
+            /// <summary>Tetrahedralisations of a single star's link (a few points each, <see cref="StarRefills"/>).</summary>
+            public int LinkTetrahedralisations;
+            /// <summary>Whether the first trial derived from refills had the tetrahedraliser's own tetrahedra for the same
+            /// probes (null: not checked yet). The refills break cospherical ties as Python's tetrahedralisation does
+            /// (<see cref="TieBreak"/>); a tetrahedraliser that breaks them otherwise (Unity's native one may, issue 31; the
+            /// tests' Bowyer–Watson on a lattice does) would see a mesh of its own ties outside the stars and ours inside,
+            /// whose errors its final check need not confirm, so that refinement tetrahedralises every set as before.</summary>
+            public bool? RefillsAgree;
+        }
 
         /// <summary>Each candidate's removal cost into <paramref name="cost"/>: the summed error change (ascending point
         /// order) at the points whose stencil weighed it, plus its own new error. The trial (<paramref name="remaining"/>:
@@ -47,7 +78,8 @@ namespace Lpnn.Probes.Core.Quality
             }
             var trialErrors = new double[n];
             var seen = Leaks == null ? null : new StencilLog();
-            PlacementError.InterpolatePoints(reference, remaining, Tetrahedralize(reference, tetrahedralizer, remaining), attributed.ToArray(),
+            var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
+            PlacementError.InterpolatePoints(reference, remaining, trial, attributed.ToArray(),
                 (int p, ref Stencil stencil, double[] interpolated) =>
                 {
                     trialErrors[p] = PointError(reference, p, interpolated);
@@ -55,6 +87,51 @@ namespace Lpnn.Probes.Core.Quality
                 });
             seen?.Weigh(reference, remaining, Leaks, trialErrors);
             foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - Errors[p];
+        }
+
+        /// <summary>The trial's tetrahedra from the candidates' star refills (kept for <see cref="Without"/>), or null when
+        /// a refill or the result is refused (or <see cref="ForceTetrahedralisation"/>).</summary>
+        private TetrahedralMesh RefilledTrial(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] remaining, int[] candidates)
+        {
+            trialRefills = null;
+            if (ForceTetrahedralisation || Counts.RefillsAgree == false) return null;
+            var refills = StarRefills.Of(reference, tetrahedralizer, Probes, Mesh, EdgeStart, EdgeTarget, candidates, out int linkCalls);
+            Counts.LinkTetrahedralisations += linkCalls;
+            if (refills == null) return null;
+            var removed = new bool[reference.Count];
+            foreach (int c in candidates) removed[c] = true;
+            var mesh = Derived(reference, removed, remaining, refills.Tetrahedra, refills.Owners);
+            if (mesh == null) return null;
+            if (Counts.RefillsAgree == null)  // once per refinement: one more tetrahedralisation (RefillCounts.RefillsAgree)
+            {
+                var fresh = Tetrahedralize(reference, tetrahedralizer, remaining);
+                Counts.RefillsAgree = mesh.HasTheTetrahedraOf(fresh);
+                if (Counts.RefillsAgree == false) return fresh;
+            }
+            trialRefills = refills;
+            return mesh;
+        }
+
+        /// <summary>The mesh of <paramref name="remaining"/> from this set's tetrahedra and the refills of the
+        /// <paramref name="removed"/> probes' stars, or null when <see cref="TetrahedraAfterRemoval"/> or the mesh
+        /// refuses them. Counted either way.</summary>
+        private TetrahedralMesh Derived(ReferenceLighting reference, bool[] removed, int[] remaining, int[] added, int[] owners)
+        {
+            int[] tetrahedra = TetrahedraAfterRemoval.Derive(reference.Local, Probes, Mesh, removed, remaining, added, owners);
+            TetrahedralMesh mesh = null;
+            if (tetrahedra != null)
+            {
+                try
+                {
+                    mesh = TetrahedralMesh.Build(PlacementError.ProbePoints(reference, remaining), tetrahedra);
+                }
+                catch (PlacementErrorException)
+                {
+                    mesh = null;  // e.g. a face in three tetrahedra: tetrahedralise instead
+                }
+            }
+            if (mesh != null) Counts.Derived++;
+            return mesh;
         }
 
         /// <summary>The sorted <paramref name="probes"/> without <paramref name="removed"/>, in order.</summary>
@@ -76,15 +153,17 @@ namespace Lpnn.Probes.Core.Quality
             int n = reference.Count;
             var state = new BatchedRefinementState
             {
-                Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n], Leaks = leaks
+                Probes = probes, Errors = new double[n], Owners = new int[4 * n], Touched = new int[4 * n], Leaks = leaks,
+                Counts = new RefillCounts()
             };
             for (int i = 0; i < 4 * n; i++) state.Owners[i] = state.Touched[i] = -1;
-            Relocate(reference, tetrahedralizer, state, null);
+            Relocate(reference, state, state.Tetrahedralize(reference, tetrahedralizer, probes), null);
             return state;
         }
 
         /// <summary>The state of these probes without <paramref name="removed"/>: only the points whose
-        /// stencil touched a removed probe (and the removed themselves) are interpolated again (class text).</summary>
+        /// stencil touched a removed probe (and the removed themselves) are interpolated again, through tetrahedra derived
+        /// from the last trial's refills when <paramref name="removed"/> are among its candidates (class text).</summary>
         internal BatchedRefinementState Without(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] removed)
         {
             int n = reference.Count;
@@ -104,22 +183,38 @@ namespace Lpnn.Probes.Core.Quality
             var next = new BatchedRefinementState
             {
                 Probes = ProbesWithout(Probes, removed, n), Errors = (double[])Errors.Clone(),
-                Owners = (int[])Owners.Clone(), Touched = (int[])Touched.Clone(), Leaks = Leaks
+                Owners = (int[])Owners.Clone(), Touched = (int[])Touched.Clone(), Leaks = Leaks, Counts = Counts
             };
-            Relocate(reference, tetrahedralizer, next, affected.ToArray());
+            TetrahedralMesh mesh = null;
+            if (trialRefills != null && AmongCandidates(removed, trialRefills.Candidates, n))
+            {
+                trialRefills.OfRemoved(gone, out int[] added, out int[] owners);
+                mesh = Derived(reference, gone, next.Probes, added, owners);
+            }
+            Relocate(reference, next, mesh ?? Tetrahedralize(reference, tetrahedralizer, next.Probes), affected.ToArray());
             return next;
         }
 
-        /// <summary>Tetrahedralises the state's probes and interpolates <paramref name="points"/> (ascending, none a probe;
-        /// null: every point that is not a probe) into its errors, owners and touched probes; then its edges and error sum.</summary>
-        private static void Relocate(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, BatchedRefinementState state, int[] points)
+        private static bool AmongCandidates(int[] removed, int[] candidates, int n)
+        {
+            var candidate = new bool[n];
+            foreach (int c in candidates) candidate[c] = true;
+            foreach (int r in removed)
+                if (!candidate[r]) return false;
+            return true;
+        }
+
+        /// <summary>Interpolates <paramref name="points"/> (ascending, none a probe; null: every point that is not a probe)
+        /// through <paramref name="mesh"/> (the state's probes') into its errors, owners and touched probes; then its
+        /// edges and error sum.</summary>
+        private static void Relocate(ReferenceLighting reference, BatchedRefinementState state, TetrahedralMesh mesh, int[] points)
         {
             int[] probes = state.Probes;
-            int[] tetrahedra = Tetrahedralize(reference, tetrahedralizer, probes);
+            state.Mesh = mesh;
             double[] errors = state.Errors;
             int[] owners = state.Owners, touched = state.Touched;
             var seen = state.Leaks == null ? null : new StencilLog();
-            PlacementError.InterpolatePoints(reference, probes, tetrahedra, points, (int p, ref Stencil stencil, double[] interpolated) =>
+            PlacementError.InterpolatePoints(reference, probes, mesh, points, (int p, ref Stencil stencil, double[] interpolated) =>
             {
                 errors[p] = PointError(reference, p, interpolated);
                 seen?.Add(p, stencil);
@@ -136,14 +231,17 @@ namespace Lpnn.Probes.Core.Quality
             double sum = 0;
             foreach (double e in errors) sum += e;
             state.ErrorSum = sum;
-            Edges(tetrahedra, probes, out state.EdgeStart, out state.EdgeTarget);
+            Edges(mesh.Tetrahedra, probes, out state.EdgeStart, out state.EdgeTarget);
         }
 
-        private static int[] Tetrahedralize(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
+        /// <summary>The probes tetrahedralised as a whole (the seed; a trial or commit whose refills were refused).</summary>
+        private TetrahedralMesh Tetrahedralize(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes)
         {
+            Counts.Tetrahedralised++;
+            ProbeIndices.Check(probes, reference.Count);
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
-            return tetrahedralizer.Tetrahedralize(positions);
+            return TetrahedralMesh.Build(PlacementError.ProbePoints(reference, probes), tetrahedralizer.Tetrahedralize(positions));
         }
 
         /// <summary>The points an interpolation visited and their stencils, for the leak weighting after it.</summary>

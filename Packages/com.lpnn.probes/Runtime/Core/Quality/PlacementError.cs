@@ -45,7 +45,13 @@ namespace Lpnn.Probes.Core.Quality
         internal static void InterpolatePoints(ReferenceLighting reference, int[] probes, int[] tetrahedra, int[] points, PointVisitor visit)
         {
             ProbeIndices.Check(probes, reference.Count);
-            var mesh = TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra);
+            InterpolatePoints(reference, probes, TetrahedralMesh.Build(ProbePoints(reference, probes), tetrahedra), points, visit);
+        }
+
+        /// <summary>As the overload, through a built <paramref name="mesh"/> of <paramref name="probes"/> (batched refinement
+        /// keeps each set's mesh to derive the next one from it).</summary>
+        internal static void InterpolatePoints(ReferenceLighting reference, int[] probes, TetrahedralMesh mesh, int[] points, PointVisitor visit)
+        {
             var locator = new TetrahedronLocator(mesh);
             var hull = new HullProjector(mesh.Points, mesh.HullFaces, mesh.HullFaceOwners);
 

@@ -31,6 +31,12 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>E(p, d) per point: 42 values, direction d of D14 major, then r, g, b.</summary>
         internal double[] Light { get; }
 
+        private double[] _tieHeights;
+
+        /// <summary>Each point's tie-breaking height (<see cref="TieBreak"/>), computed on first use: only the batched
+        /// refinement's star refills need it (a k-d tree over every point for the spacing).</summary>
+        internal double[] TieHeights => _tieHeights ?? (_tieHeights = TieBreak.Heights(this));
+
         private ReferenceLighting(Vector3[] positions, double[] local, LocalFrame frame, double[] light, double sceneScale)
         {
             _positions = positions;

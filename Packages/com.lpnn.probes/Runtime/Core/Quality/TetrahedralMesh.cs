@@ -69,6 +69,38 @@ namespace Lpnn.Probes.Core.Quality
             return new TetrahedralMesh(points, tets, inverse.ToArray(), hull, owners);
         }
 
+        /// <summary>Whether <paramref name="other"/> (over the same probes) has the same tetrahedra, each as a set of four
+        /// probes: whatever their order and their vertices' order (a derived mesh against a fresh tetrahedralisation).</summary>
+        internal bool HasTheTetrahedraOf(TetrahedralMesh other)
+        {
+            if (other.Tetrahedra.Length != Tetrahedra.Length) return false;
+            long[] mine = SortedKeys(Tetrahedra), theirs = SortedKeys(other.Tetrahedra);
+            for (int k = 0; k < mine.Length; k++)
+                if (mine[k] != theirs[k]) return false;
+            return true;
+        }
+
+        /// <summary>Per tetrahedron two longs (its sorted vertices packed in pairs), the pairs in ascending order.</summary>
+        private static long[] SortedKeys(int[] tetrahedra)
+        {
+            var keys = new KeyValuePair<long, long>[tetrahedra.Length / 4];
+            var corners = new int[4];
+            for (int t = 0; t < keys.Length; t++)
+            {
+                Array.Copy(tetrahedra, 4 * t, corners, 0, 4);
+                Array.Sort(corners);
+                keys[t] = new KeyValuePair<long, long>(((long)corners[0] << 32) | (uint)corners[1], ((long)corners[2] << 32) | (uint)corners[3]);
+            }
+            Array.Sort(keys, (x, y) => x.Key != y.Key ? x.Key.CompareTo(y.Key) : x.Value.CompareTo(y.Value));
+            var flat = new long[2 * keys.Length];
+            for (int t = 0; t < keys.Length; t++)
+            {
+                flat[2 * t] = keys[t].Key;
+                flat[2 * t + 1] = keys[t].Value;
+            }
+            return flat;
+        }
+
         private static void CheckIndices(int[] tetrahedra, int probes)
         {
             for (int t = 0; t < tetrahedra.Length; t += 4)
@@ -92,9 +124,7 @@ namespace Lpnn.Probes.Core.Quality
             double e2x = p[3 * c] - p[3 * a], e2y = p[3 * c + 1] - p[3 * a + 1], e2z = p[3 * c + 2] - p[3 * a + 2];
             double e3x = p[3 * d] - p[3 * a], e3y = p[3 * d + 1] - p[3 * a + 1], e3z = p[3 * d + 2] - p[3 * a + 2];
             double det = e1x * (e2y * e3z - e2z * e3y) + e1y * (e2z * e3x - e2x * e3z) + e1z * (e2x * e3y - e2y * e3x);
-            double edgeProduct = Math.Sqrt((e1x * e1x + e1y * e1y + e1z * e1z) * (e2x * e2x + e2y * e2y + e2z * e2z) *
-                                           (e3x * e3x + e3y * e3y + e3z * e3z));
-            if (!(Math.Abs(det) > FlatRelativeVolume * edgeProduct)) return;
+            if (IsFlat(det, e1x, e1y, e1z, e2x, e2y, e2z, e3x, e3y, e3z)) return;
             if (det < 0)
             {
                 // Swapping the last two vertices (and edges) flips the orientation.
@@ -113,6 +143,27 @@ namespace Lpnn.Probes.Core.Quality
             AddRow(inverse, e2x, e2y, e2z, e3x, e3y, e3z, det);
             AddRow(inverse, e3x, e3y, e3z, e1x, e1y, e1z, det);
             AddRow(inverse, e1x, e1y, e1z, e2x, e2y, e2z, det);
+        }
+
+        /// <summary>6 × the signed volume of the tetrahedron (a, b, c, d) of <paramref name="p"/> (x, y, z per index), and
+        /// whether it is flat by <see cref="FlatRelativeVolume"/>: the rule <see cref="Build"/> drops tetrahedra by, for
+        /// tetrahedra made outside a tetrahedralisation (the batched refinement's star refills).</summary>
+        internal static double Volume6(double[] p, int a, int b, int c, int d, out bool flat)
+        {
+            double e1x = p[3 * b] - p[3 * a], e1y = p[3 * b + 1] - p[3 * a + 1], e1z = p[3 * b + 2] - p[3 * a + 2];
+            double e2x = p[3 * c] - p[3 * a], e2y = p[3 * c + 1] - p[3 * a + 1], e2z = p[3 * c + 2] - p[3 * a + 2];
+            double e3x = p[3 * d] - p[3 * a], e3y = p[3 * d + 1] - p[3 * a + 1], e3z = p[3 * d + 2] - p[3 * a + 2];
+            double det = e1x * (e2y * e3z - e2z * e3y) + e1y * (e2z * e3x - e2x * e3z) + e1z * (e2x * e3y - e2y * e3x);
+            flat = IsFlat(det, e1x, e1y, e1z, e2x, e2y, e2z, e3x, e3y, e3z);
+            return det;
+        }
+
+        private static bool IsFlat(double det, double e1x, double e1y, double e1z, double e2x, double e2y, double e2z,
+            double e3x, double e3y, double e3z)
+        {
+            double edgeProduct = Math.Sqrt((e1x * e1x + e1y * e1y + e1z * e1z) * (e2x * e2x + e2y * e2y + e2z * e2z) *
+                                           (e3x * e3x + e3y * e3y + e3z * e3z));
+            return !(Math.Abs(det) > FlatRelativeVolume * edgeProduct);
         }
 
         /// <summary>Appends (u × v) / det.</summary>
