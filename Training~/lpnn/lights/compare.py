@@ -27,6 +27,7 @@ error (lpnn.quality.metric.metric.irradiance_error; its scene scale S from the s
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Callable
 
 import numpy as np
 
@@ -48,6 +49,8 @@ SIGNIFICANT_SHARE = 0.01
 BYTE_MAX = 255.0
 GRID_AMBIENT_FUDGE = 0.125  # q3map2's "keep ambient up" share of the directed light (id q3map: 0.25)
 NODES_PER_CHUNK = 2048
+# relight_grid's `culled(nodes (C, 3), sources (K, 3), lit (C, K)) -> (C, K)`: pairs whose light does not reach a node
+PairCull = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -200,32 +203,56 @@ def relight_stored_grid(bsp: Bsp, stored: GridNodes, rig: Rig, raycaster: Embree
 
 
 def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
-                 emitters: Emitters | None = None, inhibit: float = 0.0) -> GridNodes:
+                 emitters: Emitters | None = None, inhibit: float = 0.0,
+                 culled: PairCull | None = None) -> GridNodes:
     """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights (and the
     emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule; occluders within
     `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS). The rig's
-    spotlights light the nodes with their cone (as the emitters' spotlights)."""
-    if rig.spot.any():
-        rig, emitters = _spots_as_emitters(rig, emitters)
-    lights = rig.quake_positions()
-    emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
+    spotlights light the nodes with their cone (as the emitters' spotlights). `culled(nodes, sources, lit)`, when
+    given, names the (node, light) pairs whose light q3map2 would not let through ((C, K) bool; sources as
+    grid_contributions gives them; `lit` (C, K): the pairs that give light before it)."""
     ambient = np.zeros((len(nodes), 3))
     directed = np.zeros((len(nodes), 3))
     direction = np.zeros((len(nodes), 3))
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
-        colour, unit = visible_light(nodes[chunk], lights, emitted, raycaster, inhibit)  # (C, J, 3) each
-        if emitters is not None:
-            more, more_unit = emitters_at_points(nodes[chunk], emitters, raycaster, inhibit)
-            colour, unit = np.concatenate([colour, more], axis=1), np.concatenate([unit, more_unit], axis=1)
-        main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
-        length = np.linalg.norm(main, axis=1, keepdims=True)
-        main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)
-        cosine = np.einsum("cjk,ck->cj", unit, main)
-        d = np.einsum("cj,cjk->ck", np.maximum(0.0, cosine), colour)
-        a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + GRID_AMBIENT_FUDGE * d + rig.ambient
-        ambient[chunk], directed[chunk], direction[chunk] = _clamped(a), _clamped(d), main
+        colour, unit, sources = grid_contributions(nodes[chunk], rig, raycaster, emitters, inhibit)
+        if culled is not None:
+            colour = np.where(culled(nodes[chunk], sources, colour.max(axis=2) > 0)[..., None], 0.0, colour)
+        ambient[chunk], directed[chunk], direction[chunk] = combine_grid(colour, unit, rig.ambient)
     return GridNodes(positions=nodes, ambient=ambient, directed=directed, direction=direction)
+
+
+def grid_contributions(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None, emitters: Emitters | None = None,
+                       inhibit: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What every light of the rig (and the emitters) gives each node, light.c LightContributionToPoint: bytes
+    (C, K, 3), unit directions toward the light (C, K, 3), and the K sources' positions (K, 3, Quake units: the point
+    lights, then the emitters' spotlights, backsplash lights and area lights' origins, then NaN for each sun)."""
+    if rig.spot.any():
+        rig, emitters = _spots_as_emitters(rig, emitters)
+    lights = rig.quake_positions()
+    emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
+    colour, unit = visible_light(nodes, lights, emitted, raycaster, inhibit)  # (C, J, 3) each
+    sources = [lights]
+    if emitters is not None:
+        more, more_unit = emitters_at_points(nodes, emitters, raycaster, inhibit)
+        colour, unit = np.concatenate([colour, more], axis=1), np.concatenate([unit, more_unit], axis=1)
+        sources += [emitters.spots.positions, emitters.splash_positions, emitters.areas.origins,
+                    np.full((emitters.suns.count, 3), np.nan)]
+    return colour, unit, np.concatenate(sources).reshape(-1, 3)
+
+
+def combine_grid(colour: np.ndarray, unit: np.ndarray, ambient: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """TraceGrid's sum of the contributions (C, K, 3) from unit directions (C, K, 3): (ambient A, directed D, direction
+    l), each (C, 3): l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c + 0.125 D +
+    `ambient`, A and D clamped to 255 keeping the hue."""
+    main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
+    length = np.linalg.norm(main, axis=1, keepdims=True)
+    main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)
+    cosine = np.einsum("cjk,ck->cj", unit, main)
+    d = np.einsum("cj,cjk->ck", np.maximum(0.0, cosine), colour)
+    a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + GRID_AMBIENT_FUDGE * d + ambient
+    return _clamped(a), _clamped(d), main
 
 
 def rig_spots(rig: Rig) -> Spots:
