@@ -17,9 +17,10 @@ Light grid re-lit from a rig vs the stored grid, at the stored grid's valid node
 every light visible from the node (an Embree shadow ray) contributes c = colour 7500 I / max(r, 16)^2
 bytes (no cosine, contributions of 1 byte or less dropped), combined as q3map2 builds its grid
 (quake3-bsp.md §5: l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c
-+ 0.125 D + the rig's ambient, clamped to 255 keeping the hue). The ambient is in the grid as id's
-q3map puts it there (q3map2 sets its grid up before reading the ambient): the levels' stored grids
-hold it (oa_bases3, from its real lights: error 0.90 without, 0.37 with). Both grids are shaded as the engine does,
++ 0.125 D, clamped to 255 keeping the hue). The rig's ambient is not in it: q3map2 fills its grid with
+the ambient before it reads worldspawn's `_ambient` (light.c LightWorld calls SetupGrid, which copies ambientColor
+into every raw grid point, before it sets ambientColor), so its grids hold none (oa_bases3, from its real lights:
+error 0.039 without, 0.388 with; Tools~/experiments/lights-grid-gap.py). Both grids are shaded as the engine does,
 a + d max(0, n.l), in the 14 directions D14 and compared with quality.md's relative irradiance
 error (lpnn.quality.metric.metric.irradiance_error; its scene scale S from the stored grid's SH).
 """
@@ -27,7 +28,6 @@ error (lpnn.quality.metric.metric.irradiance_error; its scene scale S from the s
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Callable
 
 import numpy as np
 
@@ -49,8 +49,6 @@ SIGNIFICANT_SHARE = 0.01
 BYTE_MAX = 255.0
 GRID_AMBIENT_FUDGE = 0.125  # q3map2's "keep ambient up" share of the directed light (id q3map: 0.25)
 NODES_PER_CHUNK = 2048
-# relight_grid's `culled(nodes (C, 3), sources (K, 3), lit (C, K)) -> (C, K)`: pairs whose light does not reach a node
-PairCull = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -203,23 +201,20 @@ def relight_stored_grid(bsp: Bsp, stored: GridNodes, rig: Rig, raycaster: Embree
 
 
 def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
-                 emitters: Emitters | None = None, inhibit: float = 0.0,
-                 culled: PairCull | None = None) -> GridNodes:
+                 emitters: Emitters | None = None, inhibit: float = 0.0) -> GridNodes:
     """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights (and the
-    emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule; occluders within
+    emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule, without the rig's ambient (q3map2's
+    grid holds none, module docstring); occluders within
     `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS). The rig's
-    spotlights light the nodes with their cone (as the emitters' spotlights). `culled(nodes, sources, lit)`, when
-    given, names the (node, light) pairs whose light q3map2 would not let through ((C, K) bool; sources as
-    grid_contributions gives them; `lit` (C, K): the pairs that give light before it)."""
+    spotlights light the nodes with their cone (as the emitters' spotlights)."""
     ambient = np.zeros((len(nodes), 3))
     directed = np.zeros((len(nodes), 3))
     direction = np.zeros((len(nodes), 3))
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
-        colour, unit, sources = grid_contributions(nodes[chunk], rig, raycaster, emitters, inhibit)
-        if culled is not None:
-            colour = np.where(culled(nodes[chunk], sources, colour.max(axis=2) > 0)[..., None], 0.0, colour)
-        ambient[chunk], directed[chunk], direction[chunk] = combine_grid(colour, unit, rig.ambient)
+        colour, unit, _ = grid_contributions(nodes[chunk], rig, raycaster, emitters, inhibit)
+        # no rig ambient: q3map2's grid holds none (module docstring)
+        ambient[chunk], directed[chunk], direction[chunk] = combine_grid(colour, unit, np.zeros(3))
     return GridNodes(positions=nodes, ambient=ambient, directed=directed, direction=direction)
 
 
@@ -242,16 +237,17 @@ def grid_contributions(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster |
     return colour, unit, np.concatenate(sources).reshape(-1, 3)
 
 
-def combine_grid(colour: np.ndarray, unit: np.ndarray, ambient: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def combine_grid(colour: np.ndarray, unit: np.ndarray, ambient: np.ndarray,
+                 fudge: float = GRID_AMBIENT_FUDGE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """TraceGrid's sum of the contributions (C, K, 3) from unit directions (C, K, 3): (ambient A, directed D, direction
-    l), each (C, 3): l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c + 0.125 D +
+    l), each (C, 3): l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c + `fudge` D +
     `ambient`, A and D clamped to 255 keeping the hue."""
     main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
     length = np.linalg.norm(main, axis=1, keepdims=True)
     main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)
     cosine = np.einsum("cjk,ck->cj", unit, main)
     d = np.einsum("cj,cjk->ck", np.maximum(0.0, cosine), colour)
-    a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + GRID_AMBIENT_FUDGE * d + ambient
+    a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + fudge * d + ambient
     return _clamped(a), _clamped(d), main
 
 
