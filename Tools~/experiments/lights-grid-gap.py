@@ -4,8 +4,8 @@
   PYTHONPATH=Training~ python Tools~/experiments/lights-grid-gap.py LEVEL [LEVEL ...]
 
 The level's own lights, spotlights, surface lights, suns and ambient re-light the stored grid's valid nodes as
-evaluate.py's "real rig" row does (compare.relight_stored_grid); each node's error is quality.md's relative
-irradiance error over D14 (its mean over nodes is the row's grid error). Per level it prints:
+evaluate.py's "real rig" row does (compare.relight_stored_grid: the same contributions and sum); each node's error
+is quality.md's relative irradiance error over D14 (its mean over nodes is the row's grid error). Per level it prints:
 
 1. the grid error, then one line per node group: the group's share of the nodes, its mean error and its share of the
    summed error. Groups: where the node is sampled (open; moved out of solid by TraceGrid's nudge; still in solid),
@@ -16,7 +16,9 @@ irradiance error over D14 (its mean over nodes is the row's grid error). Per lev
    stored), the mean luminance of A and D, stored and re-lit, and the median angle between the directions;
 3. q3map2's trace rules that the grid rule leaves out (light_trace.c TraceLine_r: a shadow ray through a BSP leaf of
    cluster -1, structural solid or the void, is blocked whatever the inhibit radius; light.c
-   LightContributionToPoint: a light outside the node's PVS is skipped): the grid error with each, and both.
+   LightContributionToPoint: a light outside the node's PVS is skipped): the grid error with each, and both;
+4. the grid error with the ambient summed otherwise: with and without the worldspawn ambient (q3map2's grid holds
+   none, compare.py), and 0, 0.125 (q3map2 since 2003-07-05) or 0.25 (id's q3map, q3map2 before) of D added to A.
 
 Every number is deterministic (no random numbers). Needs the shader scripts (Tools~/install-openarena-textures.sh).
 """
@@ -202,7 +204,7 @@ def level_report(name: str) -> list[str]:
     scale = scene_scale(ambient_plus_directed(stored.ambient, stored.directed, stored.direction).reshape(-1, 27))
     errors = per_node_errors(stored, relit, scale)
     lines = [f"{level.name}: {len(errors):,} valid nodes, grid error {errors.mean():.3f} "
-             f"(compare_grid: {compare_grid(stored, relit).mean_error:.3f})"]
+             f"(compare_grid: {compare_grid(stored, relit).mean_error:.3f}), p95 {np.percentile(errors, 95):.3f}"]
 
     moved = ~is_open(stored.positions)
     unresolved = ~is_open(samples)

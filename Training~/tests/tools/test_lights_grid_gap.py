@@ -33,13 +33,15 @@ def test_the_groups_partition_the_nodes_and_the_error_is_compare_grids(tmp_path:
     level = tmp_path / "lit.bsp"
     level.write_bytes(lit_level().to_bytes())
     lines = run_experiment("lights-grid-gap.py", str(level)).stdout.splitlines()
-    head = re.fullmatch(r"lit: (\d+) valid nodes, grid error ([0-9.]+) \(compare_grid: ([0-9.]+)\)", lines[0])
+    head = re.fullmatch(r"lit: (\d+) valid nodes, grid error ([0-9.]+) \(compare_grid: ([0-9.]+)\), p95 [0-9.]+", lines[0])
     assert head is not None and int(head.group(1)) > 0 and head.group(2) == head.group(3)
     assert abs(shares(lines, ["sampled where", "moved out of", "still in solid"]) - 100.0) < 0.2
     assert abs(shares(lines, ["over-lit", "under-lit"]) - 100.0) < 0.2
     assert abs(shares(lines, ["nearest light <", "nearest light 96", "nearest light >="]) - 100.0) < 0.2
     assert any(line.strip().startswith("parts: only the re-lit A") for line in lines)
     assert sum("with q3map2's trace" in line for line in lines) == 3
+    sums = next(line for line in lines if "the ambient's sum" in line)
+    assert f"without it, 0.125 D: {head.group(2)}" in sums  # today's rule: q3map2's, no worldspawn ambient in the grid
 
 
 def test_the_bsp_walk_blocks_a_segment_that_leaves_the_map(tmp_path: Path) -> None:
