@@ -33,7 +33,7 @@ import numpy as np
 from lpnn.core.features import scene_scale
 from lpnn.core.sh import ambient_plus_directed
 from lpnn.lights.compare import (GRID_AMBIENT_FUDGE, NODES_PER_CHUNK, GridNodes, combine_grid, compare_grid,
-                                 grid_contributions, grid_inhibit, grid_sample_points, shade, stored_grid)
+                                 grid_contributions, grid_inhibit, grid_sample_points, q3map2_grid, shade, stored_grid)
 from lpnn.lights.pipeline import level_emitters, point_lights_of
 from lpnn.lights.rig import Rig, entity_lights
 from lpnn.lights.shadows import shadow_raycaster
@@ -191,7 +191,7 @@ def level_report(name: str) -> list[str]:
         through_solid, outside_pvs = trace_culls(walk, pvs, nodes, sources, colour.max(axis=2) > 0)
         for rule, dropped in zip(rules, (None, through_solid, outside_pvs, through_solid | outside_pvs)):
             kept = colour if dropped is None else np.where(dropped[..., None], 0.0, colour)
-            parts[rule].append(combine_grid(kept, unit, rig.ambient))
+            parts[rule].append(q3map2_grid(kept, unit))
         for rule in sums:
             ambient = rig.ambient if rule.startswith("with the") else np.zeros(3)
             parts[rule].append(combine_grid(colour, unit, ambient, float(rule.split(", ")[1].split()[0])))

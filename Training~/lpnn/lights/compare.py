@@ -213,8 +213,7 @@ def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
         colour, unit, _ = grid_contributions(nodes[chunk], rig, raycaster, emitters, inhibit)
-        # no rig ambient: q3map2's grid holds none (module docstring)
-        ambient[chunk], directed[chunk], direction[chunk] = combine_grid(colour, unit, np.zeros(3))
+        ambient[chunk], directed[chunk], direction[chunk] = q3map2_grid(colour, unit)
     return GridNodes(positions=nodes, ambient=ambient, directed=directed, direction=direction)
 
 
@@ -235,6 +234,11 @@ def grid_contributions(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster |
         sources += [emitters.spots.positions, emitters.splash_positions, emitters.areas.origins,
                     np.full((emitters.suns.count, 3), np.nan)]
     return colour, unit, np.concatenate(sources).reshape(-1, 3)
+
+
+def q3map2_grid(colour: np.ndarray, unit: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """combine_grid without the rig's ambient: q3map2's grid holds none (module docstring)."""
+    return combine_grid(colour, unit, np.zeros(3))
 
 
 def combine_grid(colour: np.ndarray, unit: np.ndarray, ambient: np.ndarray,

@@ -15,7 +15,10 @@ from tools_support import REPO, load_tool, run_experiment
 sys.path[:0] = [str(REPO / "Training~" / "tests" / "lights"), str(REPO / "Training~" / "tests" / "scenes")]
 from lit_bsp import lit_level  # noqa: E402  (the light-rig tests' synthetic level)
 
-from lpnn.lights.compare import grid_sample_points, stored_grid  # noqa: E402
+from lpnn.lights.compare import compare_grid, grid_sample_points, relight_stored_grid, stored_grid  # noqa: E402
+from lpnn.lights.pipeline import level_emitters, point_lights_of  # noqa: E402
+from lpnn.lights.rig import Rig, entity_lights  # noqa: E402
+from lpnn.lights.shadows import shadow_raycaster  # noqa: E402
 from lpnn.scenes.levels import load_level  # noqa: E402
 from lpnn.scenes.solid import SolidTester  # noqa: E402
 
@@ -29,12 +32,17 @@ def shares(lines: list[str], labels: list[str]) -> float:
     return total
 
 
-def test_the_groups_partition_the_nodes_and_the_error_is_compare_grids(tmp_path: Path) -> None:
+def test_the_groups_partition_the_nodes_and_the_error_is_the_yardsticks(tmp_path: Path) -> None:
+    """With a worldspawn ambient (which q3map2's grid leaves out), the first line's error is the one the evaluation's
+    yardstick computes through compare.relight_stored_grid."""
+    synthetic = lit_level()
+    synthetic.entities = synthetic.entities.replace('"classname" "worldspawn"', '"classname" "worldspawn"\n"ambient" "20"')
     level = tmp_path / "lit.bsp"
-    level.write_bytes(lit_level().to_bytes())
+    level.write_bytes(synthetic.to_bytes())
     lines = run_experiment("lights-grid-gap.py", str(level)).stdout.splitlines()
     head = re.fullmatch(r"lit: (\d+) valid nodes, grid error ([0-9.]+) \(compare_grid: ([0-9.]+)\), p95 [0-9.]+", lines[0])
     assert head is not None and int(head.group(1)) > 0 and head.group(2) == head.group(3)
+    assert head.group(2) == f"{yardstick_grid_error(level):.3f}"
     assert abs(shares(lines, ["sampled where", "moved out of", "still in solid"]) - 100.0) < 0.2
     assert abs(shares(lines, ["over-lit", "under-lit"]) - 100.0) < 0.2
     assert abs(shares(lines, ["nearest light <", "nearest light 96", "nearest light >="]) - 100.0) < 0.2
@@ -42,6 +50,20 @@ def test_the_groups_partition_the_nodes_and_the_error_is_compare_grids(tmp_path:
     assert sum("with q3map2's trace" in line for line in lines) == 3
     sums = next(line for line in lines if "the ambient's sum" in line)
     assert f"without it, 0.125 D: {head.group(2)}" in sums  # today's rule: q3map2's, no worldspawn ambient in the grid
+
+
+def yardstick_grid_error(path: Path) -> float:
+    """evaluate.py's real-rig grid error, through the library (lpnn.lights.compare), not the script."""
+    level = load_level(str(path))
+    real = entity_lights(level.bsp.entities, level.name)
+    lights = point_lights_of(real)
+    assert np.all(lights.ambient == 20.0)
+    rig = Rig.from_quake(lights.positions, lights.colours, lights.intensities, ambient=lights.ambient)
+    solid = SolidTester(level.bsp)
+    stored = stored_grid(level.bsp)
+    relit = relight_stored_grid(level.bsp, stored, rig, shadow_raycaster(level.bsp),
+                                lambda p: ~solid.solid_or_outside(p), level_emitters(level, real))
+    return compare_grid(stored, relit).mean_error
 
 
 def test_the_bsp_walk_blocks_a_segment_that_leaves_the_map(tmp_path: Path) -> None:
