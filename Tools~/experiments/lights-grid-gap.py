@@ -143,20 +143,21 @@ def group_line(label: str, member: np.ndarray, errors: np.ndarray) -> str:
 
 def scale_fit(stored: GridNodes, relit: GridNodes, ambient: np.ndarray, excluded: np.ndarray) -> str:
     """Least squares, in luminance over the nodes neither clamped nor dark: the stored D against the re-lit D
-    (D_stored = b D), and the stored A less the rig's ambient against the re-lit rule's two parts (A_stored - ambient
-    = x sum 0.25 (1 - dir.l) c + y D, the rule's x = 1, y = GRID_AMBIENT_FUDGE)."""
+    (D_stored = b D), and the stored A less the worldspawn `ambient` against the re-lit rule's two parts (A_stored -
+    ambient = x sum 0.25 (1 - dir.l) c + y D, the rule's x = 1, y = GRID_AMBIENT_FUDGE); a negative y says the stored
+    grid holds less than the worldspawn ambient."""
     used = ~excluded
     if used.sum() < 3:
         return "  scale fit: fewer than 3 unclamped lit nodes"
     d_stored, d_relit = stored.directed[used] @ LUMINANCE, relit.directed[used] @ LUMINANCE
     a_stored = stored.ambient[used] @ LUMINANCE - ambient @ LUMINANCE
-    spread = relit.ambient[used] @ LUMINANCE - ambient @ LUMINANCE - GRID_AMBIENT_FUDGE * d_relit
+    spread = relit.ambient[used] @ LUMINANCE - GRID_AMBIENT_FUDGE * d_relit  # the re-lit grid holds no ambient
     b = float(d_stored @ d_relit / (d_relit @ d_relit))
     (x, y), *_ = np.linalg.lstsq(np.stack([spread, d_relit], axis=1), a_stored, rcond=None)
     return (f"  scale fit over {used.sum():,} unclamped lit nodes ({used.mean():.0%}): D stored = {b:.2f} x D re-lit; "
             f"A stored - ambient = {x:.2f} x (the off-direction quarter) + {y:.3f} x D re-lit (the rule: 1 and "
-            f"{GRID_AMBIENT_FUDGE}); stored A / D {a_stored.sum() / d_stored.sum():.2f}, re-lit "
-            f"{(spread + GRID_AMBIENT_FUDGE * d_relit).sum() / d_relit.sum():.2f}")
+            f"{GRID_AMBIENT_FUDGE}); A / D stored {(stored.ambient[used] @ LUMINANCE).sum() / d_stored.sum():.2f}, "
+            f"re-lit {(relit.ambient[used] @ LUMINANCE).sum() / d_relit.sum():.2f}")
 
 
 def level_report(name: str) -> list[str]:
