@@ -17,9 +17,10 @@ Light grid re-lit from a rig vs the stored grid, at the stored grid's valid node
 every light visible from the node (an Embree shadow ray) contributes c = colour 7500 I / max(r, 16)^2
 bytes (no cosine, contributions of 1 byte or less dropped), combined as q3map2 builds its grid
 (quake3-bsp.md §5: l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c
-+ 0.125 D + the rig's ambient, clamped to 255 keeping the hue). The ambient is in the grid as id's
-q3map puts it there (q3map2 sets its grid up before reading the ambient): the levels' stored grids
-hold it (oa_bases3, from its real lights: error 0.90 without, 0.37 with). Both grids are shaded as the engine does,
++ 0.125 D, clamped to 255 keeping the hue). The rig's ambient is not in it: q3map2 fills its grid with
+the ambient before it reads worldspawn's `_ambient` (light.c LightWorld calls SetupGrid, which copies ambientColor
+into every raw grid point, before it sets ambientColor), so its grids hold none (oa_bases3, from its real lights:
+error 0.039 without, 0.388 with; Tools~/experiments/lights-grid-gap.py). Both grids are shaded as the engine does,
 a + d max(0, n.l), in the 14 directions D14 and compared with quality.md's relative irradiance
 error (lpnn.quality.metric.metric.irradiance_error; its scene scale S from the stored grid's SH).
 """
@@ -202,30 +203,56 @@ def relight_stored_grid(bsp: Bsp, stored: GridNodes, rig: Rig, raycaster: Embree
 def relight_grid(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None,
                  emitters: Emitters | None = None, inhibit: float = 0.0) -> GridNodes:
     """The grid q3map2 would store at `nodes` (Quake units) for the rig's point lights (and the
-    emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule; occluders within
+    emitters: spotlights, surface lights, emitters.py), light.c TraceGrid's rule, without the rig's ambient (q3map2's
+    grid holds none, module docstring); occluders within
     `inhibit` units of a node are ignored (TraceGrid's inhibitRadius, GRID_INHIBIT_RADIUS). The rig's
     spotlights light the nodes with their cone (as the emitters' spotlights)."""
-    if rig.spot.any():
-        rig, emitters = _spots_as_emitters(rig, emitters)
-    lights = rig.quake_positions()
-    emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
     ambient = np.zeros((len(nodes), 3))
     directed = np.zeros((len(nodes), 3))
     direction = np.zeros((len(nodes), 3))
     for start in range(0, len(nodes), NODES_PER_CHUNK):
         chunk = slice(start, start + NODES_PER_CHUNK)
-        colour, unit = visible_light(nodes[chunk], lights, emitted, raycaster, inhibit)  # (C, J, 3) each
-        if emitters is not None:
-            more, more_unit = emitters_at_points(nodes[chunk], emitters, raycaster, inhibit)
-            colour, unit = np.concatenate([colour, more], axis=1), np.concatenate([unit, more_unit], axis=1)
-        main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
-        length = np.linalg.norm(main, axis=1, keepdims=True)
-        main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)
-        cosine = np.einsum("cjk,ck->cj", unit, main)
-        d = np.einsum("cj,cjk->ck", np.maximum(0.0, cosine), colour)
-        a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + GRID_AMBIENT_FUDGE * d + rig.ambient
-        ambient[chunk], directed[chunk], direction[chunk] = _clamped(a), _clamped(d), main
+        colour, unit, _ = grid_contributions(nodes[chunk], rig, raycaster, emitters, inhibit)
+        ambient[chunk], directed[chunk], direction[chunk] = q3map2_grid(colour, unit)
     return GridNodes(positions=nodes, ambient=ambient, directed=directed, direction=direction)
+
+
+def grid_contributions(nodes: np.ndarray, rig: Rig, raycaster: EmbreeRaycaster | None, emitters: Emitters | None = None,
+                       inhibit: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What every light of the rig (and the emitters) gives each node, light.c LightContributionToPoint: bytes
+    (C, K, 3), unit directions toward the light (C, K, 3), and the K sources' positions (K, 3, Quake units: the point
+    lights, then the emitters' spotlights, backsplash lights and area lights' origins, then NaN for each sun)."""
+    if rig.spot.any():
+        rig, emitters = _spots_as_emitters(rig, emitters)
+    lights = rig.quake_positions()
+    emitted = rig.colours * rig.intensities[:, None] * POINT_SCALE  # (J, 3)
+    colour, unit = visible_light(nodes, lights, emitted, raycaster, inhibit)  # (C, J, 3) each
+    sources = [lights]
+    if emitters is not None:
+        more, more_unit = emitters_at_points(nodes, emitters, raycaster, inhibit)
+        colour, unit = np.concatenate([colour, more], axis=1), np.concatenate([unit, more_unit], axis=1)
+        sources += [emitters.spots.positions, emitters.splash_positions, emitters.areas.origins,
+                    np.full((emitters.suns.count, 3), np.nan)]
+    return colour, unit, np.concatenate(sources).reshape(-1, 3)
+
+
+def q3map2_grid(colour: np.ndarray, unit: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """combine_grid without the rig's ambient: q3map2's grid holds none (module docstring)."""
+    return combine_grid(colour, unit, np.zeros(3))
+
+
+def combine_grid(colour: np.ndarray, unit: np.ndarray, ambient: np.ndarray,
+                 fudge: float = GRID_AMBIENT_FUDGE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """TraceGrid's sum of the contributions (C, K, 3) from unit directions (C, K, 3): (ambient A, directed D, direction
+    l), each (C, 3): l = normalize(sum |c| dir), D = sum max(0, dir.l) c, A = sum 0.25 (1 - dir.l) c + `fudge` D +
+    `ambient`, A and D clamped to 255 keeping the hue."""
+    main = np.einsum("cj,cjk->ck", np.linalg.norm(colour, axis=2), unit)
+    length = np.linalg.norm(main, axis=1, keepdims=True)
+    main = np.divide(main, length, out=np.zeros_like(main), where=length > 0)
+    cosine = np.einsum("cjk,ck->cj", unit, main)
+    d = np.einsum("cj,cjk->ck", np.maximum(0.0, cosine), colour)
+    a = np.einsum("cj,cjk->ck", 0.25 * (1.0 - cosine), colour) + fudge * d + ambient
+    return _clamped(a), _clamped(d), main
 
 
 def rig_spots(rig: Rig) -> Spots:

@@ -25,8 +25,9 @@ from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
 from .shadows import shadow_raycaster
 from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
-                       GRID_START, SCHEMES, STARTS)
-from .starts import DEFAULT_PEAKS, PeakSettings, Starts, peak_starts, with_grid_fallback
+                       GRID_START, PEAK_START, SCHEMES, STARTS)
+from .starts import (DEFAULT_PEAKS, SPOT_REACH, PeakSettings, Starts, ceiling_starts, peak_starts,
+                     with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
@@ -134,13 +135,38 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
                             np.median(starts.intensities[:starts.from_peaks]))
     flags = None
     if spots:
-        flags = np.repeat([False, True], len(positions))
-        positions = np.concatenate([positions, positions])
-        relative = None if relative is None else np.concatenate([relative, relative])
+        spot_positions, spot_relative = spotlight_starts(scene, starts, relative, start, peaks)
+        flags = np.repeat([False, True], [len(positions), len(spot_positions)])
+        positions = np.concatenate([positions, spot_positions])
+        relative = None if relative is None else np.concatenate([relative, spot_relative])
     lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress)
     return fitter.fit(lights, SCHEMES[scheme])
+
+
+def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | None, start: str = DEFAULT_START,
+                     peaks: PeakSettings = DEFAULT_PEAKS) -> tuple[np.ndarray, np.ndarray | None]:
+    """Where fit_scene(spots=True)'s spotlights start, and their relative intensities: at the point lights' starts
+    (`starts`, `relative`); with the peak start also under the ceiling above the floor's peaks (starts.ceiling_starts,
+    lights.md §4), those replacing the point lights' starts within merge distance of them."""
+    if start != PEAK_START or relative is None:
+        return starts.positions, relative
+    target = scene.target
+    up = np.array([0.0, 0.0, 1.0])
+
+    def distance_up(points: np.ndarray) -> np.ndarray:
+        return scene.model.raycaster.cast(points, np.broadcast_to(up, points.shape).copy(), SPOT_REACH + 1.0)[0]
+
+    ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
+                             distance_up, peaks)
+    inside = np.all((ceiling.positions >= scene.bounds[0]) & (ceiling.positions <= scene.bounds[1]), axis=1)
+    if not inside.any():
+        return starts.positions, relative
+    hung, estimates = ceiling.positions[inside], ceiling.intensities[inside]
+    gap = np.linalg.norm(starts.positions[:, None] - hung[None], axis=2).min(axis=1)
+    far = gap >= peaks.merge_distance
+    return np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
 
 
 def fits_sun(scene: LevelScene, suns: bool | None) -> bool:

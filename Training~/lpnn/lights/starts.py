@@ -26,6 +26,16 @@ light and whose width grows with h (half the peak at rho = 0.766 h). So:
    FALLBACK_DISTANCE from every start above (where nothing peaks: dim regions, or light from surfaces the fit
    recovers otherwise).
 
+With spotlights (fit_scene(spots=True)), spotlights also start where q3map2 spotlights hang over the floor they light
+(ceiling_starts): a spotlight pointing down lights a disc of the floor, brightest at its centre under the light,
+where the point light's bump of step 3 puts the light at the bump's height, not at the fixture's. So:
+
+7. every peak (within SPOT_PEAK_RADIUS: spotlights hang closer together than the point lights' PEAK_RADIUS) on a
+   surface facing up (normal within FLOOR_COSINE of +z) and at least MIN_BUMP bytes bright starts a spotlight
+   CLEARANCE below the first surface above it, if that surface is at most SPOT_REACH above (moved sideways by the
+   first open one of SIDE_STEPS when that is in solid: a peak at the foot of a wall), with the estimated intensity
+   light h^2 / 7500 (a light at height h on its axis); merged as in step 5, brightest first.
+
 Deterministic: no random numbers; every tie is broken by index.
 """
 
@@ -56,8 +66,17 @@ MIN_BUMP = 8.0  # bytes of bump (alpha) below which a peak is not a light's
 MERGE_DISTANCE = 64.0  # Quake units
 MAX_STARTS = 160
 FALLBACK_DISTANCE = 512.0  # Quake units (13 m)
+# step 7 (spotlights): chosen on aggressor (training), whose 47 spotlights hang 3.3 m apart, 12 units under the
+# ceiling (benchmarks.md "The light rig")
+SPOT_PEAK_RADIUS = 64.0  # Quake units
+FLOOR_COSINE = 0.9
+SPOT_REACH = 512.0  # Quake units above the floor peak
+# a spotlight start in solid moves sideways by the first of these that is open (x, y; the 8 directions at 16 units)
+SIDE_STEPS = tuple(np.array([16.0 * dx, 16.0 * dy, 0.0]) for dx, dy in
+                   ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1)))
 
 OpenTest = Callable[[np.ndarray], np.ndarray]
+DistanceUp = Callable[[np.ndarray], np.ndarray]  # (N, 3) Quake points -> (N,) units to the first surface above (inf)
 
 
 @dataclass(frozen=True)
@@ -190,15 +209,48 @@ def peak_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray, a
     if not positions:
         return Starts(np.zeros((0, 3)), np.zeros(0), 0)
     positions_array, intensity_array = np.array(positions), np.array(intensities)
-    order = np.lexsort((np.arange(len(bumps)), -np.array(bumps)))  # highest bump first, ties to the lower index
+    kept = merged(positions_array, np.array(bumps), settings)  # highest bump first
+    return Starts(positions_array[kept], intensity_array[kept], len(kept))
+
+
+def merged(positions: np.ndarray, strength: np.ndarray, settings: PeakSettings) -> list[int]:
+    """Step 5: the indices kept, strongest first (ties to the lower index), each at least settings.merge_distance
+    from every one kept before it, at most settings.max_starts."""
     kept: list[int] = []
-    for index in order:
+    for index in np.lexsort((np.arange(len(strength)), -strength)):
         if len(kept) == settings.max_starts:
             break
-        if kept and np.min(np.linalg.norm(positions_array[kept] - positions_array[index], axis=1)) < settings.merge_distance:
+        if kept and np.min(np.linalg.norm(positions[kept] - positions[index], axis=1)) < settings.merge_distance:
             continue
         kept.append(int(index))
-    return Starts(positions_array[kept], intensity_array[kept], len(kept))
+    return kept
+
+
+def ceiling_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray, albedo: np.ndarray,
+                   is_open: OpenTest, distance_up: DistanceUp, settings: PeakSettings = DEFAULT_PEAKS) -> Starts:
+    """Step 7 of the module docstring: spotlight starts under the ceiling above the floor's peaks of baked light."""
+    light, _ = baked_light(radiance, albedo)
+    peaks = light_peaks(points, light, SPOT_PEAK_RADIUS)
+    peaks = peaks[(normals[peaks, 2] >= FLOOR_COSINE) & (light[peaks] >= settings.min_bump)]
+    if len(peaks) == 0:
+        return Starts(np.zeros((0, 3)), np.zeros(0), 0)
+    up = np.array([0.0, 0.0, 1.0])
+    above = distance_up(points[peaks] + up)  # from 1 unit above the floor: its own surface is not the ceiling
+    reach = np.isfinite(above) & (above <= SPOT_REACH) & (above > CLEARANCE)
+    peaks, height = peaks[reach], above[reach] + 1.0 - CLEARANCE
+    positions = points[peaks] + height[:, None] * up
+    inside = is_open(positions) if len(positions) else np.zeros(0, bool)
+    for offset in SIDE_STEPS:  # a peak at the foot of a wall: its column is on the wall's plane
+        if inside.all():
+            break
+        moved = positions[~inside] + offset
+        now_open = is_open(moved)
+        index = np.flatnonzero(~inside)[now_open]
+        positions[index], inside[index] = moved[now_open], True
+    peaks, height, positions = peaks[inside], height[inside], positions[inside]
+    kept = merged(positions, light[peaks], settings)  # brightest first
+    intensities = light[peaks[kept]] * height[kept] ** 2 / POINT_SCALE
+    return Starts(positions[kept], intensities, len(kept))
 
 
 def with_grid_fallback(peaks: Starts, grid: np.ndarray, distance: float = FALLBACK_DISTANCE) -> Starts:

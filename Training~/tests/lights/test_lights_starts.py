@@ -14,8 +14,10 @@ from lpnn.lights.optimise import Fitter, initial_intensity
 from lpnn.lights.pipeline import load_scene, start_positions
 from lpnn.lights.settings import SCHEMES
 from lpnn.scenes.levels import load_level
-from lpnn.lights.starts import (DEFAULT_HEIGHT, Starts, baked_light, bump_profile, fit_bump, light_peaks, peak_starts,
-                                with_grid_fallback)
+from lpnn.lights.model import POINT_SCALE
+from lpnn.lights.optimise import CLEARANCE
+from lpnn.lights.starts import (DEFAULT_HEIGHT, SPOT_REACH, Starts, baked_light, bump_profile, ceiling_starts, fit_bump,
+                                light_peaks, peak_starts, with_grid_fallback)
 from synthetic_room import ROOM_SIDE, inside_room, lit_room
 
 # lights on mesh vertices of the 16-division room (16-unit spacing), 64 units (a height of starts.HEIGHTS) from
@@ -146,3 +148,52 @@ def test_a_level_whose_baked_light_is_flat_starts_on_the_grid(tmp_path: Path) ->
     np.testing.assert_array_equal(peaks.positions, grid.positions)
     with pytest.raises(ValueError, match="start 'corners' is not one of grid, peaks"):
         start_positions(scene, (2, 2, 2), "corners")
+
+
+PER_BYTE = 4.0 / 255.0  # lightmap linear units per byte (lpnn.scenes.lightgrid.LINEAR_PER_BYTE)
+
+
+def floor_with_discs(feet: list[tuple[float, float]], peak_bytes: list[float]) -> tuple[np.ndarray, ...]:
+    """A floor (z = 0, normals up, white) lit by one narrow disc per foot: points, normals, radiance, albedo."""
+    points = plane_points(spacing=16.0, radius=320.0)
+    light = np.full(len(points), 2.0)
+    for (x, y), value in zip(feet, peak_bytes):
+        rho = np.linalg.norm(points[:, :2] - [x, y], axis=1)
+        light += np.where(rho <= 48.0, value * (1.0 - rho / 96.0), 0.0)
+    albedo = np.ones((len(points), 3))
+    normals = np.tile([0.0, 0.0, 1.0], (len(points), 1))
+    return points, normals, light[:, None] * PER_BYTE * albedo, albedo
+
+
+def ceiling_at(height: float):
+    return lambda points: np.full(len(points), height - points[:, 2])
+
+
+def test_spotlights_start_under_the_ceiling_above_each_disc_brightest_first() -> None:
+    """A disc's centre is its peak: the start hangs CLEARANCE below the ceiling straight above it, with the intensity
+    of a light at that height giving the peak's bytes on its axis (light h^2 / 7500)."""
+    points, normals, radiance, albedo = floor_with_discs([(-160.0, 0.0), (160.0, 0.0)], [60.0, 90.0])
+    starts = ceiling_starts(points, normals, radiance, albedo, lambda p: np.ones(len(p), bool), ceiling_at(200.0))
+    height = 200.0 - CLEARANCE
+    np.testing.assert_allclose(starts.positions, [[160.0, 0.0, height], [-160.0, 0.0, height]])  # brighter first
+    np.testing.assert_allclose(starts.intensities, np.array([92.0, 62.0]) * height ** 2 / POINT_SCALE)
+    assert starts.from_peaks == 2
+    again = ceiling_starts(points, normals, radiance, albedo, lambda p: np.ones(len(p), bool), ceiling_at(200.0))
+    np.testing.assert_array_equal(again.positions, starts.positions)
+
+
+def test_no_spotlight_start_without_a_ceiling_in_reach_or_on_a_wall() -> None:
+    points, normals, radiance, albedo = floor_with_discs([(0.0, 0.0)], [80.0])
+    open_everywhere = lambda p: np.ones(len(p), bool)  # noqa: E731
+    assert ceiling_starts(points, normals, radiance, albedo, open_everywhere, ceiling_at(SPOT_REACH + 10.0)).from_peaks == 0
+    assert ceiling_starts(points, normals, radiance, albedo, open_everywhere,
+                          lambda p: np.full(len(p), np.inf)).from_peaks == 0
+    wall = np.tile([1.0, 0.0, 0.0], (len(points), 1))
+    assert ceiling_starts(points, wall, radiance, albedo, open_everywhere, ceiling_at(200.0)).from_peaks == 0
+
+
+def test_a_spotlight_start_in_solid_moves_sideways_to_open_space() -> None:
+    """A disc at the foot of a wall (x >= 0 solid): the start straight above its peak is on the wall's plane."""
+    points, normals, radiance, albedo = floor_with_discs([(0.0, 0.0)], [80.0])
+    starts = ceiling_starts(points, normals, radiance, albedo, lambda p: p[:, 0] < 0.0, ceiling_at(200.0))
+    np.testing.assert_allclose(starts.positions, [[-16.0, 0.0, 200.0 - CLEARANCE]])  # the first open side step
