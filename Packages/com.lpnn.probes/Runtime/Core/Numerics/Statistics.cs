@@ -6,6 +6,34 @@ namespace Lpnn.Probes.Core.Numerics
     /// <summary>Order statistics shared by the features (scene scale) and the selection (spread weights).</summary>
     internal static class Statistics
     {
+        /// <summary>Quickselect of the indices <paramref name="order"/>[lo..hi] by the key values[stride × index + offset], so
+        /// that position <paramref name="nth"/> splits them (deterministic median-of-three pivots; O(n) on average, so a k-d
+        /// tree built by it takes O(N log N)). Shared by the k-d trees of the selection and the refinement's tie heights.</summary>
+        public static void SelectByKey(int[] order, double[] values, int stride, int offset, int lo, int hi, int nth)
+        {
+            while (hi > lo)
+            {
+                int mid = lo + (hi - lo) / 2;
+                double a = values[stride * order[lo] + offset], b = values[stride * order[mid] + offset], c = values[stride * order[hi] + offset];
+                double pivot = Math.Max(Math.Min(a, b), Math.Min(Math.Max(a, b), c));
+                int i = lo, j = hi;
+                while (i <= j)
+                {
+                    while (values[stride * order[i] + offset] < pivot) i++;
+                    while (values[stride * order[j] + offset] > pivot) j--;
+                    if (i > j) break;
+                    int t = order[i];
+                    order[i] = order[j];
+                    order[j] = t;
+                    i++;
+                    j--;
+                }
+                if (nth <= j) hi = j;
+                else if (nth >= i) lo = i;
+                else return;
+            }
+        }
+
         /// <summary>The middle value, or the mean of the two middle values for an even count; the input is not changed.</summary>
         public static double Median(IReadOnlyList<double> values)
         {

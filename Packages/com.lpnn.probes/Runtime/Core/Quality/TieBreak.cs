@@ -113,41 +113,13 @@ namespace Lpnn.Probes.Core.Quality
                     double ex = node.MaxX - node.MinX, ey = node.MaxY - node.MinY, ez = node.MaxZ - node.MinZ;
                     int axis = ex >= ey && ex >= ez ? 0 : ey >= ez ? 1 : 2;
                     int half = count / 2;
-                    Partition(start, start + count - 1, start + half, axis);
+                    Statistics.SelectByKey(_order, _p, 3, axis, start, start + count - 1, start + half);
                     node.Left = Build(start, half);
                     node.Right = Build(start + half, count - half);
                 }
                 _nodes[index] = node;
                 return index;
             }
-
-            /// <summary>Quickselect of _order[lo..hi] by one coordinate (median-of-three pivots, O(n) on average).</summary>
-            private void Partition(int lo, int hi, int nth, int axis)
-            {
-                while (hi > lo)
-                {
-                    int mid = lo + (hi - lo) / 2;
-                    double a = Key(lo, axis), b = Key(mid, axis), c = Key(hi, axis);
-                    double pivot = Math.Max(Math.Min(a, b), Math.Min(Math.Max(a, b), c));
-                    int i = lo, j = hi;
-                    while (i <= j)
-                    {
-                        while (Key(i, axis) < pivot) i++;
-                        while (Key(j, axis) > pivot) j--;
-                        if (i > j) break;
-                        int t = _order[i];
-                        _order[i] = _order[j];
-                        _order[j] = t;
-                        i++;
-                        j--;
-                    }
-                    if (nth <= j) hi = j;
-                    else if (nth >= i) lo = i;
-                    else return;
-                }
-            }
-
-            private double Key(int k, int axis) => _p[3 * _order[k] + axis];
 
             /// <summary>The distance from point <paramref name="p"/> to the nearest other point (0 for a duplicate).</summary>
             public double NearestOther(int p)

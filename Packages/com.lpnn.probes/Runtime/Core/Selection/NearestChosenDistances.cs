@@ -1,4 +1,5 @@
 using System;
+using Lpnn.Probes.Core.Numerics;
 
 namespace Lpnn.Probes.Core.Selection
 {
@@ -63,7 +64,7 @@ namespace Lpnn.Probes.Core.Selection
                 double ex = node.MaxX - node.MinX, ey = node.MaxY - node.MinY, ez = node.MaxZ - node.MinZ;
                 int axis = ex >= ey && ex >= ez ? 0 : ey >= ez ? 1 : 2;
                 int half = count / 2;
-                Partition(start, start + count - 1, start + half, Axis(axis));
+                Statistics.SelectByKey(_order, Axis(axis), 1, 0, start, start + count - 1, start + half);
                 node.Left = Build(start, half);
                 node.Right = Build(start + half, count - half);
             }
@@ -86,33 +87,6 @@ namespace Lpnn.Probes.Core.Selection
                 node.MaxY = Math.Max(node.MaxY, _y[p]);
                 node.MinZ = Math.Min(node.MinZ, _z[p]);
                 node.MaxZ = Math.Max(node.MaxZ, _z[p]);
-            }
-        }
-
-        /// <summary>Quickselect on _order[lo..hi] so that position <paramref name="nth"/> splits by the key (deterministic
-        /// median-of-three pivots; O(n) on average, so the tree builds in O(N log N)).</summary>
-        private void Partition(int lo, int hi, int nth, double[] key)
-        {
-            while (hi > lo)
-            {
-                int mid = lo + (hi - lo) / 2;
-                double a = key[_order[lo]], b = key[_order[mid]], c = key[_order[hi]];
-                double pivot = Math.Max(Math.Min(a, b), Math.Min(Math.Max(a, b), c));
-                int i = lo, j = hi;
-                while (i <= j)
-                {
-                    while (key[_order[i]] < pivot) i++;
-                    while (key[_order[j]] > pivot) j--;
-                    if (i > j) break;
-                    int t = _order[i];
-                    _order[i] = _order[j];
-                    _order[j] = t;
-                    i++;
-                    j--;
-                }
-                if (nth <= j) hi = j;
-                else if (nth >= i) lo = i;
-                else return;
             }
         }
 
