@@ -54,6 +54,9 @@ namespace Lpnn.Probes.Core.Numerics
 
         public static Double3 FromVector3(Vector3 v) => new Double3(v.X, v.Y, v.Z);
 
+        /// <summary>Point <paramref name="i"/> of a flat array of x, y, z triples (the core's local positions).</summary>
+        internal static Double3 FromTriples(double[] xyz, int i) => new Double3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+
         public bool Equals(Double3 other) => X.Equals(other.X) && Y.Equals(other.Y) && Z.Equals(other.Z);
         public override bool Equals(object obj) => obj is Double3 other && Equals(other);
         public override int GetHashCode() => X.GetHashCode() * 397 ^ Y.GetHashCode() * 31 ^ Z.GetHashCode();

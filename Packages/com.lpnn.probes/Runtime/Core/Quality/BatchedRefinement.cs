@@ -256,13 +256,13 @@ namespace Lpnn.Probes.Core.Quality
         {
             if (points.Length < 4) return true;
             double[] local = reference.Local;
-            var origin = Point(local, points[0]);
+            var origin = Double3.FromTriples(local, points[0]);
             Double3 far = origin;
             double extent = 0;
             foreach (int p in points)
             {
-                double d = (Point(local, p) - origin).Length;
-                if (d > extent) { extent = d; far = Point(local, p); }
+                double d = (Double3.FromTriples(local, p) - origin).Length;
+                if (d > extent) { extent = d; far = Double3.FromTriples(local, p); }
             }
             if (!(extent > 0)) return true;
             var axis = (far - origin) * (1.0 / extent);
@@ -270,7 +270,7 @@ namespace Lpnn.Probes.Core.Quality
             double offLine = 0;
             foreach (int p in points)
             {
-                var r = Point(local, p) - origin;
+                var r = Double3.FromTriples(local, p) - origin;
                 var across = r - axis * Double3.Dot(r, axis);
                 double d = across.Length;
                 if (d > offLine) { offLine = d; normal = across; }
@@ -279,10 +279,8 @@ namespace Lpnn.Probes.Core.Quality
             var planeNormal = Double3.Cross(axis, normal * (1.0 / offLine));
             double length = planeNormal.Length;
             foreach (int p in points)
-                if (Math.Abs(Double3.Dot(Point(local, p) - origin, planeNormal)) / length > FlatTolerance * extent) return false;
+                if (Math.Abs(Double3.Dot(Double3.FromTriples(local, p) - origin, planeNormal)) / length > FlatTolerance * extent) return false;
             return true;
         }
-
-        private static Double3 Point(double[] local, int p) => new Double3(local[3 * p], local[3 * p + 1], local[3 * p + 2]);
     }
 }

@@ -81,9 +81,7 @@ namespace Lpnn.Probes.Core.Quality
                     stars[k].Add(t);
                     break;  // independent candidates: at most one per tetrahedron
                 }
-            var boundary = new HashSet<TriangleKey>();
-            for (int f = 0; f < mesh.HullFaceCount; f++)
-                boundary.Add(new TriangleKey(mesh.HullFaces[3 * f], mesh.HullFaces[3 * f + 1], mesh.HullFaces[3 * f + 2]));
+            HashSet<TriangleKey> boundary = mesh.HullFaceKeys;
 
             var fills = new List<int>();
             var owners = new List<int>();
@@ -171,16 +169,13 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>The unit normal of face (a, b, c) pointing away from <paramref name="inner"/> (global ids).</summary>
         internal static Double3 OutwardNormal(double[] local, int a, int b, int c, int inner)
         {
-            var n = Double3.Cross(At(local, b) - At(local, a), At(local, c) - At(local, a));
-            if (Double3.Dot(n, At(local, inner) - At(local, a)) > 0) n = n * -1.0;
+            var n = Double3.Cross(Double3.FromTriples(local, b) - Double3.FromTriples(local, a), Double3.FromTriples(local, c) - Double3.FromTriples(local, a));
+            if (Double3.Dot(n, Double3.FromTriples(local, inner) - Double3.FromTriples(local, a)) > 0) n = n * -1.0;
             return n * (1.0 / n.Length);
         }
 
-        /// <summary>Point <paramref name="i"/> of x, y, z triples.</summary>
-        internal static Double3 At(double[] local, int i) => new Double3(local[3 * i], local[3 * i + 1], local[3 * i + 2]);
-
         /// <summary>How far point q lies beyond the plane through a with unit normal n (local units).</summary>
-        internal static double Beyond(double[] local, int a, Double3 n, int q) => Double3.Dot(n, At(local, q) - At(local, a));
+        internal static double Beyond(double[] local, int a, Double3 n, int q) => Double3.Dot(n, Double3.FromTriples(local, q) - Double3.FromTriples(local, a));
 
         /// <summary>Whether v (on the hull's surface, <paramref name="surface"/> its hull faces as global id triples) is no
         /// vertex of the hull: its hull faces lie in one plane (v inside a facet) or v lies between two of their vertices
@@ -188,12 +183,12 @@ namespace Lpnn.Probes.Core.Quality
         /// else counts as a vertex (class text).</summary>
         private static bool InsideHullFace(double[] local, int v, List<int> surface)
         {
-            var at = At(local, v);
-            var normal = Double3.Cross(At(local, surface[1]) - At(local, surface[0]),
-                At(local, surface[2]) - At(local, surface[0]));
+            var at = Double3.FromTriples(local, v);
+            var normal = Double3.Cross(Double3.FromTriples(local, surface[1]) - Double3.FromTriples(local, surface[0]),
+                Double3.FromTriples(local, surface[2]) - Double3.FromTriples(local, surface[0]));
             normal = normal * (1.0 / normal.Length);
             bool planar = true;
-            foreach (int u in surface) planar &= Math.Abs(Double3.Dot(normal, At(local, u) - at)) <= HullSupportTolerance;
+            foreach (int u in surface) planar &= Math.Abs(Double3.Dot(normal, Double3.FromTriples(local, u) - at)) <= HullSupportTolerance;
             if (planar) return true;
             var around = new List<int>();
             foreach (int u in surface)
@@ -201,8 +196,8 @@ namespace Lpnn.Probes.Core.Quality
             for (int i = 0; i < around.Count; i++)
                 for (int j = i + 1; j < around.Count; j++)
                 {
-                    var du = At(local, around[i]) - at;
-                    var dw = At(local, around[j]) - at;
+                    var du = Double3.FromTriples(local, around[i]) - at;
+                    var dw = Double3.FromTriples(local, around[j]) - at;
                     if (Double3.Dot(du, dw) < 0 && Double3.Cross(du, dw).Length <= HullSupportTolerance * du.Length * dw.Length) return true;
                 }
             return false;
@@ -263,7 +258,7 @@ namespace Lpnn.Probes.Core.Quality
                 for (int j = 0; j < 4; j++)
                 {
                     if ((uint)raw[t + j] >= (uint)link.Length) return null;
-                    centroid = centroid + At(local, link[raw[t + j]]) * 0.25;
+                    centroid = centroid + Double3.FromTriples(local, link[raw[t + j]]) * 0.25;
                 }
                 if (!InStar(local, star, centroid)) continue;
                 for (int j = 0; j < 4; j++) inside.Add(link[raw[t + j]]);
@@ -276,9 +271,9 @@ namespace Lpnn.Probes.Core.Quality
         {
             for (int s = 0; s < star.Length; s += 4)
             {
-                var origin = At(local, star[s]);
-                Double3 e1 = At(local, star[s + 1]) - origin, e2 = At(local, star[s + 2]) - origin,
-                    e3 = At(local, star[s + 3]) - origin, r = q - origin;
+                var origin = Double3.FromTriples(local, star[s]);
+                Double3 e1 = Double3.FromTriples(local, star[s + 1]) - origin, e2 = Double3.FromTriples(local, star[s + 2]) - origin,
+                    e3 = Double3.FromTriples(local, star[s + 3]) - origin, r = q - origin;
                 double det = Double3.Dot(e1, Double3.Cross(e2, e3));
                 if (det == 0) continue;
                 double w1 = Double3.Dot(r, Double3.Cross(e2, e3)) / det;

@@ -39,9 +39,7 @@ namespace Lpnn.Probes.Core.Quality
             int next = 0;
             for (int k = 0; k < probes.Length; k++) position[k] = removed[probes[k]] ? -1 : next++;
             if (next != remaining.Length) return null;
-            var boundary = new HashSet<TriangleKey>();
-            for (int f = 0; f < mesh.HullFaceCount; f++)
-                boundary.Add(new TriangleKey(mesh.HullFaces[3 * f], mesh.HullFaces[3 * f + 1], mesh.HullFaces[3 * f + 2]));
+            HashSet<TriangleKey> boundary = mesh.HullFaceKeys;
 
             int[] tets = mesh.Tetrahedra;
             var result = new List<int>(tets.Length + added.Length);

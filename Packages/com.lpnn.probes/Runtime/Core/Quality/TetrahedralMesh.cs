@@ -37,6 +37,22 @@ namespace Lpnn.Probes.Core.Quality
         public int TetrahedronCount => Tetrahedra.Length / 4;
         public int HullFaceCount => HullFaces.Length / 3;
 
+        private HashSet<TriangleKey> _hullFaceKeys;
+
+        /// <summary>The hull faces as keys in any corner order, built on first use: a batched refinement round asks it of
+        /// the same mesh for its star refills and for both meshes it derives (<see cref="StarRefills"/>,
+        /// <see cref="TetrahedraAfterRemoval"/>).</summary>
+        internal HashSet<TriangleKey> HullFaceKeys
+        {
+            get
+            {
+                if (_hullFaceKeys != null) return _hullFaceKeys;
+                var keys = new HashSet<TriangleKey>();
+                for (int f = 0; f < HullFaceCount; f++) keys.Add(new TriangleKey(HullFaces[3 * f], HullFaces[3 * f + 1], HullFaces[3 * f + 2]));
+                return _hullFaceKeys = keys;
+            }
+        }
+
         private TetrahedralMesh(double[] points, int[] tetrahedra, double[] inverse, int[] hullFaces, int[] hullFaceOwners)
         {
             HullFaceOwners = hullFaceOwners;
@@ -177,19 +193,18 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>A triangle by its sorted corners, with the tetrahedron it came from (not part of the order).</summary>
         private struct FaceKey : IComparable<FaceKey>
         {
-            public int A, B, C, Tetrahedron;
+            public TriangleKey Triangle;  // sorted corners: equal faces get equal keys whatever the corner order
+            public int Tetrahedron;
 
             public FaceKey(int x, int y, int z, int tetrahedron)
             {
+                Triangle = new TriangleKey(x, y, z);
                 Tetrahedron = tetrahedron;
-                // Sort three values so that equal faces get equal keys whatever the corner order.
-                if (x > y) { int t = x; x = y; y = t; }
-                if (y > z) { int t = y; y = z; z = t; }
-                if (x > y) { int t = x; x = y; y = t; }
-                A = x;
-                B = y;
-                C = z;
             }
+
+            public int A => Triangle.A;
+            public int B => Triangle.B;
+            public int C => Triangle.C;
 
             public int CompareTo(FaceKey other)
             {
@@ -198,7 +213,7 @@ namespace Lpnn.Probes.Core.Quality
                 return C.CompareTo(other.C);
             }
 
-            public bool SameAs(FaceKey other) => A == other.A && B == other.B && C == other.C;
+            public bool SameAs(FaceKey other) => Triangle.Equals(other.Triangle);
         }
 
         /// <summary>The faces used by exactly one tetrahedron; a face used by three or more means the input is not a

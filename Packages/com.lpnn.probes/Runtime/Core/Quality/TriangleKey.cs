@@ -4,7 +4,8 @@ namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>A triangle by its three corner indices, equal whatever their order: the key under which the batched
     /// refinement's refills find the faces they share with each other and with the tetrahedra kept around them
-    /// (<see cref="StarRefills"/>, <see cref="TetrahedraAfterRemoval"/>).</summary>
+    /// (<see cref="StarRefills"/>, <see cref="TetrahedraAfterRemoval"/>), and under which a mesh pairs its tetrahedra's faces
+    /// (<see cref="TetrahedralMesh"/>).</summary>
     internal readonly struct TriangleKey : IEquatable<TriangleKey>
     {
         public readonly int A, B, C;  // ascending
