@@ -105,11 +105,15 @@ _BLOCK = re.compile(r"([^\s{}]+)\s*\{")
 
 
 def read_shader_scripts(paks: list[Path]) -> ShaderScripts:
-    """Every shader block of `scripts/*.shader` in the paks (later paks override earlier ones, as for
-    images, textures.py)."""
+    """Every shader block of `scripts/*.shader` in the paks: later paks override earlier ones (as for images,
+    textures.py), and within one pak the **first** definition of a name wins, as in q3map2 (shaders.c: ParseShaderFile
+    appends a shaderInfo for every block it reads and ShaderInfoForShader returns the first one of that name). kaos's
+    `base_light/wsupprt1_12` is defined twice in pak0.pk3's oalite.shader, `q3map_surfacelight 3000` with `surfaceparm
+    nomarks` first, 600 without it second; its BSP records SURF_NOMARKS for it, the first one's flag (lights.md §1)."""
     blocks: dict[str, str] = {}
     sources: dict[str, str] = {}
     for pak in paks:
+        in_pak: dict[str, tuple[str, str]] = {}
         try:
             with zipfile.ZipFile(pak) as archive:
                 members = sorted(m for m in archive.namelist() if m.lower().startswith("scripts/")
@@ -117,10 +121,12 @@ def read_shader_scripts(paks: list[Path]) -> ShaderScripts:
                 for member in members:
                     text = archive.read(member).decode("latin-1")
                     for name, body in _parse_blocks(text):
-                        blocks[name.lower()] = body
-                        sources[name.lower()] = f"{pak.name}:{member}"
+                        in_pak.setdefault(name.lower(), (body, f"{pak.name}:{member}"))
         except (zipfile.BadZipFile, OSError):
             continue
+        for name, (body, source) in in_pak.items():
+            blocks[name] = body
+            sources[name] = source
     return ShaderScripts(blocks=blocks, sources=sources)
 
 
