@@ -63,7 +63,12 @@ BACKSPLASH_FRACTION = 0.05  # q3map2.h DEF_BACKSPLASH_FRACTION
 BACKSPLASH_DISTANCE = 23.0  # q3map2.h DEF_BACKSPLASH_DISTANCE
 POINT_SCALE = 7500.0
 ORIGIN_NUDGE = 1.0  # the area light's origin is 1 unit in front of its winding
-RAY_OFFSET = 0.5
+RAY_OFFSET = 0.5  # units off the surface where a target point's shadow rays start
+# A lightmap sample's trace ignores occluders within this many units of its origin: q3map2.h DEFAULT_INHIBIT_RADIUS,
+# the trace.inhibitRadius of light_ydnar.c IlluminateRawLightmap (and IlluminateVertexes), applied by light_trace.c
+# TraceTriangle (`depth <= trace->inhibitRadius` is no hit). A target point on the edge where a wall meets its face
+# starts its rays on that wall's plane; without it every such point was in shadow (lights.md §3).
+SURFACE_INHIBIT_RADIUS = 1.5
 # Pairs whose form-factor bound add x area / (pi dist^2) is below this many bytes are not evaluated
 # (q3map2 evaluates every pair without -fast; 0.05 byte a pair bounds what is left out).
 AREA_BOUND_BYTES = 0.05
@@ -100,11 +105,15 @@ _BLOCK = re.compile(r"([^\s{}]+)\s*\{")
 
 
 def read_shader_scripts(paks: list[Path]) -> ShaderScripts:
-    """Every shader block of `scripts/*.shader` in the paks (later paks override earlier ones, as for
-    images, textures.py)."""
+    """Every shader block of `scripts/*.shader` in the paks: later paks override earlier ones (as for images,
+    textures.py), and within one pak the **first** definition of a name wins, as in q3map2 (shaders.c: ParseShaderFile
+    appends a shaderInfo for every block it reads and ShaderInfoForShader returns the first one of that name). kaos's
+    `base_light/wsupprt1_12` is defined twice in pak0.pk3's oalite.shader, `q3map_surfacelight 3000` with `surfaceparm
+    nomarks` first, 600 without it second; its BSP records SURF_NOMARKS for it, the first one's flag (lights.md §1)."""
     blocks: dict[str, str] = {}
     sources: dict[str, str] = {}
     for pak in paks:
+        in_pak: dict[str, tuple[str, str]] = {}
         try:
             with zipfile.ZipFile(pak) as archive:
                 members = sorted(m for m in archive.namelist() if m.lower().startswith("scripts/")
@@ -112,10 +121,12 @@ def read_shader_scripts(paks: list[Path]) -> ShaderScripts:
                 for member in members:
                     text = archive.read(member).decode("latin-1")
                     for name, body in _parse_blocks(text):
-                        blocks[name.lower()] = body
-                        sources[name.lower()] = f"{pak.name}:{member}"
+                        in_pak.setdefault(name.lower(), (body, f"{pak.name}:{member}"))
         except (zipfile.BadZipFile, OSError):
             continue
+        for name, (body, source) in in_pak.items():
+            blocks[name] = body
+            sources[name] = source
     return ShaderScripts(blocks=blocks, sources=sources)
 
 
@@ -386,7 +397,7 @@ def _suns_at_surface(p, n, suns: Suns, raycaster) -> np.ndarray:
     for k in range(suns.count):
         cosine = n @ suns.directions[k]
         facing = np.flatnonzero(cosine > 0)
-        origins = p[facing] + RAY_OFFSET * n[facing]
+        origins = p[facing] + RAY_OFFSET * n[facing] + SURFACE_INHIBIT_RADIUS * suns.directions[k]
         lit = facing[sunlit(origins, np.broadcast_to(suns.directions[k], origins.shape).copy(), suns, raycaster)]
         out[lit] += (suns.photons[k] * cosine[lit])[:, None] * suns.colours[k]
     return out
@@ -417,7 +428,7 @@ def _point_lights_at_surface(p, n, positions, colours, intensities, spots: Spots
     g = np.where(cos > 0, cos / np.maximum(q, 16.0) ** 2, 0.0) * POINT_SCALE * intensities[None]
     if spots is not None:
         g = g * spot_factor(p, spots.positions, spots.directions, spots.radius_by_dist)
-    g = _shadowed(p + RAY_OFFSET * n, positions, g, raycaster, min_value=0.0)
+    g = _shadowed(p + RAY_OFFSET * n, positions, g, raycaster, min_value=0.0, inhibit=SURFACE_INHIBIT_RADIUS)
     return g @ colours
 
 
@@ -440,8 +451,17 @@ def _areas_at_surface(p, n, areas: AreaLights, raycaster) -> np.ndarray:
         factor = form_factor(pushed, n[point], areas.corners[light])
         factor = np.where(areas.two_sided[light], np.abs(factor), np.maximum(factor, 0.0))
         value[point, light] = factor * areas.add[light]
-    value = _shadowed(p + RAY_OFFSET * n, areas.origins, value, raycaster, min_value=0.0)
+    value = _shadowed(p + RAY_OFFSET * n, areas.origins, value, raycaster, min_value=0.0,
+                      inhibit=SURFACE_INHIBIT_RADIUS)
     return value @ areas.colours
+
+
+def occluder_distances(raycaster: EmbreeRaycaster, origins: np.ndarray, directions: np.ndarray, max_distance: float,
+                       inhibit: float) -> np.ndarray:
+    """(R,) distance from each origin along its unit direction to the first occluder farther than `inhibit` units
+    (np.inf: none): the trace of light_trace.c TraceTriangle with its inhibitRadius."""
+    distances, _ = raycaster.cast(origins + inhibit * directions, directions, max_distance)
+    return distances + inhibit
 
 
 def _shadowed(origins: np.ndarray, lights: np.ndarray, value: np.ndarray, raycaster, min_value: float,
@@ -457,9 +477,9 @@ def _shadowed(origins: np.ndarray, lights: np.ndarray, value: np.ndarray, raycas
     length = np.linalg.norm(offset, axis=1)
     ok = length > max(RAY_OFFSET, inhibit)
     unit = offset[ok] / length[ok, None]
-    hits, _ = raycaster.cast(origins[point][ok] + inhibit * unit, unit, float(length[ok].max(initial=1.0)))
+    hits = occluder_distances(raycaster, origins[point][ok], unit, float(length[ok].max(initial=1.0)), inhibit)
     blocked = np.zeros(point.size, bool)
-    blocked[np.flatnonzero(ok)] = hits < length[ok] - inhibit - RAY_OFFSET
+    blocked[np.flatnonzero(ok)] = hits < length[ok] - RAY_OFFSET
     out = value.copy()
     out[point[blocked], light[blocked]] = 0.0
     return out

@@ -13,7 +13,8 @@ i.e. q3map2's default point light (inverse square, distance clamped to 16 units,
 quake3-bsp.md §5) in the linear units of the target (4/255 a byte), so a recovered I is directly
 comparable with a level's light entities. Without the clamp, the 1/r^2 peak next to a light is
 thousands of bytes where the lightmap holds 255, and that peak decides the whole fit. V_ij in {0, 1}
-is an Embree shadow ray from p_i (offset RAY_OFFSET along n_i) to x_j. Visibility is *held fixed*
+is an Embree shadow ray from p_i (offset RAY_OFFSET along n_i) to x_j that, as q3map2's lightmap traces, ignores
+occluders within SURFACE_INHIBIT_RADIUS of its origin (emitters.py). Visibility is *held fixed*
 between refreshes (the optimiser recomputes it every few iterations): the gradient is exact for
 fixed V and ignores the movement of shadow edges.
 
@@ -34,7 +35,7 @@ from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
 from . import objective_kernel, visibility_kernel
 from .emitters import SPOT_EDGE  # a spotlight's soft cone edge, units (light_ydnar.c LightContributionToSample)
-from .emitters import RAY_OFFSET as SUN_RAY_OFFSET, Suns, sunlit
+from .emitters import RAY_OFFSET as SUN_RAY_OFFSET, SURFACE_INHIBIT_RADIUS, Suns, occluder_distances, sunlit
 from .target import RadianceTarget
 
 POINT_SCALE = 7500.0  # q3map2 pointScale
@@ -172,7 +173,7 @@ class ForwardModel:
                 continue
             unit = direction / length
             facing = np.flatnonzero(self.normals @ unit > 0)
-            origins = self.points[facing] + SUN_RAY_OFFSET * self.normals[facing]
+            origins = self.points[facing] + SUN_RAY_OFFSET * self.normals[facing] + SURFACE_INHIBIT_RADIUS * unit
             lit[facing, k] = sunlit(origins, np.broadcast_to(unit, origins.shape).copy(), sky, self.raycaster)
             if self.raycaster is not None:
                 self.rays += 2 * len(facing)
@@ -225,8 +226,8 @@ class ForwardModel:
             reachable = lengths > RAY_OFFSET
             if not reachable.any():
                 continue
-            distances, _ = self.raycaster.cast(origins[reachable], directions[reachable],
-                                               float(lengths[reachable].max()))
+            distances = occluder_distances(self.raycaster, origins[reachable], directions[reachable],
+                                           float(lengths[reachable].max()), SURFACE_INHIBIT_RADIUS)
             self.rays += int(reachable.sum())
             free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
             visible[point[reachable][free], light[reachable][free]] = True
@@ -255,7 +256,8 @@ class ForwardModel:
             lengths = np.linalg.norm(offsets, axis=1)
             reachable = lengths > RAY_OFFSET
             directions = offsets[reachable] / lengths[reachable, None]
-            distances, _ = self.raycaster.cast(origins[reachable], directions, float(lengths[reachable].max()))
+            distances = occluder_distances(self.raycaster, origins[reachable], directions,
+                                           float(lengths[reachable].max()), SURFACE_INHIBIT_RADIUS)
             self.rays += int(reachable.sum())
             free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
             visible[start + point[reachable][free], light[reachable][free]] = True

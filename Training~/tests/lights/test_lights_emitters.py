@@ -235,6 +235,33 @@ def test_scripts_of_the_level_release_win_over_later_updates(tmp_path) -> None:
     assert script_order(paks, None) == [paks[2], paks[0], paks[1]]
 
 
+def test_within_a_pak_the_first_definition_of_a_shader_wins_and_a_later_pak_still_overrides(tmp_path) -> None:
+    """q3map2's shaders.c: ParseShaderFile appends a shaderInfo for every block, ShaderInfoForShader returns the first of
+    that name. pak0.pk3's oalite.shader defines base_light/wsupprt1_12 twice (3000 with nomarks, then 600): the
+    first one is what kaos was compiled with (its BSP flags the shader SURF_NOMARKS)."""
+    def block(value: int) -> str:
+        return f"textures/base_light/wsupprt1_12\n{{\n q3map_surfacelight {value}\n}}\n"
+
+    release = tmp_path / "pak0.pk3"
+    with zipfile.ZipFile(release, "w") as archive:
+        archive.writestr("scripts/a.shader", block(3000) + block(600))
+        archive.writestr("scripts/b.shader", block(1000))  # read after a.shader: the first definition is a's
+    update = tmp_path / "pak6-patch085.pk3"
+    with zipfile.ZipFile(update, "w") as archive:
+        archive.writestr("scripts/base_light.shader", block(600))
+
+    def value(paks: list[Path]) -> float:
+        scripts = read_shader_scripts(paks)
+        light = shader_light(scripts, "textures/base_light/wsupprt1_12", lambda path: None)
+        assert light is not None
+        return light.value
+
+    assert value([release]) == 3000
+    assert read_shader_scripts([release]).sources["textures/base_light/wsupprt1_12"] == "pak0.pk3:scripts/a.shader"
+    assert value([update, release]) == 3000  # the release read last overrides the update (script_order)
+    assert value([release, update]) == 600
+
+
 def test_a_sky_script_on_a_shader_the_bsp_does_not_flag_sky_was_not_compiled(tmp_path) -> None:
     """The BSP stores the surface flags its compile gave a shader; a script that makes the shader sky (surfaceparm
     sky, or a sun line, which applies it) on a shader without SURF_SKY is not the script the level was built with."""

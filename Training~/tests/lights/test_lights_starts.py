@@ -92,9 +92,11 @@ def test_peaks_start_at_the_lights_of_the_room(room: ForwardModel) -> None:
     distance = np.linalg.norm(starts.positions[:, None] - MESH_LIGHTS.positions[None], axis=2)
     assert distance.min(axis=0).max() < 1e-9
     order = distance.argmin(axis=0)
-    # the estimate is the bump's size x h^2 / 7500; the other light's share of the wall goes to the background
-    # plane, so it is low by up to ~15 % here
-    np.testing.assert_allclose(starts.intensities[order], MESH_LIGHTS.intensities, rtol=0.15)
+    # the estimate is the bump's size x h^2 / 7500; the bump's broad tail over the 256-unit wall and the other light's
+    # share of it go partly to the background plane, so it is low, by 19-25 % here (7-13 % while the forward model
+    # left the room's edges in shadow, lights.md §3: their dark rim beside the light tilted the plane down)
+    ratio = starts.intensities[order] / MESH_LIGHTS.intensities
+    assert np.all((ratio > 0.7) & (ratio < 1.0))
 
 
 def test_peak_starts_are_deterministic(room: ForwardModel) -> None:
