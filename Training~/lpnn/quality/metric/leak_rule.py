@@ -8,6 +8,7 @@ from typing import Callable
 import numpy as np
 
 from ...core.features import Raycaster
+from ...core.integer_sets import sorted_unique_first_inverse
 from ...core.segments import segments_free
 from .leak_rule_kernel import UNKNOWN, looked_up, remember
 from .metric_kernel import run_rows
@@ -70,8 +71,7 @@ class SegmentVisibility:
         if unknown.shape[0] == 0:
             return free
         # One cast per distinct new segment (a pair may be asked twice in one call), remembered in key order.
-        keys, first, back = np.unique(starts[unknown] * self.positions.shape[0] + ends[unknown], return_index=True,
-                                      return_inverse=True)
+        keys, first, back = sorted_unique_first_inverse(starts[unknown] * self.positions.shape[0] + ends[unknown])
         new_starts, new_ends = starts[unknown[first]], ends[unknown[first]]
         seen = segments_free(self.raycaster, self.positions[new_starts], self.positions[new_ends])
         self.rays += int(keys.shape[0])
