@@ -219,16 +219,20 @@ def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nda
 HULL_TEST_BLOCK = 1 << 20  # face-vertex pairs per block of on_hull's test (8 MiB of distances)
 
 
-def on_hull(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def on_hull(points: np.ndarray, faces: np.ndarray, every_point: bool = False) -> np.ndarray:
     """(F,) bool: which boundary faces (F, 3), counter-clockwise seen from outside, lie on the convex hull of `points`
     (K, 3): no hull vertex beyond the face's plane by more than HULL_SUPPORT_TOLERANCE. The others are cracks
-    (INNER_BOUNDARY). Tested against Qhull's hull vertices (all points if Qhull fails: the same answer, slower)."""
+    (INNER_BOUNDARY). Tested against Qhull's hull vertices, or against every point (`every_point`, or when Qhull
+    fails): the same answer — a plane's farthest point is a hull vertex — slower for many faces, faster for a few
+    (no hull to build: assembled_after_removal tests only the faces a removal opened)."""
     if faces.shape[0] == 0:
         return np.zeros(0, dtype=bool)
-    try:
-        extreme = points[ConvexHull(points).vertices]
-    except QhullError:
-        extreme = points
+    extreme = points
+    if not every_point:
+        try:
+            extreme = points[ConvexHull(points).vertices]
+        except QhullError:
+            pass
     a = points[faces[:, 0]]
     normal = np.cross(points[faces[:, 1]] - a, points[faces[:, 2]] - a)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
@@ -323,8 +327,13 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     first, second = open_faces[first], open_faces[second]
     neighbours[open_faces] = HULL
     neighbours[first], neighbours[second] = second // 4, first // 4
+    # A face on the old hull stays on it (the probes left are a subset: no plane that held them all off is crossed
+    # now); the faces opened or left as cracks are tested against every probe, a few faces each time.
     boundary = np.flatnonzero(neighbours < 0)
-    neighbours[boundary] = np.where(on_hull(local, faces[boundary]), HULL, INNER_BOUNDARY)
+    was_hull = np.zeros(neighbours.shape[0], dtype=bool)
+    was_hull[:before.size] = before.reshape(-1) == HULL
+    test = boundary[~was_hull[boundary]]
+    neighbours[test] = np.where(on_hull(local, faces[test], every_point=True), HULL, INNER_BOUNDARY)
     return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets,
                               neighbours=neighbours.reshape(-1, 4), inverse=inverse, hull_faces=faces[boundary],
                               hull_face_tets=boundary // 4)
