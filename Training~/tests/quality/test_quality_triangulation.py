@@ -26,3 +26,20 @@ def test_a_grid_far_finer_than_46000_cells_per_axis_tetrahedralises() -> None:
     inside = np.abs(np.linalg.det(np.stack([mesh.points[mesh.tets[:, m]] - mesh.points[mesh.tets[:, 0]]
                                             for m in (1, 2, 3)], axis=2)))
     assert inside.sum() > 0.0
+
+
+def test_the_hull_test_against_every_point_answers_as_against_the_hull_vertices() -> None:
+    """on_hull(every_point=True) (a derived mesh's few opened faces) gives on_hull's answers: the boundary faces of a
+    lattice with its centre removed and refilled are hull faces, and faces through the inside (every tetrahedron face
+    of a random cloud) are not, unless they are on the hull."""
+    from lpnn.quality.metric.triangulation import on_hull
+
+    rng = np.random.default_rng(5)
+    lattice = np.array([[i, j, k] for i in range(4) for j in range(4) for k in range(3)], dtype=np.float64)
+    cloud = rng.normal(size=(300, 3)) * [3.0, 1.0, 0.2] + 1e4  # flat and far from the origin
+    for points in (lattice, cloud):
+        mesh = tetrahedralize(points)
+        faces = np.concatenate([mesh.hull_faces, mesh.tets[:, [1, 2, 3]], mesh.tets[:, [0, 3, 2]]])
+        expected = on_hull(mesh.points, faces)
+        assert np.array_equal(on_hull(mesh.points, faces, every_point=True), expected)
+        assert expected[:mesh.hull_faces.shape[0]].all() and not expected.all()

@@ -8,8 +8,9 @@ from typing import Callable
 import numpy as np
 
 from ...core.features import Raycaster
+from ...core.integer_sets import sorted_unique_first_inverse
 from ...core.segments import segments_free
-from .leak_rule_kernel import UNKNOWN, looked_up, remember
+from .leak_rule_kernel import NOT_WEIGHING, UNKNOWN, remember, stencil_looked_up
 from .metric_kernel import run_rows
 
 # Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of zero), not light.
@@ -58,32 +59,29 @@ class SegmentVisibility:
         self.asked = 0  # segments asked for, and of them cast: the memo's effect (tests, benchmarks)
         self.rays = 0
 
-    def free(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-        """(S,) bool: whether point starts[k] sees point ends[k] (indices into `positions`, starts != ends or not)."""
-        starts = np.ascontiguousarray(starts, dtype=np.int64)
-        ends = np.ascontiguousarray(ends, dtype=np.int64)
-        answers = np.empty(starts.shape[0], dtype=np.int8)
-        run_rows(looked_up, starts.shape[0], self._partner, self._sees, starts, ends, answers)
-        free = answers == 1
-        unknown = np.flatnonzero(answers == UNKNOWN)
-        self.asked += int(starts.shape[0])
-        if unknown.shape[0] == 0:
-            return free
-        # One cast per distinct new segment (a pair may be asked twice in one call), remembered in key order.
-        keys, first, back = np.unique(starts[unknown] * self.positions.shape[0] + ends[unknown], return_index=True,
-                                      return_inverse=True)
-        new_starts, new_ends = starts[unknown[first]], ends[unknown[first]]
+    def _cast(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+        """(S,) int8, 1 where the segment starts[k] -> ends[k] is free, 0 where blocked, for segments not remembered:
+        one cast per distinct segment (a pair may be asked twice in one call), remembered in key order."""
+        keys, first, back = sorted_unique_first_inverse(starts * self.positions.shape[0] + ends)
+        new_starts, new_ends = starts[first], ends[first]
         seen = segments_free(self.raycaster, self.positions[new_starts], self.positions[new_ends])
         self.rays += int(keys.shape[0])
-        free[unknown] = seen[back.reshape(-1)]
         remember(self._partner, self._sees, self._next, new_starts, new_ends.astype(np.int32), seen)
-        return free
+        return seen[back].astype(np.int8)
 
     def stencil_leaks(self, points: np.ndarray, probes: np.ndarray, vertices: np.ndarray,
                       weights: np.ndarray) -> np.ndarray:
         """stencil_leaks of the points `points` (indices into `positions`) under stencils whose vertices (M, 4) are
         positions in the point indices `probes`: the same answers, each segment cast once while it is remembered."""
-        rows, columns = np.nonzero(np.asarray(weights) > LEAK_MIN_WEIGHT)
-        starts = np.asarray(points, dtype=np.int64)[rows]
-        ends = np.asarray(probes, dtype=np.int64)[np.asarray(vertices)[rows, columns]]
-        return _leaking_rows(np.asarray(points).shape[0], rows, lambda: self.free(starts, ends))
+        points = np.ascontiguousarray(points, dtype=np.int64)
+        probes = np.ascontiguousarray(probes, dtype=np.int64)
+        vertices = np.ascontiguousarray(vertices, dtype=np.int64)
+        weights = np.ascontiguousarray(weights, dtype=np.float64)
+        answers = np.empty(vertices.shape, dtype=np.int8)
+        run_rows(stencil_looked_up, points.shape[0], self._partner, self._sees, points, probes, vertices, weights,
+                 LEAK_MIN_WEIGHT, answers)
+        self.asked += int(np.count_nonzero(answers != NOT_WEIGHING))
+        rows, columns = np.nonzero(answers == UNKNOWN)
+        if rows.shape[0]:  # the segments not remembered
+            answers[rows, columns] = self._cast(points[rows], probes[vertices[rows, columns]])
+        return (answers == 0).any(axis=1)

@@ -13,24 +13,32 @@ from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
 from .metric_kernel import chunk_bounds, chunk_count  # noqa: E402
 
-UNKNOWN = 2  # looked_up's answer for a segment not remembered (0: blocked, 1: free)
+UNKNOWN = 2  # stencil_looked_up's answer for a segment not remembered (0: blocked, 1: free)
+NOT_WEIGHING = 3  # stencil_looked_up's answer for a stencil probe of weight <= the minimum: no segment to ask
 
 
 @njit(cache=True, parallel=True)
-def looked_up(partner, sees, starts, ends, out):
-    """out[k] = 1 when the segment starts[k] -> ends[k] is remembered free, 0 remembered blocked, UNKNOWN otherwise
-    (partner, sees: (N, slots) of each point's partners, -1 empty); pairs in parallel slices."""
+def stencil_looked_up(partner, sees, points, probes, vertices, weights, min_weight, out):
+    """out[i, j] (int8) for stencil probe j of point points[i] (global probe id probes[vertices[i, j]]): NOT_WEIGHING
+    when weights[i, j] <= min_weight, else the remembered answer for the segment points[i] -> that probe (1 free,
+    0 blocked; partner, sees: (N, slots) of each point's partners, -1 empty) or UNKNOWN; rows in parallel slices. One
+    pass instead of gathering the weighing pairs and their ends first."""
     slots = partner.shape[1]
-    chunks = chunk_count(starts.shape[0])
+    chunks = chunk_count(points.shape[0])
     for chunk in prange(chunks):
-        lo, hi = chunk_bounds(starts.shape[0], chunks, chunk)
-        for k in range(lo, hi):
-            row, other = starts[k], ends[k]
-            out[k] = UNKNOWN
-            for s in range(slots):
-                if partner[row, s] == other:
-                    out[k] = 1 if sees[row, s] else 0
-                    break
+        lo, hi = chunk_bounds(points.shape[0], chunks, chunk)
+        for i in range(lo, hi):
+            row = points[i]
+            for j in range(vertices.shape[1]):
+                if not weights[i, j] > min_weight:
+                    out[i, j] = NOT_WEIGHING
+                    continue
+                other = probes[vertices[i, j]]
+                out[i, j] = UNKNOWN
+                for s in range(slots):
+                    if partner[row, s] == other:
+                        out[i, j] = 1 if sees[row, s] else 0
+                        break
 
 
 @njit(cache=True)

@@ -168,9 +168,10 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
     out_of_range = np.flatnonzero((indices < 0) | (indices >= n))
     if out_of_range.shape[0]:
         raise MetricError(f"probe index {int(indices[out_of_range[0]])} is outside the {n:,} evaluation points")
-    unique, counts = np.unique(indices, return_counts=True)
-    if np.any(counts > 1):
-        raise MetricError(f"probe index {int(unique[np.argmax(counts > 1)])} is listed more than once")
+    ordered = np.sort(indices)
+    repeated = ordered[1:][ordered[1:] == ordered[:-1]]
+    if repeated.shape[0]:
+        raise MetricError(f"probe index {int(repeated[0])} is listed more than once")
     return indices
 
 

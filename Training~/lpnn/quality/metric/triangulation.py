@@ -189,8 +189,8 @@ def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
 
 def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The pairs of positions whose face keys are equal (each face in two tetrahedra); GeometryError when a face is in
-    three."""
-    order = np.argsort(keys, kind="stable")
+    three. Either order of a pair does: both positions get the other's tetrahedron (so the faster unstable sort)."""
+    order = np.argsort(keys)
     sorted_keys = keys[order]
     same_as_next = sorted_keys[1:] == sorted_keys[:-1]
     if np.any(same_as_next[1:] & same_as_next[:-1]):
@@ -217,18 +217,25 @@ def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 HULL_TEST_BLOCK = 1 << 20  # face-vertex pairs per block of on_hull's test (8 MiB of distances)
+# Up to this many faces on_hull tests against every point rather than building the convex hull first: the test costs
+# ~7 ns a face and point, Qhull's 3-D hull ~0.15-0.3 us a point (measured on this machine, 600-20,000 points).
+FEW_HULL_FACES = 32
 
 
-def on_hull(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def on_hull(points: np.ndarray, faces: np.ndarray, every_point: bool = False) -> np.ndarray:
     """(F,) bool: which boundary faces (F, 3), counter-clockwise seen from outside, lie on the convex hull of `points`
     (K, 3): no hull vertex beyond the face's plane by more than HULL_SUPPORT_TOLERANCE. The others are cracks
-    (INNER_BOUNDARY). Tested against Qhull's hull vertices (all points if Qhull fails: the same answer, slower)."""
+    (INNER_BOUNDARY). Tested against Qhull's hull vertices, or against every point (`every_point`, or when Qhull
+    fails): the same answer — a plane's farthest point is a hull vertex — slower for many faces, faster for a few
+    (no hull to build: assembled_after_removal tests only the faces a removal opened)."""
     if faces.shape[0] == 0:
         return np.zeros(0, dtype=bool)
-    try:
-        extreme = points[ConvexHull(points).vertices]
-    except QhullError:
-        extreme = points
+    extreme = points
+    if not every_point:
+        try:
+            extreme = points[ConvexHull(points).vertices]
+        except QhullError:
+            pass
     a = points[faces[:, 0]]
     normal = np.cross(points[faces[:, 1]] - a, points[faces[:, 2]] - a)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
@@ -323,8 +330,14 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     first, second = open_faces[first], open_faces[second]
     neighbours[open_faces] = HULL
     neighbours[first], neighbours[second] = second // 4, first // 4
+    # A face on the old hull stays on it (the probes left are a subset: no plane that held them all off is crossed
+    # now); only the faces opened or left as cracks are tested, against every probe when they are few.
     boundary = np.flatnonzero(neighbours < 0)
-    neighbours[boundary] = np.where(on_hull(local, faces[boundary]), HULL, INNER_BOUNDARY)
+    was_hull = np.zeros(neighbours.shape[0], dtype=bool)
+    was_hull[:before.size] = before.reshape(-1) == HULL
+    test = boundary[~was_hull[boundary]]
+    few = test.shape[0] <= FEW_HULL_FACES
+    neighbours[test] = np.where(on_hull(local, faces[test], every_point=few), HULL, INNER_BOUNDARY)
     return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets,
                               neighbours=neighbours.reshape(-1, 4), inverse=inverse, hull_faces=faces[boundary],
                               hull_face_tets=boundary // 4)

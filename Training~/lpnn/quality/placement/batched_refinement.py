@@ -99,8 +99,9 @@ def greedy_independent_set(vertices: np.ndarray, edges: np.ndarray, rank: np.nda
     (refinement_kernel.sequential_greedy, over the edges sorted by their first vertex)."""
     ordered = np.asarray(vertices, dtype=np.int64)
     ordered = ordered[np.argsort(rank[ordered], kind="stable")]
-    by_first = np.argsort(edges[:, 0], kind="stable")
-    return sequential_greedy(ordered, np.ascontiguousarray(edges[by_first, 0]), np.ascontiguousarray(edges[by_first, 1]),
+    if edges.shape[0] > 1 and np.any(edges[1:, 0] < edges[:-1, 0]):  # a state's edges come sorted (graph_edges)
+        edges = edges[np.argsort(edges[:, 0], kind="stable")]
+    return sequential_greedy(ordered, np.ascontiguousarray(edges[:, 0]), np.ascontiguousarray(edges[:, 1]),
                              rank.shape[0])
 
 
@@ -179,7 +180,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         if candidates.shape[0] == 0:  # every probe left was brought back after an overshoot
             stop_reason = "tolerance"
             break
-        remaining = np.setdiff1d(probes, candidates)
+        remaining = np.setdiff1d(probes, candidates, assume_unique=True)
         if flatness(field.local[remaining]) is not None:
             # Near the end only: the first unlocked probe (in the candidates' order) whose removal alone leaves a solid
             # set. A probe whose removal flattens P flattens every subset of P too: it is locked for good.
@@ -193,7 +194,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
                 stop_reason = "the rest would lie in one plane"
                 break
             candidates = np.asarray(solid, dtype=np.int64)
-            remaining = np.setdiff1d(probes, candidates)
+            remaining = np.setdiff1d(probes, candidates, assume_unique=True)
         rounds += 1
         trial = trial_of(field, state, candidates)
         cost[candidates] = trial.costs

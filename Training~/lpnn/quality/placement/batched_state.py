@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.integer_sets import sorted_unique
 from .leak_aware import LeakWeighting
 from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
@@ -96,13 +97,13 @@ def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray |
 
 
 def graph_edges(located: Located) -> np.ndarray:
-    """The Delaunay graph of located.mesh: every edge both ways, global ids."""
+    """The Delaunay graph of located.mesh: every edge both ways, global ids, sorted by first then second id."""
     count = located.probes.shape[0]
     tets = located.mesh.tets
-    pairs = np.sort(np.concatenate([tets[:, [a, b]] for a in range(4) for b in range(a + 1, 4)]), axis=1)
-    keys = np.unique(pairs[:, 0] * count + pairs[:, 1])  # one key per edge (a row-wise unique is ~20x slower)
-    pairs = np.stack([keys // count, keys % count], axis=1)
-    return located.probes[np.concatenate([pairs, pairs[:, ::-1]])]
+    first = np.concatenate([tets[:, a] for a in range(4) for b in range(a + 1, 4)])
+    second = np.concatenate([tets[:, b] for a in range(4) for b in range(a + 1, 4)])
+    keys = sorted_unique(np.concatenate([first * count + second, second * count + first]))  # one key per direction
+    return located.probes[np.stack([keys // count, keys % count], axis=1)]
 
 
 def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None) -> MeshState:
@@ -143,7 +144,7 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     attributed = stencils_using(state, candidates, state.owners)
     is_candidate = np.zeros(n, dtype=bool)
     is_candidate[candidates] = True
-    remaining = np.setdiff1d(state.probes, candidates)
+    remaining = np.setdiff1d(state.probes, candidates, assume_unique=True)  # both sorted, distinct
     fills = star_fills(field, state, candidates)
     trial = None
     if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
@@ -245,7 +246,7 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     tetrahedralisation comes from it instead of Qhull: derived from the state's mesh and the removed probes' refills
     (derived_mesh) when the trial has them, else from refilled; a derived mesh refused goes to Qhull."""
     affected = stencils_using(state, removed, state.touched)
-    probes = np.setdiff1d(state.probes, removed)
+    probes = np.setdiff1d(state.probes, removed, assume_unique=True)
     if trial is not None and trial.fills is not None:  # the removed probes' refills are known: no new mesh to assemble
         gone = np.zeros(field.point_count, dtype=bool)
         gone[removed] = True
@@ -255,7 +256,7 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
                                                            mesh=mesh), reuse)
         trial = None  # the same refills assembled another way would pass what derived_mesh refused: Qhull decides
     tets = None if trial is None else refilled(field, state, trial, removed)
-    if tets is not None and np.unique(tets).shape[0] != probes.shape[0]:
+    if tets is not None and sorted_unique(tets.reshape(-1)).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
     try:
         located = evaluated_at(field, probes, affected, tets, state.weighting)

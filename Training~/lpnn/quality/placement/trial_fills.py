@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from ...core.integer_sets import sorted_unique
 from .decimation.hole_wrap import wrap_holes
 from ..metric.metric import ReferenceField
 from ..metric.tet_geometry import edge_frames, is_flat
@@ -131,7 +132,7 @@ def _link_fill(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray] | None:
     """The regular tetrahedra of v's link whose centroid lies in v's star (module text), oriented, and their 6 x
     volumes; None when Qhull cannot tetrahedralise the link."""
-    link = np.unique(star[star != v])
+    link = sorted_unique(star[star != v])
     relative = local[link] - local[v]
     lifted = np.concatenate([relative, (np.einsum("ij,ij->i", relative, relative) + tie[link])[:, None]], axis=1)
     try:
