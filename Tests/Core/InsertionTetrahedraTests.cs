@@ -8,7 +8,7 @@ using NUnit.Framework;
 namespace Lpnn.Probes.Core.Tests
 {
     /// <summary>Insertion rounds derived by insertion (RegularInsertion, InsertionTetrahedra; Documentation~/quality.md §5.1
-    /// step 4): a tetrahedralisation grown by inserting points must be exactly the one a fresh tetrahedralisation of all
+    /// step 6): a tetrahedralisation grown by inserting points must be exactly the one a fresh tetrahedralisation of all
     /// the points gives — checked against Bowyer–Watson (Tests/Core/Support), an independent tetrahedraliser, lifted by
     /// the same tie heights on lattices — and an insertion order must rank the same points with derived rounds as with
     /// every round tetrahedralised, fall back where the derivation fails, and stop deriving when the tetrahedraliser

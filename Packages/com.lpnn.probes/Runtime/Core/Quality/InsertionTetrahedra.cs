@@ -4,7 +4,7 @@ using System.Numerics;
 
 namespace Lpnn.Probes.Core.Quality
 {
-    /// <summary>Each insertion round's tetrahedra for one <see cref="InsertionOrder"/> (quality.md §5.1 step 4). Today's
+    /// <summary>Each insertion round's tetrahedra for one <see cref="InsertionOrder"/> (quality.md §5.1 step 6). Today's
     /// rounds (<see cref="Mode.Tetrahedralised"/>, the default) ask the <see cref="ITetrahedralizer"/> for every round's
     /// whole probe set and keep its numbering of the tetrahedra. That numbering is part of the answer: a point on a face,
     /// edge or vertex shared by several tetrahedra belongs to the lowest-index one (quality.md §1 "Ties"), and the round

@@ -4,7 +4,7 @@ using System.Collections.Generic;
 namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>A tie-broken Delaunay tetrahedralisation grown by inserting points (Bowyer–Watson on the lifted points,
-    /// Documentation~/quality.md §5.1 step 4): each point is lifted to |x|² + h, h its tie height (<see cref="TieBreak"/>),
+    /// Documentation~/quality.md §5.1 step 6): each point is lifted to |x|² + h, h its tie height (<see cref="TieBreak"/>),
     /// and its cavity — the tetrahedra whose lifted hyperplane it lies below, and the hull faces it lies beyond (or, in a
     /// hull face's plane, inside that face's power circle) — is re-triangulated from it. The lifted points are in general
     /// position, so the result is the unique regular triangulation of the points: the tetrahedraliser's set of tetrahedra
