@@ -155,10 +155,16 @@ public static class ApplyBench
     /// <param name="expected">lpnn place's probes file on the same capture, compared with the probes written; null: none.</param>
     /// <param name="refills">False: the refinement tetrahedralises every trial and commit instead of refilling the
     /// candidates' stars (BatchedRefinementState.ForceTetrahedralisation; the code before them, for a comparison under the same load).</param>
-    public static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected,
-        bool refills = true)
+    /// <param name="meshes">How the insertion rounds get their tetrahedra (InsertionTetrahedra.Mode): the tetrahedraliser's
+    /// own numbering (today), canonically numbered (--canonical), or derived by insertion and canonically numbered
+    /// (--incremental); the last two must keep the same probes.</param>
+    internal static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected,
+        bool refills = true, InsertionTetrahedra.Mode meshes = InsertionTetrahedra.Mode.Tetrahedralised)
     {
         BatchedRefinementState.ForceTetrahedralisation = !refills;
+        InsertionTetrahedra.Setting = meshes;
+        var fallbacks = new SortedDictionary<string, int>(StringComparer.Ordinal);
+        InsertionTetrahedra.FallbackListener = reason => fallbacks[reason] = (fallbacks.TryGetValue(reason, out int n) ? n : 0) + 1;
         var read = Stopwatch.StartNew();
         var capture = CaptureFile.Read(capturePath);
         var grid = capture.ToGrid();
@@ -182,6 +188,9 @@ public static class ApplyBench
         }
         else Console.WriteLine("leak-blind (Avoid light leaks off)");
         if (!refills) Console.WriteLine("no star refills: every trial and commit of the refinement tetrahedralised (--no-refills)");
+        if (meshes == InsertionTetrahedra.Mode.Canonical) Console.WriteLine("insertion rounds tetrahedralised, tetrahedra numbered canonically (--canonical)");
+        if (meshes == InsertionTetrahedra.Mode.Derived)
+            Console.WriteLine("insertion rounds derived by inserting each batch into the last round's tetrahedra, numbered canonically (--incremental)");
         // The first stage's two parts, timed alone (the Apply computes the reference twice: its evaluator's and its order's).
         read.Restart();
         var reference = ReferenceLighting.FromGrid(grid, capture.Sh);
@@ -196,12 +205,16 @@ public static class ApplyBench
             var staged = new StagedTetrahedralizer(python);
             var rays = soup == null ? null : new StagedRaycaster(soup, staged);
             var writes = new List<Vector3[]>();
-            int refinementProgress = 0;
+            int refinementProgress = 0, insertionRounds = 0;
             ProgressCallback progress = (stage, done, total) =>
             {
                 if (stage == ApplySteps.LightingStage && done == total) staged.Switch(Before);
                 else if (stage == ReportingMeasure.Stage) staged.Switch(Search);
-                else if (stage == "insertion ranking") staged.Switch(Insertion);
+                else if (stage == "insertion ranking")
+                {
+                    staged.Switch(Insertion);
+                    if (done < total) insertionRounds++;  // InsertionOrder.Prefix reports before every round, and once when done
+                }
                 else if (stage == "batched refinement") refinementProgress++;
             };
             var selection = RehearsalApply.Run(capture, grid, staged, SelectionSettings.Tolerance(tolerance), true, writes, progress, CancellationToken.None,
@@ -234,12 +247,16 @@ public static class ApplyBench
             Console.WriteLine(string.Format(CultureInfo.InvariantCulture,
                 "star refills' link tetrahedralisations (a hull vertex's few points each, not counted above): {0:N0}, {1:F1} s waiting (in the refinement's)",
                 staged.LinkCalls, staged.LinkWaiting));
+            Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "insertion rounds: {0}, tetrahedralisations for them: {1}",
+                insertionRounds, StagedTetrahedralizer.Count(staged.Calls, Insertion)));
+            foreach (var pair in fallbacks) Console.WriteLine("  not derived: " + pair.Key + " x" + pair.Value);
             var search = selection.Tolerance;
             Console.WriteLine(string.Format(CultureInfo.InvariantCulture,
                 "probes kept: {0:N0} (written {1}x); search: {2:N0} probes after {3} evaluations; refinement from {4:N0} seed points, {5} commits " +
                 "reported; refinement tetrahedralisations: {6}",
                 selection.Indices.Length, writes.Count, search == null ? 0 : search.Count, search == null ? 0 : search.Evaluated.Count,
                 selection.RefinedFrom, refinementProgress, string.Join(", ", refinementKinds)));
+            Console.WriteLine("probes' fingerprint (SHA-1 of their sorted positions to the millimetre, for A/B runs): " + Fingerprint(writes[writes.Count - 1]));
             if (expected != null) Compare(writes[writes.Count - 1], expected);
         }
         (soup as IDisposable)?.Dispose();
@@ -259,6 +276,18 @@ public static class ApplyBench
         Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "lpnn place ({0}): {1:N0} probes; C#: {2:N0}; in common {3:N0} -> {4}",
             System.IO.Path.GetFileName(expectedPath), expected.Count, got.Count, same,
             same == expected.Count && same == got.Count ? "THE SAME PROBES" : "DIFFERENT PROBES"));
+    }
+
+    private static string Fingerprint(Vector3[] written)
+    {
+        var keys = new List<string>();
+        foreach (var p in written) keys.Add(Key(p));
+        keys.Sort(StringComparer.Ordinal);
+        using (var sha = System.Security.Cryptography.SHA1.Create())
+        {
+            byte[] hash = sha.ComputeHash(System.Text.Encoding.UTF8.GetBytes(string.Join("\n", keys)));
+            return BitConverter.ToString(hash, 0, 8).Replace("-", "").ToLowerInvariant();
+        }
     }
 
     private static string Key(Vector3 p) => string.Format(CultureInfo.InvariantCulture, "{0:F3},{1:F3},{2:F3}", p.X, p.Y, p.Z);

@@ -38,10 +38,11 @@ public static class SelectionBench
         if (args.Length > 0 && args[0] == "--apply")
         {
             const string usage = "usage: SelectionBench.exe --apply CAPTURE TETRAHEDRALIZER.sh [--geometry TRIANGLES.bin | --embree SERVER.sh] [--no-memo] " +
-                                 "[--no-refills] [--expect PROBES.json]";
+                                 "[--no-refills] [--canonical | --incremental] [--expect PROBES.json]";
             if (args.Length < 3) throw new ArgumentException(usage);
             string geometry = null, embree = null, expected = null;
             bool remember = true, refills = true;
+            var meshes = InsertionTetrahedra.Mode.Tetrahedralised;
             for (int a = 3; a < args.Length; a++)
             {
                 if (args[a] == "--geometry" && a + 1 < args.Length) geometry = args[++a];
@@ -49,11 +50,13 @@ public static class SelectionBench
                 else if (args[a] == "--expect" && a + 1 < args.Length) expected = args[++a];
                 else if (args[a] == "--no-memo") remember = false;
                 else if (args[a] == "--no-refills") refills = false;
+                else if (args[a] == "--canonical") meshes = InsertionTetrahedra.Mode.Canonical;
+                else if (args[a] == "--incremental") meshes = InsertionTetrahedra.Mode.Derived;
                 else throw new ArgumentException(usage + "; got " + args[a]);
             }
             if (geometry != null && embree != null) throw new ArgumentException("--geometry or --embree, not both");
             if (!remember && geometry == null && embree == null) throw new ArgumentException("--no-memo needs --geometry or --embree (the leak-aware Apply)");
-            return ApplyBench.Run(args[1], args[2], ApplyBench.Tolerance, geometry, embree, remember, expected, refills);
+            return ApplyBench.Run(args[1], args[2], ApplyBench.Tolerance, geometry, embree, remember, expected, refills, meshes);
         }
         var sizes = new List<int>();
         bool batchedOnly = false;

@@ -1,6 +1,5 @@
 using System;
 using System.Collections.Generic;
-using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Grid;
@@ -22,7 +21,6 @@ namespace Lpnn.Probes.Core.Quality
         private const string Stage = "insertion ranking";
 
         private readonly ReferenceLighting _reference;
-        private readonly ITetrahedralizer _tetrahedralizer;
         private readonly double _growth;
         /// <summary>Guided insertion's weight of each of the reference's points (null: plain insertion).</summary>
         private readonly double[] _guide;
@@ -35,6 +33,8 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>The rounds, located incrementally: a point whose tetrahedron survived the last insertion keeps it
         /// (quality.md §5.1 step 5).</summary>
         private readonly InsertionRounds _rounds = new InsertionRounds();
+        /// <summary>Each round's tetrahedra: the tetrahedraliser's, or (opt-in) derived from the last round's by insertion.</summary>
+        private readonly InsertionTetrahedra _tetrahedra;
         /// <summary>Every point not yet ranked is interpolated exactly: the rest follow by index.</summary>
         private bool _exhausted;
 
@@ -75,7 +75,7 @@ namespace Lpnn.Probes.Core.Quality
                 for (int n = 0; n < _candidates.Length; n++) _candidates[n] = !pins.Blocked[n];
             }
             _reference = reference;
-            _tetrahedralizer = tetrahedralizer;
+            _tetrahedra = new InsertionTetrahedra(reference, tetrahedralizer);
             _growth = growth;
             _guide = guide;
             _rows = rows;
@@ -140,8 +140,7 @@ namespace Lpnn.Probes.Core.Quality
                     progress?.Invoke(Stage, _order.Count, count);
                     cancel.ThrowIfCancellationRequested();  // after the call, where the editor reads its Cancel button: no round starts
                     int[] probes = _order.ToArray();
-                    int[] batch = _rounds.NextBatch(_reference, probes, _tetrahedralizer.Tetrahedralize(PositionsOf(probes)), _growth, _guide,
-                        _candidates);
+                    int[] batch = _rounds.NextBatch(_reference, probes, _tetrahedra.Of(probes), _growth, _guide, _candidates);
                     Rounds++;
                     if (batch.Length == 0) _exhausted = true;
                     foreach (int p in batch)
@@ -164,11 +163,7 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Every point once, most important first.</summary>
         public int[] All(ProgressCallback progress = null, CancellationToken cancel = default) => Prefix(Count, progress, cancel);
 
-        private Vector3[] PositionsOf(int[] probes)
-        {
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = _reference.GetPosition(probes[k]);
-            return positions;
-        }
+        /// <summary>Rounds whose tetrahedra were derived, and tetrahedralisations made (tests and the Apply bench).</summary>
+        internal InsertionTetrahedra Tetrahedra => _tetrahedra;
     }
 }
