@@ -47,9 +47,11 @@ def register(actions: argparse._SubParsersAction) -> None:
                         help="also recover surface lights: one q3map_surfacelight value per shader that may emit "
                              "(its script says so, or it is sky or named *light* without a script); the rig then "
                              "holds them (lights.md §4-5; the probe baker does not bake them yet)")
-    lights.add_argument("--spots", action="store_true",
-                        help="every fitted light is a q3map2 spotlight: its axis and cone (radiusByDist) are fitted "
-                             "too, and the rig holds them as spots (lights.md §4)")
+    lights.add_argument("--spots", action=argparse.BooleanOptionalAction, default=None,
+                        help="also start q3map2 spotlights (pointing down) beside the point lights: their axes and cones "
+                             "(radiusByDist) are fitted too, and the rig holds them as spots (lights.md §4; default: "
+                             "with the peak start, where a spotlight's disc explains the floor's light better than a "
+                             "point light's bump; --no-spots: never)")
     lights.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,
                         help="also recover one q3map2 sun (direction, colour, intensity in photons) lighting what sees "
                              "the level's sky surfaces; the rig then holds it (lights.md §4-5; default: where the level "

@@ -26,7 +26,7 @@ from ..scenes.levels import load_level
 from .compare import compare_grid, compare_rigs, relight_stored_grid, stored_grid
 from .curves import write_curve_csv, write_curve_png
 from .emitters import emitter_bytes
-from .pipeline import (add_surface_lights, fit_scene, fits_sun, level_emitters, load_scene, point_lights_of,
+from .pipeline import (add_surface_lights, fit_scene, fits_spots, fits_sun, level_emitters, load_scene, point_lights_of,
                        real_rig, rig_emitters, rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
 from .settings import DEFAULT_GRID, DEFAULT_START, PEAK_START, SCHEMES, STARTS
@@ -37,7 +37,7 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
 
 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
-                   surfaces: bool = False, spots: bool = False, start: str = DEFAULT_START,
+                   surfaces: bool = False, spots: bool | None = None, start: str = DEFAULT_START,
                    peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True,
                    suns: bool | None = None) -> list[dict[str, Any]]:
     level = load_level(name)
@@ -71,6 +71,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         suffix = "+surfaces"
         print(f"{level.name}: {len(scene.surface_shaders)} surface-light shaders to recover in {basis_seconds:.1f} s",
               flush=True)
+    spots = fits_spots(scene, spots, start, peaks) if schemes else False
     suffix += "+spots" if spots else ""
     suns = fits_sun(scene, suns) if schemes else False
     suffix += "+suns" if suns else ""
@@ -143,7 +144,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", default="x".join(map(str, DEFAULT_GRID)), metavar="NxNxM")
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument("--surfaces", action="store_true", help="the fits also recover surface lights (lights.md §4)")
-    parser.add_argument("--spots", action="store_true", help="every fitted light is a spotlight (lights.md §4)")
+    parser.add_argument("--spots", action=argparse.BooleanOptionalAction, default=None,
+                        help="the fits also start spotlights (default: with the peak start, where a spotlight's disc "
+                             "explains the floor's light better than a point light, lights.md §4; --no-spots: never)")
     parser.add_argument("--start", default=DEFAULT_START, choices=STARTS,
                         help="where the lights start: the grid's cells, or the peaks of the baked light (lights.md §4)")
     parser.add_argument("--suns", action=argparse.BooleanOptionalAction, default=None,

@@ -26,8 +26,8 @@ from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
 from .shadows import shadow_raycaster
 from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
                        GRID_START, PEAK_START, SCHEMES, STARTS)
-from .starts import (DEFAULT_PEAKS, SPOT_REACH, PeakSettings, Starts, ceiling_starts, peak_starts,
-                     with_grid_fallback)
+from .starts import (DEFAULT_PEAKS, SPOT_REACH, PeakSettings, Starts, ceiling_starts, disc_gains, lit_by_spotlights,
+                     peak_starts, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
@@ -116,12 +116,13 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
-              spots: bool = False, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
+              spots: bool | None = None, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
               suns: bool | None = None) -> FitResult:
-    """With `spots`, every start position starts both a point light and a q3map2 spotlight (pointing down), the
-    spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one sun whose direction, colour
-    and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
+    """With `spots` (None: fits_spots's default), every start position starts both a point light and a q3map2
+    spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
+    sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
     suns = fits_sun(scene, suns)
+    spots = fits_spots(scene, spots, start, peaks)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
     starts = start_positions(scene, grid, start, peaks)
@@ -153,13 +154,8 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
-    up = np.array([0.0, 0.0, 1.0])
-
-    def distance_up(points: np.ndarray) -> np.ndarray:
-        return scene.model.raycaster.cast(points, np.broadcast_to(up, points.shape).copy(), SPOT_REACH + 1.0)[0]
-
     ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
-                             distance_up, peaks)
+                             _distance_up(scene), peaks)
     inside = np.all((ceiling.positions >= scene.bounds[0]) & (ceiling.positions <= scene.bounds[1]), axis=1)
     if not inside.any():
         return starts.positions, relative
@@ -167,6 +163,26 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     gap = np.linalg.norm(starts.positions[:, None] - hung[None], axis=2).min(axis=1)
     far = gap >= peaks.merge_distance
     return np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
+
+
+def _distance_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
+    """(N, 3) Quake points -> (N,) units to the first surface straight above (inf beyond SPOT_REACH)."""
+    up = np.array([0.0, 0.0, 1.0])
+    return lambda points: scene.model.raycaster.cast(points, np.broadcast_to(up, points.shape).copy(), SPOT_REACH + 1.0)[0]
+
+
+def fits_spots(scene: LevelScene, spots: bool | None, start: str = DEFAULT_START,
+               peaks: PeakSettings = DEFAULT_PEAKS) -> bool:
+    """Whether a fit starts spotlights: as asked, or by default (None) with the peak start where a spotlight's disc
+    explains the floor's peaks of baked light better than a point light's bump (starts.lit_by_spotlights, lights.md
+    §4); the grid start has no floor peaks to judge by, so no spotlights by default."""
+    if spots is not None:
+        return spots
+    if start != PEAK_START:
+        return False
+    target = scene.target
+    return lit_by_spotlights(disc_gains(target.positions, target.normals, target.radiance, target.albedo,
+                                        _distance_up(scene), peaks))
 
 
 def fits_sun(scene: LevelScene, suns: bool | None) -> bool:

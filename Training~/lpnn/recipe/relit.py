@@ -55,7 +55,8 @@ def level_rig(level: Level, rig_file: Path, scheme: str) -> Rig:
     from ..lights.settings import DEFAULT_GRID
 
     scene = load_scene(level)
-    rig = rig_of(scene, fit_scene(scene, DEFAULT_GRID, scheme), DEFAULT_GRID, scheme)
+    # no spotlights: the probe baker (lights/bake.py rig_lights) bakes a rig's lights as point lights, without cones
+    rig = rig_of(scene, fit_scene(scene, DEFAULT_GRID, scheme, spots=False), DEFAULT_GRID, scheme)
     write_rig(rig_file, rig)
     return rig
 

@@ -16,8 +16,9 @@ from lpnn.lights.settings import SCHEMES
 from lpnn.scenes.levels import load_level
 from lpnn.lights.model import POINT_SCALE
 from lpnn.lights.optimise import CLEARANCE
-from lpnn.lights.starts import (DEFAULT_HEIGHT, SPOT_REACH, Starts, baked_light, bump_profile, ceiling_starts, fit_bump,
-                                light_peaks, peak_starts, with_grid_fallback)
+from lpnn.lights.starts import (DEFAULT_HEIGHT, SPOT_LEVEL_GAIN, SPOT_REACH, Starts, baked_light, bump_profile,
+                                ceiling_starts, disc_gain, disc_gains, fit_bump, light_peaks, lit_by_spotlights,
+                                peak_starts, with_grid_fallback)
 from synthetic_room import ROOM_SIDE, inside_room, lit_room
 
 # lights on mesh vertices of the 16-division room (16-unit spacing), 64 units (a height of starts.HEIGHTS) from
@@ -199,3 +200,74 @@ def test_a_spotlight_start_in_solid_moves_sideways_to_open_space() -> None:
     points, normals, radiance, albedo = floor_with_discs([(0.0, 0.0)], [80.0])
     starts = ceiling_starts(points, normals, radiance, albedo, lambda p: p[:, 0] < 0.0, ceiling_at(200.0))
     np.testing.assert_allclose(starts.positions, [[-16.0, 0.0, 200.0 - CLEARANCE]])  # the first open side step
+
+
+def q3map2_disc(rho: np.ndarray, height: float, cone: float) -> np.ndarray:
+    """A downward q3map2 spotlight's light on the floor below it, per byte at its foot, written out from
+    light_ydnar.c LightContributionToSample: the point light's 7500 I cos / d^2 inside the cone of radius
+    radiusByDist x distance along the axis, faded over the last 32 units of that radius."""
+    d_sq = height * height + rho * rho
+    point = (height / np.sqrt(d_sq)) / d_sq * height * height  # cos / d^2 relative to the foot's 1 / h^2
+    radius = cone * height
+    return point * np.clip((radius - rho) / 32.0, 0.0, 1.0)
+
+
+def floor_lit_by(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The plane points of a floor (z = 0) within 320 units, their tangential offsets and the floor's light: 2 bytes
+    everywhere plus `profile` of the distance from the origin."""
+    points = plane_points(spacing=16.0, radius=320.0)
+    return points, points.copy(), 2.0 + profile(np.linalg.norm(points[:, :2], axis=1))
+
+
+def test_a_spotlights_disc_is_told_from_a_point_lights_bump() -> None:
+    """Step 8: under a spotlight hanging 176 units up (cone 0.6: a 106-unit disc) the disc leaves almost none of the
+    residual the best point bump leaves; under a point light 64 units up (a height of HEIGHTS) the bump fits exactly
+    and the disc, held at 176 units, cannot: no gain."""
+    up = np.array([0.0, 0.0, 1.0])
+    points, tangential, light = floor_lit_by(lambda rho: 150.0 * q3map2_disc(rho, 176.0, 0.6))
+    feet = tangential[np.linalg.norm(tangential, axis=1) <= 64.0]
+    assert disc_gain(tangential, light, feet, up, 176.0) > 0.9
+    _, _, bump = floor_lit_by(lambda rho: 150.0 * bump_profile(rho, 64.0))
+    assert disc_gain(tangential, bump, feet, up, 176.0) < 0.0
+    assert disc_gain(tangential[:3], light[:3], feet, up, 176.0) == 0.0  # too few points to say
+
+
+def floor_under_ceiling(profile, feet: list[tuple[float, float]]) -> tuple[np.ndarray, ...]:
+    """A white floor (z = 0, normals up) lit by `profile` of the distance to each foot over 2 bytes: points, normals,
+    radiance, albedo."""
+    points = plane_points(spacing=16.0, radius=320.0)
+    light = np.full(len(points), 2.0)
+    for x, y in feet:
+        light += profile(np.linalg.norm(points[:, :2] - [x, y], axis=1))
+    albedo = np.ones((len(points), 3))
+    normals = np.tile([0.0, 0.0, 1.0], (len(points), 1))
+    return points, normals, light[:, None] * PER_BYTE * albedo, albedo
+
+
+def test_a_level_is_lit_by_spotlights_where_its_floor_peaks_are_discs() -> None:
+    """Two spotlights hanging CLEARANCE under a 200-unit ceiling (the ceiling start's height) light two discs: every
+    floor peak's gain is well over SPOT_LEVEL_GAIN (less than a lone disc's: the other disc is inside the 320-unit
+    window, a light neither profile holds) and the level is judged lit by spotlights; two point lights 48 units up light bumps
+    the disc cannot hold: not; a floor with no ceiling in reach has no peak to judge: not."""
+    height = 200.0 - CLEARANCE
+    feet = [(-160.0, 0.0), (160.0, 0.0)]
+    discs = floor_under_ceiling(lambda rho: 150.0 * q3map2_disc(rho, height, 0.6), feet)
+    gains = disc_gains(*discs, ceiling_at(200.0))
+    assert len(gains) == 2 and np.median(gains) > 0.1 and lit_by_spotlights(gains)
+    bumps = floor_under_ceiling(lambda rho: 150.0 * bump_profile(rho, 48.0), feet)
+    gains = disc_gains(*bumps, ceiling_at(200.0))
+    assert len(gains) == 2 and np.median(gains) < SPOT_LEVEL_GAIN and not lit_by_spotlights(gains)
+    assert len(disc_gains(*discs, lambda p: np.full(len(p), np.inf))) == 0
+    assert not lit_by_spotlights(np.zeros(0))
+
+
+def test_fits_spots_as_asked_and_by_default_only_with_the_peak_start(tmp_path: Path) -> None:
+    """pipeline.fits_spots: an explicit answer is kept; by default the grid start has no floor peaks to judge by, and
+    the synthetic lit level's flat light has no peak either: no spotlights."""
+    from lpnn.lights.pipeline import fits_spots
+
+    path = tmp_path / "lit.bsp"
+    path.write_bytes(lit_level().to_bytes())
+    scene = load_scene(load_level(str(path)), textures=False)
+    assert fits_spots(scene, True, "grid") and not fits_spots(scene, False, "peaks")
+    assert not fits_spots(scene, None, "grid") and not fits_spots(scene, None, "peaks")
