@@ -41,7 +41,7 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(derived.Length, Is.EqualTo(expected.Length), "tetrahedron count");
             Assert.That(TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, expected)), Is.True,
                 "the inserted tetrahedra are not Bowyer–Watson's");
-            Assert.That(InsertionTetrahedra.Canonical(derived), Is.EqualTo(InsertionTetrahedra.Canonical(expected)));
+            Assert.That(TetrahedralMesh.Canonical(derived), Is.EqualTo(TetrahedralMesh.Canonical(expected)));
         }
 
         /// <summary>Bowyer–Watson's tetrahedra of the given points (indices into <paramref name="vertices"/>).</summary>
@@ -144,20 +144,6 @@ namespace Lpnn.Probes.Core.Tests
 
         // ---- an insertion order's rounds ---------------------------------------------------------------------------------
 
-        /// <summary>Counts the calls of an inner tetrahedraliser.</summary>
-        private sealed class Counting : ITetrahedralizer
-        {
-            private readonly ITetrahedralizer _inner;
-            public int Calls;
-            public Counting(ITetrahedralizer inner) { _inner = inner; }
-
-            public int[] Tetrahedralize(Vector3[] positions)
-            {
-                Calls++;
-                return _inner.Tetrahedralize(positions);
-            }
-        }
-
         private static ReferenceLighting LatticeLighting(Grid.EvaluationGrid grid)
         {
             var positions = QualityFixtures.Positions(grid);
@@ -169,7 +155,7 @@ namespace Lpnn.Probes.Core.Tests
         {
             var grid = QualityFixtures.Box(7, 6, 5);
             var reference = LatticeLighting(grid);
-            var tetrahedralizer = new Counting(BowyerWatsonDelaunay.TieBroken(reference, otherwise));
+            var tetrahedralizer = BowyerWatsonDelaunay.TieBroken(reference, otherwise);
             InsertionTetrahedra.Setting = mode;
             var order = new InsertionOrder(grid, reference, tetrahedralizer, 0.3);
             int[] ranking = order.All();

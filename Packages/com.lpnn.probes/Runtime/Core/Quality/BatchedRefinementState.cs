@@ -78,7 +78,7 @@ namespace Lpnn.Probes.Core.Quality
             }
             var trialErrors = new double[n];
             var seen = Leaks == null ? null : new StencilLog();
-            var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
+            var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates, isCandidate) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
             PlacementError.InterpolatePoints(reference, remaining, trial, attributed.ToArray(),
                 (int p, ref Stencil stencil, double[] interpolated) =>
                 {
@@ -90,17 +90,17 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The trial's tetrahedra from the candidates' star refills (kept for <see cref="Without"/>), or null when
-        /// a refill or the result is refused (or <see cref="ForceTetrahedralisation"/>).</summary>
-        private TetrahedralMesh RefilledTrial(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] remaining, int[] candidates)
+        /// a refill or the result is refused (or <see cref="ForceTetrahedralisation"/>). <paramref name="isCandidate"/>: the
+        /// candidates flagged per point (read only).</summary>
+        private TetrahedralMesh RefilledTrial(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] remaining, int[] candidates,
+            bool[] isCandidate)
         {
             trialRefills = null;
             if (ForceTetrahedralisation || Counts.RefillsAgree == false) return null;
             var refills = StarRefills.Of(reference, tetrahedralizer, Probes, Mesh, EdgeStart, EdgeTarget, candidates, out int linkCalls);
             Counts.LinkTetrahedralisations += linkCalls;
             if (refills == null) return null;
-            var removed = new bool[reference.Count];
-            foreach (int c in candidates) removed[c] = true;
-            var mesh = Derived(reference, removed, remaining, refills.Tetrahedra, refills.Owners);
+            var mesh = Derived(reference, isCandidate, remaining, refills.Tetrahedra, refills.Owners);
             if (mesh == null) return null;
             if (Counts.RefillsAgree == null)  // once per refinement: one more tetrahedralisation (RefillCounts.RefillsAgree)
             {

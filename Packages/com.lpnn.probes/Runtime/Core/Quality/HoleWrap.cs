@@ -82,7 +82,7 @@ namespace Lpnn.Probes.Core.Quality
             {
                 int a = queue[3 * head], b = queue[3 * head + 1], c = queue[3 * head + 2];
                 head++;
-                int here = FindFace(faces, count, a, b, c);
+                int here = FindFace(faces, count, new TriangleKey(a, b, c));
                 if (seen[here] >= 2) continue;  // closed meanwhile
                 int best = LowestApex(x, h, d, a, b, c);
                 if (best == DegenerateFace) return null;
@@ -156,33 +156,28 @@ namespace Lpnn.Probes.Core.Quality
             return (e1y * e2z - e1z * e2y) * e3x + (e1z * e2x - e1x * e2z) * e3y + (e1x * e2y - e1y * e2x) * e3z;
         }
 
-        private static void Sorted3(int a, int b, int c, out int lo, out int mid, out int hi)
+        /// <summary>Index of the registered face with vertices <paramref name="key"/>, or -1.</summary>
+        private static int FindFace(int[] faces, int count, TriangleKey key)
         {
-            lo = Math.Min(a, Math.Min(b, c));
-            hi = Math.Max(a, Math.Max(b, c));
-            mid = a + b + c - lo - hi;
-        }
-
-        /// <summary>Index of the registered face with vertices {a, b, c}, or -1.</summary>
-        private static int FindFace(int[] faces, int count, int a, int b, int c)
-        {
-            Sorted3(a, b, c, out int lo, out int mid, out int hi);
             for (int i = 0; i < count; i++)
-                if (faces[3 * i] == lo && faces[3 * i + 1] == mid && faces[3 * i + 2] == hi) return i;
+                if (faces[3 * i] == key.A && faces[3 * i + 1] == key.B && faces[3 * i + 2] == key.C) return i;
             return -1;
         }
 
         /// <summary>Counts one more tetrahedron on face {a, b, c}: its index, or -1 when there is no room for a new face.</summary>
         private static int Register(int[] faces, int[] seen, ref int count, int a, int b, int c)
         {
-            int found = FindFace(faces, count, a, b, c);
+            var key = new TriangleKey(a, b, c);
+            int found = FindFace(faces, count, key);
             if (found >= 0)
             {
                 seen[found]++;
                 return found;
             }
             if (count == seen.Length) return -1;
-            Sorted3(a, b, c, out faces[3 * count], out faces[3 * count + 1], out faces[3 * count + 2]);
+            faces[3 * count] = key.A;
+            faces[3 * count + 1] = key.B;
+            faces[3 * count + 2] = key.C;
             seen[count] = 1;
             return count++;
         }

@@ -70,7 +70,7 @@ namespace Lpnn.Probes.Core.Quality
             int[] derived = _mode == Mode.Derived && Agrees != false ? Derive(probes) : null;
             if (derived != null && Agrees == null)
             {
-                int[] fresh = Canonical(Tetrahedralize(probes));
+                int[] fresh = TetrahedralMesh.Canonical(Tetrahedralize(probes));
                 double[] points = PlacementError.ProbePoints(_reference, probes);
                 Agrees = TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, fresh));
                 if (Agrees == false)
@@ -85,7 +85,7 @@ namespace Lpnn.Probes.Core.Quality
                 Derived++;
                 return derived;
             }
-            int[] tetrahedra = Canonical(Tetrahedralize(probes));
+            int[] tetrahedra = TetrahedralMesh.Canonical(Tetrahedralize(probes));
             if (_mode == Mode.Derived && Agrees != false)
             {
                 _mesh = RegularInsertion.Of(_reference.Local, _reference.TieHeights, probes, tetrahedra, out string refused);
@@ -107,7 +107,7 @@ namespace Lpnn.Probes.Core.Quality
                     FallbackListener?.Invoke("an insertion failed: " + mesh.Failure);
                     return null;
                 }
-            int[] tetrahedra = Canonical(mesh.Tetrahedra());
+            int[] tetrahedra = TetrahedralMesh.Canonical(mesh.Tetrahedra());
             if (AlterDerivedForTests != null)
             {
                 tetrahedra = AlterDerivedForTests(tetrahedra);
@@ -123,31 +123,6 @@ namespace Lpnn.Probes.Core.Quality
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = _reference.GetPosition(probes[k]);
             return _tetrahedralizer.Tetrahedralize(positions);
-        }
-
-        /// <summary>The tetrahedra numbered canonically: each one's corners ascending, then the tetrahedra in ascending
-        /// order of their corners (the mesh then orients each by swapping its last two corners where negative).</summary>
-        internal static int[] Canonical(int[] tetrahedra)
-        {
-            int count = tetrahedra.Length / 4;
-            var keys = new KeyValuePair<long, long>[count];
-            var corners = new int[4];
-            for (int t = 0; t < count; t++)
-            {
-                Array.Copy(tetrahedra, 4 * t, corners, 0, 4);
-                Array.Sort(corners);
-                keys[t] = new KeyValuePair<long, long>(((long)corners[0] << 32) | (uint)corners[1], ((long)corners[2] << 32) | (uint)corners[3]);
-            }
-            Array.Sort(keys, (x, y) => x.Key != y.Key ? x.Key.CompareTo(y.Key) : x.Value.CompareTo(y.Value));
-            var result = new int[4 * count];
-            for (int t = 0; t < count; t++)
-            {
-                result[4 * t] = (int)(keys[t].Key >> 32);
-                result[4 * t + 1] = (int)keys[t].Key;
-                result[4 * t + 2] = (int)(keys[t].Value >> 32);
-                result[4 * t + 3] = (int)keys[t].Value;
-            }
-            return result;
         }
     }
 }

@@ -459,8 +459,8 @@ namespace Lpnn.Probes.Core.Quality
         private static long FaceKey(int[] v, int t, int s)
         {
             int a = v[4 * t + (s == 0 ? 1 : 0)], b = v[4 * t + (s <= 1 ? 2 : 1)], c = v[4 * t + (s <= 2 ? 3 : 2)];
-            int lo = Math.Min(a, Math.Min(b, c)), hi = Math.Max(a, Math.Max(b, c)), mid = a + b + c - lo - hi;
-            return ((long)lo << 42) | ((long)mid << 21) | (long)(uint)hi;
+            var key = new TriangleKey(a, b, c);
+            return ((long)key.A << 42) | ((long)key.B << 21) | (long)(uint)key.C;
         }
 
         /// <summary>The two vertices of t other than slots i and j (one may be the infinite vertex), sorted and packed.</summary>
