@@ -49,10 +49,9 @@ from pathlib import Path
 import numpy as np
 
 from ..scenes.bsp import FACE_MESH, FACE_PATCH, FACE_POLYGON, Bsp
-from ..scenes.patches import PATCH_LEVEL, tessellate_patches
-from ..scenes.ranges import concatenated_ranges
+from ..scenes.patches import PATCH_LEVEL
 from ..scenes.raycast import EmbreeRaycaster
-from .surfaces import vertex_attributes
+from .surfaces import NORMAL, POSITION, face_triangles
 
 SPOT_DEFAULT_RADIUS = 64.0  # light.c CreateEntityLights
 SPOT_EDGE = 32.0  # units of soft cone edge, LightContributionToSample
@@ -572,23 +571,10 @@ def emitters_at_points(points: np.ndarray, emitters: Emitters, raycaster,
 def surface_triangles(bsp: Bsp, faces: np.ndarray, patch_level: int = PATCH_LEVEL) -> tuple[np.ndarray, np.ndarray,
                                                                                              np.ndarray]:
     """Corners (T, 3, 3), vertex normals (T, 3, 3) and face (T,) of the given faces' triangles
-    (polygons and meshes by their indices, patches tessellated)."""
-    table = bsp.faces
-    attributes = vertex_attributes(bsp)
-    kind = table["type"][faces]
-    indexed = faces[np.isin(kind, (FACE_POLYGON, FACE_MESH))]
-    counts = table["num_indexes"][indexed].astype(np.int64)
-    owner = np.repeat(indexed, counts)
-    corners = table["first_vert"][owner].astype(np.int64) + \
-        bsp.mesh_verts[concatenated_ranges(table["first_index"][indexed], counts)]
-    patched = faces[kind == FACE_PATCH]
-    patch_attributes, patch_triangles, patch_face = tessellate_patches(
-        attributes, table["first_vert"][patched], table["patch_width"][patched], table["patch_height"][patched],
-        patch_level)
-    everything = np.concatenate([attributes, patch_attributes])
-    triangles = np.concatenate([corners.reshape(-1, 3), patch_triangles + len(attributes)])
-    face = np.concatenate([owner[::3], patched[patch_face]]).astype(np.int64)
-    return everything[triangles][:, :, 0:3], everything[triangles][:, :, 3:6], face
+    (surfaces.face_triangles: polygons and meshes by their indices, patches tessellated)."""
+    attributes, triangles, face = face_triangles(bsp, faces, patch_level)
+    corners = attributes[triangles]
+    return corners[:, :, POSITION], corners[:, :, NORMAL], face
 
 
 def _clip(polygon: list[np.ndarray], axis: int, value: float, keep_above: bool) -> list[np.ndarray]:
