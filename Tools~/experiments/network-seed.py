@@ -39,11 +39,14 @@ from pathlib import Path
 
 import numpy as np
 
+from lpnn.quality.placement.policy_rules import DEFAULT_TOLERANCE  # math only: --help stays quick
+
 TOOLS = Path(__file__).resolve().parent
-TOLERANCE = 0.05
+TOLERANCE = DEFAULT_TOLERANCE  # the default's tau (lpnn place, bench, the editor), whose answers label the points
 TILE_POINTS = 4096  # the trainer's max_points: the clouds the network was trained on
 SEED_FACTOR = 1.0  # seed = this x the network's expected kept count (chosen on validation: benchmarks.md)
 REFINE_FACTOR = 1.2  # the refinement starts from this x K0 points (the default's own: 2)
+MIN_SEED = 4  # points at least in a seed: the tolerance search's own smallest count (insertion.InsertionOrder)
 
 
 def _ceilings():
@@ -89,8 +92,9 @@ def kept_probabilities(scorer, capture, tile_points: int) -> np.ndarray:
 
 
 def network_seed(probabilities: np.ndarray, factor: float) -> np.ndarray:
-    """The round(factor x sum p) likeliest points, likeliest first (ties: lower index)."""
-    count = min(probabilities.shape[0], max(4, int(round(factor * float(probabilities.sum())))))
+    """The round(factor x sum p) likeliest points (at least MIN_SEED, at most all), likeliest first (ties: lower
+    index)."""
+    count = min(probabilities.shape[0], max(MIN_SEED, int(round(factor * float(probabilities.sum())))))
     return np.lexsort((np.arange(probabilities.shape[0]), -probabilities))[:count]
 
 
@@ -160,7 +164,9 @@ def _seeded(scorer, capture, field, grid, leaks, args, oracle=None):
     return placed, int(seed.shape[0]), scoring, time.perf_counter() - start
 
 
-def _split(placed) -> str:
+def _where_the_time_goes(placed) -> str:
+    """compare's last columns: the count the refinement started from, insertion's rounds, seconds of insertion and the
+    tolerance search + seconds of refinement."""
     return (f"{placed.seed_count:,}, {placed.rounds}, {placed.selection_seconds:.1f} + "
             f"{placed.refinement_seconds:.1f}")
 
@@ -190,7 +196,7 @@ def compare(args: argparse.Namespace) -> int:
         ratios.append((counts[1] / counts[0], seconds / default_seconds))
         print(f"| {path.stem} | {capture.point_count:,} | {counts[0]:,} | {errors[0]:.4f} | {default_seconds:.2f} | "
               f"{seed_size:,} | {counts[1]:,} | {errors[1]:.4f} | {seconds:.2f} ({scoring:.2f}) | {ratios[-1][0]:.3f} | "
-              f"{ratios[-1][1]:.2f} | {_split(default)} | {_split(seeded)} |", flush=True)
+              f"{ratios[-1][1]:.2f} | {_where_the_time_goes(default)} | {_where_the_time_goes(seeded)} |", flush=True)
     mean = np.exp(np.log(np.asarray(ratios)).mean(axis=0))
     print(f"geometric mean over {len(ratios)} captures: probes ×default {mean[0]:.3f}, seconds ×default {mean[1]:.2f}")
     return 0

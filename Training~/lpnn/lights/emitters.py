@@ -49,10 +49,9 @@ from pathlib import Path
 import numpy as np
 
 from ..scenes.bsp import FACE_MESH, FACE_PATCH, FACE_POLYGON, Bsp
-from ..scenes.patches import PATCH_LEVEL, tessellate_patches
-from ..scenes.ranges import concatenated_ranges
+from ..scenes.patches import PATCH_LEVEL
 from ..scenes.raycast import EmbreeRaycaster
-from .surfaces import vertex_attributes
+from .surfaces import NORMAL, POSITION, face_triangles
 
 SPOT_DEFAULT_RADIUS = 64.0  # light.c CreateEntityLights
 SPOT_EDGE = 32.0  # units of soft cone edge, LightContributionToSample
@@ -61,7 +60,9 @@ AREA_SCALE = 0.25  # q3map2.h areaScale
 DEFAULT_LIGHT_SUBDIVIDE = 999.0  # q3map2.h defaultLightSubdivide
 BACKSPLASH_FRACTION = 0.05  # q3map2.h DEF_BACKSPLASH_FRACTION
 BACKSPLASH_DISTANCE = 23.0  # q3map2.h DEF_BACKSPLASH_DISTANCE
-POINT_SCALE = 7500.0
+POINT_SCALE = 7500.0  # q3map2 pointScale: a point light of `light` I sends 7500 I photons
+MIN_DISTANCE = 16.0  # units: q3map2 clamps a point light's distance to at least this (the inverse square's peak)
+DROPPED_CONTRIBUTION = 1.0  # bytes: q3map2 ignores a light adding this much or less
 ORIGIN_NUDGE = 1.0  # the area light's origin is 1 unit in front of its winding
 RAY_OFFSET = 0.5  # units off the surface where a target point's shadow rays start
 # A lightmap sample's trace ignores occluders within this many units of its origin: q3map2.h DEFAULT_INHIBIT_RADIUS,
@@ -334,15 +335,29 @@ class Emitters:
                         splash_shader=self.splash_shader[splash])
 
 
+def cone_factor(along: np.ndarray | float, radial: np.ndarray, radius_by_dist: np.ndarray | float) -> np.ndarray:
+    """q3map2's spotlight cone (module docstring) of a point `along` units down the axis from the light and `radial`
+    units off it (broadcast): 0 behind the light or outside the cone of radius R = radiusByDist x along, (R - r) /
+    SPOT_EDGE on its soft edge, else 1. The one statement of the rule: the rig's emitters (spot_factor), the fit's
+    pairs (model.spot_factors) and the floor discs of the fit's starts (starts.spot_disc_profile) all call it; only
+    the compiled objective (objective_kernel.spot_factor) restates it, tested against model.spot_factors."""
+    cone = radius_by_dist * along
+    return np.where((along > 0) & (radial < cone), np.clip((cone - radial) / SPOT_EDGE, 0.0, 1.0), 0.0)
+
+
 def spot_factor(points: np.ndarray, positions: np.ndarray, directions: np.ndarray,
                 radius_by_dist: np.ndarray) -> np.ndarray:
-    """(C, S) q3map2's cone factor (module docstring) of spotlights at points (C, 3)."""
+    """(C, S) q3map2's cone factor (cone_factor) of spotlights at points (C, 3)."""
     offset = points[:, None, :] - positions[None, :, :]  # p - x
     along = np.einsum("csk,sk->cs", offset, directions)
     radial = np.linalg.norm(offset - along[..., None] * directions[None], axis=2)
-    cone = radius_by_dist[None, :] * along
-    factor = np.clip((cone - radial) / SPOT_EDGE, 0.0, 1.0)
-    return np.where((along >= 0) & (radial < cone), factor, 0.0)
+    return cone_factor(along, radial, radius_by_dist[None, :])
+
+
+def clamped_distance_squared(distance: np.ndarray) -> np.ndarray:
+    """max(distance, MIN_DISTANCE)^2: the denominator of q3map2's inverse-square falloff of a point light (light_ydnar.c
+    LightContributionToSample / LightContributionToPoint), shared by every point-light sum of the rig code."""
+    return np.maximum(distance, MIN_DISTANCE) ** 2
 
 
 def form_factor(points: np.ndarray, normals: np.ndarray, corners: np.ndarray) -> np.ndarray:
@@ -397,7 +412,7 @@ def _suns_at_surface(p, n, suns: Suns, raycaster) -> np.ndarray:
     for k in range(suns.count):
         cosine = n @ suns.directions[k]
         facing = np.flatnonzero(cosine > 0)
-        origins = p[facing] + RAY_OFFSET * n[facing] + SURFACE_INHIBIT_RADIUS * suns.directions[k]
+        origins = sun_ray_origins(p[facing], n[facing], suns.directions[k])
         lit = facing[sunlit(origins, np.broadcast_to(suns.directions[k], origins.shape).copy(), suns, raycaster)]
         out[lit] += (suns.photons[k] * cosine[lit])[:, None] * suns.colours[k]
     return out
@@ -425,17 +440,34 @@ def _point_lights_at_surface(p, n, positions, colours, intensities, spots: Spots
     d = positions[None] - p[:, None]
     q = np.linalg.norm(d, axis=2)
     cos = np.einsum("cjk,ck->cj", d, n) / np.maximum(q, 1e-9)
-    g = np.where(cos > 0, cos / np.maximum(q, 16.0) ** 2, 0.0) * POINT_SCALE * intensities[None]
+    g = np.where(cos > 0, cos / clamped_distance_squared(q), 0.0) * POINT_SCALE * intensities[None]
     if spots is not None:
         g = g * spot_factor(p, spots.positions, spots.directions, spots.radius_by_dist)
     g = _shadowed(p + RAY_OFFSET * n, positions, g, raycaster, min_value=0.0, inhibit=SURFACE_INHIBIT_RADIUS)
     return g @ colours
 
 
+def _plane_offsets(points: np.ndarray, areas: AreaLights) -> np.ndarray:
+    """(C, K) d = p.N - origin.N of every point in front of (> 0) or behind every area light's plane."""
+    return np.einsum("ck,jk->cj", points, areas.normals) - np.einsum("jk,jk->j", areas.origins, areas.normals)[None]
+
+
+def _area_light_bytes(points: np.ndarray, normals: np.ndarray, areas: AreaLights, point: np.ndarray, light: np.ndarray,
+                      offsets: np.ndarray) -> np.ndarray:
+    """(P,) bytes (before colour and shadow) of area light `light` at point `point` per pair, receiving along
+    `normals` (P, 3), `offsets` the points' _plane_offsets: the point pushed to 8 units off the light's plane when
+    closer (light.c LightContributionToSample), add x PointToPolygonFormFactor, its magnitude for a two-sided light."""
+    d = offsets[point, light]
+    pushed = points[point] + np.where((d > -8.0) & (d < 8.0), 8.0 - d, 0.0)[:, None] * areas.normals[light]
+    factor = form_factor(pushed, normals, areas.corners[light])
+    factor = np.where(areas.two_sided[light], np.abs(factor), np.maximum(factor, 0.0))
+    return factor * areas.add[light]
+
+
 def _areas_at_surface(p, n, areas: AreaLights, raycaster) -> np.ndarray:
     if areas.count == 0:
         return np.zeros((len(p), 3))
-    d = np.einsum("ck,jk->cj", p, areas.normals) - np.einsum("jk,jk->j", areas.origins, areas.normals)[None]
+    d = _plane_offsets(p, areas)
     aligned = np.einsum("ck,jk->cj", n, areas.normals)
     keep = ~((d < -1.0) & ~areas.two_sided[None]) & ~((d > -3.0) & (d < 3.0) & (aligned > 0.9))
     keep &= np.einsum("cjk,ck->cj", areas.origins[None] - p[:, None], n) >= 0  # light behind the surface
@@ -446,11 +478,7 @@ def _areas_at_surface(p, n, areas: AreaLights, raycaster) -> np.ndarray:
     point, light = np.nonzero(keep & (bound > AREA_BOUND_BYTES))
     value = np.zeros(d.shape)
     if point.size:
-        dd = d[point, light]
-        pushed = p[point] + np.where((dd > -8.0) & (dd < 8.0), 8.0 - dd, 0.0)[:, None] * areas.normals[light]
-        factor = form_factor(pushed, n[point], areas.corners[light])
-        factor = np.where(areas.two_sided[light], np.abs(factor), np.maximum(factor, 0.0))
-        value[point, light] = factor * areas.add[light]
+        value[point, light] = _area_light_bytes(p, n[point], areas, point, light, d)
     value = _shadowed(p + RAY_OFFSET * n, areas.origins, value, raycaster, min_value=0.0,
                       inhibit=SURFACE_INHIBIT_RADIUS)
     return value @ areas.colours
@@ -464,10 +492,27 @@ def occluder_distances(raycaster: EmbreeRaycaster, origins: np.ndarray, directio
     return distances + inhibit
 
 
+def occluded(raycaster: EmbreeRaycaster, origins: np.ndarray, directions: np.ndarray, lengths: np.ndarray,
+             inhibit: float) -> np.ndarray:
+    """(R,) bool: the ray from each origin along its unit direction meets an occluder (occluder_distances, `inhibit`)
+    more than RAY_OFFSET short of its light at `lengths` units: the shadow test of the forward model's visibility and
+    of the emitters' light (a hit within RAY_OFFSET of the light is taken for the light's own surface)."""
+    if len(lengths) == 0:
+        return np.zeros(0, bool)
+    distances = occluder_distances(raycaster, origins, directions, float(lengths.max()), inhibit)
+    return distances < lengths - RAY_OFFSET
+
+
+def sun_ray_origins(points: np.ndarray, normals: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Where surface points' rays toward a sun of unit `direction` start: RAY_OFFSET off the surface, then past the
+    lightmap trace's SURFACE_INHIBIT_RADIUS along the ray (sunlit has no inhibit radius of its own)."""
+    return points + RAY_OFFSET * normals + SURFACE_INHIBIT_RADIUS * direction
+
+
 def _shadowed(origins: np.ndarray, lights: np.ndarray, value: np.ndarray, raycaster, min_value: float,
               inhibit: float = 0.0) -> np.ndarray:
-    """value (C, J) with the pairs whose light is hidden from the origin (C, 3) set to 0 (occluders
-    closer than `inhibit` to the origin ignored, as pointlight.visible_light)."""
+    """value (C, J) with the pairs whose light is hidden from the origin (C, 3) set to 0 (occluded: occluders
+    closer than `inhibit` to the origin ignored)."""
     if raycaster is None:
         return value
     point, light = np.nonzero(value > min_value)
@@ -477,9 +522,8 @@ def _shadowed(origins: np.ndarray, lights: np.ndarray, value: np.ndarray, raycas
     length = np.linalg.norm(offset, axis=1)
     ok = length > max(RAY_OFFSET, inhibit)
     unit = offset[ok] / length[ok, None]
-    hits = occluder_distances(raycaster, origins[point][ok], unit, float(length[ok].max(initial=1.0)), inhibit)
     blocked = np.zeros(point.size, bool)
-    blocked[np.flatnonzero(ok)] = hits < length[ok] - RAY_OFFSET
+    blocked[np.flatnonzero(ok)] = occluded(raycaster, origins[point][ok], unit, length[ok], inhibit)
     out = value.copy()
     out[point[blocked], light[blocked]] = 0.0
     return out
@@ -496,24 +540,20 @@ def emitters_at_points(points: np.ndarray, emitters: Emitters, raycaster,
     unit = offset / np.maximum(distance, 1e-9)[..., None]
     s, b = emitters.spots.count, len(emitters.splash_positions)
     value = np.zeros(distance.shape)
-    clamp = np.maximum(distance, 16.0) ** 2
+    clamp = clamped_distance_squared(distance)
     value[:, :s] = POINT_SCALE * emitters.spots.intensities[None] / clamp[:, :s] * spot_factor(
         points, emitters.spots.positions, emitters.spots.directions, emitters.spots.radius_by_dist)
     value[:, s:s + b] = POINT_SCALE * emitters.splash_intensities[None] / clamp[:, s:s + b]
     areas = emitters.areas
-    if areas.count:
-        d = np.einsum("ck,jk->cj", points, areas.normals) - np.einsum("jk,jk->j", areas.origins, areas.normals)[None]
+    if areas.count:  # LightContributionToPoint: the area light seen along the direction to its origin
+        d = _plane_offsets(points, areas)
         point, light = np.nonzero(~((d < -1.0) & ~areas.two_sided[None]))
-        dd = d[point, light]
-        pushed = points[point] + np.where((dd > -8.0) & (dd < 8.0), 8.0 - dd, 0.0)[:, None] * areas.normals[light]
-        factor = form_factor(pushed, unit[point, s + b + light], areas.corners[light])
-        factor = np.where(areas.two_sided[light], np.abs(factor), np.maximum(factor, 0.0))
-        value[point, s + b + light] = factor * areas.add[light]
+        value[point, s + b + light] = _area_light_bytes(points, unit[point, s + b + light], areas, point, light, d)
     colours = np.concatenate([emitters.spots.colours, emitters.splash_colours, areas.colours])
     colour = value[..., None] * colours[None]
-    value = np.where(colour.max(axis=2) > 1.0, value, 0.0)
+    value = np.where(colour.max(axis=2) > DROPPED_CONTRIBUTION, value, 0.0)
     value = _shadowed(points, positions, value, raycaster, min_value=0.0, inhibit=inhibit)
-    colour, unit = value[..., None] * colours[None], unit
+    colour = value[..., None] * colours[None]
     suns = emitters.suns
     if suns.count == 0:
         return colour, unit
@@ -531,23 +571,10 @@ def emitters_at_points(points: np.ndarray, emitters: Emitters, raycaster,
 def surface_triangles(bsp: Bsp, faces: np.ndarray, patch_level: int = PATCH_LEVEL) -> tuple[np.ndarray, np.ndarray,
                                                                                              np.ndarray]:
     """Corners (T, 3, 3), vertex normals (T, 3, 3) and face (T,) of the given faces' triangles
-    (polygons and meshes by their indices, patches tessellated)."""
-    table = bsp.faces
-    attributes = vertex_attributes(bsp)
-    kind = table["type"][faces]
-    indexed = faces[np.isin(kind, (FACE_POLYGON, FACE_MESH))]
-    counts = table["num_indexes"][indexed].astype(np.int64)
-    owner = np.repeat(indexed, counts)
-    corners = table["first_vert"][owner].astype(np.int64) + \
-        bsp.mesh_verts[concatenated_ranges(table["first_index"][indexed], counts)]
-    patched = faces[kind == FACE_PATCH]
-    patch_attributes, patch_triangles, patch_face = tessellate_patches(
-        attributes, table["first_vert"][patched], table["patch_width"][patched], table["patch_height"][patched],
-        patch_level)
-    everything = np.concatenate([attributes, patch_attributes])
-    triangles = np.concatenate([corners.reshape(-1, 3), patch_triangles + len(attributes)])
-    face = np.concatenate([owner[::3], patched[patch_face]]).astype(np.int64)
-    return everything[triangles][:, :, 0:3], everything[triangles][:, :, 3:6], face
+    (surfaces.face_triangles: polygons and meshes by their indices, patches tessellated)."""
+    attributes, triangles, face = face_triangles(bsp, faces, patch_level)
+    corners = attributes[triangles]
+    return corners[:, :, POSITION], corners[:, :, NORMAL], face
 
 
 def _clip(polygon: list[np.ndarray], axis: int, value: float, keep_above: bool) -> list[np.ndarray]:

@@ -34,19 +34,20 @@ import numpy as np
 from ..scenes.lightgrid import LINEAR_PER_BYTE
 from ..scenes.raycast import EmbreeRaycaster
 from . import objective_kernel, visibility_kernel
-from .emitters import SPOT_EDGE  # a spotlight's soft cone edge, units (light_ydnar.c LightContributionToSample)
-from .emitters import RAY_OFFSET as SUN_RAY_OFFSET, SURFACE_INHIBIT_RADIUS, Suns, occluder_distances, sunlit
+# q3map2's constants, stated once in emitters.py (the module of q3map2's facts) and shared by every light of the rig:
+# the spotlight's soft cone edge, pointScale, the inverse square's 16-unit clamp, the 1-byte contributions dropped;
+# and the shadow rays' start RAY_OFFSET units off the surface, so that a ray does not hit its own face
+from .emitters import DROPPED_CONTRIBUTION, MIN_DISTANCE, POINT_SCALE, RAY_OFFSET, SPOT_EDGE
+from .emitters import (SURFACE_INHIBIT_RADIUS, Suns, clamped_distance_squared, cone_factor, occluded, sun_ray_origins,
+                       sunlit)
 from .target import RadianceTarget
 
-POINT_SCALE = 7500.0  # q3map2 pointScale
-MIN_DISTANCE = 16.0  # q3map2 clamps the distance of point lights to 16 units
 LINEAR_SCALE = POINT_SCALE * LINEAR_PER_BYTE
 BYTE_MAX = 255.0  # a lightmap byte saturates here (q3map2 ColorToBytes keeps the hue)
-RAY_OFFSET = 0.5  # units off the surface, so a shadow ray does not hit its own face
 # Shadow rays are cast only where a light could add at least this many bytes (q3map2 drops
 # contributions of 1 or less), assuming up to RANGE_HEADROOM x its intensity (and at least
 # RANGE_FLOOR_INTENSITY) before the next refresh.
-RANGE_MIN_BYTES = 1.0
+RANGE_MIN_BYTES = DROPPED_CONTRIBUTION
 RANGE_HEADROOM = 4.0
 RANGE_FLOOR_INTENSITY = 300.0
 POINTS_PER_CHUNK = 4096  # shadow rays are set up this many points at a time
@@ -173,7 +174,7 @@ class ForwardModel:
                 continue
             unit = direction / length
             facing = np.flatnonzero(self.normals @ unit > 0)
-            origins = self.points[facing] + SUN_RAY_OFFSET * self.normals[facing] + SURFACE_INHIBIT_RADIUS * unit
+            origins = sun_ray_origins(self.points[facing], self.normals[facing], unit)
             lit[facing, k] = sunlit(origins, np.broadcast_to(unit, origins.shape).copy(), sky, self.raycaster)
             if self.raycaster is not None:
                 self.rays += 2 * len(facing)
@@ -212,8 +213,7 @@ class ForwardModel:
         """(N, J) bool: light j reaches point i (in front of it, within range, no occluder). The candidate pairs
         and their rays are chosen by a compiled pass (visibility_kernel.py), the rays cast by Embree."""
         visible = np.zeros((self.point_count, lights.count), dtype=bool)
-        reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
-        max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
+        max_squared = _range_squared(lights)
         for start in range(0, self.point_count, POINTS_PER_CHUNK):
             stop = min(start + POINTS_PER_CHUNK, self.point_count)
             point, light, origins, directions, lengths = visibility_kernel.candidate_rays(
@@ -226,10 +226,9 @@ class ForwardModel:
             reachable = lengths > RAY_OFFSET
             if not reachable.any():
                 continue
-            distances = occluder_distances(self.raycaster, origins[reachable], directions[reachable],
-                                           float(lengths[reachable].max()), SURFACE_INHIBIT_RADIUS)
+            free = ~occluded(self.raycaster, origins[reachable], directions[reachable], lengths[reachable],
+                             SURFACE_INHIBIT_RADIUS)
             self.rays += int(reachable.sum())
-            free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
             visible[point[reachable][free], light[reachable][free]] = True
         if lights.sun_count:  # the suns' sky rays, held with this matrix until the next refresh
             self._sun_lit, self._sun_lit_of = self.sun_visibility(lights), visible
@@ -238,8 +237,7 @@ class ForwardModel:
     def visibility_numpy(self, lights: Lights) -> np.ndarray:
         """visibility() over (points, lights, 3) numpy arrays: the reference the compiled selection is tested against."""
         visible = np.zeros((self.point_count, lights.count), dtype=bool)
-        reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
-        max_squared = POINT_SCALE * reach / RANGE_MIN_BYTES
+        max_squared = _range_squared(lights)
         for start in range(0, self.point_count, POINTS_PER_CHUNK):
             chunk = slice(start, start + POINTS_PER_CHUNK)
             d = lights.positions[None, :, :] - self.points[chunk, None, :]
@@ -256,10 +254,8 @@ class ForwardModel:
             lengths = np.linalg.norm(offsets, axis=1)
             reachable = lengths > RAY_OFFSET
             directions = offsets[reachable] / lengths[reachable, None]
-            distances = occluder_distances(self.raycaster, origins[reachable], directions,
-                                           float(lengths[reachable].max()), SURFACE_INHIBIT_RADIUS)
+            free = ~occluded(self.raycaster, origins[reachable], directions, lengths[reachable], SURFACE_INHIBIT_RADIUS)
             self.rays += int(reachable.sum())
-            free = np.isinf(distances) | (distances >= lengths[reachable] - RAY_OFFSET)
             visible[start + point[reachable][free], light[reachable][free]] = True
         return visible
 
@@ -311,8 +307,7 @@ class ForwardModel:
         q = np.maximum(np.sqrt(np.einsum("pk,pk->p", d, d)), 1e-9)
         ndot = np.einsum("pk,pk->p", d, pairs.normals)
         front = ndot > 0
-        clamped_sq = np.maximum(q * q, MIN_DISTANCE * MIN_DISTANCE)
-        g = np.where(front, ndot / (q * clamped_sq), 0.0)
+        g = np.where(front, ndot / (q * clamped_distance_squared(q)), 0.0)
         axes, cones = lights.cones()
         f = spot_factors(-d, axes[pairs.light], cones[pairs.light])
         return _Transfer(g=g, d=d, q=q, ndot=np.where(front, ndot, 0.0), f=f)
@@ -400,8 +395,7 @@ class ForwardModel:
             u = np.einsum("pk,pk->p", back, emitted[pairs.light])  # dL/dg per pair
             # dg/dx for q >= R0: n/q^3 - 3 (n.d) d / q^5; for q < R0: n/(R0^2 q) - (n.d) d/(R0^2 q^3)
             far = t.q >= MIN_DISTANCE
-            clamped_sq = np.where(far, t.q * t.q, MIN_DISTANCE * MIN_DISTANCE)
-            along_normal = np.where(t.ndot > 0, 1.0 / (t.q * clamped_sq), 0.0)
+            along_normal = np.where(t.ndot > 0, 1.0 / (t.q * clamped_distance_squared(t.q)), 0.0)
             along_d = t.ndot * np.where(far, 3.0 / t.q ** 5, 1.0 / (MIN_DISTANCE * MIN_DISTANCE * t.q ** 3))
             dg = along_normal[:, None] * pairs.normals - along_d[:, None] * t.d  # dg/dx
             # the cone: dh/dx = f dg/dx - g df/dv (v = p - x), df/dN, df/dk on the soft edge (0 < f < 1)
@@ -431,8 +425,7 @@ def spot_factors(offsets: np.ndarray, axes: np.ndarray, cones: np.ndarray) -> np
     0 for t <= 0."""
     t = np.einsum("pk,pk->p", offsets, axes)
     r = np.linalg.norm(offsets - t[:, None] * axes, axis=1)
-    f = np.where(t > 0, np.clip((cones * t - r) / SPOT_EDGE, 0.0, 1.0), 0.0)
-    return np.where(cones > 0, f, 1.0)
+    return np.where(cones > 0, cone_factor(t, r, cones), 1.0)
 
 
 def spot_factor_gradient(offsets: np.ndarray, axes: np.ndarray,
@@ -451,6 +444,13 @@ def spot_factor_gradient(offsets: np.ndarray, axes: np.ndarray,
     d_axis = (cones[:, None] * offsets + (wn[:, None] * offsets + t[:, None] * w) * inv[:, None]) / SPOT_EDGE
     d_cone = t / SPOT_EDGE
     return np.where(edge[:, None], d_v, 0.0), np.where(edge[:, None], d_axis, 0.0), np.where(edge, d_cone, 0.0)
+
+
+def _range_squared(lights: Lights) -> np.ndarray:
+    """(J,) squared distance within which each light may add RANGE_MIN_BYTES (with RANGE_HEADROOM): the pairs
+    beyond it cast no shadow ray."""
+    reach = np.maximum(RANGE_HEADROOM * lights.intensities * lights.colours.max(axis=1), RANGE_FLOOR_INTENSITY)
+    return POINT_SCALE * reach / RANGE_MIN_BYTES
 
 
 def saturate(light: np.ndarray) -> np.ndarray:

@@ -26,8 +26,8 @@ from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
 from .shadows import shadow_raycaster
 from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
                        GRID_START, PEAK_START, SCHEMES, STARTS)
-from .starts import (DEFAULT_PEAKS, SPOT_REACH, PeakSettings, Starts, ceiling_starts, disc_gains, lit_by_spotlights,
-                     peak_starts, with_grid_fallback)
+from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains,
+                     lit_by_spotlights, peak_starts, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
@@ -109,7 +109,7 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
         return Starts(cells, np.zeros(len(cells)), 0)
     target = scene.target
     found = peak_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open, peaks)
-    inside = np.all((found.positions >= scene.bounds[0]) & (found.positions <= scene.bounds[1]), axis=1)
+    inside = _in_bounds(scene, found.positions)
     found = Starts(found.positions[inside], found.intensities[inside], int(inside.sum()))
     return with_grid_fallback(found, cells, peaks.fallback_distance)
 
@@ -156,7 +156,7 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     target = scene.target
     ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
                              _distance_up(scene), peaks)
-    inside = np.all((ceiling.positions >= scene.bounds[0]) & (ceiling.positions <= scene.bounds[1]), axis=1)
+    inside = _in_bounds(scene, ceiling.positions)
     if not inside.any():
         return starts.positions, relative
     hung, estimates = ceiling.positions[inside], ceiling.intensities[inside]
@@ -165,10 +165,14 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     return np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
 
 
+def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
+    """(N,) bool: the start positions (N, 3) inside the lights' box (scene.bounds), where the fit keeps its lights."""
+    return np.all((positions >= scene.bounds[0]) & (positions <= scene.bounds[1]), axis=1)
+
+
 def _distance_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
     """(N, 3) Quake points -> (N,) units to the first surface straight above (inf beyond SPOT_REACH)."""
-    up = np.array([0.0, 0.0, 1.0])
-    return lambda points: scene.model.raycaster.cast(points, np.broadcast_to(up, points.shape).copy(), SPOT_REACH + 1.0)[0]
+    return lambda points: scene.model.raycaster.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
 
 
 def fits_spots(scene: LevelScene, spots: bool | None, start: str = DEFAULT_START,
@@ -365,9 +369,9 @@ def surface_pieces(bsp, emitters: Emitters) -> SurfacePieces:
 def shader_power(bsp, emitters: Emitters) -> dict[str, float]:
     """Shader name -> equal-flux power of all its pieces per unit of q3map_surfacelight value."""
     out: dict[str, float] = {}
+    add_per_value = FORM_FACTOR_VALUE_SCALE * AREA_SCALE  # an area light's add per unit of q3map_surfacelight
     for shader in emitters.shaders:
         pick = emitters.areas.shader == shader
-        add_per_value = FORM_FACTOR_VALUE_SCALE * AREA_SCALE
         out[bsp.shader_name(shader)] = float(equal_flux_intensity(add_per_value, emitters.areas.areas[pick]).sum())
     return out
 

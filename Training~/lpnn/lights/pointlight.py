@@ -12,9 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..scenes.raycast import EmbreeRaycaster
-from .model import MIN_DISTANCE
+from .emitters import DROPPED_CONTRIBUTION, clamped_distance_squared
 
-DROPPED_CONTRIBUTION = 1.0  # bytes: q3map2 ignores a light adding this much or less
 RAY_MIN_LENGTH = 1e-3  # Quake units
 
 
@@ -27,7 +26,7 @@ def visible_light(points: np.ndarray, lights: np.ndarray, emitted: np.ndarray,
     offset = lights[None, :, :] - points[:, None, :]  # (C, J, 3)
     distance = np.linalg.norm(offset, axis=2)
     unit = offset / np.maximum(distance, 1e-9)[..., None]
-    colour = emitted[None, :, :] / np.maximum(distance, MIN_DISTANCE)[..., None] ** 2
+    colour = emitted[None, :, :] / clamped_distance_squared(distance)[..., None]
     counts = colour.max(axis=2) > DROPPED_CONTRIBUTION
     if raycaster is not None:
         point, light = np.nonzero(counts & (distance > max(RAY_MIN_LENGTH, inhibit)))

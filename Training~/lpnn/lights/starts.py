@@ -36,6 +36,15 @@ where the point light's bump of step 3 puts the light at the bump's height, not 
    first open one of SIDE_STEPS when that is in solid: a peak at the foot of a wall), with the estimated intensity
    light h^2 / 7500 (a light at height h on its axis); merged as in step 5, brightest first.
 
+Whether a level's fit starts spotlights at all (fit_scene(spots=None), pipeline.fits_spots) is read from the same
+floor peaks:
+
+8. at each floor peak of step 7, the plane window of step 3 (feet within SPOT_PEAK_RADIUS) is fitted twice: by the
+   point light's bump (every height of HEIGHTS) and by a downward spotlight's disc hanging at step 7's height (the
+   bump cut by q3map2's cone, emitters.cone_factor, of every radiusByDist of DISC_CONES); the disc gain is 1 - the
+   disc's residual / the bump's. The level is lit by spotlights when the median gain over its floor peaks is at least
+   SPOT_LEVEL_GAIN.
+
 Deterministic: no random numbers; every tie is broken by index.
 """
 
@@ -48,7 +57,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
-from .emitters import SPOT_EDGE
+from .emitters import cone_factor
 from .model import BYTE_MAX, POINT_SCALE
 from .optimise import CLEARANCE
 
@@ -84,6 +93,8 @@ DISC_CONES = (0.3, 0.45, 0.6, 0.75, 0.9, 1.2, 1.6)  # radiusByDist tried (half-a
 SPOT_LEVEL_GAIN = 0.0075  # median disc gain from which a level's fit starts spotlights
 OpenTest = Callable[[np.ndarray], np.ndarray]
 DistanceUp = Callable[[np.ndarray], np.ndarray]  # (N, 3) Quake points -> (N,) units to the first surface above (inf)
+UP = np.array([0.0, 0.0, 1.0])  # Quake's up: a downward spotlight hangs above its floor peak along it
+CEILING_PROBE_LIFT = 1.0  # units above a floor peak the ray up to the ceiling starts, so its own floor is not the hit
 
 
 @dataclass(frozen=True)
@@ -152,9 +163,21 @@ class Bump:
 
 def spot_disc_profile(rho: np.ndarray, height: float | np.ndarray, cone: float | np.ndarray) -> np.ndarray:
     """A downward q3map2 spotlight's light on the floor at tangential distance rho from its foot, relative to its foot:
-    the point light's bump inside the cone of radius cone x height, fading over its soft edge of SPOT_EDGE units
-    (light_ydnar.c LightContributionToSample)."""
-    return bump_profile(rho, height) * np.clip((np.asarray(cone) * height - rho) / SPOT_EDGE, 0.0, 1.0)
+    the point light's bump times q3map2's cone (emitters.cone_factor) of radiusByDist `cone` at `height` down the axis
+    and rho off it (light_ydnar.c LightContributionToSample)."""
+    return bump_profile(rho, height) * cone_factor(height, rho, np.asarray(cone))
+
+
+def _foot_distances(tangential: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """(C, M) the distance of every plane point (M, 3) from every candidate foot (C, 3)."""
+    return np.linalg.norm(tangential[None, :, :] - centres[:, None, :], axis=2)
+
+
+def _bump_fits(tangential: np.ndarray, light: np.ndarray, rho: np.ndarray,
+               normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """_profile_fits of the point light's bump at every height of HEIGHTS and foot (rho: _foot_distances): (alpha,
+    residual), each (H, C)."""
+    return _profile_fits(tangential, light, bump_profile(rho[None], np.asarray(HEIGHTS)[:, None, None]), normal)
 
 
 def _profile_fits(tangential: np.ndarray, light: np.ndarray, profiles: np.ndarray,
@@ -186,12 +209,10 @@ def fit_bump(tangential: np.ndarray, light: np.ndarray, centres: np.ndarray, nor
     the lower height); Bump(0, DEFAULT_HEIGHT, 0) with fewer than FIT_MIN_POINTS points."""
     if len(light) < FIT_MIN_POINTS or len(centres) == 0:
         return Bump(0, DEFAULT_HEIGHT, 0.0)
-    rho = np.linalg.norm(tangential[None, :, :] - centres[:, None, :], axis=2)  # (C, M)
-    heights = np.asarray(HEIGHTS)
-    alpha, residual = _profile_fits(tangential, light, bump_profile(rho[None], heights[:, None, None]), normal)  # (H, C)
+    alpha, residual = _bump_fits(tangential, light, _foot_distances(tangential, centres), normal)  # (H, C)
     best = int(np.argmin(residual.T.ravel()))  # centre-major: the first minimum is the lowest centre, then height
-    centre, height = divmod(best, len(heights))
-    return Bump(centre, float(heights[height]), float(alpha[height, centre]))
+    centre, height = divmod(best, len(HEIGHTS))
+    return Bump(centre, float(HEIGHTS[height]), float(alpha[height, centre]))
 
 
 def disc_gain(tangential: np.ndarray, light: np.ndarray, centres: np.ndarray, normal: np.ndarray,
@@ -201,10 +222,10 @@ def disc_gain(tangential: np.ndarray, light: np.ndarray, centres: np.ndarray, no
     neither leaves any residual or there are fewer than FIT_MIN_POINTS points."""
     if len(light) < FIT_MIN_POINTS or len(centres) == 0:
         return 0.0
-    rho = np.linalg.norm(tangential[None, :, :] - centres[:, None, :], axis=2)  # (C, M)
-    heights, cones = np.asarray(HEIGHTS), np.asarray(DISC_CONES)
-    bump = _profile_fits(tangential, light, bump_profile(rho[None], heights[:, None, None]), normal)[1].min()
-    disc = _profile_fits(tangential, light, spot_disc_profile(rho[None], height, cones[:, None, None]), normal)[1].min()
+    rho = _foot_distances(tangential, centres)
+    bump = _bump_fits(tangential, light, rho, normal)[1].min()
+    cones = np.asarray(DISC_CONES)[:, None, None]
+    disc = _profile_fits(tangential, light, spot_disc_profile(rho[None], height, cones), normal)[1].min()
     return float(1.0 - disc / bump) if bump > 0 else 0.0
 
 
@@ -275,10 +296,9 @@ def _ceiling_peaks(points: np.ndarray, normals: np.ndarray, light: np.ndarray, d
     peaks = peaks[(normals[peaks, 2] >= FLOOR_COSINE) & (light[peaks] >= settings.min_bump)]
     if len(peaks) == 0:
         return peaks, np.zeros(0)
-    up = np.array([0.0, 0.0, 1.0])
-    above = distance_up(points[peaks] + up)  # from 1 unit above the floor: its own surface is not the ceiling
+    above = distance_up(points[peaks] + CEILING_PROBE_LIFT * UP)
     reach = np.isfinite(above) & (above <= SPOT_REACH) & (above > CLEARANCE)
-    return peaks[reach], above[reach] + 1.0 - CLEARANCE
+    return peaks[reach], above[reach] + CEILING_PROBE_LIFT - CLEARANCE
 
 
 def ceiling_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray, albedo: np.ndarray,
@@ -288,8 +308,7 @@ def ceiling_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray
     peaks, height = _ceiling_peaks(points, normals, light, distance_up, settings)
     if len(peaks) == 0:
         return Starts(np.zeros((0, 3)), np.zeros(0), 0)
-    up = np.array([0.0, 0.0, 1.0])
-    positions = points[peaks] + height[:, None] * up
+    positions = points[peaks] + height[:, None] * UP
     inside = is_open(positions) if len(positions) else np.zeros(0, bool)
     for offset in SIDE_STEPS:  # a peak at the foot of a wall: its column is on the wall's plane
         if inside.all():

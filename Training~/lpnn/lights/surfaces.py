@@ -56,6 +56,28 @@ def vertex_attributes(bsp: Bsp) -> np.ndarray:
                           axis=1).astype(np.float64)
 
 
+def face_triangles(bsp: Bsp, faces: np.ndarray, patch_level: int = PATCH_LEVEL) -> tuple[np.ndarray, np.ndarray,
+                                                                                        np.ndarray]:
+    """The triangles of the given faces (ascending indices): (attributes (V, 13), the BSP's vertices then the patches'
+    tessellated ones; triangles (T, 3) into them, the polygons' and meshes' by their indices, then the patches'; (T,)
+    the face of each). The one reading of BSP faces as triangles of the rig code (lit_mesh, emitters.surface_triangles)."""
+    table = bsp.faces
+    attributes = vertex_attributes(bsp)
+    kind = table["type"][faces]
+    indexed = faces[np.isin(kind, (FACE_POLYGON, FACE_MESH))]
+    counts = table["num_indexes"][indexed].astype(np.int64)
+    owner = np.repeat(indexed, counts)
+    corners = table["first_vert"][owner].astype(np.int64) + \
+        bsp.mesh_verts[concatenated_ranges(table["first_index"][indexed], counts)]
+    patched = faces[kind == FACE_PATCH]
+    patch_attributes, patch_triangles, patch_face = tessellate_patches(
+        attributes, table["first_vert"][patched], table["patch_width"][patched], table["patch_height"][patched],
+        patch_level)
+    triangles = np.concatenate([corners.reshape(-1, 3), patch_triangles + len(attributes)])
+    face = np.concatenate([owner[::3], patched[patch_face]]).astype(np.int64)
+    return np.concatenate([attributes, patch_attributes]), triangles, face
+
+
 def lit_mesh(bsp: Bsp, patch_level: int = PATCH_LEVEL) -> LitMesh:
     """The level's lit faces as one mesh; BspError when the level has none."""
     faces = bsp.faces
@@ -72,23 +94,10 @@ def lit_mesh(bsp: Bsp, patch_level: int = PATCH_LEVEL) -> LitMesh:
         raise BspError(f"{bsp.name}: no surface carries baked light (no face has a lightmap page in lump 14 "
                        f"({bsp.lightmap_count} pages) or vertex lighting): compile the level with q3map2 -light")
     face_page = np.where(lightmapped, page, -1)
-    attributes = vertex_attributes(bsp)
-
-    indexed = np.flatnonzero(target & np.isin(kind, (FACE_POLYGON, FACE_MESH)))
-    counts = faces["num_indexes"][indexed].astype(np.int64)
-    owner = np.repeat(indexed, counts)
-    corners = faces["first_vert"][owner].astype(np.int64) + \
-        bsp.mesh_verts[concatenated_ranges(faces["first_index"][indexed], counts)]
-    patched = np.flatnonzero(target & (kind == FACE_PATCH))
-    patch_attributes, patch_triangles, patch_face = tessellate_patches(
-        attributes, faces["first_vert"][patched], faces["patch_width"][patched], faces["patch_height"][patched],
-        patch_level)
-    all_attributes = np.concatenate([attributes, patch_attributes])
+    all_attributes, triangles, face = face_triangles(bsp, np.flatnonzero(target), patch_level)
     normals = all_attributes[:, NORMAL]
     lengths = np.linalg.norm(normals, axis=1, keepdims=True)
     all_attributes[:, NORMAL] = np.divide(normals, lengths, out=np.zeros_like(normals), where=lengths > 0)
-    triangles = np.concatenate([corners.reshape(-1, 3), patch_triangles + len(attributes)])
-    face = np.concatenate([owner[::3], patched[patch_face]]).astype(np.int64)
     keep = triangle_areas(all_attributes[:, POSITION], triangles) > 0.0
     triangles, face = triangles[keep], face[keep]
     # only the vertices triangles use: unused BSP vertices would be target points without area

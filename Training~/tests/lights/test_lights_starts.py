@@ -14,11 +14,12 @@ from lpnn.lights.optimise import Fitter, initial_intensity
 from lpnn.lights.pipeline import load_scene, start_positions
 from lpnn.lights.settings import SCHEMES
 from lpnn.scenes.levels import load_level
+from lpnn.lights.emitters import spot_factor
 from lpnn.lights.model import POINT_SCALE
 from lpnn.lights.optimise import CLEARANCE
 from lpnn.lights.starts import (DEFAULT_HEIGHT, SPOT_LEVEL_GAIN, SPOT_REACH, Starts, baked_light, bump_profile,
                                 ceiling_starts, disc_gain, disc_gains, fit_bump, light_peaks, lit_by_spotlights,
-                                peak_starts, with_grid_fallback)
+                                peak_starts, spot_disc_profile, with_grid_fallback)
 from synthetic_room import ROOM_SIDE, inside_room, lit_room
 
 # lights on mesh vertices of the 16-division room (16-unit spacing), 64 units (a height of starts.HEIGHTS) from
@@ -210,6 +211,20 @@ def q3map2_disc(rho: np.ndarray, height: float, cone: float) -> np.ndarray:
     point = (height / np.sqrt(d_sq)) / d_sq * height * height  # cos / d^2 relative to the foot's 1 / h^2
     radius = cone * height
     return point * np.clip((radius - rho) / 32.0, 0.0, 1.0)
+
+
+def test_the_disc_profile_is_q3map2s_downward_spotlight_on_the_floor() -> None:
+    """starts.spot_disc_profile against the cone written out above and against the rig's own spotlight (a light 176
+    units over the floor pointing down, emitters.spot_factor): inside the disc, on its 32-unit soft edge, outside."""
+    height, rho = 176.0, np.array([0.0, 40.0, 73.6, 80.0, 100.0, 105.0, 105.6, 120.0, 300.0])
+    cones = np.array([0.3, 0.6, 1.2])
+    got = spot_disc_profile(rho[None], height, cones[:, None])
+    for row, cone in zip(got, cones):
+        np.testing.assert_allclose(row, q3map2_disc(rho, height, cone), rtol=1e-12, atol=1e-15)
+        floor = np.stack([rho, np.zeros_like(rho), np.zeros_like(rho)], axis=1)
+        factor = spot_factor(floor, np.array([[0.0, 0.0, height]]), np.array([[0.0, 0.0, -1.0]]), np.array([cone]))
+        np.testing.assert_allclose(row, bump_profile(rho, height) * factor[:, 0], rtol=1e-12, atol=1e-15)
+    assert got[1, 0] == 1.0 and 0.0 < got[1, 5] < got[1, 4] and got[1, 6] == got[1, 7] == 0.0  # 0.6 x 176 = 105.6
 
 
 def floor_lit_by(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

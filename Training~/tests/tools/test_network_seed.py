@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -46,6 +47,29 @@ def test_the_seed_is_the_likeliest_points_as_many_as_expected() -> None:
     probabilities = np.array([0.1, 0.9, 0.5, 0.9, 0.2, 0.3, 0.8, 0.7])  # sum 4.4
     np.testing.assert_array_equal(tool.network_seed(probabilities, 1.0), [1, 3, 6, 7])  # ties: lower index
     np.testing.assert_array_equal(tool.network_seed(probabilities, 1.5), [1, 3, 6, 7, 2, 5, 4])  # round(6.6)
+    np.testing.assert_array_equal(tool.network_seed(np.full(10, 0.01), 1.0), [0, 1, 2, 3])  # 0.1 expected: MIN_SEED
+    np.testing.assert_array_equal(tool.network_seed(np.array([0.2, 0.9]), 1.0), [1, 0])  # fewer points than that: all
+
+
+def test_kept_probabilities_take_the_positive_weight_out_of_the_odds_tile_by_tile() -> None:
+    """Weighted BCE trains the odds p / (1 - p) `positive_weight` times too high: the calibrated odds are the network's
+    divided by the weight, every point scored once, within the tile that holds it."""
+    tool = load_tool(SCRIPT)
+    ids = np.stack(np.meshgrid(np.arange(8), np.arange(8), np.arange(4), indexing="ij"), axis=-1).reshape(-1, 3)
+    raw = np.linspace(0.01, 0.99, len(ids))
+    calls: list[int] = []
+
+    class Scorer:  # returns each point's raw score, read from its first feature (its index)
+        card = SimpleNamespace(training={"positive_weight": 4.0})
+
+        def score(self, features: np.ndarray) -> np.ndarray:
+            calls.append(len(features))
+            return raw[features[:, 0].astype(np.int64)]
+
+    capture = SimpleNamespace(point_count=len(ids), ids=ids, features=np.arange(len(ids), dtype=np.float32)[:, None])
+    got = tool.kept_probabilities(Scorer(), capture, tile_points=64)
+    np.testing.assert_allclose(got / (1.0 - got), raw / (1.0 - raw) / 4.0, rtol=1e-12)
+    assert len(calls) == 4 and max(calls) <= 64 and sum(calls) == len(ids)
 
 
 def test_labels_are_the_defaults_answer_and_the_seeded_default_meets_the_tolerance(
