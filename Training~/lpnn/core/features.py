@@ -63,6 +63,10 @@ class Raycaster(Protocol):
         like Unity and the C# core). Returns distances (R,) float64 in
         [0, max_distance], np.inf for no hit within max_distance, and normals (R, 3) float64 (zeros
         for misses; orientation free: the extractor turns them to face the ray).
+
+        A raycaster may also offer `first_hit_distances(origins, directions, max_distances (R,)) -> distances (R,)`,
+        each ray ending at its own distance: segment tests (lpnn.core.segments) then cast each segment to its own
+        length (EmbreeRaycaster does).
         """
         ...
 

@@ -59,17 +59,23 @@ class EmbreeRaycaster:
         normals[hit] = self.face_normals[triangles[hit]]
         return distances, normals
 
+    def first_hit_distances(self, origins: np.ndarray, directions: np.ndarray,
+                            max_distances: np.ndarray) -> np.ndarray:
+        """distances (R,) float64 of rays each ending at its own max_distances (R,) (np.inf on a miss): what
+        lpnn.core.segments casts a segment with, so that its answer depends on that segment alone."""
+        return self.first_hits(origins, directions, max_distances)[0]
+
     def first_hits(self, origins: np.ndarray, directions: np.ndarray,
-                   max_distance: float) -> tuple[np.ndarray, np.ndarray]:
-        """distances (R,) float64 (np.inf on a miss) and the hit triangle's index (R,) int64 (-1 on a miss)."""
+                   max_distance: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """distances (R,) float64 (np.inf on a miss) and the hit triangle's index (R,) int64 (-1 on a miss);
+        `max_distance` one for every ray or (R,) one each."""
         origins = np.asarray(origins, dtype=np.float64)
         directions = np.asarray(directions, dtype=np.float64)
         if origins.ndim != 2 or origins.shape[1] != 3 or directions.shape != origins.shape:
             raise ValueError(f"origins and directions must both be (R,3), got {origins.shape} and {directions.shape}")
         _require_rays(origins, directions)
-        if not (np.isfinite(max_distance) and max_distance >= 0):
-            raise ValueError(f"max_distance {max_distance!r} must be finite and >= 0")
         count = len(origins)
+        limit = _checked_max_distances(max_distance, count)
         started = time.perf_counter()
         distances = np.full(count, np.inf)
         triangles = np.full(count, -1, dtype=np.int64)
@@ -80,17 +86,15 @@ class EmbreeRaycaster:
         directions32 = directions.astype(np.float32)
         # Embree's ray end is float32: round it up so no hit within max_distance is cut off,
         # then drop the hits that lie beyond max_distance in double.
-        ray_end = np.float32(max_distance)
-        if ray_end < max_distance:
-            ray_end = np.nextafter(ray_end, np.float32(np.inf))
+        ray_end = limit.astype(np.float32)
+        short = ray_end < limit
+        ray_end[short] = np.nextafter(ray_end[short], np.float32(np.inf))
 
         def run(chunk: slice) -> None:
-            size = chunk.stop - chunk.start
-            result = self._scene.run(local_origins[chunk], directions32[chunk],
-                                     dists=np.full(size, ray_end, dtype=np.float32), output=1)
+            result = self._scene.run(local_origins[chunk], directions32[chunk], dists=ray_end[chunk], output=1)
             triangle = result["primID"].astype(np.int64)
             t = result["tfar"].astype(np.float64)
-            hit = (triangle >= 0) & (t <= max_distance)
+            hit = (triangle >= 0) & (t <= limit[chunk])
             distances[chunk] = np.where(hit, t, np.inf)
             triangles[chunk] = np.where(hit, triangle, -1)
 
@@ -104,6 +108,24 @@ class EmbreeRaycaster:
         self.rays_cast += count
         self.cast_seconds += time.perf_counter() - started
         return distances, triangles
+
+
+def _checked_max_distances(max_distance: float | np.ndarray, count: int) -> np.ndarray:
+    """(count,) float64 ray ends from one distance or one per ray; ValueError naming the first bad one."""
+    if np.ndim(max_distance) == 0:
+        value = float(max_distance)
+        if not (np.isfinite(value) and value >= 0):
+            raise ValueError(f"max_distance {max_distance!r} must be finite and >= 0")
+        return np.full(count, value)
+    limit = np.asarray(max_distance, dtype=np.float64)
+    if limit.shape != (count,):
+        raise ValueError(f"max distances must be one number or one per ray ({count}), got shape {list(limit.shape)}")
+    bad = ~(np.isfinite(limit) & (limit >= 0))
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"ray {first}'s max distance {limit[first]!r} must be finite and >= 0 "
+                         f"({int(bad.sum()):,} such rays)")
+    return limit
 
 
 def _require_rays(origins: np.ndarray, directions: np.ndarray) -> None:

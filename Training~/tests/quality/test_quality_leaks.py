@@ -27,6 +27,34 @@ def test_a_segment_is_blocked_only_by_a_surface_before_its_end():
     assert segments_free(WALLED, starts, ends).tolist() == [False, True, True, True]
 
 
+class RecordingEnds:
+    """WALLED's answers, recording the ray ends it is asked for; with `own_ends` it offers first_hit_distances."""
+
+    def __init__(self, own_ends: bool) -> None:
+        self.ends: list[np.ndarray] = []
+        if own_ends:
+            self.first_hit_distances = self._first_hit_distances
+
+    def cast(self, origins, directions, max_distance):
+        self.ends.append(np.full(len(origins), max_distance))
+        return WALLED.cast(origins, directions, max_distance)
+
+    def _first_hit_distances(self, origins, directions, max_distances):
+        self.ends.append(np.array(max_distances))
+        distances = WALLED.cast(origins, directions, float(np.max(max_distances)))[0]
+        return np.where(distances <= max_distances, distances, np.inf)
+
+
+def test_a_raycaster_that_can_end_each_ray_casts_each_segment_to_its_own_length():
+    starts = np.array([[-1.0, 0, 0], [-1.0, 0, 0], [-1.0, 0, 0], [0.5, 0, 0]])
+    ends = np.array([[1.0, 0, 0], [-0.2, 0, 0], [-1.0, 0, 0], [3.0, 0, 0]])
+    own, shared = RecordingEnds(own_ends=True), RecordingEnds(own_ends=False)
+    assert segments_free(own, starts, ends).tolist() == segments_free(shared, starts, ends).tolist() == [
+        False, True, True, True]
+    assert np.allclose(np.concatenate(own.ends), [2.0, 0.8, 2.5])  # the zero-length segment is not cast
+    assert np.allclose(np.concatenate(shared.ends), [2.5, 2.5, 2.5])  # the longest, for every ray
+
+
 def test_segments_of_another_shape_are_refused():
     with pytest.raises(ValueError, match="differ in shape"):
         segments_free(WALLED, np.zeros((2, 3)), np.zeros((3, 3)))

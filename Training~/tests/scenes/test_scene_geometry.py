@@ -72,6 +72,36 @@ def test_bad_rays_are_refused_and_empty_geometry_misses() -> None:
     assert np.isinf(distances).all() and normals.shape == (2, 3)
 
 
+def test_each_ray_may_end_at_its_own_distance() -> None:
+    caster = EmbreeRaycaster(QUAD, QUAD_TRIANGLES, threads=2)
+    rng = np.random.default_rng(1)
+    count = RAYS_PER_CHUNK + 77  # two chunks: each must read its own slice of the ends
+    origins = rng.uniform(-1, 1, size=(count, 3)) * [1, 1, 3]
+    directions = unit(rng.normal(size=(count, 3)))
+    ends = rng.uniform(0.0, 12.0, size=count)
+    distances, triangles = caster.first_hits(origins, directions, ends)
+    assert np.array_equal(caster.first_hit_distances(origins, directions, ends), distances)
+    # the answer of each ray alone, cast to its own end (a few rays: one call each)
+    for k in rng.choice(count, size=40, replace=False).tolist():
+        alone = caster.first_hits(origins[k:k + 1], directions[k:k + 1], float(ends[k]))
+        assert alone[0][0] == distances[k] and alone[1][0] == triangles[k]
+    # a hit is reported only within the ray's own end
+    assert np.all(distances[np.isfinite(distances)] <= ends[np.isfinite(distances)])
+    far = caster.first_hits(origins, directions, np.full(count, 12.0))[0]
+    cut = np.isfinite(far) & (far > ends)
+    assert cut.any() and np.isinf(distances[cut]).all()
+    assert np.array_equal(distances[~cut], far[~cut])
+
+
+@pytest.mark.parametrize("ends, message", [(np.array([1.0, -1.0]), "ray 1's max distance"),
+                                           (np.array([np.nan, 1.0]), "ray 0's max distance"),
+                                           (np.array([1.0, 2.0, 3.0]), "one per ray"), (-2.0, "must be finite")])
+def test_bad_ray_ends_are_refused(ends, message: str) -> None:
+    caster = EmbreeRaycaster(QUAD, QUAD_TRIANGLES)
+    with pytest.raises(ValueError, match=message):
+        caster.first_hits(np.zeros((2, 3)), unit([[0, 0, 1], [0, 0, 1]]), ends)
+
+
 # ----------------------------------------------------------------------------------- level faces
 
 def test_ray_faces_exclude_sky_translucent_and_billboards(level_bytes: bytes) -> None:

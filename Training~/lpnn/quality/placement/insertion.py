@@ -87,7 +87,10 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
     # when the tetrahedron guarantee reaches past that head (the same start either way; 8 s less at 10^6 points).
     for limit in (STARTING_SPREAD, None):
         spread = candidates[farthest_point_ranking(local, np.ones(count), np.asarray([first]), limit)]
-        preference = np.concatenate([spread, np.setdiff1d(np.arange(n), spread)])  # flat candidates: any point
+        rest = np.ones(n, dtype=bool)
+        rest[spread] = False
+        # flat candidates: any point; np.setdiff1d(np.arange(n), spread), without its hashing (1.1 s at 10^6 points)
+        preference = np.concatenate([spread, np.flatnonzero(rest)])
         start = ensure_tetrahedron(grid, preference, spread[:4])[0]
         rank_of = np.empty(n, dtype=np.int64)
         rank_of[preference] = np.arange(n)
