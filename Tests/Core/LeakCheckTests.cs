@@ -1,5 +1,8 @@
 using System;
+using System.Collections.Generic;
 using System.Numerics;
+using System.Threading;
+using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.InUse;
 using Lpnn.Probes.Core.Json;
 using Lpnn.Probes.Core.Numerics;
@@ -95,6 +98,84 @@ namespace Lpnn.Probes.Core.Tests
             var free = InUseRays.SegmentsFree(Array.ConvertAll(starts, Double3.FromVector3), Array.ConvertAll(ends, Double3.FromVector3), Wall(),
                 "segments", null, System.Threading.CancellationToken.None);
             Assert.That(free, Is.EqualTo(new[] { false, true, true, true }));
+        }
+
+        /// <summary>The wall's answers, recording every ray's maximum distance in the order asked.</summary>
+        private class RecordingEnds : IRaycaster
+        {
+            protected readonly AnalyticBoxRaycaster Inner = Wall();
+            public readonly List<float> Ends = new List<float>();
+
+            public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
+            {
+                for (int r = 0; r < origins.Length; r++) Ends.Add(maxDistance);
+                Inner.Cast(origins, directions, maxDistance, results);
+            }
+        }
+
+        /// <summary>As <see cref="RecordingEnds"/>, also ending each ray at its own distance (one ray per call of the wall).</summary>
+        private sealed class RecordingOwnEnds : RecordingEnds, IPerRayDistanceRaycaster
+        {
+            public void Cast(Vector3[] origins, Vector3[] directions, float[] maxDistances, RayHit[] results)
+            {
+                var one = new RayHit[1];
+                for (int r = 0; r < origins.Length; r++)
+                {
+                    Ends.Add(maxDistances[r]);
+                    Inner.Cast(new[] { origins[r] }, new[] { directions[r] }, maxDistances[r], one);
+                    results[r] = one[0];
+                }
+            }
+        }
+
+        [Test]
+        public void ARaycasterThatCanEndEachRayCastsEachSegmentToItsOwnLength()
+        {
+            // Lengths 2, 0.7 (whose nearest float lies below it), 0 (not cast) and 2.5, in double.
+            var starts = new[] { new Double3(-1, 0, 0), new Double3(-1, 0, 0), new Double3(-1, 0, 0), new Double3(0.5, 0, 0) };
+            var ends = new[] { new Double3(1, 0, 0), new Double3(-1, 0.7, 0), new Double3(-1, 0, 0), new Double3(3, 0, 0) };
+            var own = new RecordingOwnEnds();
+            var shared = new RecordingEnds();
+            var ownFree = InUseRays.SegmentsFree(starts, ends, own, "segments", null, CancellationToken.None);
+            var sharedFree = InUseRays.SegmentsFree(starts, ends, shared, "segments", null, CancellationToken.None);
+            Assert.That(ownFree, Is.EqualTo(new[] { false, true, true, true }));
+            Assert.That(sharedFree, Is.EqualTo(ownFree), "the same answers where no ray grazes a surface");
+            Assert.That(shared.Ends, Is.EqualTo(new[] { 2.5f, 2.5f, 2.5f }), "a plain raycaster: the longest segment for every ray");
+            Assert.That(own.Ends.Count, Is.EqualTo(3), "the zero-length segment is not cast");
+            double[] lengths = { 2, (ends[1] - starts[1]).Length, 2.5 };
+            Assert.That((float)lengths[1], Is.LessThan(lengths[1]), "the case where the float must be rounded up");
+            for (int r = 0; r < 3; r++)
+            {
+                // Each ray ends at its segment's length rounded up to a float: not below it, and less than one float step
+                // (2^-23 of the binade's bottom) above it.
+                double step = Math.Pow(2, Math.Floor(Math.Log(lengths[r], 2)) - 23);
+                Assert.That((double)own.Ends[r], Is.GreaterThanOrEqualTo(lengths[r]), "ray " + r);
+                Assert.That(own.Ends[r] - lengths[r], Is.LessThan(step), "ray " + r);
+            }
+        }
+
+        [Test]
+        public void EachRayKeepsItsOwnEndAcrossBatches()
+        {
+            // More segments than one raycaster call takes, each its own length: segment s from (-1, s mod 7 / 7, 0) along +x.
+            int count = InUseRays.RaysPerBatch + 500;
+            var starts = new Double3[count];
+            var ends = new Double3[count];
+            for (int s = 0; s < count; s++)
+            {
+                starts[s] = new Double3(-1, (s % 7) / 7.0, 0);
+                ends[s] = starts[s] + new Double3(0.5 + (s % 13) * 0.125, 0, 0);  // 0.5 .. 2: blocked by the wall from 0.9 on
+            }
+            var own = new RecordingOwnEnds();
+            var free = InUseRays.SegmentsFree(starts, ends, own, "segments", null, CancellationToken.None);
+            Assert.That(free, Is.EqualTo(InUseRays.SegmentsFree(starts, ends, new RecordingEnds(), "segments", null, CancellationToken.None)));
+            Assert.That(own.Ends.Count, Is.EqualTo(count));
+            for (int s = 0; s < count; s++)
+            {
+                double length = 0.5 + (s % 13) * 0.125;  // exact in float
+                Assert.That(own.Ends[s], Is.EqualTo((float)length), "segment " + s);
+                Assert.That(free[s], Is.EqualTo(length < 0.9), "segment " + s);
+            }
         }
     }
 }

@@ -102,6 +102,56 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(hits, Is.GreaterThan(10), "enough rays hit for the comparison to mean something");
         }
 
+        [Test]
+        public void EachRayEndingAtItsOwnDistanceAnswersAsThatRayCastAlone()
+        {
+            var random = new Random(7);
+            const int triangles = 300, rays = 1500;
+            var vertices = new Double3[3 * triangles];
+            var indices = new int[3 * triangles];
+            for (int t = 0; t < triangles; t++)
+            {
+                var centre = new Double3(20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10);
+                for (int c = 0; c < 3; c++)
+                {
+                    vertices[3 * t + c] = centre + new Double3(random.NextDouble() * 3 - 1.5, random.NextDouble() * 3 - 1.5, random.NextDouble() * 3 - 1.5);
+                    indices[3 * t + c] = 3 * t + c;
+                }
+            }
+            var soup = new TriangleSoupRaycaster(vertices, indices);
+            var origins = new Vector3[rays];
+            var directions = new Vector3[rays];
+            var ends = new float[rays];
+            for (int r = 0; r < rays; r++)
+            {
+                origins[r] = new Vector3((float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12));
+                directions[r] = Vector3.Normalize(new Vector3((float)(random.NextDouble() * 2 - 1), (float)(random.NextDouble() * 2 - 1),
+                    (float)(random.NextDouble() * 2 - 1)));
+                ends[r] = (float)(20 * random.NextDouble());
+            }
+            var together = new RayHit[rays];
+            soup.Cast(origins, directions, ends, together);
+            var far = new RayHit[rays];
+            soup.Cast(origins, directions, 20f, far);
+            int hits = 0, cut = 0;
+            for (int r = 0; r < rays; r++)
+            {
+                var alone = new RayHit[1];
+                soup.Cast(new[] { origins[r] }, new[] { directions[r] }, ends[r], alone);
+                Assert.That(together[r].Distance, Is.EqualTo(alone[0].Distance), "ray " + r);
+                Assert.That(together[r].Normal, Is.EqualTo(alone[0].Normal), "ray " + r);
+                if (together[r].IsHit) hits++;
+                if (far[r].IsHit && far[r].Distance > ends[r])
+                {
+                    cut++;
+                    Assert.That(together[r].IsHit, Is.False, "ray " + r + " hits only beyond its own end");
+                }
+            }
+            Assert.That(hits, Is.GreaterThan(20), "enough rays hit within their ends for the comparison to mean something");
+            Assert.That(cut, Is.GreaterThan(20), "enough rays hit only beyond their ends");
+            Assert.That(soup.RaysCast, Is.EqualTo(3 * rays));
+        }
+
         /// <summary>The nearest crossing of the ray with a triangle's plane that lies inside the triangle (on the same side of
         /// each edge as the triangle), within <paramref name="maxDistance"/>; +∞ when there is none.</summary>
         private static double FirstHitOneByOne(Double3[] vertices, int triangles, Double3 origin, Double3 direction, double maxDistance)

@@ -12,8 +12,9 @@ namespace Lpnn.Probes.Core.Tests.Support
     /// Tools~/experiments/SelectionBench/ApplyBench.cs). Both facings are hit, as Unity's hitBackfaces and Embree; a ray
     /// through a triangle's edge or vertex hits it (edges inclusive), so a ray through the shared edge of two triangles of
     /// a wall cannot slip between them. Parallel rays in a triangle's plane never hit it. Test and bench code, not Runtime:
-    /// Unity casts through its own physics. <see cref="RaysCast"/> counts the rays, for the benchmark.</summary>
-    public sealed class TriangleSoupRaycaster : IRaycaster
+    /// Unity casts through its own physics. Each ray may end at its own distance (<see cref="IPerRayDistanceRaycaster"/>, as
+    /// Unity's RaycastCommand and Embree's per-ray tfar). <see cref="RaysCast"/> counts the rays, for the benchmark.</summary>
+    public sealed class TriangleSoupRaycaster : IPerRayDistanceRaycaster
     {
         /// <summary>Triangles per leaf at most: below this a leaf's triangles are tested one by one.</summary>
         private const int LeafSize = 4;
@@ -176,16 +177,27 @@ namespace Lpnn.Probes.Core.Tests.Support
             return node;
         }
 
-        public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
+        public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results) =>
+            CastEach(origins, directions, maxDistance, null, results);
+
+        /// <summary>Ray n up to maxDistances[n]: its own tfar, as Embree's (the hit test and the boxes' culling both stop there).</summary>
+        public void Cast(Vector3[] origins, Vector3[] directions, float[] maxDistances, RayHit[] results)
+        {
+            if (maxDistances == null) throw new ArgumentNullException(nameof(maxDistances));
+            CastEach(origins, directions, 0, maxDistances, results);
+        }
+
+        /// <summary>Ray n up to maxDistances[n], or up to <paramref name="maxDistance"/> when maxDistances is null.</summary>
+        private void CastEach(Vector3[] origins, Vector3[] directions, float maxDistance, float[] maxDistances, RayHit[] results)
         {
             if (origins == null) throw new ArgumentNullException(nameof(origins));
             if (directions == null) throw new ArgumentNullException(nameof(directions));
             if (results == null) throw new ArgumentNullException(nameof(results));
-            if (directions.Length < origins.Length || results.Length < origins.Length)
-                throw new ArgumentException("fewer directions or results than origins");
+            if (directions.Length < origins.Length || results.Length < origins.Length || (maxDistances != null && maxDistances.Length < origins.Length))
+                throw new ArgumentException("fewer directions, maximum distances or results than origins");
             var stack = new int[64];
             for (int r = 0; r < origins.Length; r++)
-                results[r] = CastOne(origins[r], directions[r], maxDistance, stack);
+                results[r] = CastOne(origins[r], directions[r], maxDistances == null ? maxDistance : maxDistances[r], stack);
             RaysCast += origins.Length;
         }
 

@@ -124,25 +124,32 @@ public static class ApplyBench
         public static long Sum(Dictionary<string, long> sums, string key) => sums.TryGetValue(key, out long v) ? v : 0;
     }
 
-    /// <summary>Rays and seconds inside the raycaster, charged to the stage the tetrahedraliser wrapper is in.</summary>
-    private sealed class StagedRaycaster : IRaycaster
+    /// <summary>Rays and seconds inside the raycaster, charged to the stage the tetrahedraliser wrapper is in. Each ray to its
+    /// own end, as the raycaster it wraps (both of the benchmark's can), so the segments are cast as Unity's physics casts them.</summary>
+    private sealed class StagedRaycaster : IPerRayDistanceRaycaster
     {
-        private readonly IRaycaster _inner;
+        private readonly IPerRayDistanceRaycaster _inner;
         private readonly StagedTetrahedralizer _stages;
         public readonly Dictionary<string, long> Rays = new Dictionary<string, long>();
         public readonly Dictionary<string, double> Seconds = new Dictionary<string, double>();
 
-        public StagedRaycaster(IRaycaster inner, StagedTetrahedralizer stages)
+        public StagedRaycaster(IPerRayDistanceRaycaster inner, StagedTetrahedralizer stages)
         {
             _inner = inner;
             _stages = stages;
         }
 
-        public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results)
+        public void Cast(Vector3[] origins, Vector3[] directions, float maxDistance, RayHit[] results) =>
+            Timed(origins.LongLength, () => _inner.Cast(origins, directions, maxDistance, results));
+
+        public void Cast(Vector3[] origins, Vector3[] directions, float[] maxDistances, RayHit[] results) =>
+            Timed(origins.LongLength, () => _inner.Cast(origins, directions, maxDistances, results));
+
+        private void Timed(long rays, Action cast)
         {
             var clock = Stopwatch.StartNew();
-            _inner.Cast(origins, directions, maxDistance, results);
-            StagedTetrahedralizer.Add(Rays, _stages.Current, origins.LongLength);
+            cast();
+            StagedTetrahedralizer.Add(Rays, _stages.Current, rays);
             Seconds[_stages.Current] = StagedTetrahedralizer.Sum(Seconds, _stages.Current) + clock.Elapsed.TotalSeconds;
         }
     }
@@ -171,7 +178,7 @@ public static class ApplyBench
         double readSeconds = read.Elapsed.TotalSeconds;
         Console.WriteLine(string.Format(CultureInfo.InvariantCulture, "{0}: {1:N0} points, tau {2} (capture read in {3:F1} s)",
             System.IO.Path.GetFileName(capturePath), capture.PointCount, tolerance, readSeconds));
-        IRaycaster soup = null;
+        IPerRayDistanceRaycaster soup = null;
         string memo = rememberSegments ? "remembered (SegmentMemo)" : "cast anew (no memo)";
         if (geometry != null)
         {

@@ -15,7 +15,8 @@ namespace Lpnn.Probes.Core.Features
     }
 
     /// <summary>Batched ray casts against scene geometry, hitting surfaces of either facing
-    /// (Unity: RaycastCommand with hitBackfaces; headless: Embree; tests: exact analytic boxes).</summary>
+    /// (Unity: RaycastCommand with hitBackfaces; headless: Embree; tests: exact analytic boxes). A raycaster that can end
+    /// each ray at its own distance also implements <see cref="IPerRayDistanceRaycaster"/>, which the segment test uses.</summary>
     public interface IRaycaster
     {
         /// <summary>Casts ray n from origins[n] along the unit directions[n], up to <paramref name="maxDistance"/>,

@@ -1,5 +1,6 @@
 using System;
 using System.Numerics;
+using System.Runtime.InteropServices;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Numerics;
@@ -29,7 +30,7 @@ namespace Lpnn.Probes.Core.InUse
         {
             var heights = new double[origins.Length];
             double band = parameters.BandHeight, walkable = parameters.WalkableCosine;
-            CastInBatches(origins, null, Down, AtLeast(band), raycaster, stage, doneBefore, stageTotal, progress, cancel,
+            CastInBatches(origins, null, Down, AtLeast(band), null, raycaster, stage, doneBefore, stageTotal, progress, cancel,
                 (ray, hit) =>
                 {
                     double d = Checked(hit, ray);
@@ -43,8 +44,11 @@ namespace Lpnn.Probes.Core.InUse
         }
 
         /// <summary>Whether nothing is hit on the segment from each start to its end (a zero-length segment is free, and not
-        /// cast). One cast per batch as long as the longest segment; a hit counts when within its own segment's length, the
-        /// same first hit a ray limited to that length finds.</summary>
+        /// cast). A raycaster that can end each ray at its own distance (<see cref="IPerRayDistanceRaycaster"/>) casts each
+        /// segment to its own length, so its answer depends on that segment alone (a ray grazing a triangle in its own plane
+        /// may be decided by where the ray ends). A plain one casts each batch as far as its longest segment; a hit counts
+        /// when within its own segment's length, the same first hit a ray limited to that length finds but for such grazing
+        /// rays. Either way a hit counts only within the segment's length in double.</summary>
         public static bool[] SegmentsFree(Double3[] starts, Double3[] ends, IRaycaster raycaster, string stage,
             ProgressCallback progress, CancellationToken cancel)
         {
@@ -74,21 +78,26 @@ namespace Lpnn.Probes.Core.InUse
                 r++;
             }
             if (cast == 0) return free;
-            CastInBatches(origins, directions, Vector3.Zero, AtLeast(longest), raycaster, stage, 0, cast, progress, cancel,
+            double[] ownEnds = raycaster is IPerRayDistanceRaycaster ? lengths : null;
+            CastInBatches(origins, directions, Vector3.Zero, AtLeast(longest), ownEnds, raycaster, stage, 0, cast, progress, cancel,
                 (ray, hit) => free[rays[ray]] = !(Checked(hit, ray) <= lengths[ray]));
             return free;
         }
 
         /// <summary>Casts origins[n] along directions[n] (or along <paramref name="direction"/> when directions is null) in
-        /// batches, handing each hit to <paramref name="read"/> with its ray index.</summary>
-        private static void CastInBatches(Double3[] origins, Double3[] directions, Vector3 direction, float maxDistance,
+        /// batches, handing each hit to <paramref name="read"/> with its ray index. Each ray ends at
+        /// <paramref name="maxDistance"/>, or, given <paramref name="ownEnds"/> (the raycaster then must be an
+        /// <see cref="IPerRayDistanceRaycaster"/>), ray n at ownEnds[n] rounded up to a float.</summary>
+        private static void CastInBatches(Double3[] origins, Double3[] directions, Vector3 direction, float maxDistance, double[] ownEnds,
             IRaycaster raycaster, string stage, long doneBefore, long stageTotal, ProgressCallback progress, CancellationToken cancel,
             Action<int, RayHit> read)
         {
             if (raycaster == null) throw new ArgumentNullException(nameof(raycaster));
+            var perRay = ownEnds == null ? null : (IPerRayDistanceRaycaster)raycaster;
             int batch = Math.Min(RaysPerBatch, origins.Length);
             var rayOrigins = new Vector3[batch];
             var rayDirections = new Vector3[batch];
+            var rayEnds = perRay == null ? null : new float[batch];
             var hits = new RayHit[batch];
             for (int first = 0; first < origins.Length; first += batch)
             {
@@ -99,15 +108,18 @@ namespace Lpnn.Probes.Core.InUse
                 {
                     rayOrigins = new Vector3[count];
                     rayDirections = new Vector3[count];
+                    if (perRay != null) rayEnds = new float[count];
                     hits = new RayHit[count];
                 }
                 for (int r = 0; r < count; r++)
                 {
                     rayOrigins[r] = ToVector3(origins[first + r]);
                     rayDirections[r] = directions == null ? direction : ToVector3(directions[first + r]);
+                    if (perRay != null) rayEnds[r] = AtLeast(ownEnds[first + r]);
                     hits[r] = RayHit.Miss;
                 }
-                raycaster.Cast(rayOrigins, rayDirections, maxDistance, hits);
+                if (perRay != null) perRay.Cast(rayOrigins, rayDirections, rayEnds, hits);
+                else raycaster.Cast(rayOrigins, rayDirections, maxDistance, hits);
                 for (int r = 0; r < count; r++) read(first + r, hits[r]);
             }
             progress?.Invoke(stage, doneBefore + origins.Length, stageTotal);
@@ -115,12 +127,26 @@ namespace Lpnn.Probes.Core.InUse
 
         private static Vector3 ToVector3(Double3 v) => new Vector3((float)v.X, (float)v.Y, (float)v.Z);
 
-        /// <summary>The smallest float maximum distance not below <paramref name="distance"/>: the raycaster takes a float, and a
-        /// maximum rounded down would drop a hit the double comparison afterwards counts.</summary>
+        /// <summary>The smallest float maximum distance not below <paramref name="distance"/> (≥ 0): the raycaster takes a
+        /// float, and a maximum rounded down would drop a hit the double comparison afterwards counts. The next float up,
+        /// as Python's raycaster rounds a ray's end (np.nextafter, Training~/lpnn/scenes/raycast.py), so a ray handed to
+        /// Embree from either language ends at the same float (Embree decides a ray grazing a triangle by its end).</summary>
         private static float AtLeast(double distance)
         {
             float rounded = (float)distance;
-            return rounded >= distance ? rounded : rounded * (1 + 1e-6f);
+            if (rounded >= distance) return rounded;
+            var next = new FloatBits { Value = rounded };
+            next.Bits += rounded >= 0 ? 1 : -1;  // one unit in the last place toward +∞
+            return next.Value;
+        }
+
+        /// <summary>A float's IEEE 754 bits (BitConverter.SingleToInt32Bits is missing from .NET Framework 4.x, one of Unity's API
+        /// compatibility levels).</summary>
+        [StructLayout(LayoutKind.Explicit)]
+        private struct FloatBits
+        {
+            [FieldOffset(0)] public float Value;
+            [FieldOffset(0)] public int Bits;
         }
 
         private static double Checked(RayHit hit, int ray)
