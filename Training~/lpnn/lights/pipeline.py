@@ -204,12 +204,8 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
-    surfaces = []
-    for shader, value in zip(scene.surface_shaders, lights.surface_values):
-        if value > 0:
-            light = scene.surface_emitters.shaders[shader]
-            surfaces.append(SurfaceLight(shader=scene.level.bsp.shader_name(shader), value=float(value),
-                                         colour=light.colour.copy()))
+    surfaces = [surface_light(scene.level.bsp.shader_name(shader), scene.surface_emitters.shaders[shader], float(value))
+                for shader, value in zip(scene.surface_shaders, lights.surface_values) if value > 0]
     fitted_suns = [Sun.from_quake(direction, colour, intensity) for direction, colour, intensity in
                    zip(lights.sun_directions, lights.sun_colours, lights.sun_intensities)]
     fitted_suns = [sun for sun in fitted_suns if sun.intensity > 0]
@@ -372,17 +368,24 @@ def shader_power(bsp, emitters: Emitters) -> dict[str, float]:
     return out
 
 
+def surface_light(shader: str, light: ShaderLight, value: float | None = None) -> SurfaceLight:
+    """The rig's record of a shader's surface light built as `light` (emitters.ShaderLight), at `value` (None: the
+    light's own): its colour and q3map2's settings besides the value, so the rig re-lights as it was built."""
+    return SurfaceLight(shader=shader, value=light.value if value is None else value, colour=light.colour.copy(),
+                        subdivide=light.subdivide, two_sided=light.two_sided,
+                        backsplash_fraction=light.backsplash_fraction, backsplash_distance=light.backsplash_distance)
+
+
 def rig_emitters(level: Level, rig: Rig) -> Emitters:
-    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values, and
-    its suns."""
+    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values and
+    settings (surface_light), and its suns."""
     names = {level.bsp.shader_name(index).lower(): index for index in range(len(level.bsp.shaders))}
     missing = [s.shader for s in rig.surfaces if s.shader.lower() not in names]
     if missing:
         raise RigError(f"rig surface light(s) {missing} name shaders {level.name} does not have")
     shaders = {names[s.shader.lower()]: ShaderLight(value=s.value, colour=np.asarray(s.colour, dtype=np.float64),
-                                                    subdivide=DEFAULT_LIGHT_SUBDIVIDE,
-                                                    backsplash_fraction=BACKSPLASH_FRACTION,
-                                                    backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
+                                                    subdivide=s.subdivide, backsplash_fraction=s.backsplash_fraction,
+                                                    backsplash_distance=s.backsplash_distance, two_sided=s.two_sided,
                                                     colour_source="rig")
                for s in rig.surfaces if s.value > 0}
     emitters = shader_emitters(level.bsp, shaders)
@@ -393,12 +396,9 @@ def rig_emitters(level: Level, rig: Rig) -> Emitters:
 def real_rig(level: Level, real: EntityLights, emitters: Emitters) -> Rig:
     """The level's real rig as a rig file holds it (the export of lights.md §5): its light entities (point lights and
     spotlights) and ambient, the surface lights of its shader scripts at their script values and colours, and its
-    suns (`emitters` = level_emitters). A rig's surface lights take q3map2's defaults for what the scripts may set
-    besides (q3map_lightSubdivide, backsplash, two-sided), so the file re-lights a level whose scripts change
-    those (kaos's sky: subdivided at 256) a little differently from the yardstick."""
+    suns (`emitters` = level_emitters), with the scripts' settings besides the value (surface_light)."""
     bsp = level.bsp
-    surfaces = [SurfaceLight(shader=bsp.shader_name(shader), value=light.value, colour=light.colour.copy())
-                for shader, light in sorted(emitters.shaders.items())]
+    surfaces = [surface_light(bsp.shader_name(shader), light) for shader, light in sorted(emitters.shaders.items())]
     suns = [Sun.from_quake(direction, colour, photons) for direction, colour, photons in
             zip(emitters.suns.directions, emitters.suns.colours, emitters.suns.photons)]
     return replace(real.rig, bsp_sha256=level.sha256, scheme="real rig", surfaces=surfaces, suns=suns,
