@@ -22,10 +22,10 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
                        shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
-from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
+from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight, worldspawn_ambient
 from .shadows import shadow_raycaster
-from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
-                       GRID_START, PEAK_START, SCHEMES, STARTS)
+from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
+                       DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, PEAK_START, SCHEMES, STARTS)
 from .starts import (DEFAULT_PEAKS, SPOT_REACH, PeakSettings, Starts, ceiling_starts, disc_gains, lit_by_spotlights,
                      peak_starts, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
@@ -117,11 +117,13 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
               spots: bool | None = None, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
-              suns: bool | None = None) -> FitResult:
+              suns: bool | None = None, ambient: str = DEFAULT_AMBIENT) -> FitResult:
     """With `spots` (None: fits_spots's default), every start position starts both a point light and a q3map2
     spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
-    sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
+    sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces; `ambient`: held
+    at the worldspawn's or fitted (held_ambient, lights.md §4)."""
     suns = fits_sun(scene, suns)
+    held = held_ambient(scene.level, ambient)
     spots = fits_spots(scene, spots, start, peaks)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
@@ -140,10 +142,25 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
         flags = np.repeat([False, True], [len(positions), len(spot_positions)])
         positions = np.concatenate([positions, spot_positions])
         relative = None if relative is None else np.concatenate([relative, spot_relative])
-    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns)
+    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns, ambient=held)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
-                    progress=progress)
+                    progress=progress, fit_ambient=held is None)
     return fitter.fit(lights, SCHEMES[scheme])
+
+
+def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | None:
+    """The ambient a fit holds (3,) bytes, or None where it fits it: with `ambient` WORLDSPAWN_AMBIENT, what the
+    worldspawn records (rig.worldspawn_ambient: `_ambient`, else `ambient`, x `_color`; 0 without, as q3map2's
+    light.c LightWorld reads it) unless the worldspawn also records `_minlight` (LightWorld's floor on every luxel,
+    which the model lacks and a fitted ambient stands in for). These keys stay in a compiled level's entity lump
+    where its light entities were stripped. The lightmaps cannot tell a byte of ambient from a byte of the lights'
+    light on dim surfaces, but the light grid holds none of the ambient (compare.py)."""
+    if ambient not in AMBIENTS:
+        raise ValueError(f"ambient {ambient!r} is not one of {', '.join(AMBIENTS)}")
+    world = level.bsp.entities[0] if level.bsp.entities else {}
+    if ambient == FITTED_AMBIENT or "_minlight" in world:
+        return None
+    return worldspawn_ambient(level.bsp.entities, level.name)
 
 
 def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | None, start: str = DEFAULT_START,
