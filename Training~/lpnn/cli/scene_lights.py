@@ -57,8 +57,8 @@ def register(actions: argparse._SubParsersAction) -> None:
                              "the level's sky surfaces; the rig then holds it (lights.md §4-5; default: where the level "
                              "has sky surfaces; --no-suns: never)")
     lights.add_argument("--ambient", default=DEFAULT_AMBIENT, choices=AMBIENTS,
-                        help=f"the level's ambient: 'worldspawn' holds it at what the worldspawn records (`_ambient`, 0 "
-                             f"without; fitted where it records `_minlight`), 'fitted' fits it with the intensities "
+                        help=f"the level's ambient: 'worldspawn' holds it at what the worldspawn records (`_ambient`; "
+                             f"fitted where it records none, or `_minlight`), 'fitted' fits it with the intensities "
                              f"(lights.md §4; default {DEFAULT_AMBIENT})")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)

@@ -150,17 +150,20 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
 
 def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | None:
     """The ambient a fit holds (3,) bytes, or None where it fits it: with `ambient` WORLDSPAWN_AMBIENT, what the
-    worldspawn records (rig.worldspawn_ambient: `_ambient`, else `ambient`, x `_color`; 0 without, as q3map2's
-    light.c LightWorld reads it) unless the worldspawn also records `_minlight` (LightWorld's floor on every luxel,
-    which the model lacks and a fitted ambient stands in for). These keys stay in a compiled level's entity lump
-    where its light entities were stripped. The lightmaps cannot tell a byte of ambient from a byte of the lights'
-    light on dim surfaces, but the light grid holds none of the ambient (compare.py)."""
+    worldspawn records (rig.worldspawn_ambient: `_ambient`, else `ambient`, x `_color`, as q3map2's light.c
+    LightWorld reads it) where it records one (not 0) and no `_minlight` (LightWorld's floor on every luxel, which the
+    model lacks and a fitted ambient stands in for). These keys stay in a compiled level's entity lump where its
+    light entities were stripped. The lightmaps cannot tell a byte of ambient from a byte of light that falls on
+    every surface alike (a sky's), but the light grid holds none of the ambient (compare.py). Where no ambient is
+    recorded q3map2's is 0, but holding 0 there was chosen against on the training levels (lights.md §4: kaos's
+    objective 8 % worse), so it is fitted."""
     if ambient not in AMBIENTS:
         raise ValueError(f"ambient {ambient!r} is not one of {', '.join(AMBIENTS)}")
     world = level.bsp.entities[0] if level.bsp.entities else {}
-    if ambient == FITTED_AMBIENT or "_minlight" in world:
+    recorded = worldspawn_ambient(level.bsp.entities, level.name)
+    if ambient == FITTED_AMBIENT or "_minlight" in world or not np.any(recorded > 0):
         return None
-    return worldspawn_ambient(level.bsp.entities, level.name)
+    return recorded
 
 
 def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | None, start: str = DEFAULT_START,

@@ -20,9 +20,9 @@ DEFAULT_START = PEAK_START
 # rig")
 DEFAULT_SUNS = True
 # the level's ambient (lights.md §4): "worldspawn" holds it at what the worldspawn records (`_ambient` / `ambient` x
-# `_color`, 0 without: q3map2's light.c LightWorld), which the fit cannot tell from the lights' light in the lightmaps
-# but the light grid holds none of (compare.py); "fitted" fits it with the intensities. Where the worldspawn records
-# `_minlight` (a floor the model lacks) the ambient is fitted either way. "worldspawn" since 2026-11-27, chosen on the
+# `_color`: q3map2's light.c LightWorld), which the fit cannot tell from a sky's light in the lightmaps but the light
+# grid holds none of (compare.py), and fits it where the worldspawn records none or records `_minlight` (a floor the
+# model lacks); "fitted" fits it with the intensities everywhere. "worldspawn" since 2026-11-27, chosen on the
 # training levels (benchmarks.md "The light rig")
 WORLDSPAWN_AMBIENT, FITTED_AMBIENT = "worldspawn", "fitted"
 AMBIENTS = (WORLDSPAWN_AMBIENT, FITTED_AMBIENT)

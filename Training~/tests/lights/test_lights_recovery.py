@@ -85,7 +85,8 @@ def held_ambient_of(worldspawn: str, ambient: str = "worldspawn"):
 def test_the_held_ambient_is_the_worldspawns_as_q3map2_reads_it() -> None:
     np.testing.assert_array_equal(held_ambient_of('"ambient" "35"\n"_color" "1 0.5 0"\n'), [35.0, 17.5, 0.0])
     np.testing.assert_array_equal(held_ambient_of('"_ambient" "10"\n'), [10.0, 10.0, 10.0])
-    np.testing.assert_array_equal(held_ambient_of(""), [0.0, 0.0, 0.0])  # no key: q3map2's ambient is 0
+    assert held_ambient_of("") is None  # none recorded (q3map2's 0): fitted, by the training levels
+    assert held_ambient_of('"_ambient" "0"\n') is None
     assert held_ambient_of('"_minlight" "25"\n') is None  # a floor the model lacks: the ambient is fitted
     assert held_ambient_of('"ambient" "35"\n', "fitted") is None
     with pytest.raises(ValueError, match="ambient 'guess' is not one of worldspawn, fitted"):
