@@ -17,8 +17,8 @@ from .level_args import LEVEL_HELP, level_user_errors
 
 
 def register(actions: argparse._SubParsersAction) -> None:
-    from ..lights.settings import DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, SCHEMES, \
-        STARTS
+    from ..lights.settings import AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, \
+        DEFAULT_SCHEME, DEFAULT_START, SCHEMES, STARTS
 
     lights = actions.add_parser("lights", help="recover the level's point lights from its lightmaps (a rig file)",
                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -56,6 +56,10 @@ def register(actions: argparse._SubParsersAction) -> None:
                         help="also recover one q3map2 sun (direction, colour, intensity in photons) lighting what sees "
                              "the level's sky surfaces; the rig then holds it (lights.md §4-5; default: where the level "
                              "has sky surfaces; --no-suns: never)")
+    lights.add_argument("--ambient", default=DEFAULT_AMBIENT, choices=AMBIENTS,
+                        help=f"the level's ambient: 'worldspawn' holds it at what the worldspawn records (`_ambient`; "
+                             f"fitted where it records none, or `_minlight`), 'fitted' fits it with the intensities "
+                             f"(lights.md §4; default {DEFAULT_AMBIENT})")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -129,7 +133,7 @@ def _lights(args: argparse.Namespace) -> None:
         with rig_user_errors():
             try:
                 result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots,
-                                   start=args.start, suns=args.suns)
+                                   start=args.start, suns=args.suns, ambient=args.ambient)
             except ValueError as exc:
                 raise UserError(str(exc)) from exc
     finally:

@@ -100,9 +100,11 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
 
 
 def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None,
-                      relative: np.ndarray | None = None, sun: bool = False) -> Lights:
+                      relative: np.ndarray | None = None, sun: bool = False, ambient: np.ndarray | None = None) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
     scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
+    With `ambient` (3,) bytes, the ambient is that (a fit holding it, Fitter(fit_ambient=False)) and the other
+    scales are fitted to what it leaves of the target.
     With `relative` (J,) > 0, the lights' intensities are one common scale times these (starts.py's estimates).
     With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
     all the scales (scipy's nnls). `spots` (J,) bool: those lights are spotlights along SPOT_START_AXIS with
@@ -125,6 +127,10 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
     target = model.radiance.ravel()
+    if ambient is not None:  # held: its radiance leaves the target, and its column the fits
+        unit.ambient = np.clip(np.asarray(ambient, dtype=np.float64), 0.0, BYTE_MAX)
+        target = target - (model.albedo * LINEAR_PER_BYTE * unit.ambient).ravel()
+        flat = None
     if sun:
         best: tuple[Lights, float] | None = None
         for direction in sun_start_directions():  # the first of equal residuals: deterministic
@@ -134,7 +140,7 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
                 best = found
         assert best is not None
         return best[0]
-    if model.surface_count:
+    if model.surface_count or flat is None:
         return _initial_with_surfaces(model, unit, lit, flat, weights, target)[0]
     basis = np.stack([lit, flat], axis=1)
     gram = basis.T @ (weights[:, None] * basis)
@@ -159,22 +165,26 @@ def sun_start_directions() -> np.ndarray:
     return directions / np.linalg.norm(directions, axis=1, keepdims=True)
 
 
-def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, flat: np.ndarray, weights: np.ndarray,
-                           target: np.ndarray) -> tuple[Lights, float]:
-    """The nnls fit of the lights' common scale, the ambient, every surface light's value and every sun's
-    intensity (a white sun's radiance per photon: albedo x 4/255 x lit x cos), and its residual norm."""
+def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, flat: np.ndarray | None,
+                           weights: np.ndarray, target: np.ndarray) -> tuple[Lights, float]:
+    """The nnls fit of the lights' common scale, the ambient (`flat`, per byte; None: held at unit.ambient, already
+    taken from `target`), every surface light's value and every sun's intensity (a white sun's radiance per photon:
+    albedo x 4/255 x lit x cos), and its residual norm."""
     per_value = (model.albedo[None] * LINEAR_PER_BYTE * model.surface_basis).reshape(model.surface_count,
                                                                                      3 * model.point_count)
     sun_lit = model.sun_visibility(unit)
     per_photon = (model.albedo[:, None, :] * LINEAR_PER_BYTE * model.sun_weights(unit, sun_lit)[:, :, None])
     per_photon = per_photon.transpose(1, 0, 2).reshape(unit.sun_count, 3 * model.point_count)
     root = np.sqrt(weights)
-    basis = np.concatenate([np.stack([lit, flat], axis=1), per_value.T, per_photon.T], axis=1) * root[:, None]
+    scalars = [lit] if flat is None else [lit, flat]
+    basis = np.concatenate([np.stack(scalars, axis=1), per_value.T, per_photon.T], axis=1) * root[:, None]
     scales, residual = nnls(basis, target * root, maxiter=50 * basis.shape[1])
     unit.intensities = np.clip(scales[0] * unit.intensities, 1.0, MAX_INTENSITY)
-    unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
-    unit.surface_values = np.clip(scales[2:2 + model.surface_count], 0.0, MAX_SURFACE_VALUE)
-    unit.sun_intensities = np.clip(scales[2 + model.surface_count:], 0.0, MAX_SUN_INTENSITY)
+    if flat is not None:
+        unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
+    first = len(scalars)
+    unit.surface_values = np.clip(scales[first:first + model.surface_count], 0.0, MAX_SURFACE_VALUE)
+    unit.sun_intensities = np.clip(scales[first + model.surface_count:], 0.0, MAX_SUN_INTENSITY)
     return unit, float(residual)
 
 
@@ -182,13 +192,13 @@ class Fitter:
     """Parameters are one flat vector: the lights' (J, 7) rows (position, colour, intensity, scaled), with
     spotlights their (J, 4) rows (axis u, radiusByDist; optimised with the positions), the suns' (K, 7) rows
     (direction u, optimised with the positions; colour; intensity / SUN_UNIT), the surface lights' values
-    (S, scaled), then the ambient (3, scaled); the ambient and the surface values are optimised with the
-    intensities. The lights whose start has a cone (Lights.radius_by_dist > 0) are spotlights; when any is, every
+    (S, scaled), then the ambient (3, scaled); the ambient (unless `fit_ambient` is False: held where the start
+    put it) and the surface values are optimised with the intensities. The lights whose start has a cone (Lights.radius_by_dist > 0) are spotlights; when any is, every
     light has spot rows, held at 0 (a point light) for the others."""
 
     def __init__(self, model: ForwardModel, bounds: tuple[np.ndarray, np.ndarray], is_open: OpenTest,
                  surface_points: np.ndarray, refresh: int = DEFAULT_REFRESH,
-                 progress: Progress | None = None) -> None:
+                 progress: Progress | None = None, fit_ambient: bool = True) -> None:
         if refresh < 1:
             raise ValueError(f"refresh {refresh} must be at least 1 iteration")
         self.model = model
@@ -197,6 +207,7 @@ class Fitter:
         self.surfaces = cKDTree(surface_points)
         self.refresh = refresh
         self.progress = progress
+        self.fit_ambient = fit_ambient
         self.curve: list[CurvePoint] = []
         self.iterations = 0
         self.evaluations = 0
@@ -264,8 +275,8 @@ class Fitter:
         columns[6] = INTENSITY in parameters
         spots = np.repeat(self.spot_mask & (POSITION in parameters), 4) if self.spots else np.zeros(0, bool)
         suns = np.tile(columns, self.sun_count)  # direction with the positions, colour, intensity
-        return np.concatenate([np.tile(columns, count), spots, suns,
-                               np.full(self.surfaces_count + 3, INTENSITY in parameters)])
+        return np.concatenate([np.tile(columns, count), spots, suns, np.full(self.surfaces_count, INTENSITY in parameters),
+                               np.full(3, INTENSITY in parameters and self.fit_ambient)])
 
     def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         low = np.concatenate([self.lower / POSITION_UNIT, np.zeros(3), [0.0]])

@@ -22,10 +22,10 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
                        shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
-from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight
+from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight, worldspawn_ambient
 from .shadows import shadow_raycaster
-from .settings import (DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME, DEFAULT_START, DEFAULT_SUNS,
-                       GRID_START, PEAK_START, SCHEMES, STARTS)
+from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
+                       DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, PEAK_START, SCHEMES, STARTS)
 from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains,
                      lit_by_spotlights, peak_starts, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
@@ -117,11 +117,13 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
               spots: bool | None = None, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
-              suns: bool | None = None) -> FitResult:
+              suns: bool | None = None, ambient: str = DEFAULT_AMBIENT) -> FitResult:
     """With `spots` (None: fits_spots's default), every start position starts both a point light and a q3map2
     spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
-    sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces (lights.md §4)."""
+    sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces; `ambient`: held
+    at the worldspawn's or fitted (held_ambient, lights.md §4)."""
     suns = fits_sun(scene, suns)
+    held = held_ambient(scene.level, ambient)
     spots = fits_spots(scene, spots, start, peaks)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
@@ -140,10 +142,28 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
         flags = np.repeat([False, True], [len(positions), len(spot_positions)])
         positions = np.concatenate([positions, spot_positions])
         relative = None if relative is None else np.concatenate([relative, spot_relative])
-    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns)
+    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns, ambient=held)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
-                    progress=progress)
+                    progress=progress, fit_ambient=held is None)
     return fitter.fit(lights, SCHEMES[scheme])
+
+
+def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | None:
+    """The ambient a fit holds (3,) bytes, or None where it fits it: with `ambient` WORLDSPAWN_AMBIENT, what the
+    worldspawn records (rig.worldspawn_ambient: `_ambient`, else `ambient`, x `_color`, as q3map2's light.c
+    LightWorld reads it) where it records one (not 0) and no `_minlight` (LightWorld's floor on every luxel, which the
+    model lacks and a fitted ambient stands in for). These keys stay in a compiled level's entity lump where its
+    light entities were stripped. The lightmaps cannot tell a byte of ambient from a byte of light that falls on
+    every surface alike (a sky's), but the light grid holds none of the ambient (compare.py). Where no ambient is
+    recorded q3map2's is 0, but holding 0 there was chosen against on the training levels (lights.md §4: kaos's
+    objective 8 % worse), so it is fitted."""
+    if ambient not in AMBIENTS:
+        raise ValueError(f"ambient {ambient!r} is not one of {', '.join(AMBIENTS)}")
+    world = level.bsp.entities[0] if level.bsp.entities else {}
+    recorded = worldspawn_ambient(level.bsp.entities, level.name)
+    if ambient == FITTED_AMBIENT or "_minlight" in world or not np.any(recorded > 0):
+        return None
+    return recorded
 
 
 def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | None, start: str = DEFAULT_START,
@@ -208,12 +228,8 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
-    surfaces = []
-    for shader, value in zip(scene.surface_shaders, lights.surface_values):
-        if value > 0:
-            light = scene.surface_emitters.shaders[shader]
-            surfaces.append(SurfaceLight(shader=scene.level.bsp.shader_name(shader), value=float(value),
-                                         colour=light.colour.copy()))
+    surfaces = [surface_light(scene.level.bsp.shader_name(shader), scene.surface_emitters.shaders[shader], float(value))
+                for shader, value in zip(scene.surface_shaders, lights.surface_values) if value > 0]
     fitted_suns = [Sun.from_quake(direction, colour, intensity) for direction, colour, intensity in
                    zip(lights.sun_directions, lights.sun_colours, lights.sun_intensities)]
     fitted_suns = [sun for sun in fitted_suns if sun.intensity > 0]
@@ -376,17 +392,24 @@ def shader_power(bsp, emitters: Emitters) -> dict[str, float]:
     return out
 
 
+def surface_light(shader: str, light: ShaderLight, value: float | None = None) -> SurfaceLight:
+    """The rig's record of a shader's surface light built as `light` (emitters.ShaderLight), at `value` (None: the
+    light's own): its colour and q3map2's settings besides the value, so the rig re-lights as it was built."""
+    return SurfaceLight(shader=shader, value=light.value if value is None else value, colour=light.colour.copy(),
+                        subdivide=light.subdivide, two_sided=light.two_sided,
+                        backsplash_fraction=light.backsplash_fraction, backsplash_distance=light.backsplash_distance)
+
+
 def rig_emitters(level: Level, rig: Rig) -> Emitters:
-    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values, and
-    its suns."""
+    """A rig's surface lights as emitters of the level (its faces drawn with each shader), at the rig's values and
+    settings (surface_light), and its suns."""
     names = {level.bsp.shader_name(index).lower(): index for index in range(len(level.bsp.shaders))}
     missing = [s.shader for s in rig.surfaces if s.shader.lower() not in names]
     if missing:
         raise RigError(f"rig surface light(s) {missing} name shaders {level.name} does not have")
     shaders = {names[s.shader.lower()]: ShaderLight(value=s.value, colour=np.asarray(s.colour, dtype=np.float64),
-                                                    subdivide=DEFAULT_LIGHT_SUBDIVIDE,
-                                                    backsplash_fraction=BACKSPLASH_FRACTION,
-                                                    backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
+                                                    subdivide=s.subdivide, backsplash_fraction=s.backsplash_fraction,
+                                                    backsplash_distance=s.backsplash_distance, two_sided=s.two_sided,
                                                     colour_source="rig")
                for s in rig.surfaces if s.value > 0}
     emitters = shader_emitters(level.bsp, shaders)
@@ -397,12 +420,9 @@ def rig_emitters(level: Level, rig: Rig) -> Emitters:
 def real_rig(level: Level, real: EntityLights, emitters: Emitters) -> Rig:
     """The level's real rig as a rig file holds it (the export of lights.md §5): its light entities (point lights and
     spotlights) and ambient, the surface lights of its shader scripts at their script values and colours, and its
-    suns (`emitters` = level_emitters). A rig's surface lights take q3map2's defaults for what the scripts may set
-    besides (q3map_lightSubdivide, backsplash, two-sided), so the file re-lights a level whose scripts change
-    those (kaos's sky: subdivided at 256) a little differently from the yardstick."""
+    suns (`emitters` = level_emitters), with the scripts' settings besides the value (surface_light)."""
     bsp = level.bsp
-    surfaces = [SurfaceLight(shader=bsp.shader_name(shader), value=light.value, colour=light.colour.copy())
-                for shader, light in sorted(emitters.shaders.items())]
+    surfaces = [surface_light(bsp.shader_name(shader), light) for shader, light in sorted(emitters.shaders.items())]
     suns = [Sun.from_quake(direction, colour, photons) for direction, colour, photons in
             zip(emitters.suns.directions, emitters.suns.colours, emitters.suns.photons)]
     return replace(real.rig, bsp_sha256=level.sha256, scheme="real rig", surfaces=surfaces, suns=suns,

@@ -7,8 +7,10 @@ direction and q3map2's radiusByDist cone) — plus surface lights (a shader's em
 the level with their q3map_surfacelight value, emitters.py) and the level's ambient in lightmap
 bytes, so a recovered rig and a level's light entities, shader lights and worldspawn ambient are
 directly comparable. Version 2 added spotlights and surface lights, version 3 suns (q3map2's directional
-light from the sky: a unit direction toward the sun in Unity axes, a colour and an intensity in photons);
-version 1 and 2 files are still read.
+light from the sky: a unit direction toward the sun in Unity axes, a colour and an intensity in photons), version 4
+each surface light's q3map2 settings besides its value (q3map_lightSubdivide, two-sidedness, q3map_backsplash: what the
+fit's or the scripts' emitters were built with, so the rig re-lights as it was fitted); version 1-3 files are still
+read, their surface lights with q3map2's defaults for those.
 """
 
 from __future__ import annotations
@@ -26,11 +28,12 @@ from ..core.atomic import write_text_atomic
 from ..scenes.coords import quake_to_unity, unity_to_quake
 from ..scenes.entities import light_entities, parse_vector
 from ..scenes.errors import BspError
+from .emitters import BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEFAULT_LIGHT_SUBDIVIDE
 from .model import BYTE_MAX
 
 FORMAT = "lpnn-light-rig"
-VERSION = 3
-READABLE_VERSIONS = (1, 2, 3)
+VERSION = 4
+READABLE_VERSIONS = (1, 2, 3, 4)
 POINT, SPOT = "point", "spot"
 FALLOFF = "q3map2-point"  # 7500 * I * cos / max(r, 16 units)^2 bytes (model.py)
 DEFAULT_ENTITY_INTENSITY = 300.0  # q3map2: a light without (or with 0) `_light` / `light`
@@ -48,6 +51,11 @@ class SurfaceLight:
     shader: str  # the BSP's shader name, e.g. textures/base_light/ceil1_22a
     value: float  # q3map_surfacelight, >= 0
     colour: np.ndarray  # (3,) largest component 1
+    # q3map2's other settings of the shader's light (emitters.ShaderLight; rig version 4, q3map2's defaults before)
+    subdivide: float = DEFAULT_LIGHT_SUBDIVIDE  # q3map_lightSubdivide, Quake units
+    two_sided: bool = False  # cull none / twoSided, or fog: emits from both sides
+    backsplash_fraction: float = BACKSPLASH_FRACTION  # q3map_backsplash percent / 100
+    backsplash_distance: float = BACKSPLASH_DISTANCE  # q3map_backsplash distance, Quake units
 
 
 @dataclass(frozen=True)
@@ -141,7 +149,10 @@ def write_rig(path: Path, rig: Rig) -> Path:
         "ambient": [round(float(v), 4) for v in rig.ambient],
         "lights": lights,
         "surfaces": [{"shader": surface.shader, "value": round(float(surface.value), 4),
-                      "color": [round(float(v), 6) for v in surface.colour]} for surface in rig.surfaces],
+                      "color": [round(float(v), 6) for v in surface.colour], "subdivide": float(surface.subdivide),
+                      "two_sided": bool(surface.two_sided),
+                      "backsplash": [float(surface.backsplash_fraction), float(surface.backsplash_distance)]}
+                     for surface in rig.surfaces],
         "suns": [{"direction": [round(float(v), 6) for v in sun.direction], "color": [round(float(v), 6) for v in sun.colour],
                   "intensity": round(float(sun.intensity), 4)} for sun in rig.suns],
         "info": rig.extra,
@@ -198,9 +209,19 @@ def read_rig(path: Path) -> Rig:
         what = f"{where}: surface light {index}"
         if not isinstance(surface, dict) or not isinstance(surface.get("shader"), str) or not surface["shader"]:
             raise RigError(f"{what} = {surface!r} is not an object with a shader name, value and color")
+        settings = {}  # version 4: q3map2's settings besides the value; absent (and before version 4) its defaults
+        if version >= 4 and "subdivide" in surface:
+            settings["subdivide"] = _numbers([surface["subdivide"]], 1, f"{what}: 'subdivide'")[0]
+        if version >= 4 and "two_sided" in surface:
+            if not isinstance(surface["two_sided"], bool):
+                raise RigError(f"{what}: 'two_sided' = {surface['two_sided']!r} must be true or false")
+            settings["two_sided"] = surface["two_sided"]
+        if version >= 4 and "backsplash" in surface:
+            settings["backsplash_fraction"], settings["backsplash_distance"] = _numbers(
+                surface["backsplash"], 2, f"{what}: 'backsplash'")
         surfaces.append(SurfaceLight(shader=surface["shader"],
                                      value=_numbers([surface.get("value")], 1, f"{what}: 'value'")[0],
-                                     colour=np.array(_numbers(surface.get("color"), 3, f"{what}: 'color'"))))
+                                     colour=np.array(_numbers(surface.get("color"), 3, f"{what}: 'color'")), **settings))
     suns = []
     for index, sun in enumerate(suns_in):
         what = f"{where}: sun {index}"
@@ -253,6 +274,13 @@ def validate_rig(rig: Rig, where: str) -> None:
         if colour.shape != (3,) or not np.isfinite(colour).all() or (colour < 0).any() or (colour > 1 + 1e-9).any():
             raise RigError(f"{where}: surface light {index} ({surface.shader}): color {colour.tolist()} must be 3 "
                            f"numbers in [0, 1]")
+        if not math.isfinite(surface.subdivide) or surface.subdivide <= 0:
+            raise RigError(f"{where}: surface light {index} ({surface.shader}): subdivide {surface.subdivide!r} must be "
+                           f"a finite number > 0 (q3map_lightSubdivide, Quake units)")
+        if not all(math.isfinite(v) and v >= 0 for v in (surface.backsplash_fraction, surface.backsplash_distance)):
+            raise RigError(f"{where}: surface light {index} ({surface.shader}): backsplash "
+                           f"{[surface.backsplash_fraction, surface.backsplash_distance]!r} must be 2 finite numbers >= 0 "
+                           f"(q3map_backsplash's fraction and distance)")
     for index, sun in enumerate(rig.suns):
         intensity, colour, direction = float(sun.intensity), np.asarray(sun.colour), np.asarray(sun.direction)
         if not math.isfinite(intensity) or intensity < 0:

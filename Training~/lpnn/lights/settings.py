@@ -19,6 +19,14 @@ DEFAULT_START = PEAK_START
 # lowered kaos's objective by 14 % and changed aggressor's and oa_bases3's by 1.4 % or less, benchmarks.md "The light
 # rig")
 DEFAULT_SUNS = True
+# the level's ambient (lights.md §4): "worldspawn" holds it at what the worldspawn records (`_ambient` / `ambient` x
+# `_color`: q3map2's light.c LightWorld), which the fit cannot tell from a sky's light in the lightmaps but the light
+# grid holds none of (compare.py), and fits it where the worldspawn records none or records `_minlight` (a floor the
+# model lacks); "fitted" fits it with the intensities everywhere. "worldspawn" since 2026-11-27, chosen on the
+# training levels (benchmarks.md "The light rig")
+WORLDSPAWN_AMBIENT, FITTED_AMBIENT = "worldspawn", "fitted"
+AMBIENTS = (WORLDSPAWN_AMBIENT, FITTED_AMBIENT)
+DEFAULT_AMBIENT = WORLDSPAWN_AMBIENT
 # Subdivide target triangles to this longest edge (Quake units): a lightmap texel is 16 units, so 64
 # keeps ~4 texels between target points.
 DEFAULT_MAX_EDGE = 64.0

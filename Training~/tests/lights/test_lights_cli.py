@@ -51,7 +51,7 @@ def test_recover_with_surface_lights(lit_bsp: Path, tmp_path: Path, capsys: pyte
     printed = capsys.readouterr().out
     assert "lit: 1 surface-light shaders to recover" in printed
     document = json.loads(out.read_text())
-    assert document["version"] == 3 and all(light["type"] == "point" for light in document["lights"])
+    assert document["version"] == 4 and all(light["type"] == "point" for light in document["lights"])
     assert all(surface["shader"] == "textures/test/sky" and surface["value"] > 0 for surface in document["surfaces"])
     assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0
     assert "surface lights recovered" in capsys.readouterr().out
@@ -125,7 +125,7 @@ def test_recover_a_sun(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixt
         printed = capsys.readouterr().out
         assert f"{out}: suns" in printed
         document = json.loads(out.read_text())
-        assert document["version"] == 3 and document["info"]["suns"] == len(document["suns"])
+        assert document["version"] == 4 and document["info"]["suns"] == len(document["suns"])
         for sun in document["suns"]:
             assert abs(np.linalg.norm(sun["direction"]) - 1.0) < 1e-5 and max(sun["color"]) == pytest.approx(1.0)
     assert main(["scene", "lights", str(lit_bsp), "--compare", str(out)]) == 0

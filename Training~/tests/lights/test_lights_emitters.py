@@ -11,12 +11,18 @@ import numpy as np
 import pytest
 
 from lpnn.lights.compare import grid_sample_points
-from lpnn.lights.emitters import (AREA_SCALE, FORM_FACTOR_VALUE_SCALE, AreaLights, Emitters, Spots, Suns, emitter_bytes,
-                                  emitters_at_points, form_factor, read_shader_scripts, script_declares_sky,
-                                  script_order, shader_light, shader_suns, spot_factor, subdivide_winding)
+from lpnn.lights.emitters import (AREA_SCALE, FORM_FACTOR_VALUE_SCALE, AreaLights, Emitters, ShaderLight, Spots, Suns,
+                                  emitter_bytes, emitters_at_points, form_factor, read_shader_scripts,
+                                  script_declares_sky, script_order, shader_light, shader_suns, spot_factor,
+                                  subdivide_winding)
 from lpnn.lights.model import POINT_SCALE
-from lpnn.lights.rig import entity_lights
+from lpnn.lights.pipeline import rig_emitters, shader_emitters, surface_light
+from lpnn.lights.rig import Rig, entity_lights, read_rig, write_rig
+from lpnn.lights.shadows import shadow_raycaster
+from lpnn.scenes.bsp import read_bsp
+from lpnn.scenes.levels import Level
 from lpnn.scenes.raycast import EmbreeRaycaster
+from synthetic_bsp import make_level
 
 
 def square(side: float, height: float) -> np.ndarray:
@@ -286,3 +292,24 @@ textures/base/lamp
     assert script_declares_sky(scripts, "textures/skies/a") and script_declares_sky(scripts, "textures/skies/b")
     assert not script_declares_sky(scripts, "textures/base/lamp")
     assert not script_declares_sky(scripts, "textures/none")
+
+
+def test_a_rig_file_relights_its_surface_lights_with_the_settings_they_were_built_with(tmp_path) -> None:
+    """A surface light built two-sided, subdivided at 32 units and with its own backsplash (as a shader script may say,
+    and as the fit's bases are built) is written to a rig and read back: the rig's emitters give every grid point the
+    same light as the original's, behind the surface too (q3map2's defaults would light nothing there)."""
+    level_bytes = make_level().to_bytes()
+    level = Level(name="room", location="room.bsp", pak=None, data=level_bytes, bsp=read_bsp(level_bytes, "room.bsp"))
+    light = ShaderLight(value=2000.0, colour=np.array([1.0, 0.5, 0.25]), subdivide=32.0, backsplash_fraction=0.1,
+                        backsplash_distance=8.0, two_sided=True, colour_source="test")
+    built = shader_emitters(level.bsp, {2: light})  # shader 2: the glass quad at x = 100 (no shadow caster)
+    rig = Rig(positions=np.zeros((0, 3)), colours=np.zeros((0, 3)), intensities=np.zeros(0),
+              surfaces=[surface_light(level.bsp.shader_name(2), light)])
+    relit = rig_emitters(level, read_rig(write_rig(tmp_path / "rig.json", rig)))
+    assert relit.areas.count == built.areas.count > 4  # subdivided at 32 units, not 999
+    points = np.array([[130.0, 128.0, 60.0], [70.0, 128.0, 60.0], [40.0, 200.0, 230.0]])  # on both sides of the quad
+    raycaster = shadow_raycaster(level.bsp)
+    expected, _ = emitters_at_points(points, built, raycaster)
+    got, _ = emitters_at_points(points, relit, raycaster)
+    assert expected[0].sum() > 0 and expected[1:].sum() > 0  # the two-sided light reaches both sides
+    np.testing.assert_allclose(got.sum(axis=1), expected.sum(axis=1), rtol=1e-12)

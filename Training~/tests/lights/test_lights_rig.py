@@ -52,12 +52,19 @@ def test_round_trip_normalises_colour_and_converts_to_unity_metres(tmp_path: Pat
     (lambda d: d.update(surfaces=[{"value": 10.0, "color": [1, 1, 1]}]), r"surface light 0 = .* is not an object with a shader"),
     (lambda d: d.update(surfaces=[{"shader": "s", "value": 10.0, "color": [1, 3, 1]}]),
      r"surface light 0 \(s\): color \[1\.0, 3\.0, 1\.0\] must be 3 numbers in \[0, 1\]"),
+    (lambda d: d.update(surfaces=[{"shader": "s", "value": 10.0, "color": [1, 1, 1], "subdivide": 0}]),
+     r"surface light 0 \(s\): subdivide 0\.0 must be a finite number > 0"),
+    (lambda d: d.update(surfaces=[{"shader": "s", "value": 10.0, "color": [1, 1, 1], "two_sided": "yes"}]),
+     r"surface light 0: 'two_sided' = 'yes' must be true or false"),
+    (lambda d: d.update(surfaces=[{"shader": "s", "value": 10.0, "color": [1, 1, 1], "backsplash": [-1, 23]}]),
+     r"surface light 0 \(s\): backsplash \[-1\.0, 23\.0\] must be 2 finite numbers >= 0"),
     (lambda d: d.update(ambient=[1.0, -2.0, 0.0]), r"ambient \[1\.0, -2\.0, 0\.0\] must be 3 numbers in \[0, 255\]"),
     (lambda d: d.pop("ambient"), r"'ambient' = None is not 3 number"),
     (lambda d: d.update(format="something"), r"not a light rig"),
     (lambda d: d.update(version=9), r"rig version 9 is not supported"),
 ], ids=["negative", "nan", "colour", "position", "missing", "empty", "type", "spot without direction",
-        "spot direction", "spot cone", "surface value", "surface shader", "surface colour", "negative ambient",
+        "spot direction", "spot cone", "surface value", "surface shader", "surface colour", "surface subdivide",
+        "surface two-sided", "surface backsplash", "negative ambient",
         "no ambient", "format", "version"])
 def test_hostile_rig_files_are_rejected_with_the_value(tmp_path: Path, change, message: str) -> None:
     with pytest.raises(RigError, match=message):
@@ -79,7 +86,7 @@ def test_a_version_1_rig_is_still_read(tmp_path: Path) -> None:
     np.testing.assert_allclose(rig.positions[0], [0.5, 1.0, -2.0])
     np.testing.assert_allclose(rig.intensities, [120.0, 80.0])
     again = json.loads(write_rig(tmp_path / "new.json", rig).read_text())
-    assert again["version"] == 3 and [light["type"] for light in again["lights"]] == ["point", "point"]
+    assert again["version"] == 4 and [light["type"] for light in again["lights"]] == ["point", "point"]
 
 
 def test_spotlights_and_surface_lights_round_trip(tmp_path: Path) -> None:
@@ -96,6 +103,24 @@ def test_spotlights_and_surface_lights_round_trip(tmp_path: Path) -> None:
     # a rig of surface lights only is a rig
     only = Rig(positions=np.zeros((0, 3)), colours=np.zeros((0, 3)), intensities=np.zeros(0), surfaces=rig.surfaces)
     assert read_rig(write_rig(tmp_path / "only.json", only)).surfaces[0].value == 2500.0
+
+
+def test_surface_light_settings_round_trip_and_older_files_read_q3map2s_defaults(tmp_path: Path) -> None:
+    """Version 4 keeps q3map2's settings of a surface light besides its value (what its emitters were built with);
+    a version 3 file has none, and reads q3map2's defaults (q3map_lightSubdivide 999, one-sided, backsplash 5 % at 23
+    units) even where a later key is present."""
+    rig = sample_rig()
+    rig.surfaces = [SurfaceLight("textures/sfx/flame2", 3787.0, np.array([1.0, 0.45, 0.08]), subdivide=256.0,
+                                 two_sided=True, backsplash_fraction=0.1, backsplash_distance=8.0)]
+    path = write_rig(tmp_path / "rig.json", rig)
+    back = read_rig(path).surfaces[0]
+    assert (back.subdivide, back.two_sided, back.backsplash_fraction, back.backsplash_distance) == (256.0, True, 0.1, 8.0)
+    document = json.loads(path.read_text())
+    document["version"] = 3
+    path.write_text(json.dumps(document))
+    old = read_rig(path).surfaces[0]
+    assert (old.value, old.subdivide, old.two_sided, old.backsplash_fraction, old.backsplash_distance) == \
+        (3787.0, 999.0, False, 0.05, 23.0)
 
 
 def test_unreadable_rig_files(tmp_path: Path) -> None:

@@ -203,6 +203,20 @@ def test_a_spotlight_start_in_solid_moves_sideways_to_open_space() -> None:
     np.testing.assert_allclose(starts.positions, [[-16.0, 0.0, 200.0 - CLEARANCE]])  # the first open side step
 
 
+def test_a_spotlight_starts_under_a_small_fixture_beside_its_discs_peak() -> None:
+    """aggressor's case: a 16-unit panel at z = 128 (x, y in -8..8) under a roof at z = 320, its tilted spotlight's disc
+    brightest 12 units to the side, outside the panel: the start hangs CLEARANCE below the panel, not the roof (the
+    nearest surface above the peak or a side step of 16 units)."""
+    points, normals, radiance, albedo = floor_with_discs([(12.0, 0.0)], [80.0])
+
+    def panel_under_roof(p: np.ndarray) -> np.ndarray:
+        under = np.all(np.abs(p[:, :2]) <= 8.0, axis=1)
+        return np.where(under, 128.0, 320.0) - p[:, 2]
+
+    starts = ceiling_starts(points, normals, radiance, albedo, lambda p: np.ones(len(p), bool), panel_under_roof)
+    np.testing.assert_allclose(starts.positions, [[16.0, 0.0, 128.0 - CLEARANCE]])  # the floor's point nearest the peak
+
+
 def q3map2_disc(rho: np.ndarray, height: float, cone: float) -> np.ndarray:
     """A downward q3map2 spotlight's light on the floor below it, per byte at its foot, written out from
     light_ydnar.c LightContributionToSample: the point light's 7500 I cos / d^2 inside the cone of radius

@@ -154,7 +154,7 @@ def test_a_sun_from_a_q3map_sun_line_and_the_rig_round_trip(tmp_path: Path) -> N
     np.testing.assert_allclose(sun.quake_direction(), sun_direction(30.0, 60.0), atol=1e-12)
     path = write_rig(tmp_path / "rig.json", sample_rig())
     document = json.loads(path.read_text())
-    assert document["version"] == 3 and len(document["suns"]) == 1
+    assert document["version"] == 4 and len(document["suns"]) == 1
     back = read_rig(path)
     np.testing.assert_allclose(back.suns[0].direction, sun.direction, atol=1e-6)
     np.testing.assert_allclose(back.suns[0].colour, [1.0, 1.0, 0.5])
