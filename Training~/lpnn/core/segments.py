@@ -2,12 +2,13 @@
 leaks.md uses the same test). Shared by the in-use rule and the leak check.
 
 A segment from a to b is free when a ray from a along (b - a)/|b - a| meets no surface of either facing within
-|b - a|; a zero-length segment is free. A raycaster that can end each ray at its own distance (`first_hit_distances`,
-the Embree one) casts every segment to its own length. The plain protocol takes one maximum distance per call: every
+|b - a|; a zero-length segment is free. A raycaster that can end each ray at its own distance (`first_hit_distances`, the
+Embree one) casts every segment to its own length. The plain protocol takes one maximum distance per call: every
 segment is then cast up to the longest one and a hit counts only when it is within its own segment's length. The two
 agree except for a ray that grazes a triangle in its own plane, which Embree decides by the ray's end (measured on
 ctf_compromise's leak checks: 4 of 4.2 million segments); with its own end a segment's answer depends on that segment
-alone, not on the longest one it was cast beside (and the rays stop where they must: half the casting time there).
+alone, not on the longest one it was cast beside (and the rays stop where they must: the leak-aware default's segment
+tests on ctf_compromise, 4.2 million segments, take 0.86 s instead of 1.32 s).
 """
 
 from __future__ import annotations
