@@ -2,8 +2,8 @@
 leaks.md uses the same test). Shared by the in-use rule and the leak check.
 
 A segment from a to b is free when a ray from a along (b - a)/|b - a| meets no surface of either facing within
-|b - a|; a zero-length segment is free. A raycaster that can end each ray at its own distance
-(`first_hit_distances`, the Embree one) casts every segment to its own length. The plain protocol takes one maximum distance per call: every
+|b - a|; a zero-length segment is free. A raycaster that can end each ray at its own distance (`first_hit_distances`,
+the Embree one) casts every segment to its own length. The plain protocol takes one maximum distance per call: every
 segment is then cast up to the longest one and a hit counts only when it is within its own segment's length. The two
 agree except for a ray that grazes a triangle in its own plane, which Embree decides by the ray's end (measured on
 ctf_compromise's leak checks: 4 of 4.2 million segments); with its own end a segment's answer depends on that segment
