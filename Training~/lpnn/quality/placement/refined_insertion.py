@@ -10,7 +10,7 @@
   budgets, at most 0.4 N, never fewer than 2K) (+ tetrahedron guarantee), decimated in batches down to K. The wider
   seed because 2K is too few points at small budgets (the validation crops: 1.08x the reference's error at 5 %, 1.04x
   with 3K), and the cap because from 20 % on 2K already holds 0.4 N and a wider seed there costs much time (3K:
-  +55 % at 20 %) for little (benchmarks.md "A wider seed for small budgets").
+  +57 % at 20 %) for little (benchmarks.md "A wider seed for small budgets").
 - tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
   its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the
   answer is the refinement's set if it has fewer than K0 probes, else the search's (never worse than insertion).

@@ -28,7 +28,7 @@ namespace Lpnn.Probes.Core.Quality
         public const double BudgetSeedWidening = 1.5;
 
         /// <summary>The wider seed stops growing at this share of the points, which 2K reaches at a 20 % budget: beyond it a wider
-        /// seed costs much time for little (3K: +55 % at 20 %). refined_insertion.py BUDGET_SEED_CAP.</summary>
+        /// seed costs much time for little (3K: +57 % CPU at 20 %). refined_insertion.py BUDGET_SEED_CAP.</summary>
         public const double BudgetSeedCap = 0.4;
 
         /// <param name="selection">What the policy selected from <paramref name="prefix"/> (ProbeSelector.SelectFromPrefixes
