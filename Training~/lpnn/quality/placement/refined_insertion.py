@@ -73,7 +73,7 @@ def _rounded(value: float) -> int:
 
 
 def seed_count(refine: float, count: int, point_count: int) -> int:
-    """The tolerance path's seed: min(N, max(round(F K), MINIMUM_SEED)), halves up."""
+    """The tolerance path's seed, and guided-exact-refined's (lpnn_placement): min(N, max(round(F K), MINIMUM_SEED)), halves up."""
     return min(point_count, max(_rounded(refine * count), MINIMUM_SEED))
 
 
