@@ -216,19 +216,52 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
-        public void ABudgetIsRefinedFromTwiceItsCountOfTheRankingDownToItsCount()
+        public void ATinyBudgetIsRefinedFromTheMinimumSeedOfTheRankingDownToItsCount()
         {
             var evaluator = LitBox(out var grid);
             var order = new InsertionOrder(grid, evaluator.Reference, evaluator.Tetrahedralizer);
             var settings = SelectionSettings.Budget(20);
             var selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, null);
             var refined = RefinedSelection.Refine(grid, selection, k => order.Prefix(k), order.Count, settings, evaluator);
-            Assert.That(RefinedSelection.SeedCount(20, grid.Count), Is.EqualTo(64), "the minimum seed");
+            Assert.That(RefinedSelection.BudgetSeedCount(20, grid.Count), Is.EqualTo(64), "the minimum seed (3K = 60, 0.4 N = 56)");
             int[] seed = order.Prefix(64).Take(64).ToArray();
             Assert.That(refined.Indices, Is.EqualTo(BatchedRefinement.ToCount(evaluator.Reference, evaluator.Tetrahedralizer, seed, 20).Indices));
             Assert.That(refined.Indices.Length, Is.EqualTo(20));
             Assert.That(refined.RefinedFrom, Is.EqualTo(64));
             Assert.That(evaluator.MeanError(refined.Indices), Is.LessThan(evaluator.MeanError(selection.Indices)));
+        }
+
+        [Test]
+        public void ACountPolicySeedsThreeTimesItsCountUpToFourTenthsOfThePoints()
+        {
+            // min(N, max(round(2K), min(round(3K), round(0.4 N)), 64)) at hand-computed points (the old rule, max(round(2K), 64), in the comments);
+            // the same points as Python's test_a_budget_seeds_three_times_its_count_up_to_four_tenths_of_the_points.
+            Assert.That(RefinedSelection.BudgetSeedCount(50, 1000), Is.EqualTo(150), "3K (old: 100)");
+            Assert.That(RefinedSelection.BudgetSeedCount(150, 1000), Is.EqualTo(400), "3K = 450 capped at 0.4 N (old: 300)");
+            Assert.That(RefinedSelection.BudgetSeedCount(250, 1000), Is.EqualTo(500), "2K above the cap");
+            Assert.That(RefinedSelection.BudgetSeedCount(21, 1000), Is.EqualTo(64), "3K = 63: the floor");
+            Assert.That(RefinedSelection.BudgetSeedCount(40, 100), Is.EqualTo(80), "0.4 N = 40 below 2K");
+            Assert.That(RefinedSelection.BudgetSeedCount(60, 100), Is.EqualTo(100), "every point");
+            Assert.That(RefinedSelection.BudgetSeedCount(67, 1343), Is.EqualTo(201), "a validation crop at 5 % (old: 134)");
+            Assert.That(RefinedSelection.SeedCount(50, 1000), Is.EqualTo(100), "the tolerance policy keeps 2K");
+        }
+
+        [Test]
+        public void ASmallBudgetIsRefinedFromThreeTimesItsCountOfTheRanking()
+        {
+            // 400 points, budget 30: the seed is the ranking's first 3K = 90 points (0.4 N = 160; the old rule seeded max(60, 64) = 64).
+            var grid = QualityFixtures.Box(10, 8, 5);
+            var positions = QualityFixtures.Positions(grid);
+            var evaluator = new PlacementEvaluator(ReferenceLighting.Create(positions,
+                QualityFixtures.BlobField(positions, new Vector3(2f, 2f, 1f), new Vector3(7f, 5f, 3f), 1.2f)), new BowyerWatsonDelaunay());
+            var order = new InsertionOrder(grid, evaluator.Reference, evaluator.Tetrahedralizer);
+            var settings = SelectionSettings.Budget(30);
+            var selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, null);
+            var refined = RefinedSelection.Refine(grid, selection, k => order.Prefix(k), order.Count, settings, evaluator);
+            Assert.That(grid.Count, Is.EqualTo(400));
+            Assert.That(refined.RefinedFrom, Is.EqualTo(90));
+            int[] seed = order.Prefix(90).Take(90).ToArray();
+            Assert.That(refined.Indices, Is.EqualTo(BatchedRefinement.ToCount(evaluator.Reference, evaluator.Tetrahedralizer, seed, 30).Indices));
         }
 
         [Test]

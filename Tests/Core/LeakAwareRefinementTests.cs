@@ -73,7 +73,7 @@ namespace Lpnn.Probes.Core.Tests
         {
             var budget = Room.Golden.Get("budget");
             int count = (int)budget.Get("count").AsNumber;
-            int[] seed = Room.Order.Prefix(RefinedSelection.SeedCount(count, Room.Order.Count)).Take(RefinedSelection.SeedCount(count, Room.Order.Count))
+            int[] seed = Room.Order.Prefix(RefinedSelection.BudgetSeedCount(count, Room.Order.Count)).Take(RefinedSelection.BudgetSeedCount(count, Room.Order.Count))
                 .OrderBy(p => p).ToArray();
             Assert.That(seed, Is.EqualTo(Ints(budget.Get("seed"))), "the insertion order's prefix");
             var repaired = LeakRepair.Repaired(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall);
@@ -123,7 +123,7 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(pins.Indices, Is.EqualTo(Ints(c.Get("pins"))));
             Assert.That(Enumerable.Range(0, pins.Blocked.Length).Where(p => pins.Blocked[p]).ToArray(), Is.EqualTo(Ints(c.Get("blocked"))));
             int count = (int)Room.Golden.Get("budget").Get("count").AsNumber;
-            int seedCount = RefinedSelection.SeedCount(count, order.Count);
+            int seedCount = RefinedSelection.BudgetSeedCount(count, order.Count);
             int[] seed = order.Prefix(seedCount).Take(seedCount).OrderBy(p => p).ToArray();
             Assert.That(seed, Is.EqualTo(Ints(c.Get("seed"))), "the pinned insertion order's prefix");
             var repaired = LeakRepair.Repaired(Room.Evaluator.Reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall, LeakRepair.DefaultRounds,

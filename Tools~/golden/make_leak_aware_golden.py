@@ -44,7 +44,7 @@ from lpnn.quality.placement.pins import pin_probes
 from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.placement.policies import budget_count
-from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, budget_seed_count, refined_insertion
 from lpnn.quality.metric.triangulation import tetrahedralize
 
 from make_insertion_golden import CELL, _field, certify_delaunay, exact, grid_order
@@ -106,7 +106,7 @@ def pinned_case(ids: np.ndarray, field, grid, raycaster: AnalyticBoxRaycaster, c
         return all(int(((ids[point] - ids[p]) ** 2).sum()) >= KEEP_DISTANCE_IDS ** 2 for p in pinned)
 
     n = field.point_count
-    seed = InsertionOrder(field, grid, pins=pins).selection()(seed_count(RECOMMENDED_REFINE, count, n))
+    seed = InsertionOrder(field, grid, pins=pins).selection()(budget_seed_count(RECOMMENDED_REFINE, count, n))
     repaired = leak_repaired(field, seed, raycaster, blocked=pins.blocked)
     unpinned_repair = leak_repaired(field, seed, raycaster)
     budget = refined_insertion(field, grid, budget=BUDGET, leaks=raycaster, pins=pins)
@@ -147,7 +147,7 @@ def main(out_dir: str) -> None:
     raycaster = AnalyticBoxRaycaster(obstacles=(wall(),))
     n = field.point_count
     count = budget_count(BUDGET, n)
-    seed = InsertionOrder(field, grid).selection()(seed_count(RECOMMENDED_REFINE, count, n))
+    seed = InsertionOrder(field, grid).selection()(budget_seed_count(RECOMMENDED_REFINE, count, n))
     repaired = leak_repaired(field, seed, raycaster)
     budget = refined_insertion(field, grid, budget=BUDGET, leaks=raycaster)
     tolerance = refined_insertion(field, grid, tolerance=TOLERANCE, leaks=raycaster)

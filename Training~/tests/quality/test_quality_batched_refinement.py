@@ -16,6 +16,7 @@ from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_hold
 from lpnn.quality.placement.batched_state import evaluate, refilled, restore, trial_of, without
 from lpnn.quality.placement.decimation.decimation import MINIMUM_PROBES
 from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.refined_insertion import budget_seed_count, refined_insertion, seed_count
 from lpnn.quality.metric.metric import MetricError, ReferenceField, point_errors
 from lpnn.quality.placement.policies import bounded_tolerance, budget_count
 from lpnn.quality.placement.decimation.reference_fast import fast_decimation
@@ -143,6 +144,32 @@ def test_at_a_budget_it_beats_the_insertion_prefix_and_nears_the_reference() -> 
         reference = fast_decimation(field).error_curve[count]
         assert refined.mean_error < 0.9 * inserted, seed
         assert refined.mean_error < 1.3 * reference, seed
+
+
+def test_a_budget_seeds_three_times_its_count_up_to_four_tenths_of_the_points() -> None:
+    """refined_insertion's budget seed, min(N, max(round(F K), min(round(1.5 F K), round(0.4 N)), 64)), at hand-computed
+    points (the old rule, max(round(2K), 64), in the comments); the tolerance path keeps max(round(F K), 64)."""
+    assert budget_seed_count(2.0, 50, 1000) == 150  # 3K (old: 100)
+    assert budget_seed_count(2.0, 150, 1000) == 400  # 3K = 450 capped at 0.4 N (old: 300)
+    assert budget_seed_count(2.0, 250, 1000) == 500  # 2K above the cap
+    assert budget_seed_count(2.0, 21, 1000) == 64  # 3K = 63: the floor
+    assert budget_seed_count(2.0, 40, 100) == 80  # 0.4 N = 40 below 2K
+    assert budget_seed_count(2.0, 60, 100) == 100  # every point
+    assert budget_seed_count(1.5, 45, 1000) == 101  # 1.5 x 1.5 x 45 = 101.25 (the factor's own 67.5 -> 68)
+    assert budget_seed_count(2.0, 67, 1343) == 201  # a validation crop at 5 % (q3dm6ish's sizes; old: 134)
+    assert seed_count(2.0, 50, 1000) == 100
+
+
+def test_refined_insertion_at_a_small_budget_refines_from_three_times_its_count(medium_capture: Capture) -> None:
+    """At 5 % of the medium room (616 points, K = 31) the seed is the insertion order's first 3K = 93 points (0.4 N =
+    246; the old rule seeded max(62, 64) = 64), refined down to K."""
+    field = _field(medium_capture)
+    grid = EvaluationGrid(cell_size=medium_capture.cell_size, ids=medium_capture.ids)
+    assert (field.point_count, budget_count(0.05, field.point_count)) == (616, 31)
+    placed = refined_insertion(field, grid, budget=0.05)
+    assert placed.seed_count == 93
+    expected = batched_refinement(field, _insertion(medium_capture, field)(93), count=31)
+    np.testing.assert_array_equal(placed.indices, expected.indices)
 
 
 def test_a_tolerance_answer_stays_within_it_with_fewer_probes_than_insertion(medium_capture: Capture) -> None:

@@ -18,7 +18,7 @@ from lpnn.quality.metric.leaks import leaking_points
 from lpnn.quality.metric.metric import ReferenceField
 from lpnn.quality.placement.pins import pin_probes
 from lpnn.quality.placement.policies import budget_count
-from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, refined_insertion, seed_count
+from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, budget_seed_count, refined_insertion
 
 GOLDEN_NAME = "leak_aware_golden.json"
 
@@ -44,7 +44,7 @@ def test_the_seed_and_its_repair_are_the_goldens(room) -> None:
     budget = document["budget"]
     count = budget_count(budget["fraction"], field.point_count)
     assert count == budget["count"]
-    seed = InsertionOrder(field, grid).selection()(seed_count(RECOMMENDED_REFINE, count, field.point_count))
+    seed = InsertionOrder(field, grid).selection()(budget_seed_count(RECOMMENDED_REFINE, count, field.point_count))
     assert seed.tolist() == budget["seed"]
     repaired = leak_repaired(field, seed, raycaster)
     assert repaired.tolist() == budget["repaired_seed"]
@@ -79,7 +79,7 @@ def test_the_pinned_case_is_the_goldens(room) -> None:
     assert pins.indices.tolist() == case["pins"]
     assert np.flatnonzero(pins.blocked).tolist() == case["blocked"]
     count = document["budget"]["count"]
-    seed = InsertionOrder(field, grid, pins=pins).selection()(seed_count(RECOMMENDED_REFINE, count, field.point_count))
+    seed = InsertionOrder(field, grid, pins=pins).selection()(budget_seed_count(RECOMMENDED_REFINE, count, field.point_count))
     assert seed.tolist() == case["seed"]
     repaired = leak_repaired(field, seed, raycaster, blocked=pins.blocked)
     assert repaired.tolist() == case["repaired_seed"]

@@ -15,6 +15,7 @@ from lpnn.core.spread import spread_ranking
 from lpnn.quality.placement.batched_refinement import batched_refinement
 from lpnn.quality.placement.insertion import InsertionOrder, guide_weights, insertion_ranking
 from lpnn.quality.placement.lpnn_placement import largest_seeded_count, lpnn_placement, seed_count
+from lpnn.quality.placement.refined_insertion import budget_seed_count
 from lpnn.quality.metric.metric import MetricError, ReferenceField, placement_error
 from lpnn.quality.placement.refined_insertion import refined_insertion
 from lpnn.quality.placement.policies import (PolicyError, bounded_tolerance, budget_count, place_tolerance,
@@ -113,7 +114,8 @@ def test_the_batched_tier_is_guided_insertion_refined_in_batches(medium_capture:
     count = budget_count(0.1, n)
     placed = lpnn_placement(medium_capture, scores=scores, budget=0.1, refine=2.0, batched=True, reference=field)
     guided = insertion_ranking(field, _grid(medium_capture), guide=guide_weights(scores))
-    seed = ensure_tetrahedron(_grid(medium_capture), guided, guided[:seed_count(2.0, count, n)])[0]
+    assert (n, count, budget_seed_count(2.0, count, n)) == (616, 62, 186)  # the budget path's seed: 3K (quality.md §5.3)
+    seed = ensure_tetrahedron(_grid(medium_capture), guided, guided[:186])[0]
     np.testing.assert_array_equal(placed.indices, batched_refinement(field, seed, count=count).indices)
     assert placed.seed_count == seed.shape[0] and placed.timing.refinement > 0.0
     unrefined = lpnn_placement(medium_capture, scores=scores, budget=0.1, guided=True, reference=field)

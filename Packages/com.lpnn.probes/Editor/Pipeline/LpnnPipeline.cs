@@ -184,7 +184,7 @@ namespace Lpnn.Probes.Editor
 
         /// <summary>The insertion methods' selection, reading the insertion order (guided by <paramref name="guideScores"/> when
         /// given) only as far as the policy needs (a budget's points, the tolerance search's prefixes), or the whole ranking
-        /// when it is already known; with <paramref name="refine"/>, refined in batches from twice its count of the ranking
+        /// when it is already known; with <paramref name="refine"/>, refined in batches from two to three times its count of the ranking
         /// (Core.Quality.RefinedSelection, quality.md §5.3) — leak-aware when the volume avoids light leaks (Documentation~/leaks.md):
         /// the refinement's segment tests are physics casts in the volume's scene, as the Features step and the leak report cast.</summary>
         private static SelectionResult SelectByInsertion(LpnnVolume volume, LpnnSession session, EvaluationGrid grid, float[] guideScores,

@@ -67,7 +67,7 @@ namespace Lpnn.Probes.Core.Pipeline
 
         /// <summary>The insertion methods' selection, reading the insertion order only as far as the policy needs (a budget's
         /// points, the tolerance search's prefixes), or the whole ranking when it is already known (<paramref name="known"/>,
-        /// else <paramref name="order"/>); with <paramref name="refine"/>, refined in batches from twice its count of the
+        /// else <paramref name="order"/>); with <paramref name="refine"/>, refined in batches from two to three times its count of the
         /// ranking (Core.Quality.RefinedSelection, quality.md §5.3) with <paramref name="evaluator"/>. <paramref name="pins"/> (null:
         /// none; Documentation~/pins.md): the order must start with them (InsertionOrder.OfValid with the same pins); the
         /// selection holds every pin (a tolerance search that stops below the pins' count gets the rest added), a count

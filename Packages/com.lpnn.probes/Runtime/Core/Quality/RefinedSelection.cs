@@ -9,11 +9,11 @@ namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>Refined insertion (Documentation~/quality.md §5.3): a selection made from an insertion ranking's prefixes,
     /// refined by <see cref="BatchedRefinement"/> — what a Unity volume's Apply does with the insertion methods. The seed
-    /// is the ranking's first min(N, max(round(<see cref="DefaultFactor"/> × K), <see cref="MinimumSeed"/>)) points plus
-    /// whatever the selection holds (bounds corners, the tetrahedron guarantee), K being the selection's count; the bounds
-    /// corners are kept. A count policy (Budget, Spread, Percentile) refines down to K; the tolerance policy as far as
-    /// the error stays within τ, keeping the refined set only when it has fewer probes than the search's. Port of
-    /// lpnn/quality/placement/refined_insertion.py (same seed, same refinement).</summary>
+    /// is the ranking's first <see cref="BudgetSeedCount"/> points for a count policy (Budget, Spread, Percentile), which
+    /// refines down to K, or <see cref="SeedCount"/> points for the tolerance policy, which refines as far as the error
+    /// stays within τ, keeping the refined set only when it has fewer probes than the search's; plus whatever the
+    /// selection holds (bounds corners, the tetrahedron guarantee), K being the selection's count; the bounds corners are
+    /// kept. Port of lpnn/quality/placement/refined_insertion.py (same seeds, same refinement).</summary>
     public static class RefinedSelection
     {
         /// <summary>The seed holds this many times the selection's count (the refine tier's factor).</summary>
@@ -21,6 +21,15 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>A seed of 2K points cannot reach a sparse answer at tiny K (lpnn/quality/placement/lpnn_placement.py MINIMUM_SEED).</summary>
         public const int MinimumSeed = 64;
+
+        /// <summary>A count policy's seed holds this many times <see cref="DefaultFactor"/> × K points (3K) while they are at most
+        /// <see cref="BudgetSeedCap"/> × N: 2K points are too few at small budgets (the validation crops: 1.08× the reference's
+        /// error at 5 %, 1.04× with 3K; Documentation~/benchmarks.md "A wider seed for small budgets"). refined_insertion.py BUDGET_SEED_WIDENING.</summary>
+        public const double BudgetSeedWidening = 1.5;
+
+        /// <summary>The wider seed stops growing at this share of the points, which 2K reaches at a 20 % budget: beyond it a wider
+        /// seed costs much time for little (3K: +57 % CPU at 20 %). refined_insertion.py BUDGET_SEED_CAP.</summary>
+        public const double BudgetSeedCap = 0.4;
 
         /// <param name="selection">What the policy selected from <paramref name="prefix"/> (ProbeSelector.SelectFromPrefixes
         /// or SelectFromRanking with the same settings).</param>
@@ -53,7 +62,7 @@ namespace Lpnn.Probes.Core.Quality
                 throw new SelectionException("batched refinement refines a ranking's prefix; the score threshold policy has none: choose Tolerance, Spread or Budget");
             int target = selection.Indices.Length;
             if (pins != null && settings.Policy != SelectionPolicy.Tolerance) pins.CheckCount(target);
-            int seedCount = SeedCount(target, candidates);
+            int seedCount = settings.Policy == SelectionPolicy.Tolerance ? SeedCount(target, candidates) : BudgetSeedCount(target, candidates);
             var seed = new HashSet<int>(selection.Indices);
             if (pins != null) seed.UnionWith(pins.Indices);
             int[] head = prefix(seedCount);
@@ -84,8 +93,17 @@ namespace Lpnn.Probes.Core.Quality
             return better ? new SelectionResult(refined.Indices, selection.CornersAdded, 0, selection.Tolerance, seedPoints.Length) : selection;
         }
 
-        /// <summary>min(N, max(round(F K), <see cref="MinimumSeed"/>)), halves up.</summary>
+        /// <summary>The tolerance policy's seed: min(N, max(round(F K), <see cref="MinimumSeed"/>)), halves up.</summary>
         public static int SeedCount(int count, int candidates) =>
-            Math.Min(candidates, Math.Max((int)Math.Floor(DefaultFactor * count + 0.5), MinimumSeed));
+            Math.Min(candidates, Math.Max(Rounded(DefaultFactor * count), MinimumSeed));
+
+        /// <summary>A count policy's seed: min(N, max(round(F K), min(round(1.5 F K), round(0.4 N)), <see cref="MinimumSeed"/>)),
+        /// halves up (1.5 = <see cref="BudgetSeedWidening"/>, 0.4 = <see cref="BudgetSeedCap"/>): 3K for small budgets, at most
+        /// 0.4 N, never fewer than 2K.</summary>
+        public static int BudgetSeedCount(int count, int candidates) =>
+            Math.Min(candidates, Math.Max(SeedCount(count, candidates),
+                Math.Min(Rounded(BudgetSeedWidening * DefaultFactor * count), Rounded(BudgetSeedCap * candidates))));
+
+        private static int Rounded(double value) => (int)Math.Floor(value + 0.5);
     }
 }

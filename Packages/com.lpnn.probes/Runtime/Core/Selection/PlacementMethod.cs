@@ -22,7 +22,7 @@ namespace Lpnn.Probes.Core.Selection
         /// sqrt(score / median)); needs the lighting, the Features and Scoring steps, and the rounds of insertion. On volumes of
         /// more than Quality.InsertionRanking.GuidedPointLimit valid points the guide is not used (plain insertion).</summary>
         GuidedInsertion = 2,
-        /// <summary><c>insertion-refined</c>: <see cref="Insertion"/>, then Apply refines its first 2K points in batches down to
+        /// <summary><c>insertion-refined</c>: <see cref="Insertion"/>, then Apply refines its first 2K points (3K at small budgets) in batches down to
         /// K (Quality.BatchedRefinement, quality.md §5.3). The default.</summary>
         InsertionRefined = 3,
         /// <summary><c>guided-refined</c>: <see cref="GuidedInsertion"/>, then Apply refines in batches as
@@ -56,7 +56,7 @@ namespace Lpnn.Probes.Core.Selection
         public bool RanksByInsertion { get; }
         /// <summary>The stored scores guide the insertion rounds.</summary>
         public bool GuidesInsertion { get; }
-        /// <summary>Apply refines the ranking's first 2K points in batches down to K (quality.md §5.3).</summary>
+        /// <summary>Apply refines the ranking's first 2K points (3K at small budgets) in batches down to K (quality.md §5.3).</summary>
         public bool RefinesInBatches { get; }
     }
 

@@ -16,7 +16,7 @@ namespace Lpnn.Probes.Core.Selection
         /// the other policies.</summary>
         public ToleranceSearchResult Tolerance { get; }
 
-        /// <summary>How many probes the seed of a batched refinement held (Quality.RefinedSelection: about twice the policy's
+        /// <summary>How many probes the seed of a batched refinement held (Quality.RefinedSelection: two to three times the policy's
         /// count); 0 when the selection was not refined.</summary>
         public int RefinedFrom { get; }
 
