@@ -240,17 +240,26 @@ class _RelativeDifference:
 
 # --------------------------------------------------------------------------------------- geometry
 
+def _checked_distances(distances: np.ndarray, rays: int) -> np.ndarray:
+    """A raycaster's distances (rays,) as float64: each >= 0, or inf for no hit; FeatureError naming the first bad one."""
+    t = np.asarray(distances, dtype=np.float64)
+    if t.shape != (rays,):
+        raise FeatureError(f"raycaster returned distances {list(t.shape)} for {rays:,} rays; expected ({rays},)")
+    bad = np.isnan(t) | (t < 0.0)
+    if np.any(bad):
+        ray = int(np.flatnonzero(bad)[0])
+        raise FeatureError(f"raycaster returned distance {t[ray]} for ray {ray}: distances must be >= 0, or inf for "
+                           "no hit (a raycaster bug)")
+    return t
+
+
 def _checked_hits(distances: np.ndarray, normals: np.ndarray, rays: int) -> tuple[np.ndarray, np.ndarray]:
     t = np.asarray(distances, dtype=np.float64)
     nrm = np.asarray(normals, dtype=np.float64)
     if t.shape != (rays,) or nrm.shape != (rays, 3):
         raise FeatureError(f"raycaster returned distances {list(t.shape)} and normals {list(nrm.shape)} for "
                            f"{rays:,} rays; expected ({rays},) and ({rays}, 3)")
-    bad = np.isnan(t) | (t < 0.0)
-    if np.any(bad):
-        ray = int(np.flatnonzero(bad)[0])
-        raise FeatureError(f"raycaster returned distance {t[ray]} for ray {ray}: distances must be >= 0, or inf for "
-                           "no hit (a raycaster bug)")
+    t = _checked_distances(t, rays)
     bad = ~np.all(np.isfinite(nrm), axis=1)
     if np.any(bad):
         ray = int(np.flatnonzero(bad)[0])

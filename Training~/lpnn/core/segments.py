@@ -17,7 +17,7 @@ from typing import Callable
 
 import numpy as np
 
-from .features import Raycaster, _checked_hits
+from .features import Raycaster, _checked_distances, _checked_hits
 
 RAYS_PER_CAST = 1 << 20  # a batch: 10^6 floor rays go in one call; origins + directions + normals ~ 72 MB
 Progress = Callable[[str, int, int], None]  # (stage, rays done, rays of the stage), as the C# ProgressCallback
@@ -56,12 +56,9 @@ def _distances_to_own_ends(first_hit_distances: Callable[[np.ndarray, np.ndarray
     distances = np.empty(count, dtype=np.float64)
 
     def cast(start: int, stop: int) -> None:
-        d = np.asarray(first_hit_distances(np.ascontiguousarray(origins[start:stop]),
-                                           np.ascontiguousarray(directions[start:stop]), ends[start:stop]),
-                       dtype=np.float64)
-        if d.shape != (stop - start,):
-            raise ValueError(f"raycaster returned distances of shape {list(d.shape)} for {stop - start} rays")
-        distances[start:stop] = d
+        d = first_hit_distances(np.ascontiguousarray(origins[start:stop]), np.ascontiguousarray(directions[start:stop]),
+                                ends[start:stop])
+        distances[start:stop] = _checked_distances(d, stop - start)  # as cast_in_batches checks the plain casts'
 
     _in_batches(count, cast, stage, progress)
     return distances

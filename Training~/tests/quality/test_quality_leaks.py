@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
+from lpnn.core.features import FeatureError
 from lpnn.core.segments import segments_free
 from lpnn.quality.metric.leak_rule import LEAK_MIN_WEIGHT, stencil_leaks
 from lpnn.quality.metric.leaks import leak_report, leaking_points, near_surface_mask
@@ -53,6 +54,21 @@ def test_a_raycaster_that_can_end_each_ray_casts_each_segment_to_its_own_length(
         False, True, True, True]
     assert np.allclose(np.concatenate(own.ends), [2.0, 0.8, 2.5])  # the zero-length segment is not cast
     assert np.allclose(np.concatenate(shared.ends), [2.5, 2.5, 2.5])  # the longest, for every ray
+
+
+class NegativeEnds:
+    """A broken per-ray raycaster: every distance -1."""
+
+    def cast(self, origins, directions, max_distance):
+        raise AssertionError("the per-ray cast is expected")
+
+    def first_hit_distances(self, origins, directions, max_distances):
+        return np.full(len(origins), -1.0)
+
+
+def test_a_per_ray_raycasters_distances_are_checked_as_a_plain_ones():
+    with pytest.raises(FeatureError, match="distance -1.0 for ray 0"):
+        segments_free(NegativeEnds(), np.zeros((1, 3)), np.ones((1, 3)))
 
 
 def test_segments_of_another_shape_are_refused():
