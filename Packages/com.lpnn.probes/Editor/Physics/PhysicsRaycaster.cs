@@ -1,3 +1,4 @@
+using System;
 using Lpnn.Probes.Core.Features;
 using Unity.Collections;
 using UnityEngine;
@@ -37,8 +38,12 @@ namespace Lpnn.Probes.Editor
         /// carries its own distance, the constructor's last argument (UnityCsReference 2022.3 and 6000.x
         /// Modules/Physics/ScriptBindings/QueryCommand.bindings.cs, RaycastCommand(PhysicsScene, Vector3 from, Vector3
         /// direction, QueryParameters, float distance)).</summary>
-        public void Cast(NumericsVector3[] origins, NumericsVector3[] directions, float[] maxDistances, RayHit[] results) =>
+        public void Cast(NumericsVector3[] origins, NumericsVector3[] directions, float[] maxDistances, RayHit[] results)
+        {
+            // null would mean "one distance for all" to CastEach, here 0: every ray a miss
+            if (maxDistances == null) throw new ArgumentNullException(nameof(maxDistances));
             CastEach(origins, directions, 0, maxDistances, results);
+        }
 
         /// <summary>Ray n up to maxDistances[n], or up to <paramref name="maxDistance"/> when maxDistances is null.</summary>
         private void CastEach(NumericsVector3[] origins, NumericsVector3[] directions, float maxDistance, float[] maxDistances, RayHit[] results)
