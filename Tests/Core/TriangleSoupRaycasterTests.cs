@@ -63,17 +63,7 @@ namespace Lpnn.Probes.Core.Tests
         public void TheHierarchyFindsTheFirstHitOfEveryTriangleTriedInTurn(int seed, int triangles)
         {
             var random = new Random(seed);
-            var vertices = new Double3[3 * triangles];
-            var indices = new int[3 * triangles];
-            for (int t = 0; t < triangles; t++)
-            {
-                var centre = new Double3(20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10);
-                for (int c = 0; c < 3; c++)
-                {
-                    vertices[3 * t + c] = centre + new Double3(random.NextDouble() * 2 - 1, random.NextDouble() * 2 - 1, random.NextDouble() * 2 - 1);
-                    indices[3 * t + c] = 3 * t + c;
-                }
-            }
+            var vertices = RandomTriangles(random, triangles, 1, out int[] indices);
             var soup = new TriangleSoupRaycaster(vertices, indices);
             const int rays = 2000;
             const float maxDistance = 15;
@@ -107,17 +97,7 @@ namespace Lpnn.Probes.Core.Tests
         {
             var random = new Random(7);
             const int triangles = 300, rays = 1500;
-            var vertices = new Double3[3 * triangles];
-            var indices = new int[3 * triangles];
-            for (int t = 0; t < triangles; t++)
-            {
-                var centre = new Double3(20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10);
-                for (int c = 0; c < 3; c++)
-                {
-                    vertices[3 * t + c] = centre + new Double3(random.NextDouble() * 3 - 1.5, random.NextDouble() * 3 - 1.5, random.NextDouble() * 3 - 1.5);
-                    indices[3 * t + c] = 3 * t + c;
-                }
-            }
+            var vertices = RandomTriangles(random, triangles, 1.5, out int[] indices);
             var soup = new TriangleSoupRaycaster(vertices, indices);
             var origins = new Vector3[rays];
             var directions = new Vector3[rays];
@@ -154,6 +134,25 @@ namespace Lpnn.Probes.Core.Tests
 
         /// <summary>The nearest crossing of the ray with a triangle's plane that lies inside the triangle (on the same side of
         /// each edge as the triangle), within <paramref name="maxDistance"/>; +∞ when there is none.</summary>
+        /// <summary><paramref name="triangles"/> separate triangles, each with its corners within ±<paramref name="halfSize"/>
+        /// of a centre in [-10, 10]³; indices 0, 1, 2, ….</summary>
+        private static Double3[] RandomTriangles(Random random, int triangles, double halfSize, out int[] indices)
+        {
+            var vertices = new Double3[3 * triangles];
+            indices = new int[3 * triangles];
+            for (int t = 0; t < triangles; t++)
+            {
+                var centre = new Double3(20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10, 20 * random.NextDouble() - 10);
+                for (int c = 0; c < 3; c++)
+                {
+                    vertices[3 * t + c] = centre + new Double3(random.NextDouble() * 2 * halfSize - halfSize,
+                        random.NextDouble() * 2 * halfSize - halfSize, random.NextDouble() * 2 * halfSize - halfSize);
+                    indices[3 * t + c] = 3 * t + c;
+                }
+            }
+            return vertices;
+        }
+
         private static double FirstHitOneByOne(Double3[] vertices, int triangles, Double3 origin, Double3 direction, double maxDistance)
         {
             double best = double.PositiveInfinity;
