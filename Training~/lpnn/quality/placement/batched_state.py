@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core.integer_sets import sorted_unique
+from .delaunay_graph import edges_after_removal, graph_edges
 from .leak_aware import LeakWeighting
 from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
@@ -96,16 +97,6 @@ def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray |
     return Located(points=others, errors=errors, owners=owners, touched=touched, probes=indices, mesh=tri)
 
 
-def graph_edges(located: Located) -> np.ndarray:
-    """The Delaunay graph of located.mesh: every edge both ways, global ids, sorted by first then second id."""
-    count = located.probes.shape[0]
-    tets = located.mesh.tets
-    first = np.concatenate([tets[:, a] for a in range(4) for b in range(a + 1, 4)])
-    second = np.concatenate([tets[:, b] for a in range(4) for b in range(a + 1, 4)])
-    keys = sorted_unique(np.concatenate([first * count + second, second * count + first]))  # one key per direction
-    return located.probes[np.stack([keys // count, keys % count], axis=1)]
-
-
 def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None) -> MeshState:
     """Every point evaluated (the seed); with a `weighting`, leaking points' errors weighted from now on."""
     n = field.point_count
@@ -114,8 +105,8 @@ def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting
     touched = np.full((n, 4), -1, dtype=np.int64)
     owners[located.points], touched[located.points] = located.owners, located.touched
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=located.errors,
-                     error_sum=float(located.errors.sum()), edges=graph_edges(located), mesh=located.mesh,
-                     weighting=weighting)
+                     error_sum=float(located.errors.sum()), edges=graph_edges(located.probes, located.mesh.tets),
+                     mesh=located.mesh, weighting=weighting)
 
 
 def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -250,10 +241,12 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     if trial is not None and trial.fills is not None:  # the removed probes' refills are known: no new mesh to assemble
         gone = np.zeros(field.point_count, dtype=bool)
         gone[removed] = True
-        mesh = derived_mesh(field, state, gone, trial.fills.tets[gone[trial.fills.owner]])
+        refills = trial.fills.tets[gone[trial.fills.owner]]
+        mesh = derived_mesh(field, state, gone, refills)
         if mesh is not None:
+            edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
-                                                           mesh=mesh), reuse)
+                                                           mesh=mesh), reuse, edges)
         trial = None  # the same refills assembled another way would pass what derived_mesh refused: Qhull decides
     tets = None if trial is None else refilled(field, state, trial, removed)
     if tets is not None and sorted_unique(tets.reshape(-1)).shape[0] != probes.shape[0]:
@@ -267,8 +260,10 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     return _replaced(state, affected, located, reuse)
 
 
-def _replaced(state: MeshState, affected: np.ndarray, located: Located, reuse: bool) -> MeshState:
-    """The new state: `state`'s per-point rows with the `affected` ones from `located` (in place with `reuse`)."""
+def _replaced(state: MeshState, affected: np.ndarray, located: Located, reuse: bool,
+              edges: np.ndarray | None = None) -> MeshState:
+    """The new state: `state`'s per-point rows with the `affected` ones from `located` (in place with `reuse`);
+    `edges`: its Delaunay graph when known (delaunay_graph.edges_after_removal), else made from located.mesh."""
     replaced = None
     if reuse:  # the state's (N, ...) arrays become the new state's; `replaced` can bring the old rows back
         errors, owners, touched = state.errors, state.owners, state.touched
@@ -278,7 +273,9 @@ def _replaced(state: MeshState, affected: np.ndarray, located: Located, reuse: b
         errors, owners, touched = state.errors.copy(), state.owners.copy(), state.touched.copy()
     errors[affected], owners[affected], touched[affected] = located.errors[affected], located.owners, located.touched
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=errors,
-                     error_sum=float(errors.sum()), edges=graph_edges(located), mesh=located.mesh,
+                     error_sum=float(errors.sum()),
+                     edges=graph_edges(located.probes, located.mesh.tets) if edges is None else edges,
+                     mesh=located.mesh,
                      weighting=state.weighting, replaced=replaced)
 
 
