@@ -81,6 +81,22 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(repaired.Length, Is.GreaterThan(seed.Length), "the seed leaks: the repair must add probes");
         }
 
+        /// <summary>The room nearly black: every leaking point's error lies below InsertionRanking.Tie (yet they differ), and a
+        /// repair round takes in each tetrahedron the lowest-index leaking point within Tie of the largest error (leaks.md "A
+        /// leak-aware default" 1). Compared exactly, the largest error won, and on oa_koth1, where errors of round-off only
+        /// differ in their last bits, C# and Python took different probes (quality.md §5.1).</summary>
+        [Test]
+        public void InADarkRoomTheRepairTakesTheLowestIndexAmongErrorsWithinTieAsThePythonReferenceDoes()
+        {
+            var c = Room.Golden.Get("dark_room_case");
+            var reference = GoldenLighting.Reference(c, Room.Grid);
+            int[] seed = Ints(c.Get("seed"));
+            Assert.That(seed, Is.EqualTo(Ints(Room.Golden.Get("budget").Get("seed"))));
+            var repaired = LeakRepair.Repaired(reference, Room.Evaluator.Tetrahedralizer, seed, Room.Wall);
+            Assert.That(repaired, Is.EqualTo(Ints(c.Get("repaired_seed"))));
+            Assert.That(repaired.Length, Is.GreaterThan(seed.Length), "the seed leaks: the repair must add probes");
+        }
+
         [Test]
         public void ABudgetKeepsThePythonReferencesProbes()
         {

@@ -39,10 +39,12 @@ import numpy as np
 
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.atomic import write_text_atomic
-from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.placement.insertion import TIE, InsertionOrder
 from lpnn.quality.placement.pins import pin_probes
 from lpnn.quality.placement.leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, leak_repaired
 from lpnn.quality.metric.leaks import leaking_points
+from lpnn.quality.metric.metric import ReferenceField, probe_stencil
 from lpnn.quality.placement.policies import budget_count
 from lpnn.quality.placement.refined_insertion import RECOMMENDED_REFINE, budget_seed_count, refined_insertion
 from lpnn.quality.metric.triangulation import tetrahedralize
@@ -57,6 +59,8 @@ BUDGET = 0.15
 TOLERANCE = 0.08
 PINNED = 3  # the pinned case pins the inner points nearest the wall (ties: the lower index) ...
 KEEP_DISTANCE_IDS = 30  # ... with this keep distance, in cells (ids): it blocks leaking points the repair would add
+DARK_LIGHT = 1e-12  # the dark room's light, of the scale: its errors (~1e-10) lie below TIE (dark_room_case)
+DARK_ATTEMPTS = 20  # random lights tried for the dark room
 
 
 def wall() -> AxisBox:
@@ -141,6 +145,83 @@ def pinned_case(ids: np.ndarray, field, grid, raycaster: AnalyticBoxRaycaster, c
             "without_leaks": plain.indices.tolist(), "leaking_points": leaks}
 
 
+def repair_picks(field, probes: np.ndarray, raycaster: AnalyticBoxRaycaster, band: float) -> np.ndarray:
+    """One repair round written out plainly (not through leak_aware.py's kernel): per tetrahedron holding a leaking
+    point, the lowest index among its leaking points whose error is within `band` of the cell's largest. band = TIE is
+    the rule (leaks.md); band = 0 is the exact comparison the two languages used before (largest error, exact ties
+    to the lower index)."""
+    leaking, errors = leaking_points(field, probes, raycaster)
+    cells = cell_of(field, probes)
+    largest: dict[int, float] = {}
+    for p in np.flatnonzero(leaking).tolist():
+        largest[cells[p]] = max(largest.get(cells[p], -np.inf), float(errors[p]))
+    picks: dict[int, int] = {}
+    for p in np.flatnonzero(leaking).tolist():  # ascending: the first within the band is the lowest index
+        if cells[p] not in picks and errors[p] >= largest[cells[p]] - band:
+            picks[cells[p]] = p
+    return np.asarray(sorted(picks.values()), dtype=np.int64)
+
+
+def dark_room_case(ids: np.ndarray, seed: np.ndarray, raycaster: AnalyticBoxRaycaster) -> dict[str, Any]:
+    """The walled room nearly black: every point's SH DARK_LIGHT times the corners' base, times a random 1-2, with the
+    scene's scale 1 (a dark corner of a level lit elsewhere). Every error is ~1e-10, below TIE, yet points' errors differ
+    far above round-off: so a repair round's choice in a tetrahedron hangs on the tie band alone, the same in any
+    arithmetic — the lowest-index leaking point with the band (leaks.md "A leak-aware default" 1), the largest error
+    compared exactly without it. (On oa_koth1 errors of round-off only, where the light is even, were compared exactly and
+    the two languages took different probes: quality.md §5.1.) Checked before writing: the rounds written out plainly
+    (repair_picks) give leak_repaired's set; every leaking point's error is below TIE; in some tetrahedron the exact
+    comparison takes another point, and wherever it does its largest error leads the next by more than 1e-3 of itself
+    (no rounding can swap them, so any language comparing exactly takes that point); each round's set is certified
+    Delaunay."""
+    for attempt in range(DARK_ATTEMPTS):  # the first random light that exercises the band (most do)
+        case = _dark_room(ids, seed, raycaster, np.random.default_rng(SEED + attempt))
+        if case is not None:
+            return case
+    raise SystemExit(f"no dark room of {DARK_ATTEMPTS} random lights has a tetrahedron where the exact comparison takes "
+                     "another point")
+
+
+def _dark_room(ids: np.ndarray, seed: np.ndarray, raycaster: AnalyticBoxRaycaster,
+               rng: np.random.Generator) -> dict[str, Any] | None:
+    """dark_room_case with one random light, checked as its text says; None when no tetrahedron tells the exact
+    comparison from the band."""
+    base = np.array([1.0, 0.85, 0.6] * 9) * np.array([1.0 if c % 9 == 0 else 0.1 for c in range(27)])
+    sh32 = np.asarray(DARK_LIGHT * base[None, :] * rng.uniform(1.0, 2.0, (ids.shape[0], 1)), dtype=np.float32)
+    grid = EvaluationGrid(cell_size=CELL, ids=ids.astype(np.int32))
+    field = ReferenceField.from_sh(grid.positions, sh32, 1.0)
+    repaired = leak_repaired(field, seed, raycaster)
+    current, exact_differs = np.asarray(seed, dtype=np.int64), False
+    for _ in range(REPAIR_ROUNDS):
+        if not certify_delaunay(ids, current, tetrahedralize(field.world[current], field.frame).tets, EXTENT):
+            raise SystemExit("a set of the dark room's repair is not certified Delaunay: choose another SEED")
+        leaking, errors = leaking_points(field, current, raycaster)
+        if leaking.any() and not float(errors[leaking].max()) < TIE:
+            raise SystemExit(f"the dark room's errors must lie below TIE: {float(errors[leaking].max())!r}")
+        picks, exact_picks = repair_picks(field, current, raycaster, TIE), repair_picks(field, current, raycaster, 0.0)
+        for p in np.setdiff1d(exact_picks, picks).tolist():  # the exact comparison's choice must not hang on rounding
+            cells = cell_of(field, current)
+            rivals = np.sort(errors[leaking & (cells == cells[p])])[::-1]
+            if not rivals[0] - rivals[1] > 1e-3 * rivals[0]:
+                raise SystemExit(f"point {p}'s error leads its tetrahedron's next by too little: {rivals[:2]}")
+            exact_differs = True
+        if picks.shape[0] == 0:
+            break
+        current = np.union1d(current, picks)
+    if not np.array_equal(current, repaired):
+        raise SystemExit(f"leak_repaired must give the rounds written out plainly: {repaired} != {current}")
+    if not exact_differs:
+        return None
+    return {"sh": exact(sh32), "lighting_scale": 1.0, "seed": np.asarray(seed).tolist(), "repaired_seed": repaired.tolist()}
+
+
+def cell_of(field, probes: np.ndarray) -> np.ndarray:
+    """(N,) each point's stencil cell under `probes` (-1 at the probes)."""
+    _, others, stencil = probe_stencil(field, probes, coherent=True)
+    cells = np.full(field.point_count, -1, dtype=np.int64)
+    cells[others] = stencil.cell
+    return cells
+
+
 def main(out_dir: str) -> None:
     ids, sh = walled_room(SEED)
     grid, sh32, scale, field = _field(ids, sh)
@@ -177,6 +258,7 @@ def main(out_dir: str) -> None:
                            "mean_error": tolerance.mean_error, "without_leaks": plain.indices.tolist()},
         "leaking_points": leaks,
         "pinned_case": pinned_case(ids, field, grid, raycaster, count),
+        "dark_room_case": dark_room_case(ids, seed, raycaster),
     }
     text = json.dumps(golden, indent=None, separators=(",", ":"))
     write_text_atomic(Path(out_dir) / "leak_aware_golden.json", text + "\n")

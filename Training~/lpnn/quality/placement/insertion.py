@@ -50,7 +50,7 @@ import numpy as np
 from ...core.grid import EvaluationGrid
 from ...core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ...core.spread import farthest_point_ranking, spread_weights
-from .insertion_kernel import first_per_cell
+from .insertion_kernel import TIE, first_per_cell  # TIE: defined beside its kernel, re-exported here
 from .insertion_state import Placed, located_set, mean_error, with_inserted
 from ..metric.metric import (POINT_ERRORS, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, probe_stencil,
                              mean_placement_error, stencil_point_errors)
@@ -60,10 +60,6 @@ INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the curren
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
 STARTING_SPREAD = 64  # of the candidates' farthest-point ranking, the head computed first (typical_tetrahedron)
 EXACT = 1e-12  # per-point errors at or below this are exact interpolation (nothing to fix there)
-# Errors (and guided keys, and cell sums) within this of each other count as equal, ties going to the lower point index
-# (quality.md §5.1): two languages (or two summation orders) compute equal errors a few ulps apart, ~1e-16 (sums of
-# 10^5 errors ~1e-11); errors that differ by less than this are equally good to fix.
-TIE = 1e-9
 # Guided insertion uses the network's scores only on volumes of at most this many points (quality.md §5.2: chosen on
 # whole training and validation levels; larger clouds than the network ever saw make its guide worse than none).
 GUIDED_POINT_LIMIT = 32_768

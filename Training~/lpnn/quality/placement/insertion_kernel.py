@@ -16,6 +16,12 @@ from ...core.cache import use_project_cache_for_numba
 use_project_cache_for_numba()
 from numba import njit  # noqa: E402  (after the cache folder is chosen)
 
+# Errors (and guided keys, and cell sums) within this of each other count as equal, ties going to the lower point index
+# (quality.md §5.1; leak_aware.leak_repaired's per-cell choice too): two languages (or two summation orders) compute
+# equal errors a few ulps apart, ~1e-16 (sums of 10^5 errors ~1e-11); errors that differ by less than this are equally
+# good to fix. Here, not in insertion.py, so that leak_aware.py can use it without importing insertion's state.
+TIE = 1e-9
+
 
 @njit(cache=True)
 def first_per_cell(cell, key, cell_count, tie):

@@ -35,6 +35,7 @@ from ...core.features import Raycaster
 from ..metric.leak_rule import SegmentVisibility, stencil_leaks
 from ..metric.location import Stencil
 from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
+from .insertion_kernel import TIE, first_per_cell
 from .policy_rules import LEAK_CHOICES
 
 NO_GEOMETRY = ("leaks cannot be checked for this capture (the tools cannot load its geometry): the placement is the "
@@ -104,8 +105,8 @@ def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarra
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
                   rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None,
                   visibility: SegmentVisibility | None = None) -> np.ndarray:
-    """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties: the
-    lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
+    """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties, errors
+    within TIE of the largest: the lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
     triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
     `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking one is passed over (module
     text). Stops early when no point that may become a probe leaks. `visibility`: remembered segments of `raycaster`
@@ -127,8 +128,9 @@ def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaste
             break
         errors = stencil_point_errors(field, indices, others, stencil)
         points, cells = others[leaking], stencil.cell[leaking]
-        order = np.lexsort((points, -errors[points], cells))  # per cell: largest error first, then lower index
-        first = np.ones(order.shape[0], dtype=bool)
-        first[1:] = cells[order][1:] != cells[order][:-1]
-        current = np.union1d(current, points[order][first])
+        # Per cell the lowest index whose error is within TIE of the cell's largest (points ascend): errors where the
+        # light is even are round-off (~1e-15) whose last bits hang on the arithmetic's order, so an exact comparison
+        # would let rounding pick the probe, and the C# core picked another (oa_koth1: quality.md §5.1).
+        first = first_per_cell(cells, np.ascontiguousarray(errors[points]), int(cells.max()) + 1, TIE)
+        current = np.union1d(current, points[first])
     return current

@@ -109,8 +109,6 @@ namespace Lpnn.Probes.Core.Quality
             Action<PlacementError.PointVisitor> interpolate)
         {
             var cellError = new double[cells];
-            var largestKey = new double[cells];
-            for (int c = 0; c < cells; c++) largestKey[c] = double.NegativeInfinity;
             int count = reference.Count;
             var errors = new double[count];
             var keys = new double[count];
@@ -128,16 +126,8 @@ namespace Lpnn.Probes.Core.Quality
                 double key = guide == null ? e : e > Exact ? e * guide[n] : -1.0;
                 if (allowed != null && !allowed[n]) key = double.NegativeInfinity;
                 keys[n] = key;
-                largestKey[cell] = Math.Max(largestKey[cell], key);
             });
-            // Per cell its candidate: the lowest index whose key is within Tie of the cell's largest.
-            var worst = new int[cells];
-            for (int c = 0; c < cells; c++) worst[c] = -1;
-            for (int n = 0; n < count; n++)
-            {
-                int cell = cellOf[n];
-                if (cell >= 0 && worst[cell] < 0 && keys[n] >= largestKey[cell] - Tie) worst[cell] = n;
-            }
+            int[] worst = FirstPerCell(cellOf, keys, cells);  // rows are point indices: the lowest index within Tie of the largest
             var candidates = new List<int>();
             var candidateError = new List<double>();
             for (int c = 0; c < cells; c++)
@@ -151,6 +141,28 @@ namespace Lpnn.Probes.Core.Quality
             var batch = new int[take];
             for (int k = 0; k < take; k++) batch[k] = candidates[byCellError[k]];
             return batch;
+        }
+
+        /// <summary>Per cell (0 .. <paramref name="cells"/> − 1) the first row whose key is within <see cref="Tie"/> of the
+        /// largest key of its cell, or −1 for a cell no row is in; rows of cell −1 are left out. With rows in ascending point
+        /// index, a cell's candidate by quality.md §5.1 step 2 and leaks.md's repair (the lowest index among the largest):
+        /// errors where the light is even are round-off whose last bits hang on the arithmetic's order, so an exact
+        /// comparison would let rounding choose (Python's insertion_kernel.first_per_cell).</summary>
+        internal static int[] FirstPerCell(IReadOnlyList<int> cell, IReadOnlyList<double> key, int cells)
+        {
+            if (cell.Count != key.Count) throw new ArgumentException("cells (" + cell.Count + ") and keys (" + key.Count + ") differ in length");
+            var largest = new double[cells];
+            for (int c = 0; c < cells; c++) largest[c] = double.NegativeInfinity;
+            for (int m = 0; m < cell.Count; m++)
+                if (cell[m] >= 0) largest[cell[m]] = Math.Max(largest[cell[m]], key[m]);
+            var first = new int[cells];
+            for (int c = 0; c < cells; c++) first[c] = -1;
+            for (int m = 0; m < cell.Count; m++)
+            {
+                int c = cell[m];
+                if (c >= 0 && first[c] < 0 && key[m] >= largest[c] - Tie) first[c] = m;
+            }
+            return first;
         }
 
         /// <summary>Positions of <paramref name="values"/>, largest first, where a value within <see cref="Tie"/> of the next

@@ -9,7 +9,7 @@ namespace Lpnn.Probes.Core.Quality
 {
     /// <summary>Leak repair of a seed (Documentation~/leaks.md "A leak-aware default", 1): each round adds, in every
     /// tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull triangle), the leaking point
-    /// of largest error (ties: the lower index). A probe at a leaking point ends that point's leak and splits its
+    /// of largest error (ties, errors within <see cref="InsertionRanking.Tie"/> of the largest: the lower index). A probe at a leaking point ends that point's leak and splits its
     /// tetrahedron where it leaked worst; batched refinement only removes probes, so a leak of its seed could not be undone
     /// later. With pinned probes (Documentation~/pins.md) no probe is added within a pin's keep distance: a leaking point
     /// there is left to the pinned probe, and its tetrahedron gets the worst leaking point that may become a probe, if any.
@@ -67,15 +67,20 @@ namespace Lpnn.Probes.Core.Quality
                 errors.Add(PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale));
             });
             bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster, memo);
-            var worst = new Dictionary<int, int>();  // cell -> position in points; points ascend, so a tie keeps the lower index
+            // Per cell the lowest index whose error is within InsertionRanking.Tie of the cell's largest among its leaking
+            // points (points ascend): errors where the light is even are round-off (~1e-15) whose last bits hang on the
+            // arithmetic's order, so an exact comparison let rounding pick the probe, and Python picked another (oa_koth1,
+            // Documentation~/quality.md §5.1).
+            var cells = new int[points.Count];
+            int cellCount = 0;
             for (int i = 0; i < points.Count; i++)
             {
-                if (!leaking[i] || (blocked != null && blocked[points[i]])) continue;
-                int cell = stencils[i].Cell;
-                if (!worst.TryGetValue(cell, out int best) || errors[i] > errors[best]) worst[cell] = i;
+                cells[i] = leaking[i] && (blocked == null || !blocked[points[i]]) ? stencils[i].Cell : -1;
+                cellCount = Math.Max(cellCount, cells[i] + 1);
             }
-            var added = new List<int>(worst.Count);
-            foreach (int i in worst.Values) added.Add(points[i]);
+            var added = new List<int>();
+            foreach (int i in InsertionRanking.FirstPerCell(cells, errors, cellCount))
+                if (i >= 0) added.Add(points[i]);
             added.Sort();
             return added.ToArray();
         }
