@@ -346,7 +346,9 @@ class Fitter:
     # ------------------------------------------------------------------------ phases
 
     def fit(self, lights: Lights, phases: tuple[Phase, ...]) -> FitResult:
-        self.budget = sum(p.iterations for p in phases)
+        """The best point of `phases` from `lights`. Called again on the same fitter (a second pass, pipeline.py), it
+        continues its clock, iteration count and curve, and the best point is the new pass's."""
+        self.budget = self.iterations + sum(p.iterations for p in phases)
         self.count = lights.count
         self.spot_mask = lights.cones()[1] > 0
         self.spots = bool(self.spot_mask.any())
