@@ -86,6 +86,7 @@ class FitResult:
     rays: int = 0
     ray_seconds: float = 0.0
     iterations: int = 0
+    started: int = 0  # lights the fit started from (a second pass's result: the first pass's, pipeline.fit_scene)
 
 
 Progress = Callable[[int, int], None]  # (iterations done, iteration budget)
@@ -369,7 +370,7 @@ class Fitter:
         self._record(len(phases), "final", value, penalty)
         return FitResult(lights=final, objective=value, curve=self.curve,
                          seconds=time.perf_counter() - self.started, rays=self.model.rays,
-                         iterations=self.iterations)
+                         iterations=self.iterations, started=lights.count)
 
     def _adam(self, number: int, phase: Phase, x: np.ndarray) -> np.ndarray:
         count = len(self._rows(x))
