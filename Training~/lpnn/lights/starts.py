@@ -35,7 +35,9 @@ where the point light's bump of step 3 puts the light at the bump's height, not 
    CLEARANCE below the nearest surface above it or above any of CEILING_STEPS around it (a tilted spotlight's disc
    peaks beside its small fixture), if that surface is at most SPOT_REACH above (moved sideways by the
    first open one of SIDE_STEPS when that is in solid: a peak at the foot of a wall), with the estimated intensity
-   light h^2 / 7500 (a light at height h on its axis); merged as in step 5, brightest first.
+   light h^2 / 7500 (a light at height h on its axis); merged as in step 5, brightest first. These and the copies of
+   the point starts (pipeline.spotlight_starts) are kept only where something other than the sky is straight above
+   within SPOT_REACH (under_a_ceiling): a spotlight hangs from something.
 
 Whether a level's fit starts spotlights at all (fit_scene(spots=None), pipeline.fits_spots) is read from the same
 floor peaks:
