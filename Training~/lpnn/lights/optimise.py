@@ -86,6 +86,7 @@ class FitResult:
     rays: int = 0
     ray_seconds: float = 0.0
     iterations: int = 0
+    started: int = 0  # lights the fit started from (a second pass's result: the first pass's, pipeline.fit_scene)
 
 
 Progress = Callable[[int, int], None]  # (iterations done, iteration budget)
@@ -346,7 +347,9 @@ class Fitter:
     # ------------------------------------------------------------------------ phases
 
     def fit(self, lights: Lights, phases: tuple[Phase, ...]) -> FitResult:
-        self.budget = sum(p.iterations for p in phases)
+        """The best point of `phases` from `lights`. Called again on the same fitter (a second pass, pipeline.py), it
+        continues its clock, iteration count and curve, and the best point is the new pass's."""
+        self.budget = self.iterations + sum(p.iterations for p in phases)
         self.count = lights.count
         self.spot_mask = lights.cones()[1] > 0
         self.spots = bool(self.spot_mask.any())
@@ -367,7 +370,7 @@ class Fitter:
         self._record(len(phases), "final", value, penalty)
         return FitResult(lights=final, objective=value, curve=self.curve,
                          seconds=time.perf_counter() - self.started, rays=self.model.rays,
-                         iterations=self.iterations)
+                         iterations=self.iterations, started=lights.count)
 
     def _adam(self, number: int, phase: Phase, x: np.ndarray) -> np.ndarray:
         count = len(self._rows(x))

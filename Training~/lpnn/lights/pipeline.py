@@ -20,14 +20,15 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
                        FORM_FACTOR_VALUE_SCALE, Emitters, ShaderLight, ShaderScripts, Spots, Suns,
                        read_shader_scripts, script_declares_sky, script_order,
                        shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
+from .merge import merge_spotlights
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight, worldspawn_ambient
 from .shadows import shadow_raycaster
 from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
-                       DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, PEAK_START, SCHEMES, STARTS)
+                       DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, MERGE_PASS, PEAK_START, SCHEMES, STARTS)
 from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains,
-                     lit_by_spotlights, peak_starts, with_grid_fallback)
+                     lit_by_spotlights, peak_starts, under_a_ceiling, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
 from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
@@ -121,7 +122,9 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
     """With `spots` (None: fits_spots's default), every start position starts both a point light and a q3map2
     spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
     sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces; `ambient`: held
-    at the worldspawn's or fitted (held_ambient, lights.md §4)."""
+    at the worldspawn's or fitted (held_ambient, lights.md §4). With spotlights and the peak start, the fitted
+    spotlights within the starts' merge distance of a stronger one are folded into it and a second pass (MERGE_PASS)
+    starts from there (merge.py, lights.md §4)."""
     suns = fits_sun(scene, suns)
     held = held_ambient(scene.level, ambient)
     spots = fits_spots(scene, spots, start, peaks)
@@ -145,7 +148,21 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
     lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns, ambient=held)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
                     progress=progress, fit_ambient=held is None)
-    return fitter.fit(lights, SCHEMES[scheme])
+    first = fitter.fit(lights, SCHEMES[scheme])
+    merged = merge_spotlights(first.lights, peaks.merge_distance) if spots and start == PEAK_START else first.lights
+    if merged is first.lights:
+        return first
+    return replace(second_pass(fitter, merged, len(SCHEMES[scheme])), started=first.started)
+
+
+def second_pass(fitter: Fitter, lights: Lights, phases_before: int) -> FitResult:
+    """MERGE_PASS from the merged `lights` on the first pass's `fitter` (Fitter.fit: its clock, iteration count and
+    curve go on), the new pass's phases numbered after the first's `phases_before`: the result is the second pass's
+    best point, so a first-pass point with the split spotlights does not come back."""
+    before = len(fitter.curve)
+    second = fitter.fit(lights, MERGE_PASS)
+    curve = second.curve[:before] + [replace(point, phase=point.phase + phases_before) for point in second.curve[before:]]
+    return replace(second, curve=curve)
 
 
 def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | None:
@@ -170,19 +187,20 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
                      peaks: PeakSettings = DEFAULT_PEAKS) -> tuple[np.ndarray, np.ndarray | None]:
     """Where fit_scene(spots=True)'s spotlights start, and their relative intensities: at the point lights' starts
     (`starts`, `relative`); with the peak start also under the ceiling above the floor's peaks (starts.ceiling_starts,
-    lights.md §4), those replacing the point lights' starts within merge distance of them."""
+    lights.md §4), those replacing the point lights' starts within merge distance of them; all of them only where
+    something other than sky is straight above in reach (starts.under_a_ceiling)."""
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
     ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
                              _distance_up(scene), peaks)
     inside = _in_bounds(scene, ceiling.positions)
-    if not inside.any():
-        return starts.positions, relative
     hung, estimates = ceiling.positions[inside], ceiling.intensities[inside]
-    gap = np.linalg.norm(starts.positions[:, None] - hung[None], axis=2).min(axis=1)
+    gap = np.linalg.norm(starts.positions[:, None] - hung[None], axis=2).min(axis=1, initial=np.inf)
     far = gap >= peaks.merge_distance
-    return np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
+    positions, relative = np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
+    hangs = under_a_ceiling(positions, _distance_up(scene), _sky_up(scene))
+    return positions[hangs], relative[hangs]
 
 
 def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
@@ -193,6 +211,15 @@ def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
 def _distance_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
     """(N, 3) Quake points -> (N,) units to the first surface straight above (inf beyond SPOT_REACH)."""
     return lambda points: scene.model.raycaster.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
+
+
+def _sky_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray] | None:
+    """(N, 3) Quake points -> (N,) units to the level's sky triangles straight above (inf beyond SPOT_REACH); None on
+    a level without sky."""
+    sky = scene.model.sky
+    if sky is None:
+        return None
+    return lambda points: sky.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
 
 
 def fits_spots(scene: LevelScene, spots: bool | None, start: str = DEFAULT_START,
@@ -224,7 +251,7 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
     """The fitted lights as a rig; lights that went dark (intensity 0) are dropped."""
     lights = result.lights
     lit = lights.intensities * lights.colours.max(axis=1) > 0
-    info = {"grid": list(grid), "start": start, "initial_lights": int(lights.count), "iterations": result.iterations,
+    info = {"grid": list(grid), "start": start, "initial_lights": int(result.started or lights.count), "iterations": result.iterations,
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}
