@@ -44,9 +44,9 @@ namespace Lpnn.Probes.Core.Tests
         public void HullFacesDoNotDependOnTheKeysPacking()
         {
             int[] small = { 0, 1, 2, 3, 4 };
-            int[] large = { 5, 2_200_000, 2_200_001, 2_300_000, 2_400_000 };  // the same order: the same hull, relabelled
+            int[] large = { 5, 2200000, 2200001, 2300000, 2400000 };  // the same order: the same hull, relabelled
             var smallHull = HullWith(small, 5, out int[] smallOwners);
-            var largeHull = HullWith(large, 2_400_001, out int[] largeOwners);
+            var largeHull = HullWith(large, 2400001, out int[] largeOwners);
             Assert.That(smallHull.Length, Is.EqualTo(18), "six hull faces");
             Assert.That(largeHull.Select(v => Array.IndexOf(large, v)), Is.EqualTo(smallHull));
             Assert.That(largeOwners, Is.EqualTo(smallOwners));
