@@ -283,9 +283,13 @@ namespace Lpnn.Probes.Core.Quality
 
         private static double BoxDistanceSquared(ref Node node, double x, double y, double z)
         {
-            double dx = Math.Max(0, Math.Max(node.MinX - x, x - node.MaxX));
-            double dy = Math.Max(0, Math.Max(node.MinY - y, y - node.MaxY));
-            double dz = Math.Max(0, Math.Max(node.MinZ - z, z - node.MaxZ));
+            // Math.Max(0, Math.Max(low - v, v - high)) per axis, written out: Mono calls Math.Max (squared, a zero's sign is moot).
+            double dx = node.MinX - x > x - node.MaxX ? node.MinX - x : x - node.MaxX;
+            double dy = node.MinY - y > y - node.MaxY ? node.MinY - y : y - node.MaxY;
+            double dz = node.MinZ - z > z - node.MaxZ ? node.MinZ - z : z - node.MaxZ;
+            dx = dx > 0 ? dx : 0;
+            dy = dy > 0 ? dy : 0;
+            dz = dz > 0 ? dz : 0;
             return dx * dx + dy * dy + dz * dz;
         }
     }

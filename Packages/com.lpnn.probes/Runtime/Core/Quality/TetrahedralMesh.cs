@@ -73,16 +73,22 @@ namespace Lpnn.Probes.Core.Quality
                                                   " indices" + (tetrahedra.Length == 0 ? " (none: the probes could not be tetrahedralised)" : ""));
             CheckIndices(tetrahedra, probes);
 
-            var kept = new List<int>(tetrahedra.Length);
-            var inverse = new List<double>(tetrahedra.Length / 4 * 9);
+            // Arrays filled in place rather than Lists (Mono does not inline List.Add): trimmed when flat ones were dropped.
+            var kept = new int[tetrahedra.Length];
+            var inverse = new double[tetrahedra.Length / 4 * 9];
+            int count = 0;
             for (int t = 0; t < tetrahedra.Length; t += 4)
-                AddOriented(points, tetrahedra[t], tetrahedra[t + 1], tetrahedra[t + 2], tetrahedra[t + 3], kept, inverse);
-            if (kept.Count == 0)
+                if (AddOriented(points, tetrahedra[t], tetrahedra[t + 1], tetrahedra[t + 2], tetrahedra[t + 3], kept, inverse, count)) count++;
+            if (count == 0)
                 throw new PlacementErrorException("all " + InvariantFormat.Count(tetrahedra.Length / 4) + " tetrahedra are flat (no volume): the " + probes +
                                                   " probes lie in one plane; add a probe off that plane, e.g. make the volume two cells deep");
-            int[] tets = kept.ToArray();
-            int[] hull = HullOf(tets, out int[] owners);
-            return new TetrahedralMesh(points, tets, inverse.ToArray(), hull, owners);
+            if (4 * count < kept.Length)
+            {
+                Array.Resize(ref kept, 4 * count);
+                Array.Resize(ref inverse, 9 * count);
+            }
+            int[] hull = HullOf(kept, out int[] owners);
+            return new TetrahedralMesh(points, kept, inverse, hull, owners);
         }
 
         /// <summary>Whether <paramref name="other"/> (over the same probes) has the same tetrahedra, each as a set of four
@@ -139,13 +145,15 @@ namespace Lpnn.Probes.Core.Quality
             }
         }
 
-        private static void AddOriented(double[] p, int a, int b, int c, int d, List<int> kept, List<double> inverse)
+        /// <summary>Writes tetrahedron (a, b, c, d), positively oriented, as the <paramref name="index"/>-th of
+        /// <paramref name="kept"/> with its inverse; false (nothing written) when it is flat.</summary>
+        private static bool AddOriented(double[] p, int a, int b, int c, int d, int[] kept, double[] inverse, int index)
         {
             double e1x = p[3 * b] - p[3 * a], e1y = p[3 * b + 1] - p[3 * a + 1], e1z = p[3 * b + 2] - p[3 * a + 2];
             double e2x = p[3 * c] - p[3 * a], e2y = p[3 * c + 1] - p[3 * a + 1], e2z = p[3 * c + 2] - p[3 * a + 2];
             double e3x = p[3 * d] - p[3 * a], e3y = p[3 * d + 1] - p[3 * a + 1], e3z = p[3 * d + 2] - p[3 * a + 2];
             double det = e1x * (e2y * e3z - e2z * e3y) + e1y * (e2z * e3x - e2x * e3z) + e1z * (e2x * e3y - e2y * e3x);
-            if (IsFlat(det, e1x, e1y, e1z, e2x, e2y, e2z, e3x, e3y, e3z)) return;
+            if (IsFlat(det, e1x, e1y, e1z, e2x, e2y, e2z, e3x, e3y, e3z)) return false;
             if (det < 0)
             {
                 // Swapping the last two vertices (and edges) flips the orientation.
@@ -157,13 +165,14 @@ namespace Lpnn.Probes.Core.Quality
                 e3x = tx; e3y = ty; e3z = tz;
                 det = -det;
             }
-            kept.Add(a);
-            kept.Add(b);
-            kept.Add(c);
-            kept.Add(d);
-            AddRow(inverse, e2x, e2y, e2z, e3x, e3y, e3z, det);
-            AddRow(inverse, e3x, e3y, e3z, e1x, e1y, e1z, det);
-            AddRow(inverse, e1x, e1y, e1z, e2x, e2y, e2z, det);
+            kept[4 * index] = a;
+            kept[4 * index + 1] = b;
+            kept[4 * index + 2] = c;
+            kept[4 * index + 3] = d;
+            SetRow(inverse, 9 * index, e2x, e2y, e2z, e3x, e3y, e3z, det);
+            SetRow(inverse, 9 * index + 3, e3x, e3y, e3z, e1x, e1y, e1z, det);
+            SetRow(inverse, 9 * index + 6, e1x, e1y, e1z, e2x, e2y, e2z, det);
+            return true;
         }
 
         /// <summary>6 × the signed volume of the tetrahedron (a, b, c, d) of <paramref name="p"/> (x, y, z per index), and
@@ -187,71 +196,68 @@ namespace Lpnn.Probes.Core.Quality
             return !(Math.Abs(det) > FlatRelativeVolume * edgeProduct);
         }
 
-        /// <summary>Appends (u × v) / det.</summary>
-        private static void AddRow(List<double> inverse, double ux, double uy, double uz, double vx, double vy, double vz, double det)
+        /// <summary>Writes (u × v) / det at <paramref name="at"/>.</summary>
+        private static void SetRow(double[] inverse, int at, double ux, double uy, double uz, double vx, double vy, double vz, double det)
         {
-            inverse.Add((uy * vz - uz * vy) / det);
-            inverse.Add((uz * vx - ux * vz) / det);
-            inverse.Add((ux * vy - uy * vx) / det);
+            inverse[at] = (uy * vz - uz * vy) / det;
+            inverse[at + 1] = (uz * vx - ux * vz) / det;
+            inverse[at + 2] = (ux * vy - uy * vx) / det;
         }
 
-        /// <summary>A triangle by its sorted corners, with the tetrahedron it came from (not part of the order).</summary>
-        private struct FaceKey : IComparable<FaceKey>
-        {
-            public TriangleKey Triangle;  // sorted corners: equal faces get equal keys whatever the corner order
-            public int Tetrahedron;
-
-            public FaceKey(int x, int y, int z, int tetrahedron)
-            {
-                Triangle = new TriangleKey(x, y, z);
-                Tetrahedron = tetrahedron;
-            }
-
-            public int A => Triangle.A;
-            public int B => Triangle.B;
-            public int C => Triangle.C;
-
-            public int CompareTo(FaceKey other)
-            {
-                if (A != other.A) return A.CompareTo(other.A);
-                if (B != other.B) return B.CompareTo(other.B);
-                return C.CompareTo(other.C);
-            }
-
-            public bool SameAs(FaceKey other) => Triangle.Equals(other.Triangle);
-        }
-
-        /// <summary>The faces used by exactly one tetrahedron; a face used by three or more means the input is not a
-        /// tetrahedralisation.</summary>
+        /// <summary>The faces used by exactly one tetrahedron, in ascending order of their sorted corners; a face used by
+        /// three or more means the input is not a tetrahedralisation. The faces are sorted as packed keys
+        /// (<see cref="KeySort"/>), not compared one pair at a time (Mono's Array.Sort of structs calls a delegate per
+        /// comparison): the same order, so the same hull.</summary>
         private static int[] HullOf(int[] tets, out int[] owners)
         {
-            var faces = new FaceKey[tets.Length];
-            int f = 0;
+            int faceCount = tets.Length;  // 4 per tetrahedron: face 4t + k leaves out corner k of tetrahedron t
+            var corners = new int[3 * faceCount];  // ascending per face
+            int largest = 0;
             for (int t = 0; t < tets.Length; t += 4)
             {
                 int a = tets[t], b = tets[t + 1], c = tets[t + 2], d = tets[t + 3];
-                faces[f++] = new FaceKey(b, c, d, t / 4);
-                faces[f++] = new FaceKey(a, c, d, t / 4);
-                faces[f++] = new FaceKey(a, b, d, t / 4);
-                faces[f++] = new FaceKey(a, b, c, t / 4);
+                SetFace(corners, t, b, c, d);
+                SetFace(corners, t + 1, a, c, d);
+                SetFace(corners, t + 2, a, b, d);
+                SetFace(corners, t + 3, a, b, c);
+                largest = Math.Max(largest, Math.Max(Math.Max(a, b), Math.Max(c, d)));
             }
-            Array.Sort(faces);
+            var order = new int[faceCount];
+            for (int f = 0; f < faceCount; f++) order[f] = f;
+            var keys = new long[faceCount];
+            int bits = 1;
+            while (bits < 31 && (largest >> bits) != 0) bits++;
+            if (3 * bits <= 63)
+            {
+                for (int f = 0; f < faceCount; f++)
+                    keys[f] = ((long)corners[3 * f] << (2 * bits)) | ((long)corners[3 * f + 1] << bits) | (uint)corners[3 * f + 2];
+                KeySort.Sort(keys, order, faceCount);
+            }
+            else
+            {
+                // Too many probes to pack three corners: by the last two, then (stable) by the first.
+                for (int f = 0; f < faceCount; f++) keys[f] = ((long)corners[3 * f + 1] << 32) | (uint)corners[3 * f + 2];
+                KeySort.Sort(keys, order, faceCount);
+                for (int i = 0; i < faceCount; i++) keys[i] = corners[3 * order[i]];
+                KeySort.Sort(keys, order, faceCount);
+            }
             var hull = new List<int>();
             var owner = new List<int>();
-            for (int start = 0; start < faces.Length;)
+            for (int start = 0; start < faceCount;)
             {
+                int first = 3 * order[start];
                 int end = start + 1;
-                while (end < faces.Length && faces[end].SameAs(faces[start])) end++;
+                while (end < faceCount && SameFace(corners, first, 3 * order[end])) end++;
                 int uses = end - start;
                 if (uses > 2)
-                    throw new PlacementErrorException("the triangle of probes " + faces[start].A + ", " + faces[start].B + ", " + faces[start].C + " belongs to " + uses +
+                    throw new PlacementErrorException("the triangle of probes " + corners[first] + ", " + corners[first + 1] + ", " + corners[first + 2] + " belongs to " + uses +
                                                       " tetrahedra; the tetrahedra do not form a valid tetrahedralisation (overlapping or repeated tetrahedra)");
                 if (uses == 1)
                 {
-                    hull.Add(faces[start].A);
-                    hull.Add(faces[start].B);
-                    hull.Add(faces[start].C);
-                    owner.Add(faces[start].Tetrahedron);
+                    hull.Add(corners[first]);
+                    hull.Add(corners[first + 1]);
+                    hull.Add(corners[first + 2]);
+                    owner.Add(order[start] / 4);
                 }
                 start = end;
             }
@@ -261,5 +267,17 @@ namespace Lpnn.Probes.Core.Quality
             owners = owner.ToArray();
             return hull.ToArray();
         }
+
+        /// <summary>Face <paramref name="face"/>'s corners, ascending, at 3 × face (as <see cref="TriangleKey"/> orders them).</summary>
+        private static void SetFace(int[] corners, int face, int x, int y, int z)
+        {
+            var key = new TriangleKey(x, y, z);
+            corners[3 * face] = key.A;
+            corners[3 * face + 1] = key.B;
+            corners[3 * face + 2] = key.C;
+        }
+
+        private static bool SameFace(int[] corners, int i, int j) =>
+            corners[i] == corners[j] && corners[i + 1] == corners[j + 1] && corners[i + 2] == corners[j + 2];
     }
 }

@@ -37,15 +37,16 @@ namespace Lpnn.Probes.Core.Quality
             var bounds = new double[6 * tetCount];
             _minX = _minY = _minZ = double.PositiveInfinity;
             _maxX = _maxY = _maxZ = double.NegativeInfinity;
+            // Comparisons written out, as Math.Min/Max give them for numbers (Mono calls those, once per comparison).
             for (int t = 0; t < tetCount; t++)
             {
                 BoundsOf(t, bounds);
-                _minX = Math.Min(_minX, bounds[6 * t]);
-                _minY = Math.Min(_minY, bounds[6 * t + 1]);
-                _minZ = Math.Min(_minZ, bounds[6 * t + 2]);
-                _maxX = Math.Max(_maxX, bounds[6 * t + 3]);
-                _maxY = Math.Max(_maxY, bounds[6 * t + 4]);
-                _maxZ = Math.Max(_maxZ, bounds[6 * t + 5]);
+                _minX = _minX < bounds[6 * t] ? _minX : bounds[6 * t];
+                _minY = _minY < bounds[6 * t + 1] ? _minY : bounds[6 * t + 1];
+                _minZ = _minZ < bounds[6 * t + 2] ? _minZ : bounds[6 * t + 2];
+                _maxX = _maxX > bounds[6 * t + 3] ? _maxX : bounds[6 * t + 3];
+                _maxY = _maxY > bounds[6 * t + 4] ? _maxY : bounds[6 * t + 4];
+                _maxZ = _maxZ > bounds[6 * t + 5] ? _maxZ : bounds[6 * t + 5];
             }
             double ex = _maxX - _minX, ey = _maxY - _minY, ez = _maxZ - _minZ;
             // Cubic buckets whose count is about BucketsPerTetrahedron × T (the padded box always has volume > 0).
@@ -62,11 +63,11 @@ namespace Lpnn.Probes.Core.Quality
                 _nz = Cells(ez);
             }
             var counts = new int[_nx * _ny * _nz + 1];
-            ForEachBucket(bounds, tetCount, (bucket, t) => counts[bucket + 1]++);
+            ForEachBucket(bounds, tetCount, counts, null);
             for (int b = 1; b < counts.Length; b++) counts[b] += counts[b - 1];
             _start = (int[])counts.Clone();
             _items = new int[counts[counts.Length - 1]];
-            ForEachBucket(bounds, tetCount, (bucket, t) => _items[counts[bucket]++] = t);
+            ForEachBucket(bounds, tetCount, counts, _items);
         }
 
         private int Cells(double extent) => (int)Math.Max(1, Math.Min(1 << 20, Math.Ceiling(extent / _bucket)));
@@ -81,17 +82,18 @@ namespace Lpnn.Probes.Core.Quality
                 for (int k = 0; k < 4; k++)
                 {
                     double v = p[3 * _mesh.Tetrahedra[4 * t + k] + axis];
-                    lo = Math.Min(lo, v);
-                    hi = Math.Max(hi, v);
+                    lo = lo < v ? lo : v;  // Math.Min(lo, v), Math.Max(hi, v) for numbers (the constructor's note)
+                    hi = hi > v ? hi : v;
                 }
                 bounds[o + axis] = lo - Padding;
                 bounds[o + 3 + axis] = hi + Padding;
             }
         }
 
-        /// <summary>Calls <paramref name="visit"/>(bucket, tetrahedron) for every bucket each tetrahedron's box overlaps,
-        /// tetrahedra in ascending order (so each bucket lists them ascending).</summary>
-        private void ForEachBucket(double[] bounds, int tetCount, Action<int, int> visit)
+        /// <summary>For every bucket each tetrahedron's box overlaps, tetrahedra in ascending order (so each bucket lists
+        /// them ascending): without <paramref name="items"/>, counts it in <paramref name="counts"/>[bucket + 1]; with them,
+        /// files the tetrahedron at items[counts[bucket]++]. (Two loops, not a delegate per visit: Mono does not inline it.)</summary>
+        private void ForEachBucket(double[] bounds, int tetCount, int[] counts, int[] items)
         {
             for (int t = 0; t < tetCount; t++)
             {
@@ -101,7 +103,11 @@ namespace Lpnn.Probes.Core.Quality
                 for (int z = z0; z <= z1; z++)
                 for (int y = y0; y <= y1; y++)
                 for (int x = x0; x <= x1; x++)
-                    visit((z * _ny + y) * _nx + x, t);
+                {
+                    int bucket = (z * _ny + y) * _nx + x;
+                    if (items == null) counts[bucket + 1]++;
+                    else items[counts[bucket]++] = t;
+                }
             }
         }
 
@@ -114,32 +120,32 @@ namespace Lpnn.Probes.Core.Quality
             tetrahedron = -1;
             if (x < _minX || x > _maxX || y < _minY || y > _maxY || z < _minZ || z > _maxZ) return false;
             int bucket = (Cell(z, _minZ, _nz) * _ny + Cell(y, _minY, _ny)) * _nx + Cell(x, _minX, _nx);
-            double best = double.NegativeInfinity;
             int lowest = -1;
-            double b0 = 0, b1 = 0, b2 = 0, b3 = 0, c0 = 0, c1 = 0, c2 = 0, c3 = 0;
+            double c0 = 0, c1 = 0, c2 = 0, c3 = 0;
             // The bucket lists its tetrahedra in ascending order, so the first one within the tolerance is the lowest.
             for (int i = _start[bucket]; i < _start[bucket + 1]; i++)
             {
                 int t = _items[i];
                 Barycentric(t, x, y, z, out double l0, out double l1, out double l2, out double l3);
-                double smallest = Math.Min(Math.Min(l0, l1), Math.Min(l2, l3));
+                double l01 = l0 < l1 ? l0 : l1, l23 = l2 < l3 ? l2 : l3;  // Smallest, inline: the hottest loop
+                double smallest = l01 < l23 ? l01 : l23;
+                if (smallest > ClearlyInside)
+                {
+                    // The only tetrahedron the point is clearly inside (ClearlyInside), so the one of largest smallest
+                    // weight: found without testing the rest.
+                    tetrahedron = t;
+                    Normalised(l0, l1, l2, l3, weights);
+                    return true;
+                }
                 if (lowest < 0 && smallest >= -InsideTolerance)
                 {
                     lowest = t;
                     c0 = l0; c1 = l1; c2 = l2; c3 = l3;
                 }
-                if (!(smallest > best)) continue;
-                best = smallest;
-                tetrahedron = t;
-                b0 = l0; b1 = l1; b2 = l2; b3 = l3;
             }
-            if (!(best >= -InsideTolerance)) return false;
-            if (best > ClearlyInside) Normalised(b0, b1, b2, b3, weights);
-            else
-            {
-                tetrahedron = lowest;  // on a shared boundary: the tie rule
-                Normalised(c0, c1, c2, c3, weights);
-            }
+            if (lowest < 0) return false;  // outside every tetrahedron by more than the tolerance
+            tetrahedron = lowest;  // on a shared boundary: the tie rule
+            Normalised(c0, c1, c2, c3, weights);
             return true;
         }
 
@@ -156,18 +162,26 @@ namespace Lpnn.Probes.Core.Quality
         public bool TryWeightsIn(int t, double x, double y, double z, double[] weights)
         {
             Barycentric(t, x, y, z, out double b0, out double b1, out double b2, out double b3);
-            if (!(Math.Min(Math.Min(b0, b1), Math.Min(b2, b3)) > ClearlyInside)) return false;
+            if (!(Smallest(b0, b1, b2, b3) > ClearlyInside)) return false;
             Normalised(b0, b1, b2, b3, weights);
             return true;
+        }
+
+        /// <summary>Math.Min(Math.Min(a, b), Math.Min(c, d)) for numbers, written out (the constructor's note).</summary>
+        private static double Smallest(double a, double b, double c, double d)
+        {
+            double ab = a < b ? a : b, cd = c < d ? c : d;
+            return ab < cd ? ab : cd;
         }
 
         /// <summary>Clamped to ≥ 0 and renormalised.</summary>
         private static void Normalised(double b0, double b1, double b2, double b3, double[] weights)
         {
-            b0 = Math.Max(0, b0);
-            b1 = Math.Max(0, b1);
-            b2 = Math.Max(0, b2);
-            b3 = Math.Max(0, b3);
+            // Math.Max(0, b) as Mono gives it (b when equal: −0 stays −0), written out (the constructor's note).
+            b0 = 0.0 > b0 ? 0.0 : b0;
+            b1 = 0.0 > b1 ? 0.0 : b1;
+            b2 = 0.0 > b2 ? 0.0 : b2;
+            b3 = 0.0 > b3 ? 0.0 : b3;
             // The largest weight is ≥ 1/4 − 4e-9 before clamping, so the sum is never 0.
             double sum = b0 + b1 + b2 + b3;
             weights[0] = b0 / sum;
