@@ -187,8 +187,10 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
                      peaks: PeakSettings = DEFAULT_PEAKS) -> tuple[np.ndarray, np.ndarray | None]:
     """Where fit_scene(spots=True)'s spotlights start, and their relative intensities: at the point lights' starts
     (`starts`, `relative`); with the peak start also under the ceiling above the floor's peaks (starts.ceiling_starts,
-    lights.md §4), those replacing the point lights' starts within merge distance of them; all of them only where
-    something other than sky is straight above in reach (starts.under_a_ceiling)."""
+    lights.md §4), those replacing the point lights' starts within merge distance of them, and then all of them only
+    where something other than sky is straight above in reach (starts.under_a_ceiling). Without the peak start, or
+    without peaks (relative None), the point lights' starts as they are, no ceiling test (and without the peak start
+    no merge either: fit_scene)."""
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
