@@ -95,7 +95,7 @@ def test_the_second_pass_continues_the_curve_with_its_phases_after_the_first() -
     start = np.array([[120.0, 128.0, 200.0], [140.0, 128.0, 200.0]])
     first = fitter.fit(initial_intensity(model, start, spots=np.ones(2, bool)), SCHEMES["quick"])
     length, iterations = len(first.curve), first.iterations
-    assert first.started == 2
+    assert first.initial_lights == 2
     second = second_pass(fitter, merge_spotlights(first.lights, 64.0), len(SCHEMES["quick"]))
     assert [point.phase for point in second.curve[:length]] == [0] + [1] * (length - 2) + [1]
     assert {point.phase for point in second.curve[length:]} == {1, 2}  # its start (phase 0 + 1), its L-BFGS, its end
