@@ -150,7 +150,7 @@ def _lights(args: argparse.Namespace) -> None:
     casting = scene.model.raycaster.cast_seconds if scene.model.raycaster is not None else 0.0
     if args.surfaces:
         print(f"{path}: surface lights " + (", ".join(f"{s.shader} {s.value:.0f}" for s in rig.surfaces) or "none"))
-    print(f"{path}: {rig.count} lights (of {result.started or result.lights.count} initial), objective {result.objective:.4f}, "
+    print(f"{path}: {rig.count} lights (of {result.initial_lights} initial), objective {result.objective:.4f}, "
           f"{result.iterations} iterations in {result.seconds:.1f} s ({result.seconds / max(result.iterations, 1):.2f} s "
           f"an iteration), {result.rays:,} shadow rays ({result.rays / casting if casting > 0 else 0:,.0f} rays/s "
           f"inside the raycaster)")

@@ -91,7 +91,7 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
         row = dict(level=level.name, scheme=scheme + suffix, points=scene.target.point_count, lights=rig.count,
                    spotlights=int(rig.spot.sum()),
                    surface_lights=len(rig.surfaces), basis_seconds=basis_seconds,
-                   initial_lights=result.started or result.lights.count, objective=result.objective, iterations=result.iterations,
+                   initial_lights=result.initial_lights, objective=result.objective, iterations=result.iterations,
                    seconds=seconds, seconds_per_iteration=seconds / max(result.iterations, 1),
                    rays=scene.model.rays - rays_before,
                    rays_per_second=(scene.model.rays - rays_before) / cast if cast > 0 else 0.0,

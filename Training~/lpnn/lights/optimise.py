@@ -86,7 +86,9 @@ class FitResult:
     rays: int = 0
     ray_seconds: float = 0.0
     iterations: int = 0
-    started: int = 0  # lights the fit started from (a second pass's result: the first pass's, pipeline.fit_scene)
+    # lights the fit started from; a merge then a second pass (pipeline.fit_scene) ends with fewer, and its result
+    # carries the first pass's count
+    initial_lights: int = 0
 
 
 Progress = Callable[[int, int], None]  # (iterations done, iteration budget)
@@ -370,7 +372,7 @@ class Fitter:
         self._record(len(phases), "final", value, penalty)
         return FitResult(lights=final, objective=value, curve=self.curve,
                          seconds=time.perf_counter() - self.started, rays=self.model.rays,
-                         iterations=self.iterations, started=lights.count)
+                         iterations=self.iterations, initial_lights=lights.count)
 
     def _adam(self, number: int, phase: Phase, x: np.ndarray) -> np.ndarray:
         count = len(self._rows(x))

@@ -152,7 +152,7 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
     merged = merge_spotlights(first.lights, peaks.merge_distance) if spots and start == PEAK_START else first.lights
     if merged is first.lights:
         return first
-    return replace(second_pass(fitter, merged, len(SCHEMES[scheme])), started=first.started)
+    return replace(second_pass(fitter, merged, len(SCHEMES[scheme])), initial_lights=first.initial_lights)
 
 
 def second_pass(fitter: Fitter, lights: Lights, phases_before: int) -> FitResult:
@@ -187,8 +187,10 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
                      peaks: PeakSettings = DEFAULT_PEAKS) -> tuple[np.ndarray, np.ndarray | None]:
     """Where fit_scene(spots=True)'s spotlights start, and their relative intensities: at the point lights' starts
     (`starts`, `relative`); with the peak start also under the ceiling above the floor's peaks (starts.ceiling_starts,
-    lights.md §4), those replacing the point lights' starts within merge distance of them; all of them only where
-    something other than sky is straight above in reach (starts.under_a_ceiling)."""
+    lights.md §4), those replacing the point lights' starts within merge distance of them, and then all of them only
+    where something other than sky is straight above in reach (starts.under_a_ceiling). Without the peak start, or
+    without peaks (relative None), the point lights' starts as they are, no ceiling test (and without the peak start
+    no merge either: fit_scene)."""
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
@@ -251,7 +253,8 @@ def rig_of(scene: LevelScene, result: FitResult, grid: tuple[int, int, int], sch
     """The fitted lights as a rig; lights that went dark (intensity 0) are dropped."""
     lights = result.lights
     lit = lights.intensities * lights.colours.max(axis=1) > 0
-    info = {"grid": list(grid), "start": start, "initial_lights": int(result.started or lights.count), "iterations": result.iterations,
+    info = {"grid": list(grid), "start": start, "initial_lights": int(result.initial_lights),
+            "iterations": result.iterations,
             "rays": result.rays, "seconds": round(result.seconds, 3), "target_points": scene.target.point_count,
             "projection_loss": round(scene.target.projection_loss, 6),
             "max_edge": scene.max_edge, "textures_found": scene.albedo.found}

@@ -61,6 +61,6 @@ SCHEMES: dict[str, tuple[Phase, ...]] = {
 }
 DEFAULT_SCHEME = "mixed"
 # the second pass of a spotlight fit after its spotlights are merged (merge.py, lights.md §4), whatever the scheme:
-# L-BFGS over everything, as the first phase of "mixed"; chosen on aggressor (training), 2026-11-28: 19-28 s of it
-# there (benchmarks.md "The light rig")
+# L-BFGS over everything, as "mixed" starts, for half its iterations; chosen on aggressor (training), 2026-11-28:
+# 19-28 s of it there (benchmarks.md "The light rig")
 MERGE_PASS = (Phase("lbfgs", ALL, 1.0, 100),)

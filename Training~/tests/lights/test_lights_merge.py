@@ -95,7 +95,7 @@ def test_the_second_pass_continues_the_curve_with_its_phases_after_the_first() -
     start = np.array([[120.0, 128.0, 200.0], [140.0, 128.0, 200.0]])
     first = fitter.fit(initial_intensity(model, start, spots=np.ones(2, bool)), SCHEMES["quick"])
     length, iterations = len(first.curve), first.iterations
-    assert first.started == 2
+    assert first.initial_lights == 2
     second = second_pass(fitter, merge_spotlights(first.lights, 64.0), len(SCHEMES["quick"]))
     assert [point.phase for point in second.curve[:length]] == [0] + [1] * (length - 2) + [1]
     assert {point.phase for point in second.curve[length:]} == {1, 2}  # its start (phase 0 + 1), its L-BFGS, its end
@@ -112,3 +112,28 @@ def test_a_spotlight_start_hangs_under_a_ceiling_in_reach_and_not_under_the_sky(
     sky = lambda p: np.array([np.inf, np.inf, np.inf, 50.0])[(p[:, 0] // 100).astype(int)]  # noqa: E731
     assert under_a_ceiling(positions, ceiling, sky).tolist() == [True, False, False, False]
     assert under_a_ceiling(positions, ceiling, None).tolist() == [True, False, False, True]
+
+
+def test_coincident_spotlights_of_equal_power_fold_into_the_lower_index() -> None:
+    """Two spotlights at one place with the same power (200 at colour peak 1, 400 at 0.5) and a third of the same power
+    50 units away: ties go to the lower index, whatever the order the lights come in (merge.py: deterministic); within
+    40 units only the pair merges, within 64 the first takes in both."""
+    def lights(order: list[int]) -> Lights:
+        positions = np.array([[0.0, 0.0, 100.0], [0.0, 0.0, 100.0], [0.0, 50.0, 100.0]])
+        colours = np.array([[1.0, 0.5, 0.5], [0.5, 0.5, 0.5], [1.0, 1.0, 1.0]])
+        return Lights(positions=positions[order], colours=colours[order],
+                      intensities=np.array([200.0, 400.0, 200.0])[order],
+                      spot_directions=np.array([DOWN, DOWN, DOWN])[order],
+                      radius_by_dist=np.array([0.4, 0.8, 0.6])[order])
+
+    merged = merge_spotlights(lights([0, 1, 2]), 40.0)
+    np.testing.assert_array_equal(merged.colours, [[1.0, 0.5, 0.5], [1.0, 1.0, 1.0]])  # the first of the pair kept
+    np.testing.assert_allclose(merged.intensities, [400.0, 200.0])
+    np.testing.assert_array_equal(merged.radius_by_dist, [0.4, 0.6])
+    swapped = merge_spotlights(lights([1, 0, 2]), 40.0)
+    np.testing.assert_array_equal(swapped.colours, [[0.5, 0.5, 0.5], [1.0, 1.0, 1.0]])  # now the other one is first
+    np.testing.assert_allclose(swapped.intensities, [800.0, 200.0])
+    np.testing.assert_array_equal(swapped.radius_by_dist, [0.8, 0.6])
+    chained = merge_spotlights(lights([0, 1, 2]), 64.0)  # the first takes both: all within 64 units of it
+    np.testing.assert_allclose(chained.intensities, [600.0])
+    np.testing.assert_array_equal(chained.positions, [[0.0, 0.0, 100.0]])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality.metric.triangulation import INNER_BOUNDARY, tetrahedralize
+from lpnn.quality.metric.triangulation import HULL, INNER_BOUNDARY, tetrahedralize
 from lpnn.quality.placement.batched_refinement import greedy_independent_set
 from lpnn.quality.placement.delaunay_graph import edges_after_removal, graph_edges
 
@@ -103,3 +103,19 @@ def test_nothing_removed_keeps_the_graph() -> None:
     kept = edges_after_removal(edges, tets, mesh.neighbours, np.zeros(world.shape[0], dtype=bool),
                                np.zeros((0, 4), dtype=np.int64))
     np.testing.assert_array_equal(kept, edges)
+
+
+def test_the_update_is_the_graph_made_afresh_on_a_lattice_with_hull_vertices_removed() -> None:
+    """The fields' points are a lattice (many cospherical points: the tetrahedralisation is one of many) and removals
+    take hull vertices too, whose stars are fans open to the outside."""
+    lattice = np.stack(np.meshgrid(*[np.arange(6.0)] * 3, indexing="ij"), axis=-1).reshape(-1, 3) * 0.25 + 1e3
+    hull_removals = 0
+    for seed in range(12):
+        ids = np.sort(np.random.default_rng(seed).choice(lattice.shape[0], 150, replace=False))
+        edges, tets, neighbours, gone, refills, fresh = _removal(lattice, ids, seed, 1 + seed)
+        faces_on_hull = [np.delete(tets[t], i) for t, i in zip(*np.nonzero(neighbours == HULL))]
+        hull_removals += int(gone[np.concatenate(faces_on_hull)].any())
+        updated = edges_after_removal(edges, tets, neighbours, gone, refills)
+        assert updated is not None
+        np.testing.assert_array_equal(updated, fresh)
+    assert hull_removals > 0

@@ -106,12 +106,12 @@ def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaste
                   rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None,
                   visibility: SegmentVisibility | None = None) -> np.ndarray:
     """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties, errors
-    within TIE of the largest: the lower index) of every tetrahedron some leaking point lies in (outside the hull: the tetrahedron owning its hull
-    triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is split where it leaked worst.
-    `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking one is passed over (module
-    text). Stops early when no point that may become a probe leaks. `visibility`: remembered segments of `raycaster`
-    between the field's points (LeakWeighting.remembering), shared with the refinement that follows. Sorted point
-    indices."""
+    within TIE of the largest: the lower index) of every tetrahedron some leaking point lies in (outside the hull: the
+    tetrahedron owning its hull triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is
+    split where it leaked worst. `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking
+    one is passed over (module text). Stops early when no point that may become a probe leaks. `visibility`: remembered
+    segments of `raycaster` between the field's points (LeakWeighting.remembering), shared with the refinement that
+    follows. Sorted point indices."""
     if int(rounds) < 0:
         raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
     if blocked is not None and np.shape(blocked) != (field.point_count,):
