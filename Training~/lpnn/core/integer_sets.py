@@ -2,6 +2,7 @@
 
     sorted_unique(values)                  # np.unique(values) for a 1-D integer array
     sorted_unique_first_inverse(values)    # np.unique(values, return_index=True, return_inverse=True)
+    sorted_contains(values, sorted_set)    # np.isin(values, sorted_set) when sorted_set ascends
 
 Why not np.unique: from NumPy 2.3 on it finds integers' distinct values by hashing, then sorts them; on this machine
 (NumPy 2.4, x86-64) that is 10-45x slower than sorting the array and keeping each run's first value (430,000 int64:
@@ -44,3 +45,13 @@ def sorted_unique_first_inverse(values: np.ndarray) -> tuple[np.ndarray, np.ndar
     inverse = np.empty(array.shape[0], dtype=np.int64)
     inverse[order] = np.cumsum(starts) - 1
     return ordered[starts], order[starts].astype(np.int64), inverse
+
+
+def sorted_contains(values: np.ndarray, sorted_set: np.ndarray) -> np.ndarray:
+    """Whether each of `values` is in the ascending integer array `sorted_set` (np.isin's answer, by one binary search
+    each instead of np.isin's sort of both: the set is sorted already where the placement asks)."""
+    values = np.asarray(values)
+    if sorted_set.shape[0] == 0:
+        return np.zeros(values.shape, dtype=bool)
+    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.shape[0] - 1)
+    return sorted_set[at] == values

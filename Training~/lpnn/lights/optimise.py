@@ -370,7 +370,7 @@ class Fitter:
         value, penalty, x = self._best
         final = self._unpack(x)
         self._record(len(phases), "final", value, penalty)
-        return FitResult(lights=final, objective=value, curve=self.curve,
+        return FitResult(lights=final, objective=value, curve=list(self.curve),  # a copy: a second pass appends to ours
                          seconds=time.perf_counter() - self.started, rays=self.model.rays,
                          iterations=self.iterations, initial_lights=lights.count)
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lpnn.core.integer_sets import sorted_unique, sorted_unique_first_inverse
+from lpnn.core.integer_sets import sorted_contains, sorted_unique, sorted_unique_first_inverse
 
 
 def _cases():
@@ -43,3 +43,12 @@ def test_refuses_what_is_not_a_flat_integer_array(bad):
         sorted_unique(bad)
     with pytest.raises(ValueError, match="1-D integer array"):
         sorted_unique_first_inverse(bad)
+
+
+@pytest.mark.parametrize("values", list(_cases()), ids=lambda v: f"{v.dtype}x{v.shape[0]}")
+def test_sorted_contains_is_numpys_isin(values):
+    rng = np.random.default_rng(11)
+    members = np.unique(values[: values.shape[0] // 2])
+    probe = np.concatenate([values, rng.integers(-60, 60, size=40).astype(values.dtype)])
+    np.testing.assert_array_equal(sorted_contains(probe, members), np.isin(probe, members))
+    assert not sorted_contains(probe, members[:0]).any()  # an empty set holds nothing (no index error)

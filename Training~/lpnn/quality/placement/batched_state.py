@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.integer_sets import sorted_unique
+from ...core.integer_sets import sorted_contains, sorted_unique
 from .delaunay_graph import edges_after_removal, graph_edges
 from .leak_aware import LeakWeighting
 from ..metric.location import locate_local
@@ -202,7 +202,7 @@ def stars(field: ReferenceField, state: MeshState, trial: Trial, fills: np.ndarr
     fits = np.ones(rows.shape[0], dtype=bool)
     for k in range(1, 4):
         key = fills[rows, k] * n + guess
-        fits &= known[np.minimum(np.searchsorted(known, key), known.shape[0] - 1)] == key
+        fits &= sorted_contains(key, known)
     matches = np.bincount(rows[fits], minlength=fills.shape[0])
     star = np.full(fills.shape[0], -1, dtype=np.int64)
     star[rows[fits]] = guess[fits]

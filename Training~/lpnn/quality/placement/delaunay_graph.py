@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core.integer_sets import sorted_unique
+from ...core.integer_sets import sorted_contains, sorted_unique
 from ..metric.triangulation import INNER_BOUNDARY
 
 _PAIRS = [(a, b) for a in range(4) for b in range(4) if a != b]  # the 12 directed edges of a tetrahedron
@@ -49,13 +49,13 @@ def edges_after_removal(edges: np.ndarray, tets: np.ndarray, neighbours: np.ndar
     link = sorted_unique(star_keys[~gone[star_keys // size] & ~gone[star_keys % size]])  # kept-kept edges of the stars
     refill_keys = sorted_unique(_directed_keys(refills, size))
     present = sorted_unique(np.concatenate([_directed_keys(tets[rim], size), refill_keys]))
-    vanished = link[~_members(link, present)]
+    vanished = link[~sorted_contains(link, present)]
     old = edges[:, 0] * size + edges[:, 1]
     keep = ~gone[edges[:, 0]] & ~gone[edges[:, 1]]
     if vanished.shape[0]:
-        keep &= ~_members(old, vanished)
+        keep &= ~sorted_contains(old, vanished)
     kept = old[keep]
-    new = refill_keys[~_members(refill_keys, kept)]
+    new = refill_keys[~sorted_contains(refill_keys, kept)]
     merged = np.insert(kept, np.searchsorted(kept, new), new)
     return np.stack([merged // size, merged % size], axis=1)
 
@@ -64,11 +64,3 @@ def _directed_keys(tets: np.ndarray, size: int | np.int64) -> np.ndarray:
     """first * size + second for the 12 directed edges of every tetrahedron (ids < size)."""
     tets = np.asarray(tets, dtype=np.int64)
     return np.concatenate([tets[:, a] * size + tets[:, b] for a, b in _PAIRS])
-
-
-def _members(values: np.ndarray, sorted_set: np.ndarray) -> np.ndarray:
-    """Whether each of `values` is in the ascending `sorted_set`."""
-    if sorted_set.shape[0] == 0:
-        return np.zeros(values.shape[0], dtype=bool)
-    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.shape[0] - 1)
-    return sorted_set[at] == values

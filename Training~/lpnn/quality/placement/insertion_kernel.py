@@ -26,7 +26,7 @@ TIE = 1e-9
 @njit(cache=True)
 def first_per_cell(cell, key, cell_count, tie):
     """Rows (ascending cell) holding each present cell's candidate: the first row whose key is >= the cell's largest
-    key - tie."""
+    key - tie. Cells are in [0, cell_count): the callers locate every point (a cell of -1 would index the last cell)."""
     largest = np.full(cell_count, -np.inf)
     for m in range(cell.shape[0]):
         largest[cell[m]] = max(largest[cell[m]], key[m])
