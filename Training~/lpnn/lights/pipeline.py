@@ -212,16 +212,18 @@ def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
 
 def _distance_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
     """(N, 3) Quake points -> (N,) units to the first surface straight above (inf beyond SPOT_REACH)."""
-    return lambda points: scene.model.raycaster.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
+    return _up_through(scene.model.raycaster)
 
 
 def _sky_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray] | None:
     """(N, 3) Quake points -> (N,) units to the level's sky triangles straight above (inf beyond SPOT_REACH); None on
     a level without sky."""
-    sky = scene.model.sky
-    if sky is None:
-        return None
-    return lambda points: sky.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
+    return None if scene.model.sky is None else _up_through(scene.model.sky)
+
+
+def _up_through(raycaster: EmbreeRaycaster) -> Callable[[np.ndarray], np.ndarray]:
+    """(N, 3) Quake points -> (N,) units to `raycaster`'s first triangle straight above (inf beyond SPOT_REACH)."""
+    return lambda points: raycaster.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
 
 
 def fits_spots(scene: LevelScene, spots: bool | None, start: str = DEFAULT_START,
