@@ -69,12 +69,7 @@ namespace Lpnn.Probes.Core.Tests
             const float maxDistance = 15;
             var origins = new Vector3[rays];
             var directions = new Vector3[rays];
-            for (int r = 0; r < rays; r++)
-            {
-                origins[r] = new Vector3((float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12));
-                directions[r] = Vector3.Normalize(new Vector3((float)(random.NextDouble() * 2 - 1), (float)(random.NextDouble() * 2 - 1),
-                    (float)(random.NextDouble() * 2 - 1)));
-            }
+            for (int r = 0; r < rays; r++) RandomRay(random, out origins[r], out directions[r]);
             var results = new RayHit[rays];
             soup.Cast(origins, directions, maxDistance, results);
             int hits = 0;
@@ -104,9 +99,7 @@ namespace Lpnn.Probes.Core.Tests
             var ends = new float[rays];
             for (int r = 0; r < rays; r++)
             {
-                origins[r] = new Vector3((float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12));
-                directions[r] = Vector3.Normalize(new Vector3((float)(random.NextDouble() * 2 - 1), (float)(random.NextDouble() * 2 - 1),
-                    (float)(random.NextDouble() * 2 - 1)));
+                RandomRay(random, out origins[r], out directions[r]);
                 ends[r] = (float)(20 * random.NextDouble());
             }
             var together = new RayHit[rays];
@@ -132,8 +125,6 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(soup.RaysCast, Is.EqualTo(3 * rays));
         }
 
-        /// <summary>The nearest crossing of the ray with a triangle's plane that lies inside the triangle (on the same side of
-        /// each edge as the triangle), within <paramref name="maxDistance"/>; +∞ when there is none.</summary>
         /// <summary><paramref name="triangles"/> separate triangles, each with its corners within ±<paramref name="halfSize"/>
         /// of a centre in [-10, 10]³; indices 0, 1, 2, ….</summary>
         private static Double3[] RandomTriangles(Random random, int triangles, double halfSize, out int[] indices)
@@ -153,6 +144,17 @@ namespace Lpnn.Probes.Core.Tests
             return vertices;
         }
 
+        /// <summary>A ray from a point drawn in [-12, 12]³ along a direction drawn in [-1, 1]³, normalised (the draws in
+        /// that order).</summary>
+        private static void RandomRay(Random random, out Vector3 origin, out Vector3 direction)
+        {
+            origin = new Vector3((float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12), (float)(24 * random.NextDouble() - 12));
+            direction = Vector3.Normalize(new Vector3((float)(random.NextDouble() * 2 - 1), (float)(random.NextDouble() * 2 - 1),
+                (float)(random.NextDouble() * 2 - 1)));
+        }
+
+        /// <summary>The nearest crossing of the ray with a triangle's plane that lies inside the triangle (on the same side of
+        /// each edge as the triangle), within <paramref name="maxDistance"/>; +∞ when there is none.</summary>
         private static double FirstHitOneByOne(Double3[] vertices, int triangles, Double3 origin, Double3 direction, double maxDistance)
         {
             double best = double.PositiveInfinity;
