@@ -143,7 +143,8 @@ def summary(rows) -> int:
             if columns and not measured_leak_aware(rows, method):
                 continue
             cells = []
-            for policy, parameters, column in (("budget", budgets, "error_ratio"), ("tolerance", tolerances, "probes_ratio")):
+            for policy, parameters, column in (("budget", budgets, "error_ratio"),
+                                               ("tolerance", tolerances, "probes_ratio")):
                 for parameter in parameters:
                     mean, left_out = geometric_mean([ratio(table.get((c, method, policy, parameter)),
                                                            columns.get(column, column)) for c in captures])

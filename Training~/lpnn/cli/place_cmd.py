@@ -9,11 +9,11 @@
 what a new Unity volume does; benchmarks.md "The speed/accuracy trade, every method": 1.01x the reference's probes at tau = 0.05 on the validation crops,
 where insertion alone keeps 1.66x and guided-refined 1.04x), insertion, the methods that read the network's scores
 (guided-refined, guided, network: the spread ranking, milliseconds; network-topk; guided-exact-refined: closest to
-the reference, 1.00x, at minutes on large levels), the fast reference, the leak-aware reference (the exact greedy of
-the leak-weighted error the default refines: its yardstick, quality.md §3.2; needs the capture's geometry, one process)
-and the baselines (uniform, heuristic, apv, random). --model M.onnx or --scores SCORES.csv (what `lpnn score` writes: index,i,j,k,score) only supply the scores:
-required by the methods that read them, refused by the others. The refined methods' seed factor is
-RECOMMENDED_REFINE (2).
+the reference, 1.00x, at minutes on large levels), the fast reference, the leak-aware reference (the exact greedy of the
+leak-weighted error the default refines: its yardstick, quality.md §3.2; needs the capture's geometry, one process) and
+the baselines (uniform, heuristic, apv, random). --model M.onnx or --scores SCORES.csv (what `lpnn score` writes:
+index,i,j,k,score) only supply the scores: required by the methods that read them, refused by the others. The refined
+methods' seed factor is RECOMMENDED_REFINE (2).
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.

@@ -17,7 +17,8 @@ from ..quality.placement.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
 STYLE = {"insertion-refined": ("olive", "-"), "guided-refined": ("tab:pink", "-"), "guided": ("tab:purple", "-"), "network": ("tab:blue", "-"), "guided-exact-refined": ("navy", "-"),
-         "fast-reference": ("tab:green", "-"), "leak-aware-reference": ("darkgreen", "-"), "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"),
+         "fast-reference": ("tab:green", "-"), "leak-aware-reference": ("darkgreen", "-"), "uniform": ("tab:gray", "--"),
+         "heuristic": ("tab:orange", "--"),
          "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
 

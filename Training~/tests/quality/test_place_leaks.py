@@ -168,7 +168,8 @@ def test_place_leak_aware_reference_leaks_less_than_the_fast_one_within_its_weig
                                             (("--workers", "2"), "drop --workers 2")])
 def test_place_leak_aware_reference_refuses_what_it_cannot_do(room: Capture, tmp_path: Path,
                                                               monkeypatch: pytest.MonkeyPatch,
-                                                              capsys: pytest.CaptureFixture[str], extra, message) -> None:
+                                                              capsys: pytest.CaptureFixture[str], extra,
+                                                              message) -> None:
     path = tmp_path / "room.lpnncap"
     write_capture(path, room)  # no geometry, unless the options are refused before it matters
     if extra:

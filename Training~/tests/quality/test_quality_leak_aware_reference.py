@@ -36,7 +36,8 @@ def aware(field: ReferenceField):
 
 
 def _fresh_weighted_sum(field: ReferenceField, probes: np.ndarray, weight: float) -> float:
-    """The leak-weighted error sum of `probes` from scratch: the metric's errors and leaks of a new tetrahedralisation."""
+    """The leak-weighted error sum of `probes` from scratch: the metric's errors and leaks of a new
+    tetrahedralisation."""
     leaking, errors = leaking_points(field, probes, WALLED)
     return float(np.sum(np.where(leaking, weight * errors, errors)))
 

@@ -18,7 +18,6 @@ from ...metric.tet_geometry import edge_frames
 from ...metric.triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, tetrahedralize
 from .weighing import Weighing
 
-
 OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
 
@@ -115,10 +114,11 @@ class DecimationMesh:
         self._find_extreme()
 
     def weighed(self, points: np.ndarray, vertices: np.ndarray, weights: np.ndarray, errors: np.ndarray) -> np.ndarray:
-        """The errors (A,) of `points` under the stencils `vertices` (A, 4 point ids) and `weights`: as they are without
-        a leak weighting; with one, a leaking point's multiplied by its weight (its `leaking`: LeakWeighting's is the rule of
-        LeakWeighting.weighted, so the leak-aware default's refinement and this reference sum the same errors). A
-        point's weighted error depends on its stencil only, so a removal still changes only its star's points'."""
+        """The errors (A,) of `points` under the stencils `vertices` (A, 4 point ids) and `weights`: as they are
+        without a leak weighting; with one, a leaking point's multiplied by its weight (LeakWeighting.leaking is the
+        rule of LeakWeighting.weighted, so the leak-aware default's refinement and this reference sum the same
+        errors). A point's weighted error depends on its stencil only, so a removal still changes only its star's
+        points'."""
         if self.leaks is None:
             return errors
         leaking = self.leaks.leaking(self.field, points, self._every_point, vertices, weights)

@@ -57,7 +57,6 @@ from ...metric.triangulation import flatness
 from .weighing import Weighing
 
 
-
 def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_count: int = MINIMUM_PROBES,
                     workers: int | None = None, progress: Callable[[int, int], None] | None = None,
                     initial: np.ndarray | None = None, stop_above: float | None = None,
@@ -104,7 +103,8 @@ def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_cou
 
 
 def _mean_error(field: ReferenceField, probes: np.ndarray, metric: str, weighting: Weighing | None) -> float:
-    """Mean error of the placement `probes`, leak-weighted when `weighting` is given (a seed the greedy leaves as it is)."""
+    """Mean error of the placement `probes`, leak-weighted when `weighting` is given (a seed the greedy leaves as
+    it is)."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
     errors = stencil_point_errors(field, indices, others, stencil, metric)
     if weighting is not None:  # LeakWeighting.weighted's rule, through the protocol this layer may name

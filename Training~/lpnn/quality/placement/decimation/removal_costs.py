@@ -3,8 +3,9 @@
 Both replicas hold the same DecimationState and apply the same removals in the same order, so
 their states stay bit-identical; each computes the costs of part of the stale probes (costs do
 not depend on which batch a probe is evaluated in) and only the accepted removal's data crosses
-the pipe. The result is identical to the single-process run (leak-aware too, when the raycaster can be sent to the replica: an
-analytic one can, Embree's scene cannot, and is refused with that reason); on 2 cores it is 0.9-1.2x as fast
+the pipe. The result is identical to the single-process run (leak-aware too, when the raycaster can be sent
+to the replica: an analytic one can, Embree's scene cannot, and is refused with that reason); on 2 cores it is
+0.9-1.2x as fast
 (benchmarks.md "References and scale-out": both replicas apply every removal, and hull probes' costs come in lumps), and
 slower when other work competes for the cores.
 """
