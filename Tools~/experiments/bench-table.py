@@ -14,6 +14,9 @@ error of 0; a missing row counts too).
 set (LABEL=CSV, one `lpnn bench` run; or LABEL=summary.json, `make demo`'s answers at tau) and every method, the geometric means of error x reference at each budget and
 of probes x reference at tau, and the median seconds per capture at a 20 % budget and at tau; a method without rows
 says why (no model, above a size limit, failed: DIR/failures.csv, or --note).
+
+Leak-aware rows (the default placed leak-aware: bench.csv's leak_* columns, quality/bench/run.py's module text) get a
+second line, "METHOD ×leak-aware ref": the same means against the leak-aware reference instead of the leak-blind one.
 """
 
 import argparse
@@ -32,6 +35,7 @@ METHODS = ("network", "guided", "guided-exact-refined", "insertion", "heuristic"
 METHOD_ORDER = tuple(method.name for method in TABLE)
 LPNN_TIERS = SCORED
 YARDSTICKS = ("fast-reference", "blockwise-reference")
+LEAK_AWARE_COLUMNS = {"error_ratio": "leak_error_ratio", "probes_ratio": "leak_probes_ratio"}  # the same, leak-aware
 # lpnn bench's defaults (quality/placement/policy_rules.py, quality/placement/insertion.py): the reasons a method has no rows.
 REFINE_LIMIT, GUIDED_POINT_LIMIT = 20_000, 32_768
 LABELS = {DEFAULT_METHOD: f"**{DEFAULT_METHOD}** (default)"}  # every other method by its name
@@ -115,6 +119,11 @@ def ordered_methods(rows, leave_out=()):
         m for m in present if m not in METHOD_ORDER and m not in leave_out]
 
 
+def measured_leak_aware(rows, method) -> bool:
+    """Whether `method`'s rows were also measured against the leak-aware reference (a leak_error_ratio cell)."""
+    return any(r.get("leak_error_ratio") not in (None, "", "nan") for r in rows if r["method"] == method)
+
+
 def summary(rows) -> int:
     """Geometric mean over captures of error x reference per budget, and probes x reference at tau;
     "(n)" after a mean: n captures left out of it (non-finite or zero ratio, or no row)."""
@@ -130,13 +139,17 @@ def summary(rows) -> int:
     print("| method | " + " | ".join(header) + " |")
     print("|" + "---|" * (len(header) + 1))
     for method in ordered_methods(rows, leave_out=("fast-reference",)):  # every method (issue 34: some were left out)
-        cells = []
-        for policy, parameters, column in (("budget", budgets, "error_ratio"), ("tolerance", tolerances, "probes_ratio")):
-            for parameter in parameters:
-                mean, left_out = geometric_mean([ratio(table.get((c, method, policy, parameter)), column)
-                                                 for c in captures])
-                cells.append(f"{mean:.2f}" + (f" ({left_out})" if left_out else ""))
-        print(f"| {method} | " + " | ".join(cells) + " |")
+        for label, columns in ((method, {}), (f"{method} ×leak-aware ref", LEAK_AWARE_COLUMNS)):
+            if columns and not measured_leak_aware(rows, method):
+                continue
+            cells = []
+            for policy, parameters, column in (("budget", budgets, "error_ratio"),
+                                               ("tolerance", tolerances, "probes_ratio")):
+                for parameter in parameters:
+                    mean, left_out = geometric_mean([ratio(table.get((c, method, policy, parameter)),
+                                                           columns.get(column, column)) for c in captures])
+                    cells.append(f"{mean:.2f}" + (f" ({left_out})" if left_out else ""))
+            print(f"| {label} | " + " | ".join(cells) + " |")
     return 0
 
 
@@ -195,6 +208,8 @@ def _why_not_run(method: str, rows, failures) -> str:
         return "not run: no reference (lpnn bench --no-reference)"
     if method == "guided-exact-refined" and (points > REFINE_LIMIT or yardsticks != {"fast-reference"}):
         return f"not run: above {REFINE_LIMIT:,} points (lpnn bench --refine-limit; each row decimates again)"
+    if method == "leak-aware-reference":
+        return "not run: the capture's geometry is not known here, or lpnn bench --leaks ignore"
     if method in LPNN_TIERS and not has_lpnn:
         return "not run: no --model"
     return "not run"
@@ -280,6 +295,15 @@ def trade(specs, notes, given) -> int:
                 if method == guided and _same_answers(rows, guided, plain) and min(int(r["points"]) for r in rows) > GUIDED_POINT_LIMIT:
                     notes_here.insert(0, f"{plain}'s answers (no guide above {GUIDED_POINT_LIMIT:,} points) + the inference")
             print(f"| {shown} | {LABELS.get(method, method)} | " + " | ".join(cells) + " | " + "; ".join(notes_here) + " |")
+            if measured_leak_aware(rows, method):  # the same placements against the leak-aware reference
+                cells = [_mean_cell([table.get((c, method, "budget", b)) for c in captures], "leak_error_ratio")
+                         for b in budgets]
+                if tau is not None:
+                    cells.append(_mean_cell([table.get((c, method, "tolerance", tau)) for c in captures],
+                                            "leak_probes_ratio"))
+                cells += ["–"] * (len(header) - 1 - len(cells))
+                print(f"|  | {LABELS.get(method, method)} ×leak-aware ref | " + " | ".join(cells)
+                      + " | against the leak-aware reference |")
     if yardstick_counts:
         print("\n† probes over the yardstick's count given with --given-yardstick (" +
               ", ".join(f"{label}: {count:,}" for label, count in yardstick_counts.items()) + ").")

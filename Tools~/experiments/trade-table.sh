@@ -53,6 +53,10 @@ if want level5; then
   # ~650) took 678-693 s (benchmarks.md "References and scale-out"); run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
   # skipped by --refine-limit (636 s at τ alone, benchmarks.md "References and scale-out": ~1 hour for its 6 rows).
   # Measured 2026-11-27: 2,188 s, of which the reference 678 s and insertion-refined's 20 % and 30 % rows 371 + 744 s.
+  # Since 2026-11-28 lpnn bench also runs the leak-aware reference where the geometry is known (its rows, and the
+  # default's ratios to it: quality.md §3.2), stopped at the same 2τ of its weighted error: not yet timed on a whole
+  # level (1.09x the leak-blind reference's CPU on a crop, benchmarks.md "The leak-aware default against a leak-aware
+  # yardstick"), so expect up to ~12-15 min more.
   run ctf_compromise "~30-40 min (reference ~19 min stopped at 2τ, then the methods' 6 rows each)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
     --out "$OUT/ctf_compromise"

@@ -9,23 +9,25 @@
 what a new Unity volume does; benchmarks.md "The speed/accuracy trade, every method": 1.01x the reference's probes at tau = 0.05 on the validation crops,
 where insertion alone keeps 1.66x and guided-refined 1.04x), insertion, the methods that read the network's scores
 (guided-refined, guided, network: the spread ranking, milliseconds; network-topk; guided-exact-refined: closest to
-the reference, 1.00x, at minutes on large levels), the fast reference and the baselines (uniform, heuristic, apv,
-random). --model M.onnx or --scores SCORES.csv (what `lpnn score` writes: index,i,j,k,score) only supply the scores:
-required by the methods that read them, refused by the others. The refined methods' seed factor is
-RECOMMENDED_REFINE (2).
+the reference, 1.00x, at minutes on large levels), the fast reference, the leak-aware reference (the exact greedy of the
+leak-weighted error the default refines: its yardstick, quality.md §3.2; needs the capture's geometry, one process) and
+the baselines (uniform, heuristic, apv, random). --model M.onnx or --scores SCORES.csv (what `lpnn score` writes:
+index,i,j,k,score) only supply the scores: required by the methods that read them, refused by the others. The refined
+methods' seed factor is RECOMMENDED_REFINE (2).
 
 Budget keeps the first FRACTION of the ranking; tolerance keeps the smallest prefix whose mean
 placement error is <= TAU (Documentation~/quality.md §4). Both end with the tetrahedron guarantee.
 --keep PINS.json (a *.probes.json, e.g. the artist's probes exported from Unity; Documentation~/pins.md): every
 probe in it is kept, counted in the budget and the error, and no new probe comes within --keep-distance (default one
 cell) of one; insertion-refined, insertion and the ranking methods (heuristic, apv, random: pins first)
-take it; the fast reference, the uniform lattice and the methods that read the scores refuse it. The file written holds
+take it; the references, the uniform lattice and the methods that read the scores refuse it. The file written holds
 the pins at their own positions.
 Prints the probes kept, the error and (methods that read the scores) the time split; --no-report (those methods) skips
 the final error evaluation, which at 10^6 points costs as much as the placement itself (benchmarks.md "Scale: whole levels").
 --leaks avoid (the default) makes the methods refined in batches (insertion-refined, guided-refined) leak-aware where
 the capture's geometry is known (leaks.md "A leak-aware default": more probes, far fewer points lit through a wall);
---leaks ignore places leak-blind (fewer probes, leaks accepted).
+--leaks ignore places leak-blind (fewer probes, leaks accepted). The references keep their names: fast-reference is
+leak-blind, leak-aware-reference leak-aware (it refuses --leaks ignore).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ if TYPE_CHECKING:
     from ..core.capture import Capture
     from ..core.features import Raycaster
     from ..quality.metric.metric import PlacementQuality, ReferenceField
+    from ..quality.placement.leak_aware import LeakWeighting
     from ..quality.placement.pins import Pins
 
 
@@ -129,10 +132,16 @@ def run(args: argparse.Namespace) -> int:
     if args.keep is not None and args.method == "uniform":
         raise UserError("--keep does not apply to --method uniform: a lattice of K points is no ranking the pins could "
                         "head; use --method insertion-refined (the default) or a ranking method (heuristic, apv, random)")
-    if args.keep is not None and args.method == "fast-reference":
-        raise UserError("--keep does not apply to --method fast-reference: the fast reference is the pin-free yardstick "
+    if args.keep is not None and args.method in ("fast-reference", "leak-aware-reference"):
+        raise UserError(f"--keep does not apply to --method {args.method}: the references are pin-free yardsticks "
                         "(a full greedy decimation of every point); use --method insertion-refined (the default) to "
                         "keep the pins")
+    if args.method == "leak-aware-reference" and args.leaks == "ignore":
+        raise UserError("--method leak-aware-reference with --leaks ignore is the leak-blind reference: use --method "
+                        "fast-reference")
+    if args.method == "leak-aware-reference" and args.workers == 2:
+        raise UserError("--method leak-aware-reference runs in one process (its second process would need the level's "
+                        "raycaster, which cannot be sent to it): drop --workers 2")
     capture = read_capture(args.capture)
     # The one place where points inside geometry leave (a capture exported from Unity carries their back-face
     # fractions): every method below sees, places and is measured on the valid points only.
@@ -206,6 +215,20 @@ def _place_lpnn(args: argparse.Namespace, capture: Capture, all_ids: np.ndarray,
     return 0
 
 
+def _reference_leaks(args: argparse.Namespace, field: ReferenceField) -> LeakWeighting | None:
+    """The leak weighting of --method leak-aware-reference (the default's, leak_aware.LEAK_WEIGHT), None for
+    fast-reference; UserError when the capture's geometry is unknown (there is nothing to weigh leaks with)."""
+    from ..errors import UserError
+    from ..quality.placement.leak_aware import NO_GEOMETRY, LeakWeighting
+
+    if args.method != "leak-aware-reference":
+        return None
+    if field.geometry is None:
+        raise UserError(f"{Path(args.capture).name}: {NO_GEOMETRY.split(':')[0]}, so --method leak-aware-reference "
+                        "has no walls to weigh leaks with: use --method fast-reference (the leak-blind reference)")
+    return LeakWeighting(field.geometry)
+
+
 def _leaks_to_avoid(args: argparse.Namespace, field: ReferenceField) -> Raycaster | None:
     """The raycaster the refined methods avoid leaks with (--leaks; leak_aware.leaks_to_avoid), telling stderr, under
     the capture's name, when its geometry is unknown and the placement is leak-blind."""
@@ -230,16 +253,22 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
     field = field_with_geometry(capture)  # with the level's surfaces when known: the report names leaks
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = field.point_count
-    if args.method == "fast-reference":
-        update, close = progress_bar(f"{Path(args.capture).name}: fast reference")
+    if args.method in ("fast-reference", "leak-aware-reference"):
+        leaks = _reference_leaks(args, field)
+        update, close = progress_bar(f"{Path(args.capture).name}: {args.method.replace('-', ' ')}")
         try:
-            # Without the surfaces: the reference casts no rays, and its second process cannot receive Embree's scene.
-            decimation = run_reference(replace(field, geometry=None), "fast", args.capture, args.workers, update)
+            # Without the surfaces: the leak-blind reference casts no rays, and its second process cannot receive
+            # Embree's scene (the leak-aware one runs in one process: run() refuses --workers 2).
+            decimation = run_reference(field if leaks is not None else replace(field, geometry=None), "fast",
+                                       args.capture, args.workers, update, leaks)
         finally:
             close()
         placement = (reference_count(decimation, budget_count(args.budget, n)) if args.budget is not None
                      else reference_tolerance(decimation, args.tolerance))
         what = "fast reference"
+        if leaks is not None:  # the reported errors below are the plain ones; this is the one it decimated
+            what = (f"leak-aware reference (leaking points' errors x {leaks.weight:g}: leak-weighted mean error "
+                    f"{decimation.error_curve[placement.indices.shape[0]]:.4g})")
     else:
         close_bar, error_of = None, None
         if args.method == "uniform":

@@ -18,7 +18,7 @@ from .level_args import LEVEL_HELP, level_user_errors
 
 def register(actions: argparse._SubParsersAction) -> None:
     from ..lights.settings import AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, \
-        DEFAULT_SCHEME, DEFAULT_START, SCHEMES, STARTS
+        DEFAULT_SCHEME, DEFAULT_SCRIPT_LIGHTS, DEFAULT_START, SCHEMES, SCRIPT_LIGHTS, STARTS
 
     lights = actions.add_parser("lights", help="recover the level's point lights from its lightmaps (a rig file)",
                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -60,6 +60,10 @@ def register(actions: argparse._SubParsersAction) -> None:
                         help=f"the level's ambient: 'worldspawn' holds it at what the worldspawn records (`_ambient`; "
                              f"fitted where it records none, or `_minlight`), 'fitted' fits it with the intensities "
                              f"(lights.md §4; default {DEFAULT_AMBIENT})")
+    lights.add_argument("--scripts", default=DEFAULT_SCRIPT_LIGHTS, choices=SCRIPT_LIGHTS,
+                        help=f"the surface lights' values and suns the level's shader scripts give (where the level was "
+                             f"compiled with them): 'held' holds them there, 'fitted' fits them from the lightmaps "
+                             f"alone (lights.md §4; default {DEFAULT_SCRIPT_LIGHTS})")
     lights.add_argument("--quiet", action="store_true", help="no progress bar")
     lights.set_defaults(handler=_lights)
 
@@ -133,7 +137,7 @@ def _lights(args: argparse.Namespace) -> None:
         with rig_user_errors():
             try:
                 result = fit_scene(scene, grid, args.scheme, args.refresh, progress, spots=args.spots,
-                                   start=args.start, suns=args.suns, ambient=args.ambient)
+                                   start=args.start, suns=args.suns, ambient=args.ambient, scripts=args.scripts)
             except ValueError as exc:
                 raise UserError(str(exc)) from exc
     finally:

@@ -17,7 +17,8 @@ from ..quality.placement.probes_file import write_probes_json
 from .run import PRIMARY, DemoResult
 
 STYLE = {"insertion-refined": ("olive", "-"), "guided-refined": ("tab:pink", "-"), "guided": ("tab:purple", "-"), "network": ("tab:blue", "-"), "guided-exact-refined": ("navy", "-"),
-         "fast-reference": ("tab:green", "-"), "uniform": ("tab:gray", "--"), "heuristic": ("tab:orange", "--"),
+         "fast-reference": ("tab:green", "-"), "leak-aware-reference": ("darkgreen", "-"), "uniform": ("tab:gray", "--"),
+         "heuristic": ("tab:orange", "--"),
          "insertion": ("tab:red", "--")}
 STAGES = ("features", "inference", "selection", "refinement", "reference")
 
@@ -38,8 +39,10 @@ def table(result: DemoResult) -> str:
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<22}{'label':<36}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"
              f"{'in use':>8}{'leaks':>8}  time per stage"]
-    for name in ("insertion-refined", "guided-refined", "guided", "network", "guided-exact-refined", "fast-reference", "insertion",
-                 "heuristic", "uniform"):
+    for name in ("insertion-refined", "guided-refined", "guided", "network", "guided-exact-refined", "fast-reference",
+                 "leak-aware-reference", "insertion", "heuristic", "uniform"):
+        if name not in result.methods:  # the leak-aware reference: only where the level's geometry is known
+            continue
         m = result.methods[name]
         stages = ", ".join(f"{stage} {m.seconds[stage] * 1e3:.0f} ms" for stage in STAGES if stage in m.seconds)
         lines.append(f"{name:<22}{BY_NAME[name].label:<36}{m.probes:>8}{100 * m.probes / n:>6.1f}%"
@@ -54,6 +57,12 @@ def table(result: DemoResult) -> str:
                        for name in ("fast-reference", "guided", "insertion", "network", "uniform", "heuristic"))
     lines += ["", f"At the default's {count} probes ({PRIMARY}): mean error {primary_error:.4f}; "
               f"the rankings' first {count} probes: {others}"]
+    aware = result.methods.get("leak-aware-reference")
+    if aware is not None:  # x ref above is against the leak-blind reference; the default is leak-aware
+        lines += ["", f"Against the leak-aware reference (the exact greedy of the leak-weighted error the default "
+                  f"refines, {aware.probes} probes at tau): the default keeps "
+                  f"x{guarded_ratio(count, aware.probes):.3f} its probes, the leak-blind reference "
+                  f"x{guarded_ratio(reference.probes, aware.probes):.3f}"]
     whole = result.every_point_default
     if whole is not None:
         total = sum(whole.seconds.values())

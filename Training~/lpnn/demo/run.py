@@ -7,7 +7,9 @@ insertion-refined (the package's default, quality.md §5.3: its insertion rounds
 as selection, the batched refinement as refinement), guided-refined (insertion guided by the scores, refined the same
 way), guided (quality.md §5.2), network (the spread ranking: the milliseconds tier) and guided-exact-refined (the
 guided insertion's seed decimated by the exact greedy); names and labels from Documentation~/methods.md.
-The fast reference and the baselines run afterwards, for comparison only.
+The fast reference (leak-blind), the leak-aware reference (the exact greedy of the leak-weighted error the default
+refines, quality.md §3.2: the default's own yardstick, when the level's geometry is known) and the baselines run
+afterwards, for comparison only.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from ..quality.placement.methods import BATCHED, BY_NAME, DEFAULT_METHOD
 from ..quality.metric.metric import PlacementQuality, ReferenceField, evaluate_placement
 from ..quality.placement.policies import SelectionForCount, place_tolerance, prefix_selection, reference_tolerance
 from ..quality.placement.decimation.reference_fast import fast_decimation
-from ..quality.placement.leak_aware import leaks_to_avoid
+from ..quality.placement.leak_aware import LeakWeighting, leaks_to_avoid
 from ..quality.placement.refined_insertion import refined_insertion
 from ..quality.placement.warmup import compile_placement_kernels
 
@@ -154,6 +156,16 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     result.methods["fast-reference"] = MethodResult("fast-reference", target.indices,
                                                     evaluate_placement(field_, target.indices),
                                                     {"reference": reference_seconds})
+    raycaster = leaks_to_avoid(field_)
+    if raycaster is not None:  # the default is leak-aware here: its own yardstick too (seconds on the demo's level)
+        log("comparing: leak-aware reference (exact greedy decimation of the leak-weighted error; seconds)")
+        start = time.perf_counter()
+        aware = fast_decimation(field_, workers=1, leaks=LeakWeighting(raycaster))
+        aware_seconds = time.perf_counter() - start
+        answer = reference_tolerance(aware, tolerance)
+        result.methods["leak-aware-reference"] = MethodResult("leak-aware-reference", answer.indices,
+                                                              evaluate_placement(field_, answer.indices),
+                                                              {"reference": aware_seconds})
     log("comparing: uniform grid, heuristic and insertion (the best non-learned method, quality.md)")
     uniform = uniform_selector(grid)
     start = time.perf_counter()

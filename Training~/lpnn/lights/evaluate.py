@@ -29,7 +29,8 @@ from .emitters import emitter_bytes
 from .pipeline import (add_surface_lights, fit_scene, fits_spots, fits_sun, level_emitters, load_scene, point_lights_of,
                        real_rig, rig_emitters, rig_of, shader_power, surface_pieces)
 from .rig import Rig, entity_lights, write_rig
-from .settings import AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_START, PEAK_START, SCHEMES, STARTS
+from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_SCRIPT_LIGHTS, DEFAULT_START, PEAK_START, SCHEMES,
+                       SCRIPT_LIGHTS, STARTS)
 from .starts import DEFAULT_PEAKS, PeakSettings
 
 HEADER = ("| level | scheme | target points | lights | objective | iterations | s / iteration | rays/s | "
@@ -39,7 +40,8 @@ HEADER = ("| level | scheme | target points | lights | objective | iterations | 
 def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], out: Path,
                    surfaces: bool = False, spots: bool | None = None, start: str = DEFAULT_START,
                    peaks: PeakSettings = DEFAULT_PEAKS, yardstick: bool = True,
-                   suns: bool | None = None, ambient: str = DEFAULT_AMBIENT) -> list[dict[str, Any]]:
+                   suns: bool | None = None, ambient: str = DEFAULT_AMBIENT,
+                   scripts: str = DEFAULT_SCRIPT_LIGHTS) -> list[dict[str, Any]]:
     level = load_level(name)
     scene = load_scene(level)
     raycaster = scene.model.raycaster
@@ -80,7 +82,8 @@ def evaluate_level(name: str, schemes: list[str], grid: tuple[int, int, int], ou
     for scheme in schemes:
         rays_before, cast_before = scene.model.rays, raycaster.cast_seconds
         started = time.perf_counter()
-        result = fit_scene(scene, grid, scheme, spots=spots, start=start, peaks=peaks, suns=suns, ambient=ambient)
+        result = fit_scene(scene, grid, scheme, spots=spots, start=start, peaks=peaks, suns=suns, ambient=ambient,
+                           scripts=scripts)
         seconds = time.perf_counter() - started
         rig = rig_of(scene, result, grid, scheme, start)
         write_rig(out / f"{level.name}.{scheme}{suffix}.json", rig)
@@ -153,6 +156,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="the fits also recover one sun (default: where the level has sky surfaces, lights.md §4)")
     parser.add_argument("--ambient", default=DEFAULT_AMBIENT, choices=AMBIENTS,
                         help="the level's ambient: held at the worldspawn's, or fitted (lights.md §4)")
+    parser.add_argument("--scripts", default=DEFAULT_SCRIPT_LIGHTS, choices=SCRIPT_LIGHTS,
+                        help="the surface lights' values and suns the level's shader scripts give: held at them, or "
+                             "fitted (lights.md §4)")
     parser.add_argument("--no-yardstick", action="store_true",
                         help="skip the real rig's row (its objective and grid; the fits are still matched against it)")
     args = parser.parse_args(argv)
@@ -163,7 +169,7 @@ def main(argv: list[str] | None = None) -> int:
     for name in args.levels:
         level_rows = evaluate_level(name, args.schemes, grid, args.out, args.surfaces,  # type: ignore[arg-type]
                                     args.spots, args.start, yardstick=not args.no_yardstick, suns=args.suns,
-                                    ambient=args.ambient)
+                                    ambient=args.ambient, scripts=args.scripts)
         rows += level_rows
         for row in level_rows:
             if row["scheme"] == "real rig":

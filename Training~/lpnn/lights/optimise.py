@@ -34,6 +34,7 @@ from scipy.optimize import minimize, nnls
 from scipy.spatial import cKDTree
 
 from ..scenes.lightgrid import LINEAR_PER_BYTE
+from .emitters import Suns
 from .model import BYTE_MAX, ForwardModel, Gradient, Lights
 from .settings import COLOUR, DEFAULT_REFRESH, INTENSITY, POSITION, Phase
 
@@ -103,7 +104,8 @@ def initial_grid(mins: np.ndarray, maxs: np.ndarray, dims: tuple[int, int, int],
 
 
 def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndarray | None = None,
-                      relative: np.ndarray | None = None, sun: bool = False, ambient: np.ndarray | None = None) -> Lights:
+                      relative: np.ndarray | None = None, sun: bool = False, ambient: np.ndarray | None = None,
+                      held_values: np.ndarray | None = None, held_suns: Suns | None = None) -> Lights:
     """White lights of one common intensity and a grey ambient: the least-squares fit of the two
     scales to the target (closed form, without the byte clamp); the ambient is dropped if negative.
     With `ambient` (3,) bytes, the ambient is that (a fit holding it, Fitter(fit_ambient=False)) and the other
@@ -112,8 +114,17 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     With surface lights (model.surface_basis), their values too: the non-negative least-squares fit of
     all the scales (scipy's nnls). `spots` (J,) bool: those lights are spotlights along SPOT_START_AXIS with
     SPOT_START_CONE, the others point lights. With `sun`, one white sun too, its intensity in the same
-    non-negative fit, along the start direction (sun_start_directions) whose fit leaves the least residual."""
+    non-negative fit, along the start direction (sun_start_directions) whose fit leaves the least residual.
+    `held_values` (S,): the surface lights' values a fit holds (Fitter(held_values=...)), NaN where a value is fitted;
+    `held_suns`: the suns a fit holds (Fitter(hold_suns=True)), instead of `sun`'s fitted one. Like a held ambient,
+    their radiance leaves the target and their columns the fit."""
     surfaces = np.zeros(model.surface_count)
+    if held_values is not None:
+        held_values = np.asarray(held_values, dtype=np.float64)
+        if held_values.shape != surfaces.shape:
+            raise ValueError(f"{held_values.size} held surface light values for the model's {model.surface_count} "
+                             f"surface lights")
+        surfaces = np.where(np.isnan(held_values), 0.0, np.clip(held_values, 0.0, MAX_SURFACE_VALUE))
     count = len(positions)
     spot = np.zeros(count, bool) if spots is None else np.asarray(spots, dtype=bool)
     if spot.shape != (count,):
@@ -124,9 +135,10 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
     if shape.shape != (count,) or not np.all(shape > 0):
         raise ValueError(f"relative intensities must be {count} positive numbers")
     unit = Lights(positions=positions, colours=np.ones((count, 3)), intensities=shape.copy(),
-                  surface_values=surfaces, spot_directions=axes, radius_by_dist=cones)
+                  surface_values=np.zeros(model.surface_count), spot_directions=axes, radius_by_dist=cones)
     visible = model.visibility(Lights(positions, unit.colours, np.full(count, 1000.0)))
-    lit = model.radiance_of(unit, visible).ravel()  # per unit of the common scale
+    lit = model.radiance_of(unit, visible).ravel()  # per unit of the common scale (the point lights' alone)
+    unit.surface_values = surfaces  # the held values (zeros where fitted): _initial_with_surfaces takes them out
     flat = (model.albedo * LINEAR_PER_BYTE).ravel()  # per byte of ambient
     weights = np.repeat(model.weights, 3)
     target = model.radiance.ravel()
@@ -134,17 +146,22 @@ def initial_intensity(model: ForwardModel, positions: np.ndarray, spots: np.ndar
         unit.ambient = np.clip(np.asarray(ambient, dtype=np.float64), 0.0, BYTE_MAX)
         target = target - (model.albedo * LINEAR_PER_BYTE * unit.ambient).ravel()
         flat = None
+    held = None if held_values is None else ~np.isnan(held_values)
+    if held_suns is not None:
+        unit = replace(unit, sun_directions=held_suns.directions.copy(), sun_colours=held_suns.colours.copy(),
+                       sun_intensities=held_suns.photons.copy())
+        return _initial_with_surfaces(model, unit, lit, flat, weights, target, held, held_sun=True)[0]
     if sun:
         best: tuple[Lights, float] | None = None
         for direction in sun_start_directions():  # the first of equal residuals: deterministic
             trial = replace(unit, sun_directions=direction[None], sun_colours=np.ones((1, 3)), sun_intensities=np.zeros(1))
-            found = _initial_with_surfaces(model, trial, lit, flat, weights, target)
+            found = _initial_with_surfaces(model, trial, lit, flat, weights, target, held)
             if best is None or found[1] < best[1]:
                 best = found
         assert best is not None
         return best[0]
     if model.surface_count or flat is None:
-        return _initial_with_surfaces(model, unit, lit, flat, weights, target)[0]
+        return _initial_with_surfaces(model, unit, lit, flat, weights, target, held)[0]
     basis = np.stack([lit, flat], axis=1)
     gram = basis.T @ (weights[:, None] * basis)
     rhs = basis.T @ (weights * target)
@@ -169,25 +186,39 @@ def sun_start_directions() -> np.ndarray:
 
 
 def _initial_with_surfaces(model: ForwardModel, unit: Lights, lit: np.ndarray, flat: np.ndarray | None,
-                           weights: np.ndarray, target: np.ndarray) -> tuple[Lights, float]:
+                           weights: np.ndarray, target: np.ndarray, held: np.ndarray | None = None,
+                           held_sun: bool = False) -> tuple[Lights, float]:
     """The nnls fit of the lights' common scale, the ambient (`flat`, per byte; None: held at unit.ambient, already
     taken from `target`), every surface light's value and every sun's intensity (a white sun's radiance per photon:
-    albedo x 4/255 x lit x cos), and its residual norm."""
+    albedo x 4/255 x lit x cos), and its residual norm. The surface lights where `held` (S,) is True keep
+    unit.surface_values, and with `held_sun` the suns keep their colours and intensities: their radiance is taken
+    from the target and their columns from the fit."""
     per_value = (model.albedo[None] * LINEAR_PER_BYTE * model.surface_basis).reshape(model.surface_count,
                                                                                      3 * model.point_count)
     sun_lit = model.sun_visibility(unit)
-    per_photon = (model.albedo[:, None, :] * LINEAR_PER_BYTE * model.sun_weights(unit, sun_lit)[:, :, None])
+    weight = model.sun_weights(unit, sun_lit)  # (N, K)
+    per_photon = (model.albedo[:, None, :] * LINEAR_PER_BYTE * weight[:, :, None])
     per_photon = per_photon.transpose(1, 0, 2).reshape(unit.sun_count, 3 * model.point_count)
+    held = np.zeros(model.surface_count, bool) if held is None else held
+    target = target - unit.surface_values[held] @ per_value[held]
+    if held_sun and unit.sun_count:
+        target = target - (model.albedo * LINEAR_PER_BYTE * (weight @ (unit.sun_colours *
+                                                                        unit.sun_intensities[:, None]))).ravel()
+        per_photon = per_photon[:0]
     root = np.sqrt(weights)
     scalars = [lit] if flat is None else [lit, flat]
-    basis = np.concatenate([np.stack(scalars, axis=1), per_value.T, per_photon.T], axis=1) * root[:, None]
+    basis = np.concatenate([np.stack(scalars, axis=1), per_value[~held].T, per_photon.T], axis=1) * root[:, None]
     scales, residual = nnls(basis, target * root, maxiter=50 * basis.shape[1])
     unit.intensities = np.clip(scales[0] * unit.intensities, 1.0, MAX_INTENSITY)
     if flat is not None:
         unit.ambient = np.full(3, float(np.clip(scales[1], 0.0, BYTE_MAX)))
     first = len(scalars)
-    unit.surface_values = np.clip(scales[first:first + model.surface_count], 0.0, MAX_SURFACE_VALUE)
-    unit.sun_intensities = np.clip(scales[first + model.surface_count:], 0.0, MAX_SUN_INTENSITY)
+    free = int((~held).sum())
+    values = unit.surface_values.copy()
+    values[~held] = np.clip(scales[first:first + free], 0.0, MAX_SURFACE_VALUE)
+    unit.surface_values = values
+    if not held_sun:
+        unit.sun_intensities = np.clip(scales[first + free:], 0.0, MAX_SUN_INTENSITY)
     return unit, float(residual)
 
 
@@ -201,7 +232,8 @@ class Fitter:
 
     def __init__(self, model: ForwardModel, bounds: tuple[np.ndarray, np.ndarray], is_open: OpenTest,
                  surface_points: np.ndarray, refresh: int = DEFAULT_REFRESH,
-                 progress: Progress | None = None, fit_ambient: bool = True) -> None:
+                 progress: Progress | None = None, fit_ambient: bool = True, held_values: np.ndarray | None = None,
+                 hold_suns: bool = False) -> None:
         if refresh < 1:
             raise ValueError(f"refresh {refresh} must be at least 1 iteration")
         self.model = model
@@ -211,6 +243,12 @@ class Fitter:
         self.refresh = refresh
         self.progress = progress
         self.fit_ambient = fit_ambient
+        # (S,) True where a surface light's value is held where the start put it (its script's, lights.md §4)
+        self.held_values = np.zeros(model.surface_count, bool) if held_values is None else \
+            np.asarray(held_values, dtype=bool)
+        if self.held_values.shape != (model.surface_count,):
+            raise ValueError(f"{self.held_values.size} held flags for the model's {model.surface_count} surface lights")
+        self.hold_suns = hold_suns  # the suns' directions, colours and intensities held where the start put them
         self.curve: list[CurvePoint] = []
         self.iterations = 0
         self.evaluations = 0
@@ -277,8 +315,9 @@ class Fitter:
         columns[3:6] = COLOUR in parameters
         columns[6] = INTENSITY in parameters
         spots = np.repeat(self.spot_mask & (POSITION in parameters), 4) if self.spots else np.zeros(0, bool)
-        suns = np.tile(columns, self.sun_count)  # direction with the positions, colour, intensity
-        return np.concatenate([np.tile(columns, count), spots, suns, np.full(self.surfaces_count, INTENSITY in parameters),
+        suns = np.tile(columns & (not self.hold_suns), self.sun_count)  # direction with the positions, colour, intensity
+        return np.concatenate([np.tile(columns, count), spots, suns,
+                               (INTENSITY in parameters) & ~self.held_values,
                                np.full(3, INTENSITY in parameters and self.fit_ambient)])
 
     def _box(self, count: int) -> tuple[np.ndarray, np.ndarray]:

@@ -26,7 +26,8 @@ from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight, worldspawn_ambient
 from .shadows import shadow_raycaster
 from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
-                       DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, MERGE_PASS, PEAK_START, SCHEMES, STARTS)
+                       DEFAULT_SCRIPT_LIGHTS, DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, HELD_SCRIPTS,
+                       MERGE_PASS, PEAK_START, SCHEMES, SCRIPT_LIGHTS, STARTS)
 from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains,
                      lit_by_spotlights, peak_starts, under_a_ceiling, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
@@ -37,6 +38,7 @@ from .textures import Albedo, load_albedo, texture_paks, uniform_albedo
 MAX_TARGET_POINTS = 100_000
 BOX_MARGIN = 1.0  # Quake units inside the world box: positions on its faces are outside the map
 CANDIDATE_VALUE = 1000.0  # q3map_surfacelight a candidate surface light's basis is built at (script_lights)
+CANDIDATE_SOURCE = "candidate: "  # a candidate's ShaderLight.colour_source starts so: no script gave its value
 
 
 @dataclass
@@ -118,15 +120,21 @@ def start_positions(scene: LevelScene, grid: tuple[int, int, int], start: str = 
 def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, scheme: str = DEFAULT_SCHEME,
               refresh: int = DEFAULT_REFRESH, progress: Callable[[int, int], None] | None = None,
               spots: bool | None = None, start: str = DEFAULT_START, peaks: PeakSettings = DEFAULT_PEAKS,
-              suns: bool | None = None, ambient: str = DEFAULT_AMBIENT) -> FitResult:
+              suns: bool | None = None, ambient: str = DEFAULT_AMBIENT,
+              scripts: str = DEFAULT_SCRIPT_LIGHTS) -> FitResult:
     """With `spots` (None: fits_spots's default), every start position starts both a point light and a q3map2
     spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
     sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces; `ambient`: held
     at the worldspawn's or fitted (held_ambient, lights.md §4). With spotlights and the peak start, the fitted
     spotlights within the starts' merge distance of a stronger one are folded into it and a second pass (MERGE_PASS)
-    starts from there (merge.py, lights.md §4)."""
+    starts from there (merge.py, lights.md §4). `scripts` HELD_SCRIPTS: the surface lights with a script value and the
+    scripts' suns are held at what the scripts say (held_script_values, held_suns); FITTED_SCRIPTS: fitted."""
     suns = fits_sun(scene, suns)
     held = held_ambient(scene.level, ambient)
+    if scripts not in SCRIPT_LIGHTS:
+        raise ValueError(f"scripts {scripts!r} is not one of {', '.join(SCRIPT_LIGHTS)}")
+    values = held_script_values(scene) if scripts == HELD_SCRIPTS else None
+    script_suns = held_suns(scene, suns) if scripts == HELD_SCRIPTS else None
     spots = fits_spots(scene, spots, start, peaks)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme {scheme!r} is not one of {', '.join(SCHEMES)}")
@@ -145,9 +153,11 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
         flags = np.repeat([False, True], [len(positions), len(spot_positions)])
         positions = np.concatenate([positions, spot_positions])
         relative = None if relative is None else np.concatenate([relative, spot_relative])
-    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns, ambient=held)
+    lights = initial_intensity(scene.model, positions, spots=flags, relative=relative, sun=suns, ambient=held,
+                               held_values=values, held_suns=script_suns)
     fitter = Fitter(scene.model, scene.bounds, scene.is_open, scene.target.positions, refresh=refresh,
-                    progress=progress, fit_ambient=held is None)
+                    progress=progress, fit_ambient=held is None,
+                    held_values=None if values is None else ~np.isnan(values), hold_suns=script_suns is not None)
     first = fitter.fit(lights, SCHEMES[scheme])
     merged = merge_spotlights(first.lights, peaks.merge_distance) if spots and start == PEAK_START else first.lights
     if merged is first.lights:
@@ -163,6 +173,27 @@ def second_pass(fitter: Fitter, lights: Lights, phases_before: int) -> FitResult
     second = fitter.fit(lights, MERGE_PASS)
     curve = second.curve[:before] + [replace(point, phase=point.phase + phases_before) for point in second.curve[before:]]
     return replace(second, curve=curve)
+
+
+def held_script_values(scene: LevelScene) -> np.ndarray:
+    """(S,) the q3map_surfacelight value a fit holds for each of the scene's surface lights (add_surface_lights): its
+    script's where a script the level was compiled with gives it one (script_lights), NaN for a candidate without
+    one (fitted). q3map2 makes every surface of such a shader an area light of exactly that value (light.c
+    CreateSurfaceLights, `si->value`), so where the script is the level's the value is known; the lightmaps alone
+    let point lights near the surface stand in for it, which the light grid (light in the air) shows (lights.md §4)."""
+    lights = scene.surface_emitters.shaders
+    return np.array([np.nan if lights[shader].colour_source.startswith(CANDIDATE_SOURCE) else lights[shader].value
+                     for shader in scene.surface_shaders], dtype=np.float64)
+
+
+def held_suns(scene: LevelScene, suns: bool) -> Suns | None:
+    """The suns a fit holds where it would fit one (`suns`): the level's shader suns (level_suns: the q3map_sun lines
+    of the scripts it was compiled with, as q3map2's light.c CreateSunLight makes them), or None where the scripts
+    give none (a sun is fitted, fits_sun)."""
+    if not suns:
+        return None
+    found = level_suns(scene.level)
+    return found if found.count else None
 
 
 def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | None:
@@ -382,7 +413,7 @@ def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLig
             shaders[index] = ShaderLight(value=CANDIDATE_VALUE, colour=colour, subdivide=DEFAULT_LIGHT_SUBDIVIDE,
                                          backsplash_fraction=BACKSPLASH_FRACTION,
                                          backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
-                                         colour_source="candidate: " + ("image" if colour is not None else "white"))
+                                         colour_source=CANDIDATE_SOURCE + ("image" if colour is not None else "white"))
     return shaders
 
 

@@ -27,6 +27,13 @@ DEFAULT_SUNS = True
 WORLDSPAWN_AMBIENT, FITTED_AMBIENT = "worldspawn", "fitted"
 AMBIENTS = (WORLDSPAWN_AMBIENT, FITTED_AMBIENT)
 DEFAULT_AMBIENT = WORLDSPAWN_AMBIENT
+# what the shader scripts say of a level's light (lights.md §4): "held" holds a candidate shader's surface-light value at
+# its script's q3map_surfacelight, and the suns at the scripts' q3map_sun lines, where the level was compiled with those
+# scripts (pipeline.compiled_with_script); the lightmaps barely tell a surface's or the sky's light from point lights
+# near the surfaces, but the light grid (light in the air) does. "fitted" fits them from the lightmaps alone.
+HELD_SCRIPTS, FITTED_SCRIPTS = "held", "fitted"
+SCRIPT_LIGHTS = (HELD_SCRIPTS, FITTED_SCRIPTS)
+DEFAULT_SCRIPT_LIGHTS = HELD_SCRIPTS
 # Subdivide target triangles to this longest edge (Quake units): a lightmap texel is 16 units, so 64
 # keeps ~4 texels between target points.
 DEFAULT_MAX_EDGE = 64.0

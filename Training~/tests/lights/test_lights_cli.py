@@ -143,3 +143,16 @@ def test_recover_a_sun(lit_bsp: Path, tmp_path: Path, capsys: pytest.CaptureFixt
     assert json.loads((tmp_path / "default.json").read_text())["suns"] == []
     assert main([*common, "--suns", "--out", str(tmp_path / "none.json")]) != 0
     assert "skyless: no sky surface (SURF_SKY) for a sun to shine through; fit with --no-suns" in capsys.readouterr().err
+
+
+def test_scripts_held_or_fitted_on_a_level_without_scripts(lit_bsp: Path, tmp_path: Path) -> None:
+    """`--scripts held` (the default) holds only what a shader script gives; the synthetic level ships none, so its
+    sun is fitted either way and both settings give the same rig."""
+    rigs = []
+    for flag in (["--scripts", "held"], ["--scripts", "fitted"]):
+        out = tmp_path / f"{flag[1]}.json"
+        assert main(["scene", "lights", str(lit_bsp), "--grid", "2x2x2", "--scheme", "quick", "--no-textures",
+                     "--out", str(out), "--quiet", *flag]) == 0
+        rigs.append(json.loads(out.read_text()))
+    assert len(rigs[0]["suns"]) == 1
+    assert rigs[0]["lights"] == rigs[1]["lights"] and rigs[0]["suns"] == rigs[1]["suns"]

@@ -136,3 +136,72 @@ def test_lpnn_placement_takes_leaks_only_with_the_refinement_in_batches(room: Ca
 
     with pytest.raises(PolicyError, match="batched"):
         lpnn_placement(room, scores=np.full(room.point_count, 0.5), tolerance=0.05, guided=True, leaks=_wall(room))
+
+
+def test_place_leak_aware_reference_leaks_less_than_the_fast_one_within_its_weighted_tau(
+        room: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    from lpnn.quality.metric.leaks import leaking_points
+    from lpnn.quality.metric.metric import ReferenceField
+    from lpnn.quality.placement.leak_aware import LEAK_WEIGHT
+
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)
+    wall = _wall(room)
+    monkeypatch.setattr(leaks_module, "capture_raycaster", lambda capture, pak=None: (wall, ""))
+    blind = _place(path, tmp_path / "blind.json", "--method", "fast-reference")
+    aware = _place(path, tmp_path / "aware.json", "--method", "leak-aware-reference")
+    assert aware["source"]["method"] == "leak-aware-reference"
+    assert "leak-weighted mean error" in capsys.readouterr().out
+    assert blind["source"]["leaking"] > 0 and aware["source"]["leaking"] < blind["source"]["leaking"]
+    # Its answer's leak-weighted mean error, evaluated afresh, is within tau; the plain one is what the file reports.
+    field = ReferenceField.from_capture(room)
+    positions = {tuple(p) for p in np.round(np.asarray(aware["positions"], dtype=np.float64), 4).tolist()}
+    probes = np.flatnonzero([tuple(p) in positions for p in np.round(room.positions.astype(np.float64), 4).tolist()])
+    assert probes.shape[0] == len(aware["positions"])
+    leaking, errors = leaking_points(field, probes, wall)
+    assert float(np.mean(np.where(leaking, LEAK_WEIGHT * errors, errors))) <= 0.05 + 1e-12
+    assert aware["source"]["mean_error"] == pytest.approx(float(errors.mean()), abs=1e-6)
+
+
+@pytest.mark.parametrize("extra, message", [((), "use --method fast-reference"),
+                                            (("--leaks", "ignore"), "use --method fast-reference"),
+                                            (("--workers", "2"), "drop --workers 2")])
+def test_place_leak_aware_reference_refuses_what_it_cannot_do(room: Capture, tmp_path: Path,
+                                                              monkeypatch: pytest.MonkeyPatch,
+                                                              capsys: pytest.CaptureFixture[str], extra,
+                                                              message) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, room)  # no geometry, unless the options are refused before it matters
+    if extra:
+        monkeypatch.setattr(leaks_module, "capture_raycaster", lambda capture, pak=None: (_wall(room), ""))
+    code = main(["place", str(path), "--method", "leak-aware-reference", "--tolerance", "0.05", "--out",
+                 str(tmp_path / "x.json"), *extra])
+    assert code != 0 and message in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_bench_measures_the_leak_aware_rows_against_both_references(room: Capture) -> None:
+    wall = _wall(room)
+    config = BenchConfig(budgets=(0.05, 0.2), tolerance=0.05, repeats=1,
+                         methods=frozenset({"insertion-refined", "leak-aware-reference"}))
+    rows = bench_capture("room", room, config, geometry=wall).rows
+    by = {(r.method, r.policy, r.parameter): r for r in rows}
+    for policy, parameter in (("budget", 0.05), ("budget", 0.2), ("tolerance", 0.05)):
+        default, aware = by[("insertion-refined", policy, parameter)], by[("leak-aware-reference", policy, parameter)]
+        blind = by[("fast-reference", policy, parameter)]
+        assert aware.leaking < blind.leaking or (aware.leaking == 0.0 and blind.leaking == 0.0)
+        if policy == "budget":  # the same count: each ratio divides by that reference's own row
+            assert default.probes == aware.probes == blind.probes
+            assert default.error_ratio == pytest.approx(default.mean_error / blind.mean_error)
+            assert default.leak_error_ratio == pytest.approx(default.mean_error / aware.mean_error)
+        else:
+            assert default.probes_ratio == pytest.approx(default.probes / blind.probes)
+            assert default.leak_reference_probes == aware.probes and aware.probes > blind.probes
+            assert default.leak_probes_ratio == pytest.approx(default.probes / aware.probes)
+        assert default.yardstick == "fast-reference" and aware.leak_error_ratio != aware.leak_error_ratio  # NaN
+    # Without the geometry, or told to ignore leaks, nothing is leak-aware: no such rows, no such ratios.
+    for geometry, leaks in ((None, "avoid"), (wall, "ignore")):
+        plain = bench_capture("room", room, BenchConfig(budgets=(0.2,), tolerance=0.05, repeats=1, leaks=leaks,
+                                                         methods=config.methods), geometry=geometry).rows
+        assert {r.method for r in plain} == {"insertion-refined", "fast-reference"}
+        assert all(r.leak_error_ratio != r.leak_error_ratio and r.leak_reference_probes is None for r in plain)

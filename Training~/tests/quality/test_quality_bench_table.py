@@ -48,3 +48,27 @@ def test_summary_row_per_method_with_left_out_counts(tmp_path: Path) -> None:
     printed = subprocess.run([sys.executable, str(SCRIPT), str(path), "--summary"], check=True, capture_output=True,
                              text=True).stdout.splitlines()
     assert "| network | 4.00 (1) | 4.00 (1) |" in printed and "| insertion | 4.00 (1) | 4.00 (1) |" in printed
+
+
+def test_leak_aware_rows_get_a_second_line_against_the_leak_aware_reference(tmp_path: Path) -> None:
+    rows = []
+    for capture, aware in (("a", 1.0), ("b", 4.0)):
+        for method in ("insertion-refined", "insertion"):
+            for policy in ("budget", "tolerance"):
+                row = _row(capture, method, policy, 2.0)
+                if method == "insertion-refined":  # measured against the leak-aware reference too (bench/run.py)
+                    row.leak_error_ratio = aware if policy == "budget" else 1.0
+                    row.leak_probes_ratio = aware if policy == "tolerance" else None
+                rows.append(row)
+    path = tmp_path / "bench.csv"
+    path.write_text(rows_csv(rows), encoding="utf-8")
+    printed = subprocess.run([sys.executable, str(SCRIPT), str(path), "--summary"], check=True, capture_output=True,
+                             text=True).stdout.splitlines()
+    assert "| insertion-refined | 2.00 | 2.00 |" in printed
+    assert "| insertion-refined ×leak-aware ref | 2.00 | 2.00 |" in printed  # sqrt(1 x 4)
+    assert not any(line.startswith("| insertion ×leak-aware ref") for line in printed)  # a leak-blind method
+    trade = subprocess.run([sys.executable, str(SCRIPT), "--trade", f"crops={path}"], check=True, capture_output=True,
+                           text=True).stdout.splitlines()
+    line = next(line for line in trade if "×leak-aware ref" in line).split("|")
+    assert line[2].strip() == "**insertion-refined** (default) ×leak-aware ref" and line[3].strip() == "2.00"
+    assert line[4].strip() == "2.00" and line[-2].strip() == "against the leak-aware reference"

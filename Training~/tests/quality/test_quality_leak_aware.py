@@ -5,11 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.core import sh as shmath
 from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AxisBox
 from lpnn.core.grid import EvaluationGrid
-from lpnn.core.grid_box import Box
-from lpnn.core.grid_builder import build_grid
 from lpnn.quality.placement.batched_refinement import BatchedRefinement, batched_refinement, greedy_independent_set
 from lpnn.quality.placement.batched_state import evaluate, trial_of, without
 from lpnn.quality.placement import leak_aware
@@ -20,29 +17,14 @@ from lpnn.quality.metric.metric import MetricError, ReferenceField, mean_placeme
 from lpnn.quality.placement.pins import PinError, Pins, pin_probes
 from lpnn.quality.placement.refined_insertion import refined_insertion
 
+from quality_support import OPEN, WALLED, two_rooms
+
 TOLERANCE = 0.05
-# Lattice x = -4, -3.5, ..., 4 (cell 0.5): the wall lies between x = 0 and x = 0.5, so no point is inside it.
-WALL_FROM, WALL_TO = 0.1, 0.4
-WALLED = AnalyticBoxRaycaster(obstacles=(AxisBox(min=[WALL_FROM, -10.0, -10.0], max=[WALL_TO, 10.0, 10.0]),))
-OPEN = AnalyticBoxRaycaster()
-
-
-def _two_rooms() -> tuple[ReferenceField, EvaluationGrid]:
-    """A warm room (x < the wall) and a cool one half as bright, each varying smoothly: a tetrahedron across the wall
-    blends the two, so a leak is an error, yet one small enough that today's default keeps some leaks at tau."""
-    grid = build_grid((Box.axis_aligned(np.array([-4.0, 0.0, 0.0]), np.array([4.0, 2.5, 2.5])),), 0.5, 100_000)
-    positions = grid.positions.astype(np.float64)
-    lit = positions[:, 0] < WALL_FROM
-    x, z = positions[:, 0], positions[:, 2]
-    bright = shmath.ambient(np.array([1.0, 0.9, 0.7]))[None, :] * (1.0 + 0.3 * np.sin(x) * np.cos(z))[:, None]
-    dim = shmath.ambient(np.array([0.35, 0.4, 0.5]))[None, :] * (1.0 + 0.2 * np.cos(x) * np.sin(z))[:, None]
-    sh = np.where(lit[:, None], bright, dim)
-    return ReferenceField.from_sh(positions, sh), grid
 
 
 @pytest.fixture(scope="module")
 def rooms() -> tuple[ReferenceField, EvaluationGrid]:
-    return _two_rooms()
+    return two_rooms()
 
 
 def _corners(field: ReferenceField) -> np.ndarray:

@@ -1,13 +1,13 @@
 """The methods a benchmark run measures and its yardstick (bench/run.py's module text): each method's ranking (or
 lazy insertion order) timed, and what every ratio divides by (the fast reference's error curve, the blockwise
-reference's prefixes evaluated on demand, or none)."""
+reference's prefixes evaluated on demand, or none; and for the leak-aware rows the leak-aware reference too)."""
 
 from __future__ import annotations
 
 import math
 import statistics
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable, TypeVar
 
@@ -24,6 +24,7 @@ from ..placement.decimation.decimation import Decimation
 from ..placement.decimation.reference_faithful import faithful_decimation
 from ..placement.decimation.reference_fast import fast_decimation
 from ..placement.insertion import InsertionOrder
+from ..placement.leak_aware import LeakWeighting, leaks_to_avoid
 from ..placement.policies import Placement, SelectionForCount, prefix_selection, reference_count, reference_tolerance
 from .results import BenchConfig, BenchFailure, failure_reason
 
@@ -50,6 +51,7 @@ class Yardstick:
     error_at: Callable[[int], float]
     curve: np.ndarray
     target: Placement | None
+    leak_aware: "Yardstick | None" = None  # what the leak-aware rows are measured against too (run.py's module text)
 
 
 def _no_yardstick(point_count: int) -> Yardstick:
@@ -87,6 +89,32 @@ def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: 
                            mean_error=mean_placement_error(field_, indices), metric=PRIMARY_METRIC)
     method = Method("blockwise-reference", select, seconds, target=target)
     return Yardstick(method.name, method, error_at, curve, target)
+
+
+def _leak_aware_yardstick(field_: ReferenceField, method: Method, tolerance: float | None) -> Yardstick:
+    """The leak-aware reference as a yardstick of plain errors: its set at a count evaluated on demand (its curve is
+    the leak-weighted error it decimated), its tolerance answer (the fewest probes within tau, leak-weighted) with its
+    plain mean error; NaN at counts its run did not reach (reference_stop)."""
+    decimation = method.decimation
+    assert decimation is not None
+    curve = np.full(field_.point_count + 1, np.nan)
+
+    def error_at(count: int) -> float:
+        if decimation.smallest_count <= count <= decimation.start_count and np.isnan(curve[count]):
+            curve[count] = mean_placement_error(field_, decimation.prefix(count))
+        return float(curve[count])
+
+    target = None
+    if tolerance is not None:
+        answer = reference_tolerance(decimation, tolerance)
+        target = replace(answer, mean_error=mean_placement_error(field_, answer.indices))
+    return Yardstick(method.name, method, error_at, curve, target)
+
+
+def _wants_leak_aware(config: BenchConfig) -> bool:
+    """Whether a run measures the leak-aware reference: its own rows, or leak-aware rows to measure against it."""
+    return config.leaks == "avoid" and any(config.wants(name) for name in
+                                            ("leak-aware-reference", "insertion-refined", "guided-refined"))
 
 
 def timed(function: Callable[[], T], repeats: int) -> tuple[T, float]:
@@ -161,4 +189,14 @@ def capture_methods(capture: Capture, field_: ReferenceField, grid: EvaluationGr
         faithful, faithful_seconds = timed(lambda: faithful_decimation(field_, max_candidates=config.faithful_limit),
                                            config.reference_repeats)
         methods.append(_reference_method("faithful-reference", faithful, faithful_seconds))
-    return methods, _fast_yardstick(fast, config.tolerance)
+    yardstick = _fast_yardstick(fast, config.tolerance)
+    raycaster = leaks_to_avoid(field_, config.leaks)
+    if raycaster is not None and _wants_leak_aware(config):
+        # One process: its replica would need the raycaster, which Embree's scene cannot be sent as (removal_costs.py).
+        aware, aware_seconds = timed(lambda: fast_decimation(field_, stop_above=config.reference_stop,
+                                                             leaks=LeakWeighting(raycaster)), config.reference_repeats)
+        aware_method = _reference_method("leak-aware-reference", aware, aware_seconds)
+        if config.wants("leak-aware-reference"):
+            methods.append(aware_method)
+        yardstick = replace(yardstick, leak_aware=_leak_aware_yardstick(field_, aware_method, config.tolerance))
+    return methods, yardstick

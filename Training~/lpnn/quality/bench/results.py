@@ -17,7 +17,8 @@ from ..placement.policy_rules import DEFAULT_BUDGETS, DEFAULT_TOLERANCE, FULL_RE
 CSV_COLUMNS = (
     "capture", "points", "method", "policy", "parameter", "probes", "pinned", "seconds", "feature_seconds",
     "inference_seconds", "selection_seconds", "refine_seconds", "mean_error", "p95_error", "smape_mean", "smape_p95",
-    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "yardstick", "in_use_error", "leaking",
+    "reference_error", "error_ratio", "reference_probes", "probes_ratio", "leak_reference_error", "leak_error_ratio",
+    "leak_reference_probes", "leak_probes_ratio", "yardstick", "in_use_error", "leaking",
 )
 
 
@@ -66,6 +67,12 @@ class BenchRow:
     reference_probes: int | None = None  # tolerance rows: the yardstick's smallest count within tau
     probes_ratio: float | None = None
     yardstick: str = "fast-reference"  # or "blockwise-reference" (run.py's module text)
+    # The leak-aware rows (insertion-refined, guided-refined placed leak-aware) against the leak-aware reference too
+    # (run.py's module text): its plain error at the same count / its answer at tau; NaN / empty for the other rows.
+    leak_reference_error: float = math.nan
+    leak_error_ratio: float = math.nan
+    leak_reference_probes: int | None = None
+    leak_probes_ratio: float | None = None
     in_use_error: float = math.nan  # mean error at the points in use (in-use.md); NaN when the capture cannot say
     leaking: float = math.nan  # share of the points in use that leak (leaks.md); NaN without the scene's geometry
     pinned: int = 0  # of `probes`, pinned (pins.md); the benchmark places without pins, Tools~/experiments/pins-bench.py with them

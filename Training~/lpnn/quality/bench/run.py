@@ -12,6 +12,15 @@ refined in batches: what a Unity volume does; above the guide's point limit its 
 inference) and guided-exact-refined (guided insertion + seeded exact refinement, factor `refine`); the fast reference, and the
 faithful one on small captures.
 
+Leaks. The fast reference is leak-blind; the leak-aware default (insertion-refined, guided-refined with `leaks` "avoid"
+where the capture's geometry is known) refines a leak-weighted error, so its rows are also measured against the
+leak-aware reference (quality.md §3.2: the exact greedy of that error, rows `leak-aware-reference`, computed when the
+geometry is known and `leaks` is "avoid"): columns leak_reference_error / leak_error_ratio (its plain error at the same
+count) and leak_reference_probes / leak_probes_ratio (its answer at tau: the fewest probes whose leak-weighted mean
+error is within tau). The other columns stay against the leak-blind yardstick for every row, so both comparisons are
+in each leak-aware row; the leak-aware reference's own rows against the leak-blind one give the price of avoiding
+leaks at the optimum.
+
 The yardstick every ratio divides by is the fast reference (quality.md §3.2) up to `full_reference_limit` points
 (150,000 by default: ~20 minutes and ~3 GB), and above it the blockwise reference (quality.md §3.3, rows
 `blockwise-reference`): its error at a budget's count is its ranking's prefix evaluated, its tolerance answer the
@@ -82,6 +91,21 @@ def _row(name: str, field_: ReferenceField, method: str, policy: str, parameter:
         error_ratio=math.nan if math.isnan(reference_error) else guarded_ratio(quality.irradiance.mean, reference_error),
         yardstick=yardstick,
         in_use_error=quality.in_use_error, leaking=quality.leaking)
+
+
+def _with_leak_aware(row: BenchRow, leak_aware: Yardstick | None) -> BenchRow:
+    """A leak-aware row with its ratios to the leak-aware reference too (module text), when it was computed."""
+    if leak_aware is None:
+        return row
+    if row.policy == "budget":
+        row.leak_reference_error = leak_aware.error_at(max(row.probes, MINIMUM_PROBES))
+    elif leak_aware.target is not None:
+        row.leak_reference_error = leak_aware.target.mean_error
+        row.leak_reference_probes = int(leak_aware.target.indices.shape[0])
+        row.leak_probes_ratio = row.probes / row.leak_reference_probes
+    if not math.isnan(row.leak_reference_error):
+        row.leak_error_ratio = guarded_ratio(row.mean_error, row.leak_reference_error)
+    return row
 
 
 def _with_target(row: BenchRow, target: Placement) -> BenchRow:
@@ -226,8 +250,9 @@ def _refined_rows(name: str, field_: ReferenceField, grid: EvaluationGrid, confi
                                    **chosen)  # minutes on a level: once
         timing = _Timing(placed.selection_seconds + placed.refinement_seconds, selection=placed.selection_seconds,
                          refine=placed.refinement_seconds)
-        rows.append(_policy_row(name, field_, method, policy, parameter, evaluate_placement(field_, placed.indices),
-                                timing, yardstick))
+        row = _policy_row(name, field_, method, policy, parameter, evaluate_placement(field_, placed.indices), timing,
+                          yardstick)
+        rows.append(row if leaks is None else _with_leak_aware(row, yardstick.leak_aware))
     return rows
 
 

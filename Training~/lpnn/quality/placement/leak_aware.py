@@ -70,10 +70,17 @@ class LeakWeighting:
                  errors: np.ndarray) -> np.ndarray:
         """errors (N,) with the entries of the leaking points among `others` (their stencils `stencil`, vertices
         positions in the probe indices `indices`) multiplied by the weight; a new array."""
-        leaking = _stencil_leaks(field, indices, others, stencil, self.raycaster, self.visibility)
+        leaking = self.leaking(field, others, indices, stencil.vertices, stencil.weights)
         out = np.array(errors, dtype=np.float64, copy=True)
         out[others[leaking]] *= self.weight
         return out
+
+    def leaking(self, field: ReferenceField, points: np.ndarray, probes: np.ndarray, vertices: np.ndarray,
+                weights: np.ndarray) -> np.ndarray:
+        """(M,) bool: the points `points` (field indices) whose stencil (vertices (M, 4): positions in the point indices
+        `probes`; weights (M, 4)) leaks: the points `weighted` multiplies. The leak-aware exact reference asks it of
+        the stencils a removal would give, which no triangulation holds yet (decimation/decimation_mesh.py)."""
+        return _stencil_leaks(field, probes, points, vertices, weights, self.raycaster, self.visibility)
 
 
 def leaks_to_avoid(field: ReferenceField, choice: str = "avoid",
@@ -90,16 +97,16 @@ def leaks_to_avoid(field: ReferenceField, choice: str = "avoid",
     return field.geometry
 
 
-def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
-                   raycaster: Raycaster, visibility: SegmentVisibility | None) -> np.ndarray:
-    """stencil_leaks of the points `others` under `stencil` (vertices: positions in the probe indices `indices`),
-    through the remembered segments when there are some (they must be of `field`'s points)."""
+def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarray, vertices: np.ndarray,
+                   weights: np.ndarray, raycaster: Raycaster, visibility: SegmentVisibility | None) -> np.ndarray:
+    """stencil_leaks of the points `others` under the stencils `vertices` (positions in the probe indices `indices`)
+    and `weights`, through the remembered segments when there are some (they must be of `field`'s points)."""
     if visibility is None:
-        return stencil_leaks(field.world[others], field.world[indices], stencil.vertices, stencil.weights, raycaster)
+        return stencil_leaks(field.world[others], field.world[indices], vertices, weights, raycaster)
     if visibility.positions.shape[0] != field.point_count:
         raise MetricError(f"the remembered segments are of {visibility.positions.shape[0]:,} points, the field has "
                           f"{field.point_count:,}: remember them for this field (LeakWeighting.remembering)")
-    return visibility.stencil_leaks(others, indices, stencil.vertices, stencil.weights)
+    return visibility.stencil_leaks(others, indices, vertices, weights)
 
 
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
@@ -121,7 +128,7 @@ def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaste
     current = np.sort(np.asarray(probes, dtype=np.int64))
     for _ in range(int(rounds)):
         indices, others, stencil = probe_stencil(field, current, coherent=True)
-        leaking = _stencil_leaks(field, indices, others, stencil, raycaster, visibility)
+        leaking = _stencil_leaks(field, indices, others, stencil.vertices, stencil.weights, raycaster, visibility)
         if blocked is not None:
             leaking &= ~np.asarray(blocked, dtype=bool)[others]
         if not leaking.any():

@@ -71,6 +71,9 @@ METHODS: tuple[PlacementMethod, ...] = (
                     True, (PYTHON,), guided=True, refinement=EXACT),
     PlacementMethod("fast-reference", "Fast reference", "the exact greedy decimation of every point (the yardstick)",
                     False, (PYTHON,)),
+    PlacementMethod("leak-aware-reference", "Leak-aware reference",
+                    "the exact greedy decimation of the leak-weighted error (the leak-aware default's yardstick; "
+                    "needs the capture's geometry)", False, (PYTHON,)),
     PlacementMethod("uniform", "Uniform lattice", "a uniform lattice of K points", False, (PYTHON,)),
     PlacementMethod("heuristic", "Curvature heuristic", "curvature-weighted farthest-point sampling", False, (PYTHON,)),
     PlacementMethod("apv", "APV-style density", "an APV-style geometry density (denser near surfaces)", False,

@@ -60,6 +60,7 @@ class Decimation:
     stop_reason: str
     seconds: float
     initial: np.ndarray | None = None  # (N,) bool starting set; None = every point
+    leak_weight: float | None = None  # the curve's errors are leak-weighted so (reference_fast.py); None: plain
 
     @property
     def point_count(self) -> int:

@@ -16,6 +16,7 @@ from ...metric.location import locate_local
 from ...metric.metric import POINT_ERRORS, ReferenceField
 from ...metric.tet_geometry import edge_frames
 from ...metric.triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, tetrahedralize
+from .weighing import Weighing
 
 OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
@@ -32,7 +33,7 @@ class LocalRemoval:
     cell: np.ndarray  # (A,) index into cavity, or -1 when anchored on a surviving hull triangle
     kept_cell: np.ndarray  # (A,) surviving tetrahedron owning that triangle (where cell == -1)
     anchor: np.ndarray  # (A, 3) where each point's weights apply
-    errors: np.ndarray  # (A,) new errors
+    errors: np.ndarray  # (A,) new errors (leak-weighted when the mesh is: DecimationMesh.weighed)
     shrinks_hull: bool = False
 
 
@@ -45,13 +46,19 @@ class DecimationMesh:
     """The current probe set, its tetrahedra and hull, and every other point's cell, anchor and error.
 
     initial: the starting probe set (boolean mask or point indices, decimation.initial_mask); None = all.
+    leaks: a leak weighting (weighing.Weighing, e.g. placement/leak_aware.LeakWeighting, with its segment memo): every
+    error the mesh holds and every removal's new errors are then leak-weighted (weighed), so the greedy sums, compares
+    and stops on those.
     """
 
-    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None,
+                 leaks: Weighing | None = None):
         if field.point_count >= (1 << VERTEX_KEY_BITS):
             raise GeometryError(f"the fast reference handles fewer than {1 << VERTEX_KEY_BITS:,} candidates, "
                                 f"got {field.point_count:,}: use a larger cell size")
         self.field = field
+        self.leaks = leaks
+        self._every_point = np.arange(field.point_count, dtype=np.int64)  # stencils hold point ids (weighed)
         self.values = field.values(metric)
         self.error_of = POINT_ERRORS[metric]
         self.lifted = field.frame.lifted(field.world)
@@ -96,7 +103,8 @@ class DecimationMesh:
         if others.shape[0]:
             stencil = locate_local(tri, self.local[others])
             interpolated = shmath.blend(self.values[probes], stencil.vertices, stencil.weights)
-            self.errors[others] = self.error_of(interpolated, self.values[others], self.field.scale)
+            self.errors[others] = self.weighed(others, probes[stencil.vertices], stencil.weights,
+                                               self.error_of(interpolated, self.values[others], self.field.scale))
             self.cell[others] = stencil.cell
             self.anchor[others] = stencil.anchor
             order = np.argsort(stencil.cell, kind="stable")
@@ -104,6 +112,17 @@ class DecimationMesh:
                 self.members[int(stencil.cell[group[0]])] = others[group].tolist()
         self._hull_index: tuple[HullIndex, np.ndarray] | None = None
         self._find_extreme()
+
+    def weighed(self, points: np.ndarray, vertices: np.ndarray, weights: np.ndarray, errors: np.ndarray) -> np.ndarray:
+        """The errors (A,) of `points` under the stencils `vertices` (A, 4 point ids) and `weights`: as they are
+        without a leak weighting; with one, a leaking point's multiplied by its weight (LeakWeighting.leaking is the
+        rule of LeakWeighting.weighted, so the leak-aware default's refinement and this reference sum the same
+        errors). A point's weighted error depends on its stencil only, so a removal still changes only its star's
+        points'."""
+        if self.leaks is None:
+            return errors
+        leaking = self.leaks.leaking(self.field, points, self._every_point, vertices, weights)
+        return np.where(leaking, errors * self.leaks.weight, errors)
 
     def _add_hull_face(self, key: int, face: list[int], owner: int) -> None:
         self.hull[key] = (tuple(face), owner)

@@ -159,7 +159,8 @@ class DecimationState(DecimationMesh):
         weights = np.clip(lam[pick], 0.0, None)
         weights /= weights.sum(axis=1, keepdims=True)
         cell = right[pick]
-        errors = self.error_of(shmath.blend(self.values, cavity[cell], weights), self.values[points], self.field.scale)
+        errors = self.weighed(points, cavity[cell], weights, self.error_of(
+            shmath.blend(self.values, cavity[cell], weights), self.values[points], self.field.scale))
         delta = np.bincount(point_segment, errors - self.errors[points], len(vertices))
         point_end = np.cumsum([a.shape[0] for a in affected])
         out: list[LocalRemoval | None] = []
@@ -216,7 +217,8 @@ class DecimationState(DecimationMesh):
             cell[outside] = owner_cavity[projection.face]
             kept_cell[outside] = owner_kept[projection.face]
         cell[~inside & (kept_cell >= 0)] = -1
-        errors = self.error_of(shmath.blend(self.values, vertices, weights), self.values[points], self.field.scale)
+        errors = self.weighed(points, vertices, weights, self.error_of(
+            shmath.blend(self.values, vertices, weights), self.values[points], self.field.scale))
         kept = affected[settled]  # same stencil and error, new owner
         return LocalRemoval(delta=float(errors.sum() - self.errors[points].sum()), star=star, cavity=cavity,
                             cavity_inverse=inverse, points=np.concatenate([points, kept]),
@@ -313,5 +315,6 @@ class DecimationState(DecimationMesh):
         points = self._affected(v, self._star_of(v))
         stencil = locate_local(tri, self.local[points])
         interpolated = shmath.blend(self.values[probes], stencil.vertices, stencil.weights)
-        errors = self.error_of(interpolated, self.values[points], self.field.scale)
+        errors = self.weighed(points, probes[stencil.vertices], stencil.weights,
+                              self.error_of(interpolated, self.values[points], self.field.scale))
         return GlobalRemoval(delta=float(errors.sum() - self.errors[points].sum()))

@@ -30,6 +30,13 @@ O(|link| x affected points) vectorised work: O(N log N + N d (d log d + a)) in t
 vertex degree (~15) and a the points per star. Memory O(N + T). With `workers=2` two identical
 replicas share the cost evaluations (removal_costs.py); the result is the same.
 
+Leaks. With a leak weighting (`leaks=LeakWeighting(raycaster)`, placement/leak_aware.py) every error the greedy sums is
+the leak-weighted one of the leak-aware default (Documentation~/leaks.md "A leak-aware default"): a point whose stencil
+reaches through a wall counts its error `weight` times, in each removal's delta, in the state's sum, in the error
+curve and so at the stop and at tau. A point's weighted error still depends on its stencil only, so locality,
+additivity and the exact queue hold as above: it is the exact greedy decimation of the weighted error, the yardstick of
+the leak-aware default (quality.md §3.2). One segment memo (leak_rule.SegmentVisibility) serves the whole decimation.
+
 Modules: decimation_mesh.py (the mesh, stencils and applying a removal), decimation_state.py (exact
 local removal costs), hole_wrap.py (refilling holes), removal_costs.py (one or two processes), this file
 (the greedy loop).
@@ -44,14 +51,16 @@ from typing import Callable
 import numpy as np
 
 from .decimation import MINIMUM_PROBES, Decimation, error_curve_from, initial_mask, tie_key
-from ...metric.metric import PRIMARY_METRIC, ReferenceField, checked_metric, point_errors
+from ...metric.metric import PRIMARY_METRIC, ReferenceField, checked_metric, probe_stencil, stencil_point_errors
 from .removal_costs import CostEntry, ParallelCosts, SerialCosts
 from ...metric.triangulation import flatness
+from .weighing import Weighing
 
 
 def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_count: int = MINIMUM_PROBES,
                     workers: int | None = None, progress: Callable[[int, int], None] | None = None,
-                    initial: np.ndarray | None = None, stop_above: float | None = None) -> Decimation:
+                    initial: np.ndarray | None = None, stop_above: float | None = None,
+                    leaks: Weighing | None = None) -> Decimation:
     """Greedy decimation down to `min_count` (>= 4) probes; its ordering ranks every candidate.
 
     initial: the starting probe set, a boolean mask (N,) or point indices (>= 4 points, not all in one
@@ -64,6 +73,8 @@ def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_cou
     curve only until it leaves the tolerance for good, and the last removals, with few probes and large holes,
     are the dearest (35-40 % of the time on two validation crops at tau = 0.05); the ordering then ranks only
     the candidates removed before the stop (the survivors follow by index, as below `min_count`).
+    leaks: a leak weighting (module text): every error summed, the curve and so the stop and a tolerance answer are
+    leak-weighted (the Decimation's `leak_weight` says so), with one fresh segment memo for the call; None: leak-blind.
     """
     checked_metric(metric)
     n = field.point_count
@@ -74,18 +85,32 @@ def fast_decimation(field: ReferenceField, metric: str = PRIMARY_METRIC, min_cou
     start = time.perf_counter()
     mask = initial_mask(initial, n)
     start_count = n if mask is None else int(np.count_nonzero(mask))
+    weighting = None if leaks is None else leaks.remembering(field)
+    leak_weight = None if weighting is None else weighting.weight
     if start_count <= floor:
-        start_error = 0.0 if mask is None else float(point_errors(field, np.flatnonzero(mask), metric).mean())
+        start_error = 0.0 if mask is None else _mean_error(field, np.flatnonzero(mask), metric, weighting)
         return Decimation(method="fast-greedy", metric=metric, removed=np.zeros(0, dtype=np.int64),
                           error_curve=error_curve_from([], n, start_count, start_error), stop_reason="minimum count",
-                          seconds=time.perf_counter() - start, initial=mask)
-    with (ParallelCosts(field, metric, mask) if count == 2 else SerialCosts(field, metric, mask)) as costs:
+                          seconds=time.perf_counter() - start, initial=mask, leak_weight=leak_weight)
+    with (ParallelCosts(field, metric, mask, weighting) if count == 2
+          else SerialCosts(field, metric, mask, weighting)) as costs:
         start_error = float(costs.state.errors.sum()) / n
         removed, errors, stop_reason = _greedy(costs, floor, progress, stop_above)
     removed, errors, stop_reason = _without_flat_tail(field, mask, removed, errors, stop_reason)
     return Decimation(method="fast-greedy", metric=metric, removed=np.asarray(removed, dtype=np.int64),
                       error_curve=error_curve_from(errors, n, start_count, start_error), stop_reason=stop_reason,
-                      seconds=time.perf_counter() - start, initial=mask)
+                      seconds=time.perf_counter() - start, initial=mask, leak_weight=leak_weight)
+
+
+def _mean_error(field: ReferenceField, probes: np.ndarray, metric: str, weighting: Weighing | None) -> float:
+    """Mean error of the placement `probes`, leak-weighted when `weighting` is given (a seed the greedy leaves as
+    it is)."""
+    indices, others, stencil = probe_stencil(field, probes, coherent=True)
+    errors = stencil_point_errors(field, indices, others, stencil, metric)
+    if weighting is not None:  # LeakWeighting.weighted's rule, through the protocol this layer may name
+        leaking = others[weighting.leaking(field, others, indices, stencil.vertices, stencil.weights)]
+        errors[leaking] *= weighting.weight
+    return float(errors.mean())
 
 
 def _without_flat_tail(field: ReferenceField, mask: np.ndarray | None, removed: list[int], errors: list[float],

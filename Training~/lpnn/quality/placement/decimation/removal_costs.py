@@ -3,7 +3,9 @@
 Both replicas hold the same DecimationState and apply the same removals in the same order, so
 their states stay bit-identical; each computes the costs of part of the stale probes (costs do
 not depend on which batch a probe is evaluated in) and only the accepted removal's data crosses
-the pipe. The result is identical to the single-process run; on 2 cores it is 0.9-1.2x as fast
+the pipe. The result is identical to the single-process run (leak-aware too, when the raycaster can be sent
+to the replica: an analytic one can, Embree's scene cannot, and is refused with that reason); on 2 cores it is
+0.9-1.2x as fast
 (benchmarks.md "References and scale-out": both replicas apply every removal, and hull probes' costs come in lumps), and
 slower when other work competes for the cores.
 """
@@ -11,6 +13,7 @@ slower when other work competes for the cores.
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 import traceback
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -20,6 +23,8 @@ import numpy as np
 from .decimation_mesh import GlobalRemoval, LocalRemoval
 from .decimation_state import DecimationState
 from ...metric.metric import ReferenceField
+from .weighing import Weighing
+
 
 # The replica is one process in lockstep with this one over a pipe, not a fan-out of independent items (those go
 # through core/engine.py). Started with `spawn` for the reasons core/engine.py gives against `fork`.
@@ -46,10 +51,12 @@ def _entry(v: int, removal: LocalRemoval | GlobalRemoval) -> CostEntry:
 
 
 class SerialCosts:
-    """Costs and removals in this process. initial: the starting probe set (None = every point)."""
+    """Costs and removals in this process. initial: the starting probe set (None = every point); leaks: the leak
+    weighting every error is weighed with (DecimationMesh), or None."""
 
-    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
-        self.state = DecimationState(field, metric, initial)
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None,
+                 leaks: Weighing | None = None):
+        self.state = DecimationState(field, metric, initial, leaks)
         self.cached: dict[int, LocalRemoval | GlobalRemoval] = {}
 
     def _evaluate_here(self, vertices: list[int]) -> list[CostEntry]:
@@ -80,10 +87,13 @@ class SerialCosts:
         self.close()
 
 
-def _replica(connection: Connection, field: ReferenceField, metric: str, initial: np.ndarray | None) -> None:
-    """Worker loop: a second replica that evaluates what it is sent and applies every removal."""
+def _replica(connection: Connection, field: ReferenceField, metric: str, initial: np.ndarray | None,
+             leaks: Weighing | None) -> None:
+    """Worker loop: a second replica that evaluates what it is sent and applies every removal. With leaks it weighs
+    with its own copy of the weighting's segment memo: a segment's visibility never changes, so both replicas' costs
+    are the same; only which rays each casts differs."""
     try:
-        costs = SerialCosts(field, metric, initial)
+        costs = SerialCosts(field, metric, initial, leaks)
         connection.send(("ready", None))
         while True:
             command, payload = connection.recv()
@@ -108,11 +118,21 @@ def _replica(connection: Connection, field: ReferenceField, metric: str, initial
 class ParallelCosts(SerialCosts):
     """This process plus one worker replica, each evaluating half of every batch."""
 
-    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None):
+    def __init__(self, field: ReferenceField, metric: str, initial: np.ndarray | None = None,
+                 leaks: Weighing | None = None):
         self.connection, worker_end = SPAWN.Pipe()
-        self.worker = SPAWN.Process(target=_replica, args=(worker_end, field, metric, initial), daemon=True)
-        self.worker.start()
-        super().__init__(field, metric, initial)
+        self.worker = SPAWN.Process(target=_replica, args=(worker_end, field, metric, initial, leaks), daemon=True)
+        try:
+            self.worker.start()  # `spawn` pickles the arguments here
+        except (TypeError, AttributeError, pickle.PicklingError) as error:
+            self.connection.close()
+            if leaks is None:
+                raise
+            raycaster = getattr(leaks, "raycaster", leaks)  # LeakWeighting's; the error names what failed
+            raise ValueError(f"the leak-aware reference's second process needs its own copy of the raycaster, and "
+                             f"{type(raycaster).__name__} cannot be sent to another process ({error}; Embree's "
+                             f"scene cannot): run it with workers=1") from error
+        super().__init__(field, metric, initial, leaks)
         self.owner: dict[int, int] = {}  # 0 = here, 1 = worker
         self._receive("ready")
 
