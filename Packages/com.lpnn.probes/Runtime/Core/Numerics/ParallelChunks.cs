@@ -25,8 +25,9 @@ namespace Lpnn.Probes.Core.Numerics
         [ThreadStatic] internal static int ForcedChunks;
 
         /// <summary>Runs <paramref name="body"/>(start, end) over contiguous ranges covering 0 .. <paramref name="count"/> − 1
-        /// once each, possibly at the same time on several threads; returns when all have run. An exception of a body is
-        /// rethrown as it was thrown (not wrapped).</summary>
+        /// once each, possibly at the same time on several threads; returns when all have run. When bodies throw, the
+        /// exception of the lowest range is rethrown as it was thrown (not wrapped) — the one a serial loop would have
+        /// met first, whichever chunks happened to run.</summary>
         internal static void For(int count, Action<int, int> body)
         {
             if (body == null) throw new ArgumentNullException(nameof(body));
@@ -39,16 +40,20 @@ namespace Lpnn.Probes.Core.Numerics
                 body(0, count);
                 return;
             }
-            try
+            var thrown = new Exception[chunks];  // per chunk, so several failing chunks cannot race to be the one reported
+            Parallel.For(0, chunks, new ParallelOptions { MaxDegreeOfParallelism = threads }, c =>
             {
-                Parallel.For(0, chunks, new ParallelOptions { MaxDegreeOfParallelism = threads },
-                    c => body((int)((long)count * c / chunks), (int)((long)count * (c + 1) / chunks)));
-            }
-            catch (AggregateException e) when (e.InnerExceptions.Count == 1)
-            {
-                ExceptionDispatchInfo.Capture(e.InnerExceptions[0]).Throw();
-                throw;  // not reached: Throw() always throws
-            }
+                try
+                {
+                    body((int)((long)count * c / chunks), (int)((long)count * (c + 1) / chunks));
+                }
+                catch (Exception e)
+                {
+                    thrown[c] = e;
+                }
+            });
+            foreach (var e in thrown)
+                if (e != null) ExceptionDispatchInfo.Capture(e).Throw();
         }
     }
 }
