@@ -339,8 +339,8 @@ namespace Lpnn.Probes.Core.Tests
                 var positions = probes.Select(p => reference.GetPosition(p)).ToArray();
                 var points = new System.Collections.Generic.List<int>();
                 var stencils = new System.Collections.Generic.List<Stencil>();
-                PlacementError.InterpolateOthers(reference, probes, Room.Evaluator.Tetrahedralizer.Tetrahedralize(positions),
-                    (int n, ref Stencil stencil, double[] interpolated) =>
+                PlacementError.InterpolateOthers(reference, probes, Room.Evaluator.Tetrahedralizer.Tetrahedralize(positions), null,
+                    (int n, ref Stencil stencil) =>
                     {
                         points.Add(n);
                         stencils.Add(stencil);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times the C# core's selection paths under Mono on synthetic lattices of ~10^4, 10^5 and 10^6 points
 # and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md "The C# core under Mono"). Usage: bash Tools~/experiments/csharp-selection-bench.sh [--batched] [n ...]  (n^3 points each)
-# --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--compare] CAPTURE...: the whole default selection of a
+# --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--serial] [--compare] CAPTURE...: the whole default selection of a
 # volume's Apply (insertion refined in batches, tau = 0.05) on each capture, the Apply rehearsal's run with Python's
 # tetrahedraliser over a pipe: seconds per stage, seconds waiting on the tetrahedraliser, tetrahedralisations and rays per
 # stage, probes kept (benchmarks.md "The C# core under Mono"; Tools~/experiments/SelectionBench/ApplyBench.cs).
@@ -12,7 +12,9 @@
 # leak-blind (the toggle off); --no-memo: every segment cast anew (no SegmentMemo); --no-refills: the refinement
 # tetrahedralises every trial and commit, as before the star refills (quality.md §5.3); --canonical: the insertion rounds'
 # tetrahedra numbered canonically; --incremental: also derived by inserting each batch into the last round's (both opt-in:
-# they change the numbering the rounds' ties follow, quality.md §5.1; the two must keep the same probes); --compare: also runs `lpnn place
+# they change the numbering the rounds' ties follow, quality.md §5.1; the two must keep the same probes); --serial: every
+# per-point pass on one core (Numerics/ParallelChunks forced to one chunk: the same probes, for a same-build A/B of the
+# parallel passes); --compare: also runs `lpnn place
 # CAPTURE --tolerance 0.05` (with the same --leaks) and prints whether the C# probes are its probes.
 source "$(dirname "$0")/../lib.sh"
 cd "$REPO_ROOT"
@@ -23,13 +25,14 @@ mcs -nologo -langversion:7.2 -optimize+ -out:"$BUILD_DIR/SelectionBench.exe" -r:
   "Tools~/experiments/SelectionBench/PipeRaycaster.cs"
 if [ "${1:-}" = "--apply" ]; then
   shift
-  leaks=avoid rays=csharp memo=() refills=() meshes=() compare=0
+  leaks=avoid rays=csharp memo=() refills=() meshes=() serial=() compare=0
   while [ "$#" -ge 1 ]; do
     case "$1" in
       --leaks) [ "$#" -ge 2 ] || die "--leaks needs avoid or ignore"; leaks=$2; shift 2 ;;
       --rays) [ "$#" -ge 2 ] || die "--rays needs csharp or embree"; rays=$2; shift 2 ;;
       --no-memo) memo=(--no-memo); shift ;;
       --no-refills) refills=(--no-refills); shift ;;
+      --serial) serial=(--serial); shift ;;
       --canonical|--incremental) meshes=("$1"); shift ;;
       --compare) compare=1; shift ;;
       *) break ;;
@@ -38,7 +41,7 @@ if [ "${1:-}" = "--apply" ]; then
   [ "$leaks" = avoid ] || [ "$leaks" = ignore ] || die "--leaks must be avoid or ignore, not $leaks"
   [ "$rays" = csharp ] || [ "$rays" = embree ] || die "--rays must be csharp or embree, not $rays"
   [ "$leaks" = avoid ] || [ "${#memo[@]}" -eq 0 ] || die "--no-memo is for the leak-aware Apply (--leaks avoid)"
-  [ "$#" -ge 1 ] || die "usage: bash Tools~/experiments/csharp-selection-bench.sh --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--compare] CAPTURE.lpnncap..."
+  [ "$#" -ge 1 ] || die "usage: bash Tools~/experiments/csharp-selection-bench.sh --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--serial] [--compare] CAPTURE.lpnncap..."
   PY=$(bash "Tools~/setup-python.sh")
   server="$REPO_ROOT/Training~/tests/quality/rehearsal_tetrahedralizer.py"
   work=$(mktemp -d)
@@ -47,7 +50,7 @@ if [ "${1:-}" = "--apply" ]; then
     capture=$(cd "$(dirname "$capture")" && pwd)/$(basename "$capture")
     [ -f "$capture" ] || die "no capture $capture"
     printf "#!/bin/sh\nPYTHONPATH='%s' exec '%s' '%s' '%s'\n" "$TRAINING_DIR" "$PY" "$server" "$capture" > "$work/tetrahedralizer.sh"
-    options=("${refills[@]}" "${meshes[@]}")
+    options=("${refills[@]}" "${meshes[@]}" "${serial[@]}")
     if [ "$leaks" = avoid ] && [ "$rays" = csharp ]; then
       PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/experiments/SelectionBench/write_capture_triangles.py" "$capture" "$work/triangles.bin" ||
         die "$capture: no level geometry for the leak-aware Apply (--leaks ignore runs the leak-blind one)"

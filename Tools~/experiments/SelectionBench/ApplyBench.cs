@@ -195,6 +195,7 @@ public static class ApplyBench
         }
         else Console.WriteLine("leak-blind (Avoid light leaks off)");
         if (!refills) Console.WriteLine("no star refills: every trial and commit of the refinement tetrahedralised (--no-refills)");
+        if (Lpnn.Probes.Core.Numerics.ParallelChunks.ForcedChunks == 1) Console.WriteLine("every per-point pass on the calling thread (--serial)");
         if (meshes == InsertionTetrahedra.Mode.Canonical) Console.WriteLine("insertion rounds tetrahedralised, tetrahedra numbered canonically (--canonical)");
         if (meshes == InsertionTetrahedra.Mode.Derived)
             Console.WriteLine("insertion rounds derived by inserting each batch into the last round's tetrahedra, numbered canonically (--incremental)");

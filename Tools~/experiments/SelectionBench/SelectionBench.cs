@@ -38,7 +38,7 @@ public static class SelectionBench
         if (args.Length > 0 && args[0] == "--apply")
         {
             const string usage = "usage: SelectionBench.exe --apply CAPTURE TETRAHEDRALIZER.sh [--geometry TRIANGLES.bin | --embree SERVER.sh] [--no-memo] " +
-                                 "[--no-refills] [--canonical | --incremental] [--expect PROBES.json]";
+                                 "[--no-refills] [--canonical | --incremental] [--serial] [--expect PROBES.json]";
             if (args.Length < 3) throw new ArgumentException(usage);
             string geometry = null, embree = null, expected = null;
             bool remember = true, refills = true;
@@ -50,6 +50,7 @@ public static class SelectionBench
                 else if (args[a] == "--expect" && a + 1 < args.Length) expected = args[++a];
                 else if (args[a] == "--no-memo") remember = false;
                 else if (args[a] == "--no-refills") refills = false;
+                else if (args[a] == "--serial") Lpnn.Probes.Core.Numerics.ParallelChunks.ForcedChunks = 1;  // this (the Apply's) thread's passes on one core
                 else if (args[a] == "--canonical") meshes = InsertionTetrahedra.Mode.Canonical;
                 else if (args[a] == "--incremental") meshes = InsertionTetrahedra.Mode.Derived;
                 else throw new ArgumentException(usage + "; got " + args[a]);

@@ -80,11 +80,8 @@ namespace Lpnn.Probes.Core.Quality
             var seen = Leaks == null ? null : new StencilLog();
             var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates, isCandidate) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
             PlacementError.InterpolatePoints(reference, remaining, trial, attributed.ToArray(),
-                (int p, ref Stencil stencil, double[] interpolated) =>
-                {
-                    trialErrors[p] = PointError(reference, p, interpolated);
-                    seen?.Add(p, stencil);
-                });
+                (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated),
+                seen == null ? null : (PlacementError.StencilVisitor)seen.Add);
             seen?.Weigh(reference, remaining, Leaks, trialErrors);
             foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - Errors[p];
         }
@@ -217,7 +214,6 @@ namespace Lpnn.Probes.Core.Quality
             PlacementError.InterpolatePoints(reference, probes, mesh, points, (int p, ref Stencil stencil, double[] interpolated) =>
             {
                 errors[p] = PointError(reference, p, interpolated);
-                seen?.Add(p, stencil);
                 touched[4 * p] = probes[stencil.Probe0];
                 touched[4 * p + 1] = probes[stencil.Probe1];
                 touched[4 * p + 2] = probes[stencil.Probe2];
@@ -226,7 +222,7 @@ namespace Lpnn.Probes.Core.Quality
                 owners[4 * p + 1] = stencil.Weight1 > 0 ? touched[4 * p + 1] : -1;
                 owners[4 * p + 2] = stencil.Weight2 > 0 ? touched[4 * p + 2] : -1;
                 owners[4 * p + 3] = stencil.Weight3 > 0 ? touched[4 * p + 3] : -1;
-            });
+            }, seen == null ? null : (PlacementError.StencilVisitor)seen.Add);
             seen?.Weigh(reference, probes, state.Leaks, errors);
             double sum = 0;
             foreach (double e in errors) sum += e;
@@ -250,7 +246,7 @@ namespace Lpnn.Probes.Core.Quality
             private readonly List<int> points = new List<int>();
             private readonly List<Stencil> stencils = new List<Stencil>();
 
-            internal void Add(int point, Stencil stencil)
+            internal void Add(int point, ref Stencil stencil)
             {
                 points.Add(point);
                 stencils.Add(stencil);

@@ -37,7 +37,6 @@ namespace Lpnn.Probes.Core.Quality
         private readonly Node[] _nodes;
         private readonly double[] _centroids;
         private int _nodeCount;
-        private readonly int[] _stack;
 
         private struct Node
         {
@@ -70,9 +69,11 @@ namespace Lpnn.Probes.Core.Quality
             }
             _nodes = new Node[2 * (count / (LeafSize / 2) + 1)];
             Build(0, count);
-            // Depth-first with at most one pending sibling per level of a balanced tree.
-            _stack = new int[128];
         }
+
+        /// <summary>Scratch for <see cref="Nearest"/>'s search, one per thread that calls it (the projector itself is read
+        /// only, so threads share it): depth-first with at most one pending sibling per level of a balanced tree.</summary>
+        public static int[] NewStack() => new int[128];
 
         private double Corner(int face, int corner, int axis) => _points[3 * _faces[3 * face + corner] + axis];
 
@@ -118,10 +119,10 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary>The hull triangle holding the nearest hull point to (x, y, z) (the tie rule's: class text) and that point's
-        /// weights on its corners.</summary>
-        public int Nearest(double x, double y, double z, out double u, out double v, out double w)
+        /// weights on its corners. <paramref name="stack"/>: the calling thread's <see cref="NewStack"/>.</summary>
+        public int Nearest(double x, double y, double z, int[] stack, out double u, out double v, out double w)
         {
-            int face = NearestAny(x, y, z, out u, out v, out w);
+            int face = NearestAny(x, y, z, stack, out u, out v, out w);
             double nearest = Math.Sqrt(DistanceSquared(face, u, v, w, x, y, z));
             if (!MayTie(face, u, v, w, nearest)) return face;
             // The tie set: the triangles at the nearest triangle's corners within a relative Tie of its distance (any
@@ -224,16 +225,16 @@ namespace Lpnn.Probes.Core.Quality
 
         /// <summary>A hull triangle holding the nearest hull point (the lower triangle among exactly equal distances) and that
         /// point's weights on its corners.</summary>
-        private int NearestAny(double x, double y, double z, out double u, out double v, out double w)
+        private int NearestAny(double x, double y, double z, int[] stack, out double u, out double v, out double w)
         {
             double best = double.PositiveInfinity;
             int bestFace = -1;
             u = v = w = 0;
             int depth = 0;
-            _stack[depth++] = 0;
+            stack[depth++] = 0;
             while (depth > 0)
             {
-                var node = _nodes[_stack[--depth]];
+                var node = _nodes[stack[--depth]];
                 if (BoxDistanceSquared(ref node, x, y, z) > best) continue;
                 if (node.Left < 0)
                 {
@@ -257,13 +258,13 @@ namespace Lpnn.Probes.Core.Quality
                 double right = BoxDistanceSquared(ref _nodes[node.Right], x, y, z);
                 if (left <= right)
                 {
-                    _stack[depth++] = node.Right;
-                    _stack[depth++] = node.Left;
+                    stack[depth++] = node.Right;
+                    stack[depth++] = node.Left;
                 }
                 else
                 {
-                    _stack[depth++] = node.Left;
-                    _stack[depth++] = node.Right;
+                    stack[depth++] = node.Left;
+                    stack[depth++] = node.Right;
                 }
             }
             return bestFace;

@@ -103,8 +103,9 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <summary><see cref="NextBatch"/>'s choice, given how the round's points are interpolated: <paramref name="interpolate"/>
-        /// visits every point that is not a probe, in ascending index order, with its stencil (cells below
-        /// <paramref name="cells"/>). Shared by NextBatch and the incremental rounds (<see cref="InsertionRounds"/>).</summary>
+        /// visits every point that is not a probe once, with its stencil (cells below
+        /// <paramref name="cells"/>), in parallel (<see cref="PlacementError.PointVisitor"/>). Shared by NextBatch and the
+        /// incremental rounds (<see cref="InsertionRounds"/>).</summary>
         internal static int[] BatchOf(ReferenceLighting reference, int probeCount, int cells, double growth, double[] guide, bool[] allowed,
             Action<PlacementError.PointVisitor> interpolate)
         {
@@ -118,15 +119,16 @@ namespace Lpnn.Probes.Core.Quality
             {
                 double e = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale);
                 errors[n] = e;
-                int cell = stencil.Cell;
-                cellOf[n] = cell;
-                cellError[cell] += e;
+                cellOf[n] = stencil.Cell;
                 // The candidate's key: the error itself, or (guided) error × weight, with points at or below Exact never
                 // candidates (key -1), so a cell needs a point exactly when it does unguided.
                 double key = guide == null ? e : e > Exact ? e * guide[n] : -1.0;
                 if (allowed != null && !allowed[n]) key = double.NegativeInfinity;
                 keys[n] = key;
             });
+            // The cells' sums after the (parallel) pass, in ascending point order: the same sums on any thread count.
+            for (int n = 0; n < count; n++)
+                if (cellOf[n] >= 0) cellError[cellOf[n]] += errors[n];
             int[] worst = FirstPerCell(cellOf, keys, cells);  // rows are point indices: the lowest index within Tie of the largest
             var candidates = new List<int>();
             var candidateError = new List<double>();

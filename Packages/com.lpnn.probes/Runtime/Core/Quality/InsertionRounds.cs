@@ -57,17 +57,17 @@ namespace Lpnn.Probes.Core.Quality
             }
             var cellOf = new int[count];
             for (int n = 0; n < count; n++) cellOf[n] = -1;
-            long others = 0, located = 0;
+            long located = 0;
             int[] batch = InsertionRanking.BatchOf(reference, probes.Length, mesh.TetrahedronCount, growth, guide, allowed,
                 visit => located = PlacementError.InterpolateOthers(reference, probes, mesh, known, (int n, ref Stencil stencil, double[] interpolated) =>
                 {
-                    others++;
                     if (!stencil.Outside) cellOf[n] = stencil.Cell;
                     visit(n, ref stencil, interpolated);
                 }));
             _cellOf = cellOf;
             _keys = keys;
             Rounds++;
+            long others = count - probes.Length;  // every point that is not a probe was visited once (probes are distinct)
             Kept += others - located;
             Located += located;
             return batch;

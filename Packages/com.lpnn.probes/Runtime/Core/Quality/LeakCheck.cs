@@ -28,7 +28,7 @@ namespace Lpnn.Probes.Core.Quality
             if (reference == null) throw new ArgumentNullException(nameof(reference));
             var points = new List<int>();
             var stencils = new List<Stencil>();
-            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, null, (int n, ref Stencil stencil) =>
             {
                 points.Add(n);
                 stencils.Add(stencil);

@@ -59,13 +59,17 @@ namespace Lpnn.Probes.Core.Quality
             int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
             var points = new List<int>();
             var stencils = new List<Stencil>();
-            var errors = new List<double>();
-            PlacementError.InterpolateOthers(reference, probes, tetrahedra, (int p, ref Stencil stencil, double[] interpolated) =>
-            {
-                points.Add(p);
-                stencils.Add(stencil);
-                errors.Add(PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale));
-            });
+            var errorOf = new double[reference.Count];
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra,
+                (int p, ref Stencil stencil, double[] interpolated) =>
+                    errorOf[p] = PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale),
+                (int p, ref Stencil stencil) =>
+                {
+                    points.Add(p);
+                    stencils.Add(stencil);
+                });
+            var errors = new double[points.Count];
+            for (int i = 0; i < errors.Length; i++) errors[i] = errorOf[points[i]];
             bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster, memo);
             // Per cell the lowest index whose error is within InsertionRanking.Tie of the cell's largest among its leaking
             // points (points ascend): errors where the light is even are round-off (~1e-15) whose last bits hang on the

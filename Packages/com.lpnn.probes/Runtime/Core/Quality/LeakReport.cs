@@ -67,8 +67,8 @@ namespace Lpnn.Probes.Core.Quality
                 if (!isProbe[n]) asked.Add(n);
             }
             var stencils = new List<Stencil>(asked.Count);
-            PlacementError.InterpolatePoints(reference, probes, tetrahedra, asked.ToArray(),
-                (int n, ref Stencil stencil, double[] interpolated) => stencils.Add(stencil));
+            PlacementError.InterpolatePoints(reference, probes, tetrahedra, asked.ToArray(), null,
+                (int n, ref Stencil stencil) => stencils.Add(stencil));
             if (stencils.Count != asked.Count) throw new InvalidOperationException("a stencil per point asked for was expected");
             cancel.ThrowIfCancellationRequested();
             var leaks = LeakCheck.Leaking(reference, probes, asked, stencils, raycaster, progress, cancel);
