@@ -20,7 +20,7 @@ it are skipped) and the refinement starts near its end. Three steps, each a sub-
                                         its calibrated probabilities (the trainer weighs positives by the card's
                                         positive_weight w: p_true = p / (p + w (1 - p)))
   place CAPTURE --model seed.onnx       the seeded default alone; with --unseeded instead of --model the default,
-                                        through the same reading and evaluation (`farm-bench` compares the two)
+                                        through the same reading and evaluation (`paired-time.py` compares the two)
 
 The seeded default = refined_insertion(field, grid, tolerance=tau, head=seed, refine=F): insertion starts from its
 usual start plus the seed, the tolerance search from the seed's count (so K0 >= the seed), and the refinement from
@@ -208,7 +208,7 @@ def place(args: argparse.Namespace) -> int:
 
     refuse_held_out([args.capture], args.card)
     capture, field, grid, leaks = _field(args.capture, args.leaks)
-    if args.unseeded:  # the default itself, through the same reading and evaluation (farm-bench's other command)
+    if args.unseeded:  # the default itself, through the same reading and evaluation (paired-time.py's other command)
         placed, seed_size, scoring = _default(field, grid, args.tolerance, leaks), 0, 0.0
     else:
         placed, seed_size, scoring, _ = _seeded(OnnxScorer(args.model), capture, field, grid, leaks, args)

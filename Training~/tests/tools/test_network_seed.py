@@ -94,7 +94,7 @@ def test_labels_are_the_defaults_answer_and_the_seeded_default_meets_the_toleran
     cells = [c.strip() for c in rows[0].strip("|").split("|")]
     assert int(cells[2].replace(",", "")) == answers["probes"]  # the default, as labelled
     assert float(cells[7]) <= 0.05 and int(cells[6].replace(",", "")) >= 4
-    # `place`: the seeded default alone, and the default through the same path (what farm-bench compares).
+    # `place`: the seeded default alone, and the default through the same path (what paired-time.py compares).
     for chosen in (["--model", str(tool._ceilings().DEFAULT_MODEL)], ["--unseeded"]):
         assert tool.main(["place", str(room), *chosen, "--card", card]) == 0
         line = capsys.readouterr().out
