@@ -107,9 +107,8 @@ def _mean_error(field: ReferenceField, probes: np.ndarray, metric: str, weightin
     it is)."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
     errors = stencil_point_errors(field, indices, others, stencil, metric)
-    if weighting is not None:  # LeakWeighting.weighted's rule, through the protocol this layer may name
-        leaking = others[weighting.leaking(field, others, indices, stencil.vertices, stencil.weights)]
-        errors[leaking] *= weighting.weight
+    if weighting is not None:
+        errors = weighting.weighted(field, indices, others, stencil, errors)
     return float(errors.mean())
 
 
