@@ -68,6 +68,20 @@ def _fast_yardstick(method: Method, tolerance: float | None) -> Yardstick:
                       target)
 
 
+def _errors_on_demand(field_: ReferenceField, select: Callable[[int], np.ndarray],
+                      reaches: Callable[[int], bool] = lambda count: True) -> tuple[Callable[[int], float], np.ndarray]:
+    """A yardstick's error at a count, evaluated the first time it is asked (the mean error of select(count)) and kept
+    in the curve returned beside it; NaN at counts `reaches` says its ranking does not reach."""
+    curve = np.full(field_.point_count + 1, np.nan)
+
+    def error_at(count: int) -> float:
+        if reaches(count) and np.isnan(curve[count]):
+            curve[count] = mean_placement_error(field_, select(count))
+        return float(curve[count])
+
+    return error_at, curve
+
+
 def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: Capture, config: BenchConfig,
                          name: str) -> Yardstick:
     tolerance = config.tolerance
@@ -75,13 +89,7 @@ def _blockwise_yardstick(field_: ReferenceField, grid: EvaluationGrid, capture: 
     blockwise, seconds = timed(lambda: blockwise_reference(field_, capture.ids, workers=config.workers or 1,
                                                            checkpoint=checkpoint), 1)
     select = prefix_selection(grid, blockwise.ranking)
-    curve = np.full(field_.point_count + 1, np.nan)
-
-    def error_at(count: int) -> float:
-        if np.isnan(curve[count]):
-            curve[count] = mean_placement_error(field_, select(count))
-        return float(curve[count])
-
+    error_at, curve = _errors_on_demand(field_, select)
     target = None
     if tolerance is not None:  # completed to a tetrahedron from its own ranking (a volume of one flat block)
         indices = select(int(blockwise.within(tolerance).shape[0]))
@@ -97,13 +105,8 @@ def _leak_aware_yardstick(field_: ReferenceField, method: Method, tolerance: flo
     plain mean error; NaN at counts its run did not reach (reference_stop)."""
     decimation = method.decimation
     assert decimation is not None
-    curve = np.full(field_.point_count + 1, np.nan)
-
-    def error_at(count: int) -> float:
-        if decimation.smallest_count <= count <= decimation.start_count and np.isnan(curve[count]):
-            curve[count] = mean_placement_error(field_, decimation.prefix(count))
-        return float(curve[count])
-
+    error_at, curve = _errors_on_demand(field_, decimation.prefix,
+                                        lambda count: decimation.smallest_count <= count <= decimation.start_count)
     target = None
     if tolerance is not None:
         answer = reference_tolerance(decimation, tolerance)
