@@ -18,7 +18,7 @@ core's InsertionRounds. On whole levels a round of growth 0.1 leaves 60-67 % of 
 
 The walks are coherent (location.locate_local): those points ascend, in grid order, and each walk starts where the
 previous one ended, instead of at the nearest tetrahedron centroid, which took a k-d tree over every centroid, built
-and queried anew each round (~2 s of insertion's ~6 s on ctf_compromise, one thread). The tie rule makes a point's
+and queried anew each round (benchmarks.md "Scale: whole levels" times the change). The tie rule makes a point's
 tetrahedron independent of where its walk starts, so the stencils are the same (the same probes on every validation
 level and crop, leak-aware and not: benchmarks.md "Scale: whole levels", 2026-11-28).
 """
