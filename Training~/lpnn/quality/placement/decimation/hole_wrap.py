@@ -223,8 +223,9 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
     return made
 
 
-# A hole's wrapping costs ~25 rows of a per-point pass (~5 us against ~0.2 us): its weight in the parallel slicing
-# (metric_kernel.chunk_count), so a round's ~2,500 holes fill a few slices and a decimation's few holes stay on one thread.
+# A hole's wrapping is a few dozen times the work of one row of a per-point pass (metric_kernel): its weight in the
+# parallel slicing (chunk_count), so a refinement round's ~2,500 holes fill a few slices while the few holes a
+# decimation wraps at a time stay on one thread.
 HOLE_WEIGHT = 32
 
 
