@@ -7,6 +7,8 @@ import os
 import sys
 from pathlib import Path
 
+from .parallel_wait import sleep_between_parallel_loops
+
 CACHE_ENV = "LPNN_CACHE"
 NUMBA_CACHE_ENV = "NUMBA_CACHE_DIR"
 
@@ -17,8 +19,10 @@ def project_cache_dir() -> Path:
 
 
 def use_project_cache_for_numba() -> None:
-    """Call before the first `import numba`; a NUMBA_CACHE_DIR the user set is kept."""
+    """Call before the first `import numba`; a NUMBA_CACHE_DIR the user set is kept. Also lets numba's idle worker
+    threads sleep between parallel loops (parallel_wait.py), which must be chosen before its thread pool starts too."""
     os.environ.setdefault(NUMBA_CACHE_ENV, str(project_cache_dir() / "numba"))
+    sleep_between_parallel_loops()
     numba = sys.modules.get("numba")
     if numba is not None and not numba.config.CACHE_DIR:  # imported before us: its config already read the env
         numba.config.CACHE_DIR = os.environ[NUMBA_CACHE_ENV]

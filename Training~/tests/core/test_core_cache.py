@@ -32,3 +32,20 @@ def test_cli_help_imports_no_numerical_library() -> None:
     done = _run(code, dict(os.environ))
     assert done.returncode == 0, done.stderr
     assert "HEAVY []" in done.stdout
+
+
+def test_numba_worker_threads_sleep_between_loops_unless_the_user_chose_a_policy() -> None:
+    """parallel_wait.py: the kernels' import sets OMP_WAIT_POLICY before numba's thread pool (OpenMP) starts, and a
+    parallel kernel then runs under it; a policy already in the environment is left as it is."""
+    code = ("import os\nfrom lpnn.quality.metric import metric_kernel\nimport numba\n"
+            "print('POLICY', os.environ.get('OMP_WAIT_POLICY'))\n"
+            "import numpy as np\nhit = np.empty(3, dtype=bool)\n"
+            "metric_kernel.run_rows(__import__('lpnn.quality.placement.refinement_kernel', fromlist=['_holding'])._holding,"
+            " 3, np.full((3, 4), -1), np.array([True, False, False]), hit)\nprint('HIT', hit.tolist())\n")
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    done = _run(code, env)
+    assert done.returncode == 0, done.stderr
+    assert "POLICY PASSIVE" in done.stdout and "HIT [True, False, False]" in done.stdout
+    done = _run(code, {**env, "OMP_WAIT_POLICY": "ACTIVE"})
+    assert done.returncode == 0, done.stderr
+    assert "POLICY ACTIVE" in done.stdout

@@ -7,7 +7,8 @@ import pytest
 
 from lpnn.quality.placement.decimation import decimation_state
 from lpnn.quality.placement.decimation.decimation_state import DecimationState
-from lpnn.quality.placement.decimation.hole_wrap import MAX_LINK, wrap_holes
+from lpnn.quality.placement.decimation.hole_wrap import HOLE_WEIGHT, MAX_LINK, wrap_hole_runs, wrap_holes
+from lpnn.quality.metric.metric_kernel import PARALLEL_ROWS
 from lpnn.quality.metric.metric import PRIMARY_METRIC, ReferenceField, placement_error
 from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.quality.metric.triangulation import tetrahedralize
@@ -71,3 +72,35 @@ def test_the_decimation_is_the_same_with_every_hole_left_to_qhull(monkeypatch: p
     qhull = fast_decimation(field, workers=1)
     np.testing.assert_array_equal(wrapped.removed, qhull.removed)
     np.testing.assert_allclose(wrapped.error_curve, qhull.error_curve, rtol=1e-12, atol=1e-15)
+
+
+def test_many_holes_wrapped_in_parallel_slices_are_each_hole_wrapped_alone() -> None:
+    """wrap_hole_runs slices enough holes across threads (HOLE_WEIGHT): every hole's tetrahedra, in their order, are those
+    of wrapping it alone, twice over (the same arrays: no state shared between holes or runs)."""
+    rng = np.random.default_rng(11)
+    positions = box_grid(6, 5, 5, spacing=0.5) + rng.uniform(-0.2, 0.2, (150, 3)) * 0.5
+    state = _state(positions)
+    vertices = _not_hull_vertices(state)
+    repeats = -(-4 * PARALLEL_ROWS // (HOLE_WEIGHT * len(vertices)))  # enough holes for several parallel slices
+    holes = np.asarray(vertices * repeats, dtype=np.int64)
+    stars = [state.tets[state._star_of(int(v))] for v in holes]
+    on_hull = np.asarray([bool(state.hull_degree[v]) for v in holes])
+    star_start = np.concatenate([[0], np.cumsum([star.shape[0] for star in stars])])
+    first = wrap_hole_runs(state.local, state.tie, holes, np.concatenate(stars), star_start, on_hull)
+    again = wrap_hole_runs(state.local, state.tie, holes, np.concatenate(stars), star_start, on_hull)
+    out, out_start, counts = first
+    assert holes.shape[0] * HOLE_WEIGHT >= 4 * PARALLEL_ROWS and np.all(counts > 0)
+    np.testing.assert_array_equal(counts, again[2])
+    for k in range(holes.shape[0]):
+        alone = wrap_holes(state.local, state.tie, [int(holes[k])], [stars[k]], [bool(on_hull[k])])[0]
+        np.testing.assert_array_equal(out[out_start[k]:out_start[k] + counts[k]], alone)
+        np.testing.assert_array_equal(again[0][out_start[k]:out_start[k] + counts[k]], alone)
+
+
+def test_no_holes_wrap_to_empty_runs() -> None:
+    state = _state(box_grid(3, 3, 3, spacing=0.5))
+    out, out_start, counts = wrap_hole_runs(state.local, state.tie, np.zeros(0, dtype=np.int64),
+                                            np.zeros((0, 4), dtype=np.int64), np.zeros(1, dtype=np.int64),
+                                            np.zeros(0, dtype=bool))
+    assert out.shape == (0, 4) and out_start.tolist() == [0] and counts.shape == (0,)
+    assert wrap_holes(state.local, state.tie, [], []) == []

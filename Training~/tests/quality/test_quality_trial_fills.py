@@ -84,7 +84,9 @@ def test_hull_corners_are_among_the_candidates_so_the_lifted_link_path_is_exerci
 def test_without_the_gift_wrapping_the_lifted_link_alone_gives_the_same_tetrahedra(lattice_state, monkeypatch) -> None:
     field, state = lattice_state
     candidates = _candidates(field, state, "random", seed=3)
-    monkeypatch.setattr(trial_fills, "wrap_holes", lambda local, tie, vertices, stars, on_hull: [None] * len(vertices))
+    monkeypatch.setattr(trial_fills, "wrap_hole_runs", lambda local, tie, vertices, star_tets, star_start, on_hull: (
+        np.zeros((0, 4), dtype=np.int64), np.zeros(len(vertices) + 1, dtype=np.int64),
+        np.zeros(len(vertices), dtype=np.int64)))
     fills = star_fills(field, state, candidates)
     assert fills is not None
     assert _filled_tets(field, state, candidates, fills) == _qhull_tets(field, state, candidates)

@@ -11,10 +11,16 @@ clearly inside such a tetrahedron (smallest coordinate > location.INSIDE_TOLERAN
 so it needs no walk: only its barycentric coordinates are computed in the new tetrahedralisation (the same numbers a
 walk computes on arriving there), then every stencil's error. A point on its boundary (a face, edge or vertex it may
 share) takes the tie rule's tetrahedron (quality.md §1 "Ties": the lowest-index one holding it, which an insertion can
-change), searched from there as a walk's end is. The walk (from the nearest tetrahedron centroid, as a fresh location)
-runs only for the points whose tetrahedron broke and the points outside the hull (the hull may have grown). So every
-point gets exactly a fresh location's stencil, as in the C# core's InsertionRounds. On whole levels a round of growth
-0.1 leaves 60-67 % of the points in unbroken tetrahedra (ctf_compromise, validation).
+change), searched from there as a walk's end is. The walk runs only for the points whose tetrahedron broke and the
+points outside the hull (the hull may have grown). So every point gets exactly a fresh location's stencil, as in the C#
+core's InsertionRounds. On whole levels a round of growth 0.1 leaves 60-67 % of the points in unbroken tetrahedra
+(ctf_compromise, validation).
+
+The walks are coherent (location.locate_local): those points ascend, in grid order, and each walk starts where the
+previous one ended, instead of at the nearest tetrahedron centroid, which took a k-d tree over every centroid, built
+and queried anew each round (benchmarks.md "Scale: whole levels" times the change). The tie rule makes a point's
+tetrahedron independent of where its walk starts, so the stencils are the same (the same probes on every validation
+level and crop, leak-aware and not: benchmarks.md "Scale: whole levels", 2026-11-28).
 """
 
 from __future__ import annotations
@@ -60,8 +66,8 @@ def _finished(field: ReferenceField, probes: np.ndarray, mesh: Tetrahedralizatio
 
 
 def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> LocatedSet:
-    """Every point but the probes located from scratch (metric.probe_mesh: non-coherent walks)."""
-    ordered, others, mesh, stencil = probe_mesh(field, probes)
+    """Every point but the probes located from scratch (metric.probe_mesh: coherent walks, module text)."""
+    ordered, others, mesh, stencil = probe_mesh(field, probes, coherent=True)
     return _finished(field, ordered, mesh, others, stencil, metric)
 
 
@@ -87,7 +93,8 @@ def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, met
     walked, coordinates = keep_located(mesh, local, cell)  # kept cells, or the tie rule's around them
     again = np.flatnonzero(cell < 0)  # broken tetrahedra and points outside the hull
     if again.shape[0]:
-        cell[again], walked[again], coordinates[again] = locate_cells(mesh, np.ascontiguousarray(local[again]))
+        cell[again], walked[again], coordinates[again] = locate_cells(mesh, np.ascontiguousarray(local[again]),
+                                                                   coherent=True)
     stencil = stencils_of_cells(mesh, local, cell, walked, coordinates)
     return _finished(field, probes, mesh, others, stencil, metric)
 

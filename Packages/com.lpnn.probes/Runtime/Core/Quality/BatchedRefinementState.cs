@@ -81,8 +81,8 @@ namespace Lpnn.Probes.Core.Quality
             var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates, isCandidate) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
             PlacementError.InterpolatePoints(reference, remaining, trial, attributed.ToArray(),
                 (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated),
-                seen == null ? null : (PlacementError.StencilVisitor)seen.Add);
-            seen?.Weigh(reference, remaining, Leaks, trialErrors);
+                seen?.Visitor);
+            if (seen != null) Leaks.Weigh(reference, remaining, seen, trialErrors);
             foreach (int p in attributed) cost[owner[p]] += trialErrors[p] - Errors[p];
         }
 
@@ -222,8 +222,8 @@ namespace Lpnn.Probes.Core.Quality
                 owners[4 * p + 1] = stencil.Weight1 > 0 ? touched[4 * p + 1] : -1;
                 owners[4 * p + 2] = stencil.Weight2 > 0 ? touched[4 * p + 2] : -1;
                 owners[4 * p + 3] = stencil.Weight3 > 0 ? touched[4 * p + 3] : -1;
-            }, seen == null ? null : (PlacementError.StencilVisitor)seen.Add);
-            seen?.Weigh(reference, probes, state.Leaks, errors);
+            }, seen?.Visitor);
+            if (seen != null) state.Leaks.Weigh(reference, probes, seen, errors);
             double sum = 0;
             foreach (double e in errors) sum += e;
             state.ErrorSum = sum;
@@ -238,22 +238,6 @@ namespace Lpnn.Probes.Core.Quality
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
             return TetrahedralMesh.Build(PlacementError.ProbePoints(reference, probes), tetrahedralizer.Tetrahedralize(positions));
-        }
-
-        /// <summary>The points an interpolation visited and their stencils, for the leak weighting after it.</summary>
-        private sealed class StencilLog
-        {
-            private readonly List<int> points = new List<int>();
-            private readonly List<Stencil> stencils = new List<Stencil>();
-
-            internal void Add(int point, ref Stencil stencil)
-            {
-                points.Add(point);
-                stencils.Add(stencil);
-            }
-
-            internal void Weigh(ReferenceLighting reference, int[] probes, LeakWeighting leaks, double[] errors) =>
-                leaks.Weigh(reference, probes, points, stencils, errors);
         }
 
         private static double PointError(ReferenceLighting reference, int p, double[] interpolated) =>

@@ -26,16 +26,11 @@ namespace Lpnn.Probes.Core.Quality
         public static bool[] Find(ReferenceLighting reference, int[] probes, int[] tetrahedra, IRaycaster raycaster)
         {
             if (reference == null) throw new ArgumentNullException(nameof(reference));
-            var points = new List<int>();
-            var stencils = new List<Stencil>();
-            PlacementError.InterpolateOthers(reference, probes, tetrahedra, null, (int n, ref Stencil stencil) =>
-            {
-                points.Add(n);
-                stencils.Add(stencil);
-            });
-            var leaks = Leaking(reference, probes, points, stencils, raycaster);
+            var visited = new StencilLog();
+            PlacementError.InterpolateOthers(reference, probes, tetrahedra, null, visited.Visitor);
+            var leaks = Leaking(reference, probes, visited.Points, visited.Stencils, raycaster);
             var leaking = new bool[reference.Count];
-            for (int i = 0; i < points.Count; i++) leaking[points[i]] = leaks[i];
+            for (int i = 0; i < visited.Count; i++) leaking[visited.Points[i]] = leaks[i];
             return leaking;
         }
 

@@ -57,17 +57,14 @@ namespace Lpnn.Probes.Core.Quality
             var positions = new Vector3[probes.Length];
             for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
             int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
-            var points = new List<int>();
-            var stencils = new List<Stencil>();
+            var visited = new StencilLog();
             var errorOf = new double[reference.Count];
             PlacementError.InterpolateOthers(reference, probes, tetrahedra,
                 (int p, ref Stencil stencil, double[] interpolated) =>
                     errorOf[p] = PointErrorMetrics.Irradiance(interpolated, reference.Light, p * ReferenceLighting.LightValues, reference.SceneScale),
-                (int p, ref Stencil stencil) =>
-                {
-                    points.Add(p);
-                    stencils.Add(stencil);
-                });
+                visited.Visitor);
+            IReadOnlyList<int> points = visited.Points;
+            IReadOnlyList<Stencil> stencils = visited.Stencils;
             var errors = new double[points.Count];
             for (int i = 0; i < errors.Length; i++) errors[i] = errorOf[points[i]];
             bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, raycaster, memo);

@@ -66,12 +66,12 @@ namespace Lpnn.Probes.Core.Quality
                 points++;
                 if (!isProbe[n]) asked.Add(n);
             }
-            var stencils = new List<Stencil>(asked.Count);
-            PlacementError.InterpolatePoints(reference, probes, tetrahedra, asked.ToArray(), null,
-                (int n, ref Stencil stencil) => stencils.Add(stencil));
-            if (stencils.Count != asked.Count) throw new InvalidOperationException("a stencil per point asked for was expected");
+            var visited = new StencilLog(asked.Count);
+            PlacementError.InterpolatePoints(reference, probes, tetrahedra, asked.ToArray(), null, visited.Visitor);
+            if (visited.Count != asked.Count) throw new InvalidOperationException("a stencil per point asked for was expected");
+            IReadOnlyList<Stencil> stencils = visited.Stencils;
             cancel.ThrowIfCancellationRequested();
-            var leaks = LeakCheck.Leaking(reference, probes, asked, stencils, raycaster, progress, cancel);
+            var leaks = LeakCheck.Leaking(reference, probes, visited.Points, stencils, raycaster, progress, cancel);
             var cells = new int[stencils.Count];
             for (int i = 0; i < cells.Length; i++) cells[i] = stencils[i].Cell;
             var mesh = TetrahedralMesh.Build(PlacementError.ProbePoints(reference, probes), tetrahedra);

@@ -55,14 +55,13 @@ namespace Lpnn.Probes.Core.Quality
             return memo;
         }
 
-        /// <summary>Multiplies by <see cref="Weight"/> the <paramref name="errors"/> (indexed by point) of those of
-        /// <paramref name="points"/> that leak through their <paramref name="stencils"/> (probe-list indices into
-        /// <paramref name="probes"/>).</summary>
-        internal void Weigh(ReferenceLighting reference, int[] probes, List<int> points, List<Stencil> stencils, double[] errors)
+        /// <summary>Multiplies by <see cref="Weight"/> the <paramref name="errors"/> (indexed by point) of the points
+        /// <paramref name="visited"/> that leak through their stencils (probe-list indices into <paramref name="probes"/>).</summary>
+        internal void Weigh(ReferenceLighting reference, int[] probes, StencilLog visited, double[] errors)
         {
-            bool[] leaking = LeakCheck.Leaking(reference, probes, points, stencils, Raycaster, MemoFor(reference));
-            for (int i = 0; i < points.Count; i++)
-                if (leaking[i]) errors[points[i]] *= Weight;
+            bool[] leaking = LeakCheck.Leaking(reference, probes, visited.Points, visited.Stencils, Raycaster, MemoFor(reference));
+            for (int i = 0; i < visited.Count; i++)
+                if (leaking[i]) errors[visited.Points[i]] *= Weight;
         }
     }
 }

@@ -29,7 +29,9 @@ import numpy as np
 from ....core.cache import use_project_cache_for_numba
 
 use_project_cache_for_numba()
-from numba import njit  # noqa: E402  (after the cache folder is chosen)
+from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
+
+from ...metric.metric_kernel import chunk_bounds, chunk_count, run_rows  # noqa: E402
 
 ON_PLANE = 1e-9  # |dist| <= this x |n|^1.5 (a spacing^3 scale): the point lies on the face's plane
 MAX_LINK = 96  # larger links go to Qhull
@@ -221,14 +223,41 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
     return made
 
 
-@njit(cache=True)
+# A hole's wrapping is a few dozen times the work of one row of a per-point pass (metric_kernel): its weight in the
+# parallel slicing (chunk_count), so a refinement round's ~2,500 holes fill a few slices while the few holes a
+# decimation wraps at a time stay on one thread.
+HOLE_WEIGHT = 32
+
+
+@njit(cache=True, parallel=True)
 def _wrap_all(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tets: np.ndarray,
-              star_start: np.ndarray, on_hull: np.ndarray, out: np.ndarray, out_start: np.ndarray) -> np.ndarray:
-    counts = np.empty(vertices.shape[0], dtype=np.int64)
-    for k in range(vertices.shape[0]):
-        counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]], on_hull[k],
-                              out[out_start[k]:out_start[k + 1]])
-    return counts
+              star_start: np.ndarray, on_hull: np.ndarray, out: np.ndarray, out_start: np.ndarray,
+              counts: np.ndarray) -> None:
+    """counts[k] = _wrap_one's count for hole k, its tetrahedra in out[out_start[k]:]; holes in parallel slices (each
+    hole alone: the same tetrahedra however the holes are sliced)."""
+    holes = vertices.shape[0]
+    chunks = chunk_count(holes * HOLE_WEIGHT)
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(holes, chunks, chunk)
+        for k in range(lo, hi):
+            counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]], on_hull[k],
+                                  out[out_start[k]:out_start[k + 1]])
+
+
+def wrap_hole_runs(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tets: np.ndarray,
+                   star_start: np.ndarray, on_hull: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """wrap_holes with the stars given as one array: hole k's star is star_tets[star_start[k]:star_start[k + 1]]
+    (star_start (H + 1,)), on_hull (H,) bool. Returns out, out_start (H + 1,) and counts (H,): hole k's tetrahedra are
+    out[out_start[k]:out_start[k] + counts[k]] (counts[k] 0: wrapping failed), without a list of arrays per hole."""
+    vertices = np.ascontiguousarray(vertices, dtype=np.int64)
+    star_start = np.ascontiguousarray(star_start, dtype=np.int64)
+    out_start = 2 * star_start  # room for 2S tetrahedra per hole of S boundary faces; more fails to Qhull
+    out = np.empty((int(out_start[-1]), 4), dtype=np.int64)
+    counts = np.zeros(vertices.shape[0], dtype=np.int64)
+    run_rows(_wrap_all, vertices.shape[0] * HOLE_WEIGHT, local, tie, vertices,
+             np.ascontiguousarray(star_tets, dtype=np.int64), star_start, np.ascontiguousarray(on_hull, dtype=np.bool_),
+             out, out_start, counts)
+    return out, out_start, counts
 
 
 def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: list[np.ndarray],
@@ -241,9 +270,8 @@ def wrap_holes(local: np.ndarray, tie: np.ndarray, vertices: list[int], stars: l
     """
     sizes = np.array([s.shape[0] for s in stars], dtype=np.int64)
     star_start = np.concatenate([[0], np.cumsum(sizes)])
-    out_start = 2 * star_start  # room for 2S tetrahedra per hole of S boundary faces; more fails to Qhull
-    out = np.empty((int(out_start[-1]), 4), dtype=np.int64)
     star_tets = np.concatenate(stars) if stars else np.zeros((0, 4), dtype=np.int64)
     surface = np.zeros(len(stars), dtype=np.bool_) if on_hull is None else np.asarray(on_hull, dtype=np.bool_)
-    counts = _wrap_all(local, tie, np.asarray(vertices, dtype=np.int64), star_tets, star_start, surface, out, out_start)
+    out, out_start, counts = wrap_hole_runs(local, tie, np.asarray(vertices, dtype=np.int64), star_tets, star_start,
+                                            surface)
     return [out[out_start[k]:out_start[k] + counts[k]] if counts[k] > 0 else None for k in range(len(stars))]
