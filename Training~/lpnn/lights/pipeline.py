@@ -28,7 +28,7 @@ from .shadows import shadow_raycaster
 from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
                        DEFAULT_SCRIPT_LIGHTS, DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, HELD_SCRIPTS,
                        MERGE_PASS, PEAK_START, SCHEMES, SCRIPT_LIGHTS, STARTS)
-from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains,
+from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains, fixture_starts,
                      lit_by_spotlights, peak_starts, under_a_ceiling, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
 from .target import DEFAULT_SAMPLES_PER_SIDE, RadianceTarget, build_target
@@ -39,6 +39,7 @@ MAX_TARGET_POINTS = 100_000
 BOX_MARGIN = 1.0  # Quake units inside the world box: positions on its faces are outside the map
 CANDIDATE_VALUE = 1000.0  # q3map_surfacelight a candidate surface light's basis is built at (script_lights)
 CANDIDATE_SOURCE = "candidate: "  # a candidate's ShaderLight.colour_source starts so: no script gave its value
+LIGHT_WORD = "light"  # a shader whose name has it draws a light (names_a_light)
 
 
 @dataclass
@@ -217,23 +218,40 @@ def held_ambient(level: Level, ambient: str = DEFAULT_AMBIENT) -> np.ndarray | N
 def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | None, start: str = DEFAULT_START,
                      peaks: PeakSettings = DEFAULT_PEAKS) -> tuple[np.ndarray, np.ndarray | None]:
     """Where fit_scene(spots=True)'s spotlights start, and their relative intensities: at the point lights' starts
-    (`starts`, `relative`); with the peak start also under the ceiling above the floor's peaks (starts.ceiling_starts,
-    lights.md §4), those replacing the point lights' starts within merge distance of them, and then all of them only
-    where something other than sky is straight above in reach (starts.under_a_ceiling). Without the peak start, or
-    without peaks (relative None), the point lights' starts as they are, no ceiling test (and without the peak start
-    no merge either: fit_scene)."""
+    (`starts`, `relative`); with the peak start also under the fixtures of light-named shaders (starts.fixture_starts)
+    and under the ceiling above the floor's peaks (starts.ceiling_starts, lights.md §4) — a ceiling start within merge
+    distance of a fixture start dropped, and both replacing the point lights' starts within merge distance of them —,
+    and then all of them only where something other than sky is above in reach (starts.under_a_ceiling). A fixture
+    start over a floor too dark to read gets the median of the others' estimates. Without the peak start, or without
+    peaks (relative None), the point lights' starts as they are, no ceiling test (and without the peak start no merge
+    either: fit_scene)."""
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
+    corners, normals, face = light_fixtures(scene.level.bsp)
+    fixtures = fixture_starts(corners, normals, face, target.positions, target.radiance, target.albedo, scene.is_open,
+                              _distance_down(scene), peaks)
     ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
                              _distance_up(scene), peaks)
+    hung, estimates = fixtures.positions, fixtures.intensities
+    inside = _in_bounds(scene, hung)
+    hung, estimates = hung[inside], estimates[inside]
     inside = _in_bounds(scene, ceiling.positions)
-    hung, estimates = ceiling.positions[inside], ceiling.intensities[inside]
-    gap = np.linalg.norm(starts.positions[:, None] - hung[None], axis=2).min(axis=1, initial=np.inf)
-    far = gap >= peaks.merge_distance
+    far = _farther(ceiling.positions[inside], hung, peaks.merge_distance)
+    hung = np.concatenate([hung, ceiling.positions[inside][far]])
+    estimates = np.concatenate([estimates, ceiling.intensities[inside][far]])
+    read = estimates > 0
+    estimates = np.where(read, estimates, np.median(estimates[read]) if read.any() else np.median(relative))
+    far = _farther(starts.positions, hung, peaks.merge_distance)
     positions, relative = np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
     hangs = under_a_ceiling(positions, _distance_up(scene), _sky_up(scene))
     return positions[hangs], relative[hangs]
+
+
+def _farther(positions: np.ndarray, others: np.ndarray, distance: float) -> np.ndarray:
+    """(N,) bool: each of `positions` (N, 3) at least `distance` from every one of `others` (M, 3) (True without any)."""
+    gap = np.linalg.norm(positions[:, None] - others[None], axis=2).min(axis=1, initial=np.inf)
+    return gap >= distance
 
 
 def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
@@ -243,18 +261,24 @@ def _in_bounds(scene: LevelScene, positions: np.ndarray) -> np.ndarray:
 
 def _distance_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
     """(N, 3) Quake points -> (N,) units to the first surface straight above (inf beyond SPOT_REACH)."""
-    return _up_through(scene.model.raycaster)
+    return _through(scene.model.raycaster, UP)
+
+
+def _distance_down(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray]:
+    """(N, 3) Quake points -> (N,) units to the first surface straight below (inf beyond SPOT_REACH)."""
+    return _through(scene.model.raycaster, -UP)
 
 
 def _sky_up(scene: LevelScene) -> Callable[[np.ndarray], np.ndarray] | None:
     """(N, 3) Quake points -> (N,) units to the level's sky triangles straight above (inf beyond SPOT_REACH); None on
     a level without sky."""
-    return None if scene.model.sky is None else _up_through(scene.model.sky)
+    return None if scene.model.sky is None else _through(scene.model.sky, UP)
 
 
-def _up_through(raycaster: EmbreeRaycaster) -> Callable[[np.ndarray], np.ndarray]:
-    """(N, 3) Quake points -> (N,) units to `raycaster`'s first triangle straight above (inf beyond SPOT_REACH)."""
-    return lambda points: raycaster.cast(points, np.broadcast_to(UP, points.shape).copy(), SPOT_REACH + 1.0)[0]
+def _through(raycaster: EmbreeRaycaster, direction: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """(N, 3) Quake points -> (N,) units to `raycaster`'s first triangle along the unit `direction` (inf beyond
+    SPOT_REACH)."""
+    return lambda points: raycaster.cast(points, np.broadcast_to(direction, points.shape).copy(), SPOT_REACH + 1.0)[0]
 
 
 def fits_spots(scene: LevelScene, spots: bool | None, start: str = DEFAULT_START,
@@ -407,7 +431,7 @@ def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLig
         if light is not None:
             shaders[index] = light
         elif candidates and name.lower() not in scripts.blocks and \
-                (int(bsp.shaders["surface_flags"][index]) & SURF_SKY or "light" in name.lower()):
+                (int(bsp.shaders["surface_flags"][index]) & SURF_SKY or names_a_light(name)):
             colour = image_colour(name)
             colour = np.ones(3) if colour is None or not np.any(colour > 0) else colour / colour.max()
             shaders[index] = ShaderLight(value=CANDIDATE_VALUE, colour=colour, subdivide=DEFAULT_LIGHT_SUBDIVIDE,
@@ -415,6 +439,23 @@ def script_lights(level: Level, candidates: bool = False) -> dict[int, ShaderLig
                                          backsplash_distance=BACKSPLASH_DISTANCE, two_sided=False,
                                          colour_source=CANDIDATE_SOURCE + ("image" if colour is not None else "white"))
     return shaders
+
+
+def names_a_light(shader: str) -> bool:
+    """Whether a shader's name says it draws a light ("light" in it, any case): the surface-light candidates without a
+    script (script_lights) and the fixtures spotlights hang from (light_fixtures)."""
+    return LIGHT_WORD in shader.lower()
+
+
+def light_fixtures(bsp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The triangles of the faces drawn with a shader whose name says it draws a light (names_a_light): corners (T, 3,
+    3) Quake units, vertex normals (T, 3, 3), face (T,) (emitters.surface_triangles), where spotlights may hang
+    (starts.fixture_starts)."""
+    named = np.array([names_a_light(bsp.shader_name(index)) for index in range(len(bsp.shaders))], dtype=bool)
+    faces = np.flatnonzero(named[bsp.faces["shader"]]) if len(named) else np.zeros(0, np.int64)
+    if len(faces) == 0:
+        return np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), np.zeros(0, np.int64)
+    return surface_triangles(bsp, faces)
 
 
 def shader_emitters(bsp, shaders: dict[int, ShaderLight]) -> Emitters:

@@ -36,8 +36,19 @@ where the point light's bump of step 3 puts the light at the bump's height, not 
    peaks beside its small fixture), if that surface is at most SPOT_REACH above (moved sideways by the
    first open one of SIDE_STEPS when that is in solid: a peak at the foot of a wall), with the estimated intensity
    light h^2 / 7500 (a light at height h on its axis); merged as in step 5, brightest first. These and the copies of
-   the point starts (pipeline.spotlight_starts) are kept only where something other than the sky is straight above
-   within SPOT_REACH (under_a_ceiling): a spotlight hangs from something.
+   the point starts (pipeline.spotlight_starts) are kept only where something other than the sky is above within
+   SPOT_REACH, straight up or up from one of the CEILING_STEPS (under_a_ceiling): a spotlight hangs from something.
+
+With spotlights, they also start under the fixtures they hang from (fixture_starts): a mapper hangs a spotlight just
+under the panel drawn with a light texture, which its disc on the floor does not show when the discs of neighbours
+overlap (no floor peak under it) or the floor peak's column misses the panel. So:
+
+9. every face facing down (normal within FLOOR_COSINE of -z) of a shader whose name says "light" (the surface-light
+   candidates' word, pipeline.names_a_light) starts a spotlight CLEARANCE below its centre, if that is open and a
+   surface lies below it within SPOT_REACH, with the estimated intensity light h^2 / 7500 (the baked light of the
+   target point nearest the surface below, h the height above it; a point too dark to read gives none, and the fit
+   its starts' median); merged as in step 5, the brightest floor first. These come first: the ceiling starts of step 7
+   within the merge distance of one of them are dropped.
 
 Whether a level's fit starts spotlights at all (fit_scene(spots=None), pipeline.fits_spots) is read from the same
 floor peaks:
@@ -100,6 +111,7 @@ DISC_CONES = (0.3, 0.45, 0.6, 0.75, 0.9, 1.2, 1.6)  # radiusByDist tried (half-a
 SPOT_LEVEL_GAIN = 0.0075  # median disc gain from which a level's fit starts spotlights
 OpenTest = Callable[[np.ndarray], np.ndarray]
 DistanceUp = Callable[[np.ndarray], np.ndarray]  # (N, 3) Quake points -> (N,) units to the first surface above (inf)
+# (or below: fixture_starts' distance_down)
 UP = np.array([0.0, 0.0, 1.0])  # Quake's up: a downward spotlight hangs above its floor peak along it
 CEILING_PROBE_LIFT = 1.0  # units above a floor peak the ray up to the ceiling starts, so its own floor is not the hit
 
@@ -333,16 +345,60 @@ def ceiling_starts(points: np.ndarray, normals: np.ndarray, radiance: np.ndarray
     return Starts(positions[kept], intensities, len(kept))
 
 
+def fixture_starts(corners: np.ndarray, vertex_normals: np.ndarray, face: np.ndarray, points: np.ndarray,
+                   radiance: np.ndarray, albedo: np.ndarray, is_open: OpenTest, distance_down: DistanceUp,
+                   settings: PeakSettings = DEFAULT_PEAKS) -> Starts:
+    """Step 9 of the module docstring: spotlight starts under the down-facing faces among the triangles `corners` (T, 3,
+    3) Quake units with vertex normals (T, 3, 3) of faces `face` (T,) — the faces of light-named shaders
+    (pipeline.light_fixtures) — over the target's `points` with their `radiance` and `albedo`; `distance_down`: units
+    to the first surface straight below (inf beyond SPOT_REACH). Intensities 0 where the floor below is too dark to
+    read (baked_light)."""
+    if len(corners) == 0:
+        return Starts(np.zeros((0, 3)), np.zeros(0), 0)
+    normal = vertex_normals.mean(axis=1)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), np.finfo(float).tiny)
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    down = (normal[:, 2] <= -FLOOR_COSINE) & (area > 0)
+    faces = np.unique(face[down])
+    if len(faces) == 0:
+        return Starts(np.zeros((0, 3)), np.zeros(0), 0)
+    weight = np.where(down, area, 0.0)
+    # area-weighted centre of each face's down-facing triangles (a face's triangles share its plane)
+    index = np.searchsorted(faces, face[down])
+    total = np.bincount(index, weight[down], minlength=len(faces))
+    centres = np.stack([np.bincount(index, weight[down] * corners[down].mean(axis=1)[:, k], minlength=len(faces))
+                        for k in range(3)], axis=1) / total[:, None]
+    positions = centres - CLEARANCE * UP
+    height = distance_down(positions) if len(positions) else np.zeros(0)
+    keep = np.isfinite(height) & (height <= SPOT_REACH) & is_open(positions)
+    positions, height = positions[keep], height[keep]
+    if len(positions) == 0:
+        return Starts(np.zeros((0, 3)), np.zeros(0), 0)
+    light, _ = baked_light(radiance, albedo)
+    _, nearest = cKDTree(points).query(positions - height[:, None] * UP)
+    below = np.nan_to_num(light[nearest], nan=0.0)
+    kept = merged(positions, below, settings)  # brightest floor first
+    return Starts(positions[kept], below[kept] * height[kept] ** 2 / POINT_SCALE, len(kept))
+
+
 def under_a_ceiling(positions: np.ndarray, distance_up: DistanceUp, sky_up: DistanceUp | None) -> np.ndarray:
-    """(N,) bool: something other than the sky is straight above each position (N, 3) within SPOT_REACH, where a
-    spotlight start may hang (pipeline.spotlight_starts). `sky_up`: units to the level's sky straight above (inf if
-    none), None on a level without sky. On aggressor the spotlights started under its sky became suns: 20 of the fit's
-    spotlights had the sky straight above, the 17 of them farther than 1 m from every real light carrying 2,030 of its
-    15,323 power, and its sun came out 61 degrees off (benchmarks.md "The light rig")."""
-    above = distance_up(positions)
-    hangs = np.isfinite(above) & (above <= SPOT_REACH)
-    if sky_up is not None:
-        hangs &= ~(sky_up(positions) < above)
+    """(N,) bool: something other than the sky is above each position (N, 3) within SPOT_REACH, straight up or straight
+    up from any of CEILING_STEPS around it — the columns in which ceiling_starts found the ceiling the start hangs from
+    — where a spotlight start may hang (pipeline.spotlight_starts). A column counts when its first surface is in reach
+    and no nearer than the sky in it. `sky_up`: units to the level's sky straight above (inf if none), None on a level
+    without sky. On aggressor the spotlights started under its sky became suns: 20 of the fit's spotlights had the sky
+    straight above, the 17 of them farther than 1 m from every real light carrying 2,030 of its 15,323 power, and its
+    sun came out 61 degrees off (benchmarks.md "The light rig"). The side columns because a ceiling start under a
+    fixture found from a side step has, straight up, the gap beside the fixture (on aggressor the start 0.38 m from the
+    real spotlight 46, under its 16-unit panel, was dropped so)."""
+    hangs = np.zeros(len(positions), bool)
+    for offset in (np.zeros(3),) + CEILING_STEPS:
+        column = positions + offset
+        above = distance_up(column)
+        found = np.isfinite(above) & (above <= SPOT_REACH)
+        if sky_up is not None:
+            found &= ~(sky_up(column) < above)
+        hangs |= found
     return hangs
 
 

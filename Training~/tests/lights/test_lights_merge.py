@@ -106,12 +106,32 @@ def test_the_second_pass_continues_the_curve_with_its_phases_after_the_first() -
 
 def test_a_spotlight_start_hangs_under_a_ceiling_in_reach_and_not_under_the_sky() -> None:
     """Positions under a ceiling 100 units up, under one beyond SPOT_REACH, under nothing, and under a sky hole (sky 50
-    units up, the ceiling beyond it 300 up): only the first may start a spotlight; without sky, the last may too."""
-    positions = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [200.0, 0.0, 0.0], [300.0, 0.0, 0.0]])
+    units up, the ceiling beyond it 300 up), each 100 units wide (wider than the side steps): only the first may start
+    a spotlight; without sky, the last may too."""
+    positions = np.array([[50.0, 0.0, 0.0], [150.0, 0.0, 0.0], [250.0, 0.0, 0.0], [350.0, 0.0, 0.0]])
     ceiling = lambda p: np.array([100.0, SPOT_REACH + 1.0, np.inf, 300.0])[(p[:, 0] // 100).astype(int)]  # noqa: E731
     sky = lambda p: np.array([np.inf, np.inf, np.inf, 50.0])[(p[:, 0] // 100).astype(int)]  # noqa: E731
     assert under_a_ceiling(positions, ceiling, sky).tolist() == [True, False, False, False]
     assert under_a_ceiling(positions, ceiling, None).tolist() == [True, False, False, True]
+
+
+def test_a_spotlight_start_beside_its_fixture_hangs_from_it() -> None:
+    """A 16-unit panel 24 units above a start, centred 12 units beside it (as aggressor's tilted spotlights hang: the
+    disc's peak, under which the start is, lies beside the panel), the sky 400 units up everywhere else: straight up the
+    start sees the sky, from the side step toward the panel it sees the panel — the column ceiling_starts found it in —
+    so it hangs there. Straight up alone (the rule before) it was dropped; a start with no panel within the side steps
+    is still dropped."""
+    panel_x = (4.0, 20.0)  # x range of the panel, at y in [-8, 8]
+
+    def under_panel(p: np.ndarray) -> np.ndarray:
+        return (p[:, 0] >= panel_x[0]) & (p[:, 0] <= panel_x[1]) & (np.abs(p[:, 1]) <= 8.0)
+
+    ceiling = lambda p: np.where(under_panel(p), 24.0, 400.0)  # noqa: E731
+    sky = lambda p: np.where(under_panel(p), np.inf, 400.0 - 1e-6)  # noqa: E731  (the sky is the first thing up there)
+    starts = np.array([[-8.0, 0.0, 0.0], [-200.0, 0.0, 0.0]])
+    assert not under_panel(starts).any()  # neither start is straight under the panel
+    assert under_a_ceiling(starts, ceiling, sky).tolist() == [True, False]
+    assert under_a_ceiling(starts, ceiling, None).tolist() == [True, True]  # without sky, the roof 400 up is in reach
 
 
 def test_coincident_spotlights_of_equal_power_fold_into_the_lower_index() -> None:

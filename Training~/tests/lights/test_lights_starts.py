@@ -11,15 +11,16 @@ import pytest
 from lit_bsp import lit_level
 from lpnn.lights.model import ForwardModel, Lights
 from lpnn.lights.optimise import Fitter, initial_intensity
-from lpnn.lights.pipeline import load_scene, start_positions
+from lpnn.lights.pipeline import light_fixtures, load_scene, names_a_light, start_positions
+from lpnn.scenes.bsp import read_bsp
 from lpnn.lights.settings import SCHEMES
 from lpnn.scenes.levels import load_level
 from lpnn.lights.emitters import spot_factor
 from lpnn.lights.model import POINT_SCALE
 from lpnn.lights.optimise import CLEARANCE
 from lpnn.lights.starts import (DEFAULT_HEIGHT, SPOT_LEVEL_GAIN, SPOT_REACH, Starts, baked_light, bump_profile,
-                                ceiling_starts, disc_gain, disc_gains, fit_bump, light_peaks, lit_by_spotlights,
-                                peak_starts, spot_disc_profile, with_grid_fallback)
+                                ceiling_starts, disc_gain, disc_gains, fit_bump, fixture_starts, light_peaks,
+                                lit_by_spotlights, peak_starts, spot_disc_profile, with_grid_fallback)
 from synthetic_room import ROOM_SIDE, inside_room, lit_room
 
 # lights on mesh vertices of the 16-division room (16-unit spacing), 64 units (a height of starts.HEIGHTS) from
@@ -300,3 +301,71 @@ def test_fits_spots_as_asked_and_by_default_only_with_the_peak_start(tmp_path: P
     scene = load_scene(load_level(str(path)), textures=False)
     assert fits_spots(scene, True, "grid") and not fits_spots(scene, False, "peaks")
     assert not fits_spots(scene, None, "grid") and not fits_spots(scene, None, "peaks")
+
+
+def panel(x: float, y: float, z: float, half: float = 8.0, down: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """A square panel (2 triangles) centred at (x, y, z) in a horizontal plane, facing down (or up): corners (2, 3, 3)
+    and vertex normals (2, 3, 3)."""
+    a, b, c, d = ([x - half, y - half, z], [x + half, y - half, z], [x + half, y + half, z], [x - half, y + half, z])
+    corners = np.array([[a, b, c], [a, c, d]], dtype=np.float64)
+    return corners, np.tile([0.0, 0.0, -1.0 if down else 1.0], (2, 3, 1))
+
+
+def fixtures(*panels: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The panels as fixture_starts takes them: corners, vertex normals, face of each triangle (one face a panel)."""
+    return (np.concatenate([p[0] for p in panels]), np.concatenate([p[1] for p in panels]),
+            np.repeat(np.arange(len(panels)), 2))
+
+
+def floor_below(points: np.ndarray) -> np.ndarray:
+    return points[:, 2].copy()  # the floor is z = 0
+
+
+def test_spotlights_start_under_the_light_fixtures_facing_down_brightest_floor_first() -> None:
+    """aggressor's case: spotlights hang under 16-unit panels drawn with a light texture, their discs overlapping so
+    that no floor peak lies under some of them (ceiling_starts misses those). Two panels facing down at z = 200 over
+    discs of 60 and 90 bytes start a spotlight each CLEARANCE below its centre, with the intensity of a light at that
+    height giving the floor's bytes below it (light h^2 / 7500), the brighter floor first; a panel facing up (the top
+    of a fixture) starts none."""
+    points, normals, radiance, albedo = floor_with_discs([(-160.0, 0.0), (160.0, 0.0)], [60.0, 90.0])
+    corners, vertex_normals, face = fixtures(panel(-160.0, 0.0, 200.0), panel(160.0, 0.0, 200.0),
+                                             panel(0.0, 0.0, 200.0, down=False))
+    starts = fixture_starts(corners, vertex_normals, face, points, radiance, albedo, lambda p: np.ones(len(p), bool),
+                            floor_below)
+    height = 200.0 - CLEARANCE
+    np.testing.assert_allclose(starts.positions, [[160.0, 0.0, height], [-160.0, 0.0, height]])
+    np.testing.assert_allclose(starts.intensities, np.array([92.0, 62.0]) * height ** 2 / POINT_SCALE)
+    assert starts.from_peaks == 2
+    again = fixture_starts(corners, vertex_normals, face, points, radiance, albedo, lambda p: np.ones(len(p), bool),
+                           floor_below)
+    np.testing.assert_array_equal(again.positions, starts.positions)
+
+
+def test_fixture_starts_merge_within_the_merge_distance_and_need_open_space_and_a_floor() -> None:
+    """Two panels 48 units apart (under MERGE_DISTANCE) start one spotlight, over the brighter floor; a panel whose start
+    is in solid, and one with nothing below in SPOT_REACH, start none."""
+    points, normals, radiance, albedo = floor_with_discs([(0.0, 0.0), (48.0, 0.0)], [40.0, 80.0])
+    open_everywhere = lambda p: np.ones(len(p), bool)  # noqa: E731
+    corners, vertex_normals, face = fixtures(panel(0.0, 0.0, 150.0), panel(48.0, 0.0, 150.0))
+    starts = fixture_starts(corners, vertex_normals, face, points, radiance, albedo, open_everywhere, floor_below)
+    np.testing.assert_allclose(starts.positions, [[48.0, 0.0, 150.0 - CLEARANCE]])
+    assert fixture_starts(corners, vertex_normals, face, points, radiance, albedo, lambda p: p[:, 0] > 100.0,
+                          floor_below).from_peaks == 0
+    assert fixture_starts(corners, vertex_normals, face, points, radiance, albedo, open_everywhere,
+                          lambda p: np.full(len(p), np.inf)).from_peaks == 0
+    empty = fixture_starts(np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), np.zeros(0, np.int64), points, radiance, albedo,
+                           open_everywhere, floor_below)
+    assert empty.from_peaks == 0 and empty.positions.shape == (0, 3)
+
+
+def test_a_shader_named_light_draws_fixtures() -> None:
+    """light_fixtures takes the faces of the shaders whose name says "light" (any case), as the surface-light
+    candidates do: on the synthetic level with its wall shader renamed, the wall's faces; with the original name, none."""
+    level = lit_level()
+    assert len(light_fixtures(read_bsp(level.to_bytes(), "plain"))[0]) == 0
+    level.shaders[0] = ("textures/test/Ceil_LIGHT", *level.shaders[0][1:])
+    bsp = read_bsp(level.to_bytes(), "named")
+    corners, vertex_normals, face = light_fixtures(bsp)
+    wall_faces = np.flatnonzero(bsp.faces["shader"] == 0)
+    assert len(corners) > 0 and set(face.tolist()) <= set(wall_faces.tolist())
+    assert names_a_light("textures/base_light/ceil1_22a") and not names_a_light("textures/test/wall")
