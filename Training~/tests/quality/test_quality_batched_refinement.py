@@ -87,9 +87,9 @@ def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_f
     from the state's and the trial's (module text); every point's error and the Delaunay graph must still be those of
     evaluating the smaller set from scratch, hull vertices removed or not."""
     field = _field(medium_capture)
-    # 145 probes: from 150, 155 or 160 (the insertion order since the tie rule numbers tetrahedra by point index) one
-    # removed hull vertex's star is degenerate — at 150 four collinear probes on a hull face — and its refill and Qhull's
-    # `Qt` pick different tetrahedra, 2 of ~600 (the C# core checks such trials against its tetrahedraliser, §5.3).
+    # 145 probes, not 150 or more (the insertion order since the tie rule numbers tetrahedra by point index): the 150th
+    # makes four probes collinear on a hull face (points 43, 131, 219, 307; float32 rounding keeps slivers of them), a
+    # degenerate star whose refill and Qhull's `Qt` pick different slivers (C# checks such trials, quality.md §5.3).
     state = evaluate(field, _insertion(medium_capture, field)(145))
     corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
     rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
