@@ -16,3 +16,4 @@ PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_batched_refinement_golden.p
 PYTHONPATH="$TRAINING_DIR" "$PY" "Tools~/golden/make_leak_aware_golden.py" "$REPO_ROOT/Tests/Data"
 python3 "Tools~/golden/make_leaks_golden.py"
 python3 "Tools~/golden/make_in_use_golden.py"
+python3 "Tools~/golden/make_tet_numbering_golden.py" "$REPO_ROOT/Tests/Data"

@@ -201,7 +201,7 @@ namespace Lpnn.Probes.Core.Tests
             while (true)
             {
                 int[] probes = order.ToArray();
-                int[] tetrahedra = delaunay.Tetrahedralize(probes.Select(p => reference.GetPosition(p)).ToArray());
+                int[] tetrahedra = TetrahedronNumbering.Tetrahedralize(delaunay, reference, probes);  // numbered as the order's rounds
                 int[] fresh = InsertionRanking.NextBatch(reference, probes, tetrahedra, growth, guide);
                 Assert.That(rounds.NextBatch(reference, probes, tetrahedra, growth, guide, null), Is.EqualTo(fresh),
                     "round " + rounds.Rounds + " from " + probes.Length + " probes");

@@ -19,7 +19,7 @@ namespace Lpnn.Probes.Core.Tests
         [TearDown]
         public void Restore()
         {
-            InsertionTetrahedra.Setting = InsertionTetrahedra.Mode.Tetrahedralised;
+            InsertionTetrahedra.Setting = InsertionTetrahedra.Mode.Derived;
             InsertionTetrahedra.AlterDerivedForTests = null;
         }
 
@@ -41,7 +41,8 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(derived.Length, Is.EqualTo(expected.Length), "tetrahedron count");
             Assert.That(TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, expected)), Is.True,
                 "the inserted tetrahedra are not Bowyer–Watson's");
-            Assert.That(TetrahedralMesh.Canonical(derived), Is.EqualTo(TetrahedralMesh.Canonical(expected)));
+            Assert.That(TetrahedronNumbering.Numbered(derived, order), Is.EqualTo(TetrahedronNumbering.Numbered(expected, order)),
+                "numbered alike, though built otherwise");
         }
 
         /// <summary>Bowyer–Watson's tetrahedra of the given points (indices into <paramref name="vertices"/>).</summary>
@@ -168,16 +169,16 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void DerivedRoundsRankAsTetrahedralisedOnesWithFarFewerCalls()
         {
-            int[] canonical = Ranking(InsertionTetrahedra.Mode.Canonical, false, out int tetrahedralised, out _);
+            int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
-            Assert.That(derived, Is.EqualTo(canonical));
+            Assert.That(derived, Is.EqualTo(everyRound));
             Assert.That(counts.Agrees, Is.True);
             Assert.That(calls, Is.EqualTo(2), "the first round and the first derived round's check");
             Assert.That(counts.Derived, Is.EqualTo(tetrahedralised - 1));
         }
 
         [Test]
-        public void TodaysRoundsTetrahedraliseEveryRound()
+        public void TetrahedralisedRoundsTetrahedraliseEveryRound()
         {
             Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int calls, out var counts);
             Assert.That(counts.Derived, Is.EqualTo(0));
@@ -185,36 +186,51 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
-        public void ATetrahedraliserThatBreaksTiesOtherwiseTurnsTheDerivationOff()
+        public void ATetrahedraliserThatBreaksTiesOtherwiseIsFollowedEveryRound()
         {
-            int[] canonical = Ranking(InsertionTetrahedra.Mode.Canonical, true, out int tetrahedralised, out _);
+            int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, true, out int tetrahedralised, out _);
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, true, out int calls, out var counts);
             Assert.That(counts.Agrees, Is.False);
             Assert.That(counts.Derived, Is.EqualTo(0));
+            Assert.That(counts.Resyncs, Is.InRange(1, InsertionTetrahedra.MaxResyncs), "derived rounds re-synchronised, then none derived");
             Assert.That(calls, Is.EqualTo(tetrahedralised), "every round once (the check's answer is its round's)");
-            Assert.That(derived, Is.EqualTo(canonical));
+            Assert.That(derived, Is.EqualTo(everyRound));
         }
 
         [Test]
         public void AWrongDerivationIsCaughtByTheCheck()
         {
-            int[] canonical = Ranking(InsertionTetrahedra.Mode.Canonical, false, out int tetrahedralised, out _);
+            int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
             InsertionTetrahedra.AlterDerivedForTests = tets => tets.Skip(4).ToArray();  // one tetrahedron lost
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
             Assert.That(counts.Agrees, Is.False);
             Assert.That(calls, Is.EqualTo(tetrahedralised));
-            Assert.That(derived, Is.EqualTo(canonical));
+            Assert.That(derived, Is.EqualTo(everyRound));
+        }
+
+        [Test]
+        public void AWrongDerivationIsReplacedAndTheNextRoundDerivesAgain()
+        {
+            int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
+            int derivations = 0;
+            InsertionTetrahedra.AlterDerivedForTests = tets => ++derivations == 1 ? tets.Skip(4).ToArray() : tets;  // the first loses one
+            int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
+            Assert.That(derived, Is.EqualTo(everyRound));
+            Assert.That(counts.Resyncs, Is.EqualTo(1));
+            Assert.That(counts.Agrees, Is.True);
+            Assert.That(calls, Is.EqualTo(3), "the first round, the wrong round's check (its answer), the next round's check");
+            Assert.That(counts.Derived, Is.EqualTo(tetrahedralised - 2));
         }
 
         [Test]
         public void AFailedDerivationTetrahedralisesThatRound()
         {
-            int[] canonical = Ranking(InsertionTetrahedra.Mode.Canonical, false, out int tetrahedralised, out _);
+            int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
             int failures = 0;
             // Every other derivation fails: those rounds are tetrahedralised, and the next derives from their answer.
             InsertionTetrahedra.AlterDerivedForTests = tets => ++failures % 2 == 1 ? null : tets;
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
-            Assert.That(derived, Is.EqualTo(canonical));
+            Assert.That(derived, Is.EqualTo(everyRound));
             Assert.That(counts.Agrees, Is.True);
             Assert.That(counts.Derived, Is.GreaterThan(0));
             Assert.That(counts.Derived + calls, Is.EqualTo(tetrahedralised + 1), "each round derived or tetrahedralised, and one check");

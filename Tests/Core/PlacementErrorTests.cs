@@ -304,7 +304,9 @@ namespace Lpnn.Probes.Core.Tests
             var reference = ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1, 1, 1), new Vector3(4, 3, 2), 1.3f));
             int[] probes = Enumerable.Range(0, grid.Count).Where(n => n % 4 == 1).ToArray();
             var delaunay = new BowyerWatsonDelaunay();
-            var direct = PlacementError.Evaluate(reference, probes, delaunay.Tetrahedralize(probes.Select(p => positions[p]).ToArray()));
+            // Numbered by the tie rule's hash of the probes' point indices (TetrahedronNumbering), as the evaluator numbers them.
+            var direct = PlacementError.Evaluate(reference, probes,
+                TetrahedronNumbering.Numbered(delaunay.Tetrahedralize(probes.Select(p => positions[p]).ToArray()), probes));
             var evaluator = new PlacementEvaluator(reference, delaunay);
             Assert.That(evaluator.Evaluate(probes).PointIrradiance, Is.EqualTo(direct.PointIrradiance));
             Assert.That(evaluator.MeanError(probes), Is.EqualTo(direct.Irradiance.Mean));

@@ -288,8 +288,8 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(tetrahedralised.Rounds, Is.GreaterThan(3));
             if (refillsExpected)
                 Assert.That(withRefills.Whole, Is.LessThan(forced.Whole / 3), "whole tetrahedralisations with refills (" + withRefills.Links + " links) against without");
-            else  // the first trial's check tetrahedralises it, and the rest as before
-                Assert.That(withRefills.Whole, Is.EqualTo(forced.Whole), "refills turned off after the check");
+            else  // every trial's check disagrees and answers it, and every commit is tetrahedralised: as many calls as without
+                Assert.That(withRefills.Whole, Is.EqualTo(forced.Whole), "one check per trial in place of its tetrahedralisation");
         }
 
         [Test]
@@ -310,7 +310,7 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
-        public void ATetrahedraliserThatBreaksTiesOtherwiseTurnsTheRefillsOff()
+        public void ATetrahedraliserThatBreaksTiesOtherwiseIsFollowedAtEveryTrial()
         {
             var reference = Lattice(6, 5, 4);
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
@@ -322,12 +322,52 @@ namespace Lpnn.Probes.Core.Tests
             state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
             Assert.That(state.Counts.Derived, Is.EqualTo(1), "the refills gave a tetrahedralisation");
             Assert.That(state.Counts.RefillsAgree, Is.False, "but not this tetrahedraliser's");
+            Assert.That(state.Counts.Resyncs, Is.EqualTo(1));
             Assert.That(otherwise.Whole, Is.EqualTo(2), "the seed, then the trial's check");
+            for (int again = 2; again <= InsertionTetrahedra.MaxResyncs; again++)
+            {
+                state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
+                Assert.That(state.Counts.Derived, Is.EqualTo(again), "the refills are still tried");
+                Assert.That(state.Counts.Resyncs, Is.EqualTo(again), "and checked again, since none has agreed");
+                Assert.That(otherwise.Whole, Is.EqualTo(1 + again));
+            }
             int links = otherwise.Links;
             state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
-            Assert.That(otherwise.Links, Is.EqualTo(links), "no refills any more");
-            Assert.That(otherwise.Whole, Is.EqualTo(3));
+            Assert.That(otherwise.Links, Is.EqualTo(links), "no refills after MaxResyncs disagreements");
+            Assert.That(otherwise.Whole, Is.EqualTo(2 + InsertionTetrahedra.MaxResyncs));
             AssertTheSameProbes(reference, () => BowyerWatsonDelaunay.TieBroken(reference, otherwise: true), t => BatchedRefinement.ToCount(reference, t, probes, 12), false);
+        }
+
+        [Test]
+        public void ADisagreeingTrialReSynchronisesAndTheNextDerivesAgain()
+        {
+            // The first trial is checked against a tetrahedraliser that breaks the lattice's ties otherwise (as a degenerate
+            // star's refill may differ from the tetrahedraliser's): its answer replaces the trial, the commit is
+            // tetrahedralised, and the next trial derives from that again and, checked against the same tie rule, agrees.
+            var reference = Lattice(6, 5, 4);
+            int[] probes = Enumerable.Range(0, reference.Count).ToArray();
+            var same = new CountingTetrahedralizer(BowyerWatsonDelaunay.TieBroken(reference));
+            var links = BowyerWatsonDelaunay.TieBroken(reference);  // a star's link as the refills expect it
+            var otherwise = new CountingTetrahedralizer(BowyerWatsonDelaunay.TieBroken(reference, otherwise: true), (positions, _) => links.Tetrahedralize(positions));
+            var state = BatchedRefinementState.Evaluate(reference, same, probes);
+            int[] candidates = Independent(state, Order(reference, state.Probes, false, 8));
+            var costs = new double[reference.Count];
+            state.RemovalCosts(reference, otherwise, BatchedRefinementState.ProbesWithout(state.Probes, candidates, reference.Count), candidates, costs);
+            Assert.That(state.Counts.Resyncs, Is.EqualTo(1));
+            Assert.That(state.Counts.RefillsAgree, Is.False);
+            var next = state.Without(reference, same, candidates.Take(3).ToArray());
+            Assert.That(same.Whole, Is.EqualTo(2), "the seed, then the commit after the disagreement");
+            int tetrahedralised = state.Counts.Tetrahedralised;
+            int[] again = Independent(next, Order(reference, next.Probes, false, 8));
+            next.RemovalCosts(reference, same, BatchedRefinementState.ProbesWithout(next.Probes, again, reference.Count), again, costs);
+            Assert.That(next.Counts.RefillsAgree, Is.True, "the re-synchronised set derives the tetrahedraliser's tetrahedra");
+            Assert.That(next.Counts.Resyncs, Is.EqualTo(1));
+            Assert.That(same.Whole, Is.EqualTo(3), "one check");
+            var third = next.Without(reference, same, again.Take(3).ToArray());
+            int[] later = Independent(third, Order(reference, third.Probes, false, 8));
+            third.RemovalCosts(reference, same, BatchedRefinementState.ProbesWithout(third.Probes, later, reference.Count), later, costs);
+            Assert.That(same.Whole, Is.EqualTo(3), "the commit and the next trial derived, unchecked");
+            Assert.That(third.Counts.Tetrahedralised, Is.EqualTo(tetrahedralised + 1), "only the one check since the re-sync");
         }
 
         [Test]

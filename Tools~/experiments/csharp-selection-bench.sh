@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times the C# core's selection paths under Mono on synthetic lattices of ~10^4, 10^5 and 10^6 points
 # and the insertion ranking's parts that run without Unity (Documentation~/benchmarks.md "The C# core under Mono"). Usage: bash Tools~/experiments/csharp-selection-bench.sh [--batched] [n ...]  (n^3 points each)
-# --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--serial] [--compare] CAPTURE...: the whole default selection of a
+# --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--tetrahedralised-rounds] [--serial] [--compare] CAPTURE...: the whole default selection of a
 # volume's Apply (insertion refined in batches, tau = 0.05) on each capture, the Apply rehearsal's run with Python's
 # tetrahedraliser over a pipe: seconds per stage, seconds waiting on the tetrahedraliser, tetrahedralisations and rays per
 # stage, probes kept (benchmarks.md "The C# core under Mono"; Tools~/experiments/SelectionBench/ApplyBench.cs).
@@ -10,9 +10,9 @@
 # (write_capture_triangles.py; Tests/Core/Support/TriangleSoupRaycaster.cs, standing in for Unity's physics), --rays embree
 # through Python's Embree over a pipe (embree_raycaster_server.py: lpnn place's own answers, for parity). --leaks ignore:
 # leak-blind (the toggle off); --no-memo: every segment cast anew (no SegmentMemo); --no-refills: the refinement
-# tetrahedralises every trial and commit, as before the star refills (quality.md §5.3); --canonical: the insertion rounds'
-# tetrahedra numbered canonically; --incremental: also derived by inserting each batch into the last round's (both opt-in:
-# they change the numbering the rounds' ties follow, quality.md §5.1; the two must keep the same probes); --serial: every
+# tetrahedralises every trial and commit, as before the star refills (quality.md §5.3); --tetrahedralised-rounds: every
+# insertion round tetrahedralised instead of derived from the last round's tetrahedra (quality.md §5.1 step 6; the two
+# must keep the same probes); --serial: every
 # per-point pass on one core (Numerics/ParallelChunks forced to one chunk: the same probes, for a same-build A/B of the
 # parallel passes); --compare: also runs `lpnn place
 # CAPTURE --tolerance 0.05` (with the same --leaks) and prints whether the C# probes are its probes.
@@ -33,7 +33,7 @@ if [ "${1:-}" = "--apply" ]; then
       --no-memo) memo=(--no-memo); shift ;;
       --no-refills) refills=(--no-refills); shift ;;
       --serial) serial=(--serial); shift ;;
-      --canonical|--incremental) meshes=("$1"); shift ;;
+      --tetrahedralised-rounds) meshes=("$1"); shift ;;
       --compare) compare=1; shift ;;
       *) break ;;
     esac
@@ -41,7 +41,7 @@ if [ "${1:-}" = "--apply" ]; then
   [ "$leaks" = avoid ] || [ "$leaks" = ignore ] || die "--leaks must be avoid or ignore, not $leaks"
   [ "$rays" = csharp ] || [ "$rays" = embree ] || die "--rays must be csharp or embree, not $rays"
   [ "$leaks" = avoid ] || [ "${#memo[@]}" -eq 0 ] || die "--no-memo is for the leak-aware Apply (--leaks avoid)"
-  [ "$#" -ge 1 ] || die "usage: bash Tools~/experiments/csharp-selection-bench.sh --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--canonical|--incremental] [--serial] [--compare] CAPTURE.lpnncap..."
+  [ "$#" -ge 1 ] || die "usage: bash Tools~/experiments/csharp-selection-bench.sh --apply [--leaks ignore] [--rays csharp|embree] [--no-memo] [--no-refills] [--tetrahedralised-rounds] [--serial] [--compare] CAPTURE.lpnncap..."
   PY=$(bash "Tools~/setup-python.sh")
   server="$REPO_ROOT/Training~/tests/quality/rehearsal_tetrahedralizer.py"
   work=$(mktemp -d)

@@ -33,6 +33,8 @@ from typing import Any
 
 import numpy as np
 
+from make_tet_numbering_golden import tet_hash as plain_tet_hash  # this directory: the numbering in plain integers
+
 from lpnn.core.atomic import write_text_atomic
 from lpnn.core.features import scene_scale
 from lpnn.core.grid import EvaluationGrid
@@ -100,7 +102,7 @@ def certify_cells_one(field: ReferenceField, ids: np.ndarray, indices: np.ndarra
     """One point's cell is unique: strictly inside a tetrahedron (exact barycentrics), or projecting into a face interior."""
     if stencil.outside[row]:
         return bool(np.min(stencil.weights[row, :3]) >= INSIDE)
-    tri = tetrahedralize(field.world[indices], field.frame)
+    tri = tetrahedralize(field.world[indices], field.frame, indices)
     a, b, c, d = (tuple(int(v) for v in ids[indices[int(v)]]) for v in tri.tets[stencil.cell[row]])
     q = tuple(int(v) for v in ids[point])
     whole = orient(a, b, c, d)
@@ -199,7 +201,7 @@ def finish_case(name: str, note: str, ids: np.ndarray, sh: np.ndarray, extent: i
     order = start
     while order.shape[0] < ids.shape[0]:
         indices = order
-        tri = tetrahedralize(field.world[indices], field.frame)
+        tri = tetrahedralize(field.world[indices], field.frame, indices)
         if not (certify_delaunay(ids, indices, tri.tets, extent) and certify_cells(field, ids, indices)
                 and certify_round(field, indices, guide)):
             return None
@@ -253,13 +255,13 @@ def outside_round_case(seed: int) -> dict[str, Any] | None:
         ids = ids[keep]
     else:
         return None
-    if not (certify_delaunay(ids, probes, tetrahedralize(field.world[probes], field.frame).tets, extent)
+    if not (certify_delaunay(ids, probes, tetrahedralize(field.world[probes], field.frame, probes).tets, extent)
             and certify_cells(field, ids, probes) and certify_round(field, probes)):
         return None
     outside = int(np.count_nonzero(stencil.outside))
     if outside < 10:
         return None
-    tri = tetrahedralize(field.world[probes], field.frame)
+    tri = tetrahedralize(field.world[probes], field.frame, probes)
     batch = insertion_batch(field, probes)
     return {"name": "outside", "note": f"{ids.shape[0]} random lattice points, 12 probes in random order; {outside} of the "
             "other points lie outside the probes' hull", "cell_size": CELL, "ids": ids.tolist(), "positions": exact(grid.positions),
@@ -409,6 +411,20 @@ def batch_by_counts(cells: dict[int, int], layer: np.ndarray, growth: float, pro
     return [point for _, point in ranked[:max(1, math.ceil(growth * probe_count))]]
 
 
+def check_numbering(probes: np.ndarray, tets: np.ndarray) -> None:
+    """The tetrahedra are numbered as quality.md §1 "Ties" says — by the hash of their corners' point indices, then those
+    indices — recomputed in plain integers (make_tet_numbering_golden.tet_hash, not lpnn's), since the tie rules' cells
+    below read that numbering; each one's corners ascending by point index but for the orientation's swap of the last
+    two."""
+    points = [[int(probes[v]) for v in tet] for tet in tets.tolist()]
+    keys = [(plain_tet_hash(*sorted(p)), sorted(p)) for p in points]
+    if keys != sorted(keys):
+        raise AssertionError("the tetrahedra are not in the order of quality.md §1's hash of their point indices")
+    for p in points:
+        if not (p[0] < p[1] < min(p[2], p[3])):
+            raise AssertionError(f"a tetrahedron's corners {p} are not ascending by point index (but for the last two)")
+
+
 def ties_case(seed: int) -> dict[str, Any] | None:
     """One round on a lattice (6 x 5 x 3 points, cell 0.25) whose probes are a few random columns at layers 0 and 2,
     lit by layer only: every point of the middle layer, inside the probes' prism or outside it, interpolates the two
@@ -430,7 +446,8 @@ def ties_case(seed: int) -> dict[str, Any] | None:
         sh[:, c] = level * np.array([1.0, 1.6, 1.2])[ids[:, 2]]
     sh[:, 1] = 0.3 * np.array([0.2, -0.1, 0.4])[ids[:, 2]]
     grid, sh32, scale, field = _field(ids, sh)
-    tri = tetrahedralize(field.world[probes], field.frame)
+    tri = tetrahedralize(field.world[probes], field.frame, probes)
+    check_numbering(probes, tri.tets)
     exact_answer = exact_cells(ids, probes, tri.tets)
     if exact_answer is None:
         return None

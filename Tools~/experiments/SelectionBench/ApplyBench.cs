@@ -162,11 +162,11 @@ public static class ApplyBench
     /// <param name="expected">lpnn place's probes file on the same capture, compared with the probes written; null: none.</param>
     /// <param name="refills">False: the refinement tetrahedralises every trial and commit instead of refilling the
     /// candidates' stars (BatchedRefinementState.ForceTetrahedralisation; the code before them, for a comparison under the same load).</param>
-    /// <param name="meshes">How the insertion rounds get their tetrahedra (InsertionTetrahedra.Mode): the tetrahedraliser's
-    /// own numbering (today), canonically numbered (--canonical), or derived by insertion and canonically numbered
-    /// (--incremental); the last two must keep the same probes.</param>
+    /// <param name="meshes">How the insertion rounds get their tetrahedra (InsertionTetrahedra.Mode): derived by insertion
+    /// (the default) or tetrahedralised every round (--tetrahedralised-rounds); both numbered by TetrahedronNumbering, they
+    /// must keep the same probes.</param>
     internal static int Run(string capturePath, string script, double tolerance, string geometry, string embreeScript, bool rememberSegments, string expected,
-        bool refills = true, InsertionTetrahedra.Mode meshes = InsertionTetrahedra.Mode.Tetrahedralised)
+        bool refills = true, InsertionTetrahedra.Mode meshes = InsertionTetrahedra.Mode.Derived)
     {
         BatchedRefinementState.ForceTetrahedralisation = !refills;
         InsertionTetrahedra.Setting = meshes;
@@ -196,9 +196,7 @@ public static class ApplyBench
         else Console.WriteLine("leak-blind (Avoid light leaks off)");
         if (!refills) Console.WriteLine("no star refills: every trial and commit of the refinement tetrahedralised (--no-refills)");
         if (Lpnn.Probes.Core.Numerics.ParallelChunks.ForcedChunks == 1) Console.WriteLine("every per-point pass on the calling thread (--serial)");
-        if (meshes == InsertionTetrahedra.Mode.Canonical) Console.WriteLine("insertion rounds tetrahedralised, tetrahedra numbered canonically (--canonical)");
-        if (meshes == InsertionTetrahedra.Mode.Derived)
-            Console.WriteLine("insertion rounds derived by inserting each batch into the last round's tetrahedra, numbered canonically (--incremental)");
+        if (meshes == InsertionTetrahedra.Mode.Tetrahedralised) Console.WriteLine("insertion rounds tetrahedralised every round (--tetrahedralised-rounds)");
         // The first stage's two parts, timed alone (the Apply computes the reference twice: its evaluator's and its order's).
         read.Restart();
         var reference = ReferenceLighting.FromGrid(grid, capture.Sh);

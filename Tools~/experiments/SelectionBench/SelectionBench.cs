@@ -38,11 +38,11 @@ public static class SelectionBench
         if (args.Length > 0 && args[0] == "--apply")
         {
             const string usage = "usage: SelectionBench.exe --apply CAPTURE TETRAHEDRALIZER.sh [--geometry TRIANGLES.bin | --embree SERVER.sh] [--no-memo] " +
-                                 "[--no-refills] [--canonical | --incremental] [--serial] [--expect PROBES.json]";
+                                 "[--no-refills] [--tetrahedralised-rounds] [--serial] [--expect PROBES.json]";
             if (args.Length < 3) throw new ArgumentException(usage);
             string geometry = null, embree = null, expected = null;
             bool remember = true, refills = true;
-            var meshes = InsertionTetrahedra.Mode.Tetrahedralised;
+            var meshes = InsertionTetrahedra.Mode.Derived;
             for (int a = 3; a < args.Length; a++)
             {
                 if (args[a] == "--geometry" && a + 1 < args.Length) geometry = args[++a];
@@ -51,8 +51,7 @@ public static class SelectionBench
                 else if (args[a] == "--no-memo") remember = false;
                 else if (args[a] == "--no-refills") refills = false;
                 else if (args[a] == "--serial") Lpnn.Probes.Core.Numerics.ParallelChunks.ForcedChunks = 1;  // this (the Apply's) thread's passes on one core
-                else if (args[a] == "--canonical") meshes = InsertionTetrahedra.Mode.Canonical;
-                else if (args[a] == "--incremental") meshes = InsertionTetrahedra.Mode.Derived;
+                else if (args[a] == "--tetrahedralised-rounds") meshes = InsertionTetrahedra.Mode.Tetrahedralised;
                 else throw new ArgumentException(usage + "; got " + args[a]);
             }
             if (geometry != null && embree != null) throw new ArgumentException("--geometry or --embree, not both");

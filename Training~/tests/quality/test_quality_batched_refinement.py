@@ -87,7 +87,10 @@ def test_the_state_after_a_removal_re_evaluates_only_what_changed_and_equals_a_f
     from the state's and the trial's (module text); every point's error and the Delaunay graph must still be those of
     evaluating the smaller set from scratch, hull vertices removed or not."""
     field = _field(medium_capture)
-    state = evaluate(field, _insertion(medium_capture, field)(150))
+    # 145 probes, not 150 or more (the insertion order since the tie rule numbers tetrahedra by point index): the 150th
+    # makes four probes collinear on a hull face (points 43, 131, 219, 307; float32 rounding keeps slivers of them), a
+    # degenerate star whose refill and Qhull's `Qt` pick different slivers (C# checks such trials, quality.md §5.3).
+    state = evaluate(field, _insertion(medium_capture, field)(145))
     corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
     rank = np.full(field.point_count, np.iinfo(np.int64).max, dtype=np.int64)
     order = state.probes[np.argsort(~corner[state.probes] if hull_vertices else corner[state.probes], kind="stable")]

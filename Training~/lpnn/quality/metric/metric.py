@@ -184,7 +184,7 @@ def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False
     tetrahedralisation when it is already known (derived by batched refinement), instead of tetrahedralising again;
     `mesh`: the same, already assembled (triangulation.assembled_after_removal)."""
     indices = checked_probes(field, probes)
-    tri = (mesh if mesh is not None else tetrahedralize(field.world[indices], field.frame) if tets is None
+    tri = (mesh if mesh is not None else tetrahedralize(field.world[indices], field.frame, indices) if tets is None
            else assembled(field.world[indices], field.frame, tets))
     if points is None:
         is_probe = np.zeros(field.point_count, dtype=bool)

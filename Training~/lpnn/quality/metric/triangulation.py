@@ -28,6 +28,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ...errors import InvalidInputError
 from .tet_geometry import edge_inverse, orient_and_invert
+from .tet_numbering import GOLDEN_GAMMA, mix64, numbered
 
 DUPLICATE_TOLERANCE = 1e-7  # two probes closer than this fraction of the extent are duplicates
 FLAT_TOLERANCE = 1e-7  # a set thinner than this fraction of its length is coplanar/collinear
@@ -51,20 +52,13 @@ class GeometryError(InvalidInputError):
 
 # --------------------------------------------------------------------------------------- the frame
 
-def _mix64(x: np.ndarray) -> np.ndarray:
-    """splitmix64 finaliser: a well-spread, platform-independent 64-bit hash."""
-    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return x ^ (x >> np.uint64(31))
-
-
 def position_hash(world: np.ndarray) -> np.ndarray:
     """A deterministic value in [0, 1) per position (M, 3), a function of the float64 bits only."""
     bits = np.ascontiguousarray(world, dtype=np.float64).view(np.uint64).reshape(-1, 3)
     with np.errstate(over="ignore"):  # uint64 wrap-around is the point of the hash
-        key = _mix64(bits[:, 0] + np.uint64(0x9E3779B97F4A7C15))
-        key = _mix64(key ^ bits[:, 1])
-        key = _mix64(key ^ bits[:, 2])
+        key = mix64(bits[:, 0] + GOLDEN_GAMMA)
+        key = mix64(key ^ bits[:, 1])
+        key = mix64(key ^ bits[:, 2])
     return (key >> np.uint64(11)).astype(np.float64) / float(2**53)
 
 
@@ -269,8 +263,10 @@ def lower_hull_tets(lifted: np.ndarray) -> np.ndarray:
     return lower_hull(lifted)[0]
 
 
-def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedralization:
-    """Tetrahedralise probe positions (K, 3). Raises GeometryError for < 4, duplicate or flat sets."""
+def tetrahedralize(world: np.ndarray, frame: Frame | None = None, ids: np.ndarray | None = None) -> Tetrahedralization:
+    """Tetrahedralise probe positions (K, 3), the tetrahedra numbered by §1's rule (tet_numbering.numbered) over the
+    probes' point indices `ids` (K,) (None: their positions 0..K-1), so that the numbering does not depend on Qhull's
+    facet order nor on the order the probes come in. Raises GeometryError for < 4, duplicate or flat sets."""
     positions = checked_positions(world, "probe positions")
     count = positions.shape[0]
     if count < 4:
@@ -282,7 +278,9 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None) -> Tetrahedral
     _check_not_flat(local)
     # Flat tetrahedra (vertical facets that slipped through, or Qt's in a merged facet) dropped (a crack where they were
     # inside: module text), the rest oriented positively and inverted.
-    tets, inverse, _, _ = orient_and_invert(local, lower_hull_tets(used_frame.lifted(positions)))
+    if ids is not None and np.shape(ids) != (count,):
+        raise GeometryError(f"ids need one point index per probe position ({count:,}), got shape {list(np.shape(ids))}")
+    tets, inverse, _, _ = orient_and_invert(local, numbered(lower_hull_tets(used_frame.lifted(positions)), ids))
     used = np.zeros(count, dtype=bool)
     used[tets.reshape(-1)] = True
     if not np.all(used):

@@ -74,9 +74,10 @@ def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> Locat
 def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str) -> LocatedSet:
     """`located` with the points `added` (none of them probes yet) made probes: walked only where needed (module
     text)."""
-    # Probes in insertion order, as metric.probe_stencil takes them: the same tetrahedralisation, numbered alike.
+    # Probes in insertion order (positions in `probes`); the tetrahedra are numbered by point index (tet_numbering),
+    # as metric.probe_stencil numbers them, whatever the order.
     probes = np.concatenate([located.probes, np.asarray(added, dtype=np.int64)])
-    mesh = tetrahedralize(field.world[probes], field.frame)
+    mesh = tetrahedralize(field.world[probes], field.frame, probes)
     ordered = np.sort(probes)
     old_keys = tet_keys(located.probes[located.mesh.tets], ordered)
     new_keys = tet_keys(probes[mesh.tets], ordered)

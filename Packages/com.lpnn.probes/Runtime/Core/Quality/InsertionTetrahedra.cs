@@ -1,41 +1,43 @@
 using System;
 using System.Collections.Generic;
-using System.Numerics;
 
 namespace Lpnn.Probes.Core.Quality
 {
-    /// <summary>Each insertion round's tetrahedra for one <see cref="InsertionOrder"/> (quality.md §5.1 step 6). Today's
-    /// rounds (<see cref="Mode.Tetrahedralised"/>, the default) ask the <see cref="ITetrahedralizer"/> for every round's
-    /// whole probe set and keep its numbering of the tetrahedra. That numbering is part of the answer: a point on a face,
-    /// edge or vertex shared by several tetrahedra belongs to the lowest-index one (quality.md §1 "Ties"), and the round
-    /// groups points by that cell, so the same tetrahedra numbered otherwise give other rounds (reversing the
-    /// tetrahedraliser's order changes oa_koth1's leak-blind Apply from 180 probes to 197). Hence two opt-in modes, for
-    /// measurement until both languages number the tetrahedra one way:
-    /// - <see cref="Mode.Canonical"/>: every round tetrahedralised, its tetrahedra numbered canonically (each one's
-    ///   corners ascending, then the tetrahedra in ascending order of their corners), so that the numbering depends only
-    ///   on the set of tetrahedra;
-    /// - <see cref="Mode.Derived"/>: canonical numbering, and each round after the first derived from the previous
-    ///   round's tetrahedra by inserting the new batch (<see cref="RegularInsertion"/>) instead of a tetrahedralisation.
-    ///   The first derived round is checked against the tetrahedraliser's own answer for the same probes (one more call);
-    ///   if the sets differ (a tetrahedraliser that breaks cospherical ties otherwise, as Unity's native one may, issue
-    ///   31) the order tetrahedralises every later round. A derivation that fails (an undecided sign, a crack in the
-    ///   tetrahedraliser's tetrahedra) tetrahedralises that round, and the next round derives from its answer.
-    /// With a tetrahedraliser that breaks ties as Python's Qhull does, the two opt-in modes give the same rounds.</summary>
+    /// <summary>Each insertion round's tetrahedra for one <see cref="InsertionOrder"/> (quality.md §5.1 step 6), numbered
+    /// by <see cref="TetrahedronNumbering"/> (a hash of each tetrahedron's point indices), so that the rounds — which
+    /// group points by the tie rule's lowest-index tetrahedron (quality.md §1 "Ties") — depend only on the set of
+    /// tetrahedra, not on who built them. Two modes:
+    /// - <see cref="Mode.Derived"/> (the default): each round after the first derived from the previous round's
+    ///   tetrahedra by inserting the new batch (<see cref="RegularInsertion"/>) instead of a tetrahedralisation (each a
+    ///   native call on Unity's main thread, issue 30). A derived round is checked against the tetrahedraliser's own
+    ///   answer for the same probes (one more call) until one agrees; a round that disagrees (a tetrahedraliser that
+    ///   breaks cospherical ties otherwise, as Unity's native one may, issue 31) takes the tetrahedraliser's answer, and
+    ///   the next round derives from it and is checked again (<see cref="Resyncs"/>; <see cref="MaxResyncs"/> of them
+    ///   before any agreement tetrahedralise every later round). A derivation that fails (an
+    ///   undecided sign, a crack in the tetrahedraliser's tetrahedra) tetrahedralises that round, and the next round
+    ///   derives from its answer.
+    /// - <see cref="Mode.Tetrahedralised"/>: every round tetrahedralised (for comparison; with a tetrahedraliser that
+    ///   breaks ties as Python's Qhull does, the two modes give the same rounds).</summary>
     internal sealed class InsertionTetrahedra
     {
         internal enum Mode
         {
-            /// <summary>Today: the tetrahedraliser every round, its own numbering.</summary>
-            Tetrahedralised,
-            /// <summary>The tetrahedraliser every round, numbered canonically.</summary>
-            Canonical,
-            /// <summary>Rounds derived by insertion where possible, numbered canonically.</summary>
+            /// <summary>Rounds derived by insertion where possible (the default: the enum's zero, which a thread starts with).</summary>
             Derived,
+            /// <summary>The tetrahedraliser every round.</summary>
+            Tetrahedralised,
         }
 
         /// <summary>The mode of orders made on this thread from now on (tests and the Apply bench; per thread, so that a
         /// test cannot leak it into another's run).</summary>
         [ThreadStatic] internal static Mode Setting;
+
+        /// <summary>Disagreements with the tetrahedraliser, before any agreement, after which an order (and a batched
+        /// refinement, BatchedRefinementState.RefillCounts) stops deriving: a tetrahedraliser that breaks ties otherwise
+        /// disagrees nearly every time, and may agree by chance once few ties are left (a refinement of a small lattice:
+        /// 48 disagreements, then one agreement), so a run of disagreements is taken for that, a single one for a
+        /// degenerate case.</summary>
+        internal const int MaxResyncs = 3;
 
         /// <summary>Tests only: applied to every derived round's tetrahedra before use (null from it: the derivation failed).</summary>
         [ThreadStatic] internal static Func<int[], int[]> AlterDerivedForTests;
@@ -52,8 +54,11 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Rounds derived, and rounds (or checks) tetrahedralised.</summary>
         internal int Derived { get; private set; }
         internal int Tetrahedralised { get; private set; }
-        /// <summary>Whether the first derived round had the tetrahedraliser's tetrahedra (null: not checked yet).</summary>
-        internal bool? Agrees { get; private set; }
+        /// <summary>Whether a derived round has had the tetrahedraliser's tetrahedra (false: not yet; later rounds are
+        /// not checked once one agrees).</summary>
+        internal bool Agrees { get; private set; }
+        /// <summary>Derived rounds that differed from the tetrahedraliser's answer, which replaced them.</summary>
+        internal int Resyncs { get; private set; }
 
         public InsertionTetrahedra(ReferenceLighting reference, ITetrahedralizer tetrahedralizer)
         {
@@ -66,18 +71,18 @@ namespace Lpnn.Probes.Core.Quality
         /// probes by the new batch.</summary>
         public int[] Of(int[] probes)
         {
-            if (_mode == Mode.Tetrahedralised) return Tetrahedralize(probes);
-            int[] derived = _mode == Mode.Derived && Agrees != false ? Derive(probes) : null;
-            if (derived != null && Agrees == null)
+            if (_mode == Mode.Tetrahedralised || Resyncs >= MaxResyncs) return Tetrahedralize(probes);
+            int[] derived = Derive(probes);
+            if (derived != null && !Agrees)
             {
-                int[] fresh = TetrahedralMesh.Canonical(Tetrahedralize(probes));
+                int[] fresh = Tetrahedralize(probes);
                 double[] points = PlacementError.ProbePoints(_reference, probes);
                 Agrees = TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, fresh));
-                if (Agrees == false)
+                if (!Agrees)
                 {
-                    FallbackListener?.Invoke("the first derived round differs from the tetrahedraliser's");
-                    _mesh = null;
-                    return fresh;
+                    FallbackListener?.Invoke("a derived round differs from the tetrahedraliser's (re-synchronised from its answer)");
+                    Resyncs++;
+                    return Synchronised(probes, fresh);
                 }
             }
             if (derived != null)
@@ -85,16 +90,19 @@ namespace Lpnn.Probes.Core.Quality
                 Derived++;
                 return derived;
             }
-            int[] tetrahedra = TetrahedralMesh.Canonical(Tetrahedralize(probes));
-            if (_mode == Mode.Derived && Agrees != false)
-            {
-                _mesh = RegularInsertion.Of(_reference.Local, _reference.TieHeights, probes, tetrahedra, out string refused);
-                if (_mesh == null) FallbackListener?.Invoke("the tetrahedraliser's tetrahedra refused: " + refused);
-            }
+            return Synchronised(probes, Tetrahedralize(probes));
+        }
+
+        /// <summary>The tetrahedraliser's <paramref name="tetrahedra"/> of <paramref name="probes"/>, from which the next
+        /// round derives (<see cref="RegularInsertion.Of"/> may refuse them: then the next round tetrahedralises).</summary>
+        private int[] Synchronised(int[] probes, int[] tetrahedra)
+        {
+            _mesh = RegularInsertion.Of(_reference.Local, _reference.TieHeights, probes, tetrahedra, out string refused);
+            if (_mesh == null) FallbackListener?.Invoke("the tetrahedraliser's tetrahedra refused: " + refused);
             return tetrahedra;
         }
 
-        /// <summary>The last round's tetrahedra with the new probes inserted, numbered canonically; null when there is no
+        /// <summary>The last round's tetrahedra with the new probes inserted, numbered by <see cref="TetrahedronNumbering"/>; null when there is no
         /// usable last round or an insertion fails.</summary>
         private int[] Derive(int[] probes)
         {
@@ -107,7 +115,7 @@ namespace Lpnn.Probes.Core.Quality
                     FallbackListener?.Invoke("an insertion failed: " + mesh.Failure);
                     return null;
                 }
-            int[] tetrahedra = TetrahedralMesh.Canonical(mesh.Tetrahedra());
+            int[] tetrahedra = TetrahedronNumbering.Numbered(mesh.Tetrahedra(), probes);
             if (AlterDerivedForTests != null)
             {
                 tetrahedra = AlterDerivedForTests(tetrahedra);
@@ -120,9 +128,7 @@ namespace Lpnn.Probes.Core.Quality
         private int[] Tetrahedralize(int[] probes)
         {
             Tetrahedralised++;
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = _reference.GetPosition(probes[k]);
-            return _tetrahedralizer.Tetrahedralize(positions);
+            return TetrahedronNumbering.Tetrahedralize(_tetrahedralizer, _reference, probes);
         }
     }
 }

@@ -1,6 +1,5 @@
 using System;
 using System.Collections.Generic;
-using System.Numerics;
 using System.Threading;
 using Lpnn.Probes.Core.Features;
 using Lpnn.Probes.Core.Numerics;
@@ -54,9 +53,7 @@ namespace Lpnn.Probes.Core.Quality
         private static int[] WorstLeakPerCell(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] probes, IRaycaster raycaster, bool[] blocked,
             SegmentMemo memo)
         {
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = reference.GetPosition(probes[k]);
-            int[] tetrahedra = tetrahedralizer.Tetrahedralize(positions);
+            int[] tetrahedra = TetrahedronNumbering.Tetrahedralize(tetrahedralizer, reference, probes);
             var visited = new StencilLog();
             var errorOf = new double[reference.Count];
             PlacementError.InterpolateOthers(reference, probes, tetrahedra,

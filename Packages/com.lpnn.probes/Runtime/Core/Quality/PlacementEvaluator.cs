@@ -1,5 +1,4 @@
 using System;
-using System.Numerics;
 using Lpnn.Probes.Core.Selection;
 
 namespace Lpnn.Probes.Core.Quality
@@ -22,10 +21,7 @@ namespace Lpnn.Probes.Core.Quality
         public PlacementErrorResult Evaluate(int[] probes)
         {
             ProbeIndices.Check(probes, Reference.Count);
-            var positions = new Vector3[probes.Length];
-            for (int k = 0; k < probes.Length; k++) positions[k] = Reference.GetPosition(probes[k]);
-            int[] tetrahedra = Tetrahedralizer.Tetrahedralize(positions);
-            return PlacementError.Evaluate(Reference, probes, tetrahedra);
+            return PlacementError.Evaluate(Reference, probes, TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probes));
         }
 
         public double MeanError(int[] probeIndices) => Evaluate(probeIndices).Irradiance.Mean;

@@ -96,36 +96,10 @@ namespace Lpnn.Probes.Core.Quality
         internal bool HasTheTetrahedraOf(TetrahedralMesh other)
         {
             if (other.Tetrahedra.Length != Tetrahedra.Length) return false;
-            int[] mine = Canonical(Tetrahedra), theirs = Canonical(other.Tetrahedra);
+            int[] mine = TetrahedronNumbering.Numbered(Tetrahedra, null), theirs = TetrahedronNumbering.Numbered(other.Tetrahedra, null);
             for (int k = 0; k < mine.Length; k++)
                 if (mine[k] != theirs[k]) return false;
             return true;
-        }
-
-        /// <summary>The tetrahedra numbered canonically: each one's corners ascending, then the tetrahedra in ascending
-        /// order of their corners (<see cref="Build"/> then orients each by swapping its last two corners where negative).
-        /// Two lists of the same tetrahedra, in any order and vertex order, give the same array.</summary>
-        internal static int[] Canonical(int[] tetrahedra)
-        {
-            int count = tetrahedra.Length / 4;
-            var keys = new KeyValuePair<long, long>[count];
-            var corners = new int[4];
-            for (int t = 0; t < count; t++)
-            {
-                Array.Copy(tetrahedra, 4 * t, corners, 0, 4);
-                Array.Sort(corners);
-                keys[t] = new KeyValuePair<long, long>(((long)corners[0] << 32) | (uint)corners[1], ((long)corners[2] << 32) | (uint)corners[3]);
-            }
-            Array.Sort(keys, (x, y) => x.Key != y.Key ? x.Key.CompareTo(y.Key) : x.Value.CompareTo(y.Value));
-            var result = new int[4 * count];
-            for (int t = 0; t < count; t++)
-            {
-                result[4 * t] = (int)(keys[t].Key >> 32);
-                result[4 * t + 1] = (int)keys[t].Key;
-                result[4 * t + 2] = (int)(keys[t].Value >> 32);
-                result[4 * t + 3] = (int)keys[t].Value;
-            }
-            return result;
         }
 
         private static void CheckIndices(int[] tetrahedra, int probes)

@@ -76,7 +76,7 @@ class DecimationMesh:
     def _rebuild(self) -> None:
         """Tetrahedralise the alive probes and locate every other point from scratch."""
         probes = np.flatnonzero(self.alive)
-        tri = tetrahedralize(self.field.world[probes], self.field.frame)
+        tri = tetrahedralize(self.field.world[probes], self.field.frame, probes)
         self.tets = probes[tri.tets]
         self.inverse = tri.inverse
         self.volume6 = np.abs(edge_frames(self.local, self.tets)[3])

@@ -307,7 +307,7 @@ class DecimationState(DecimationMesh):
         self.alive[v] = False
         probes = np.flatnonzero(self.alive)
         try:
-            tri = tetrahedralize(self.field.world[probes], self.field.frame)
+            tri = tetrahedralize(self.field.world[probes], self.field.frame, probes)
         except GeometryError:
             return GlobalRemoval(delta=float("inf"))
         finally:
