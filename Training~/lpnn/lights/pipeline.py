@@ -20,14 +20,14 @@ from .emitters import (AREA_SCALE, BACKSPLASH_DISTANCE, BACKSPLASH_FRACTION, DEF
                        FORM_FACTOR_VALUE_SCALE, Emitters, ShaderLight, ShaderScripts, Spots, Suns,
                        read_shader_scripts, script_declares_sky, script_order,
                        shader_light, shader_suns, surface_bases, surface_emitters, surface_triangles)
-from .merge import merge_spotlights
+from .merge import merge_spotlights, settle_on_fixtures
 from .model import ForwardModel, Lights
 from .optimise import FitResult, Fitter, initial_grid, initial_intensity
 from .rig import EntityLights, Rig, RigError, Sun, SurfaceLight, worldspawn_ambient
 from .shadows import shadow_raycaster
 from .settings import (AMBIENTS, DEFAULT_AMBIENT, DEFAULT_GRID, DEFAULT_MAX_EDGE, DEFAULT_REFRESH, DEFAULT_SCHEME,
                        DEFAULT_SCRIPT_LIGHTS, DEFAULT_START, DEFAULT_SUNS, FITTED_AMBIENT, GRID_START, HELD_SCRIPTS,
-                       MERGE_PASS, PEAK_START, SCHEMES, SCRIPT_LIGHTS, STARTS)
+                       FIXTURE_REACH, MERGE_PASS, PEAK_START, SCHEMES, SCRIPT_LIGHTS, STARTS)
 from .starts import (DEFAULT_PEAKS, SPOT_REACH, UP, PeakSettings, Starts, ceiling_starts, disc_gains, fixture_starts,
                      lit_by_spotlights, peak_starts, under_a_ceiling, with_grid_fallback)
 from .surfaces import lit_mesh, subdivide
@@ -127,9 +127,11 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
     spotlight (pointing down), the spotlights' axes and cones fitted too; with `suns` (None: fits_sun's default), one
     sun whose direction, colour and intensity are fitted, lighting what sees the level's sky surfaces; `ambient`: held
     at the worldspawn's or fitted (held_ambient, lights.md §4). With spotlights and the peak start, the fitted
-    spotlights within the starts' merge distance of a stronger one are folded into it and a second pass (MERGE_PASS)
-    starts from there (merge.py, lights.md §4). `scripts` HELD_SCRIPTS: the surface lights with a script value and the
-    scripts' suns are held at what the scripts say (held_script_values, held_suns); FITTED_SCRIPTS: fitted."""
+    spotlights within the starts' merge distance of a stronger one are folded into it, the spotlights settle on the
+    light fixtures' starts within FIXTURE_REACH merge distances (a fixture left free taking a share of its nearest
+    spotlight: merge.settle_on_fixtures) and a second pass (MERGE_PASS) starts from there (merge.py, lights.md §4).
+    `scripts` HELD_SCRIPTS: the surface lights with a script value and the scripts' suns are held at what the scripts
+    say (held_script_values, held_suns); FITTED_SCRIPTS: fitted."""
     suns = fits_sun(scene, suns)
     held = held_ambient(scene.level, ambient)
     if scripts not in SCRIPT_LIGHTS:
@@ -160,7 +162,10 @@ def fit_scene(scene: LevelScene, grid: tuple[int, int, int] = DEFAULT_GRID, sche
                     progress=progress, fit_ambient=held is None,
                     held_values=None if values is None else ~np.isnan(values), hold_suns=script_suns is not None)
     first = fitter.fit(lights, SCHEMES[scheme])
-    merged = merge_spotlights(first.lights, peaks.merge_distance) if spots and start == PEAK_START else first.lights
+    if not (spots and start == PEAK_START):
+        return first
+    merged = merge_spotlights(first.lights, peaks.merge_distance)
+    merged = settle_on_fixtures(merged, _fixture_starts(scene, peaks).positions, FIXTURE_REACH * peaks.merge_distance)
     if merged is first.lights:
         return first
     return replace(second_pass(fitter, merged, len(SCHEMES[scheme])), initial_lights=first.initial_lights)
@@ -228,14 +233,10 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     if start != PEAK_START or relative is None:
         return starts.positions, relative
     target = scene.target
-    corners, normals, face = light_fixtures(scene.level.bsp)
-    fixtures = fixture_starts(corners, normals, face, target.positions, target.radiance, target.albedo, scene.is_open,
-                              _distance_down(scene), peaks)
+    fixtures = _fixture_starts(scene, peaks)
     ceiling = ceiling_starts(target.positions, target.normals, target.radiance, target.albedo, scene.is_open,
                              _distance_up(scene), peaks)
     hung, estimates = fixtures.positions, fixtures.intensities
-    inside = _in_bounds(scene, hung)
-    hung, estimates = hung[inside], estimates[inside]
     inside = _in_bounds(scene, ceiling.positions)
     far = _farther(ceiling.positions[inside], hung, peaks.merge_distance)
     hung = np.concatenate([hung, ceiling.positions[inside][far]])
@@ -246,6 +247,17 @@ def spotlight_starts(scene: LevelScene, starts: Starts, relative: np.ndarray | N
     positions, relative = np.concatenate([hung, starts.positions[far]]), np.concatenate([estimates, relative[far]])
     hangs = under_a_ceiling(positions, _distance_up(scene), _sky_up(scene))
     return positions[hangs], relative[hangs]
+
+
+def _fixture_starts(scene: LevelScene, peaks: PeakSettings) -> Starts:
+    """The spotlight starts under the level's light fixtures (starts.fixture_starts over light_fixtures) inside the
+    lights' box: where spotlight_starts starts spotlights and where fit_scene's spotlights settle after the fit."""
+    target = scene.target
+    corners, normals, face = light_fixtures(scene.level.bsp)
+    found = fixture_starts(corners, normals, face, target.positions, target.radiance, target.albedo, scene.is_open,
+                           _distance_down(scene), peaks)
+    inside = _in_bounds(scene, found.positions)
+    return Starts(found.positions[inside], found.intensities[inside], int(inside.sum()))
 
 
 def _farther(positions: np.ndarray, others: np.ndarray, distance: float) -> np.ndarray:
