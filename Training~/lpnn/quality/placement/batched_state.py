@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core.integer_sets import sorted_contains, sorted_unique
+from ...scenes.ranges import concatenated_ranges
 from .delaunay_graph import edges_after_removal, graph_edges
 from .leak_aware import LeakWeighting
 from ..metric.location import locate_local
@@ -197,8 +198,7 @@ def stars(field: ReferenceField, state: MeshState, trial: Trial, fills: np.ndarr
     first = fills[:, 0]
     start, stop = np.searchsorted(links[:, 0], first), np.searchsorted(links[:, 0], first, side="right")
     rows = np.repeat(np.arange(fills.shape[0]), stop - start)
-    offsets = np.arange(rows.shape[0]) - np.repeat(np.cumsum(stop - start) - (stop - start), stop - start)
-    guess = links[start[rows] + offsets, 1]  # each candidate next to the first vertex
+    guess = links[concatenated_ranges(start, stop - start), 1]  # each candidate next to the first vertex
     fits = np.ones(rows.shape[0], dtype=bool)
     for k in range(1, 4):
         key = fills[rows, k] * n + guess

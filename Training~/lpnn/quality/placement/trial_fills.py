@@ -29,6 +29,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from ...core.integer_sets import sorted_unique
+from ...scenes.ranges import concatenated_ranges
 from .decimation.hole_wrap import wrap_hole_runs
 from ..metric.metric import ReferenceField
 from ..metric.tet_geometry import edge_frames, is_flat
@@ -86,12 +87,12 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     sizes = ends[inside] - bounds[inside]
     star_start = np.zeros(inside.shape[0] + 1, dtype=np.int64)
     np.cumsum(sizes, out=star_start[1:])
-    out, out_start, counts = wrap_hole_runs(local, tie, position[inside], tets[star_rows[_runs(bounds[inside], sizes)]],
+    out, out_start, counts = wrap_hole_runs(local, tie, position[inside], tets[star_rows[concatenated_ranges(bounds[inside], sizes)]],
                                             star_start, on_surface[position[inside]])
     wrapped = counts > 0
     closed = inside[wrapped]
     owner = np.repeat(closed, counts[wrapped])
-    fill, volume6, kept = _oriented(local, out[_runs(out_start[:-1][wrapped], counts[wrapped])])
+    fill, volume6, kept = _oriented(local, out[concatenated_ranges(out_start[:-1][wrapped], counts[wrapped])])
     owner = owner[kept]
     filled = np.bincount(owner, volume6, minlength=count)
     good = np.zeros(count, dtype=bool)
@@ -111,13 +112,6 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
     return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
-
-
-def _runs(starts: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """The indices starts[0] .. starts[0] + sizes[0] - 1, then those of the next run, and so on."""
-    total = int(sizes.sum())
-    offsets = np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(sizes) - sizes, sizes)
-    return np.repeat(np.asarray(starts, dtype=np.int64), sizes) + offsets
 
 
 def _faces_on_hull(mesh) -> np.ndarray:
