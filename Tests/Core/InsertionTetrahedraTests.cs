@@ -172,7 +172,7 @@ namespace Lpnn.Probes.Core.Tests
             int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
             Assert.That(derived, Is.EqualTo(everyRound));
-            Assert.That(counts.Agrees, Is.True);
+            Assert.That(counts.Check.Agrees, Is.True);
             Assert.That(calls, Is.EqualTo(2), "the first round and the first derived round's check");
             Assert.That(counts.Derived, Is.EqualTo(tetrahedralised - 1));
         }
@@ -190,9 +190,9 @@ namespace Lpnn.Probes.Core.Tests
         {
             int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, true, out int tetrahedralised, out _);
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, true, out int calls, out var counts);
-            Assert.That(counts.Agrees, Is.False);
+            Assert.That(counts.Check.Agrees, Is.False);
             Assert.That(counts.Derived, Is.EqualTo(0));
-            Assert.That(counts.Resyncs, Is.InRange(1, InsertionTetrahedra.MaxResyncs), "derived rounds re-synchronised, then none derived");
+            Assert.That(counts.Check.Resyncs, Is.InRange(1, DerivationCheck.MaxResyncs), "derived rounds re-synchronised, then none derived");
             Assert.That(calls, Is.EqualTo(tetrahedralised), "every round once (the check's answer is its round's)");
             Assert.That(derived, Is.EqualTo(everyRound));
         }
@@ -203,7 +203,7 @@ namespace Lpnn.Probes.Core.Tests
             int[] everyRound = Ranking(InsertionTetrahedra.Mode.Tetrahedralised, false, out int tetrahedralised, out _);
             InsertionTetrahedra.AlterDerivedForTests = tets => tets.Skip(4).ToArray();  // one tetrahedron lost
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
-            Assert.That(counts.Agrees, Is.False);
+            Assert.That(counts.Check.Agrees, Is.False);
             Assert.That(calls, Is.EqualTo(tetrahedralised));
             Assert.That(derived, Is.EqualTo(everyRound));
         }
@@ -216,8 +216,8 @@ namespace Lpnn.Probes.Core.Tests
             InsertionTetrahedra.AlterDerivedForTests = tets => ++derivations == 1 ? tets.Skip(4).ToArray() : tets;  // the first loses one
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
             Assert.That(derived, Is.EqualTo(everyRound));
-            Assert.That(counts.Resyncs, Is.EqualTo(1));
-            Assert.That(counts.Agrees, Is.True);
+            Assert.That(counts.Check.Resyncs, Is.EqualTo(1));
+            Assert.That(counts.Check.Agrees, Is.True);
             Assert.That(calls, Is.EqualTo(3), "the first round, the wrong round's check (its answer), the next round's check");
             Assert.That(counts.Derived, Is.EqualTo(tetrahedralised - 2));
         }
@@ -231,7 +231,7 @@ namespace Lpnn.Probes.Core.Tests
             InsertionTetrahedra.AlterDerivedForTests = tets => ++failures % 2 == 1 ? null : tets;
             int[] derived = Ranking(InsertionTetrahedra.Mode.Derived, false, out int calls, out var counts);
             Assert.That(derived, Is.EqualTo(everyRound));
-            Assert.That(counts.Agrees, Is.True);
+            Assert.That(counts.Check.Agrees, Is.True);
             Assert.That(counts.Derived, Is.GreaterThan(0));
             Assert.That(counts.Derived + calls, Is.EqualTo(tetrahedralised + 1), "each round derived or tetrahedralised, and one check");
         }

@@ -321,20 +321,20 @@ namespace Lpnn.Probes.Core.Tests
             var costs = new double[reference.Count];
             state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
             Assert.That(state.Counts.Derived, Is.EqualTo(1), "the refills gave a tetrahedralisation");
-            Assert.That(state.Counts.RefillsAgree, Is.False, "but not this tetrahedraliser's");
-            Assert.That(state.Counts.Resyncs, Is.EqualTo(1));
+            Assert.That(state.Counts.Check.Agrees, Is.False, "but not this tetrahedraliser's");
+            Assert.That(state.Counts.Check.Resyncs, Is.EqualTo(1));
             Assert.That(otherwise.Whole, Is.EqualTo(2), "the seed, then the trial's check");
-            for (int again = 2; again <= InsertionTetrahedra.MaxResyncs; again++)
+            for (int again = 2; again <= DerivationCheck.MaxResyncs; again++)
             {
                 state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
                 Assert.That(state.Counts.Derived, Is.EqualTo(again), "the refills are still tried");
-                Assert.That(state.Counts.Resyncs, Is.EqualTo(again), "and checked again, since none has agreed");
+                Assert.That(state.Counts.Check.Resyncs, Is.EqualTo(again), "and checked again, since none has agreed");
                 Assert.That(otherwise.Whole, Is.EqualTo(1 + again));
             }
             int links = otherwise.Links;
             state.RemovalCosts(reference, otherwise, remaining, candidates, costs);
             Assert.That(otherwise.Links, Is.EqualTo(links), "no refills after MaxResyncs disagreements");
-            Assert.That(otherwise.Whole, Is.EqualTo(2 + InsertionTetrahedra.MaxResyncs));
+            Assert.That(otherwise.Whole, Is.EqualTo(2 + DerivationCheck.MaxResyncs));
             AssertTheSameProbes(reference, () => BowyerWatsonDelaunay.TieBroken(reference, otherwise: true), t => BatchedRefinement.ToCount(reference, t, probes, 12), false);
         }
 
@@ -353,15 +353,15 @@ namespace Lpnn.Probes.Core.Tests
             int[] candidates = Independent(state, Order(reference, state.Probes, false, 8));
             var costs = new double[reference.Count];
             state.RemovalCosts(reference, otherwise, BatchedRefinementState.ProbesWithout(state.Probes, candidates, reference.Count), candidates, costs);
-            Assert.That(state.Counts.Resyncs, Is.EqualTo(1));
-            Assert.That(state.Counts.RefillsAgree, Is.False);
+            Assert.That(state.Counts.Check.Resyncs, Is.EqualTo(1));
+            Assert.That(state.Counts.Check.Agrees, Is.False);
             var next = state.Without(reference, same, candidates.Take(3).ToArray());
             Assert.That(same.Whole, Is.EqualTo(2), "the seed, then the commit after the disagreement");
             int tetrahedralised = state.Counts.Tetrahedralised;
             int[] again = Independent(next, Order(reference, next.Probes, false, 8));
             next.RemovalCosts(reference, same, BatchedRefinementState.ProbesWithout(next.Probes, again, reference.Count), again, costs);
-            Assert.That(next.Counts.RefillsAgree, Is.True, "the re-synchronised set derives the tetrahedraliser's tetrahedra");
-            Assert.That(next.Counts.Resyncs, Is.EqualTo(1));
+            Assert.That(next.Counts.Check.Agrees, Is.True, "the re-synchronised set derives the tetrahedraliser's tetrahedra");
+            Assert.That(next.Counts.Check.Resyncs, Is.EqualTo(1));
             Assert.That(same.Whole, Is.EqualTo(3), "one check");
             var third = next.Without(reference, same, again.Take(3).ToArray());
             int[] later = Independent(third, Order(reference, third.Probes, false, 8));

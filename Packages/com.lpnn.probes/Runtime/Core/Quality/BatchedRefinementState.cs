@@ -45,21 +45,14 @@ namespace Lpnn.Probes.Core.Quality
             public int Tetrahedralised;
             /// <summary>Tetrahedralisations of a single star's link (a few points each, <see cref="StarRefills"/>).</summary>
             public int LinkTetrahedralisations;
-            /// <summary>Whether a trial derived from refills has had the tetrahedraliser's own tetrahedra for the same
-            /// probes (false: not yet; once one has, later trials are not checked). The refills break cospherical ties as
-            /// Python's tetrahedralisation does (<see cref="TieBreak"/>); a tetrahedraliser that breaks them otherwise
-            /// (Unity's native one may, issue 31; the tests' Bowyer–Watson on a lattice does), or a degenerate star whose
-            /// refill differs, would see a mesh of its own ties outside the stars and ours inside, whose errors its final
-            /// check need not confirm. So until one agrees, every derived trial is checked (one call), and one that
-            /// disagrees takes the tetrahedraliser's answer and its commit is tetrahedralised: the next trial derives
-            /// from the tetrahedraliser's tetrahedra again (<see cref="Resyncs"/>) instead of giving up deriving — a
-            /// degenerate star's refill differs now and then (ctf@0.81, 10^6 points). Only
-            /// <see cref="InsertionTetrahedra.MaxResyncs"/> disagreements before any agreement (a tetrahedraliser that
-            /// breaks ties otherwise disagrees at nearly every trial, and agrees by chance once few ties are left) turn
-            /// the refills off for the rest of the refinement, which then tetrahedralises every set as before.</summary>
-            public bool RefillsAgree;
-            /// <summary>Derived trials that differed from the tetrahedraliser's answer, which replaced them.</summary>
-            public int Resyncs;
+            /// <summary>The comparisons of trials derived from refills with the tetrahedraliser's own tetrahedra for the
+            /// same probes (<see cref="DerivationCheck"/>): until one agrees, every derived trial is compared (one call),
+            /// and one that disagrees takes the tetrahedraliser's answer and its commit is tetrahedralised, so the next
+            /// trial derives from the tetrahedraliser's tetrahedra again instead of giving up deriving — a degenerate
+            /// star's refill differs now and then (ctf@0.81, 10^6 points); after
+            /// <see cref="DerivationCheck.MaxResyncs"/> disagreements before any agreement the refinement tetrahedralises
+            /// every set as before.</summary>
+            public readonly DerivationCheck Check = new DerivationCheck();
         }
 
         /// <summary>Each candidate's removal cost into <paramref name="cost"/>: the summed error change (ascending point
@@ -101,21 +94,17 @@ namespace Lpnn.Probes.Core.Quality
             bool[] isCandidate)
         {
             trialRefills = null;
-            if (ForceTetrahedralisation || Counts.Resyncs >= InsertionTetrahedra.MaxResyncs) return null;
+            if (ForceTetrahedralisation || !Counts.Check.Derives) return null;
             var refills = StarRefills.Of(reference, tetrahedralizer, Probes, Mesh, EdgeStart, EdgeTarget, candidates, out int linkCalls);
             Counts.LinkTetrahedralisations += linkCalls;
             if (refills == null) return null;
             var mesh = Derived(reference, isCandidate, remaining, refills.Tetrahedra, refills.Owners);
             if (mesh == null) return null;
-            if (!Counts.RefillsAgree)  // until one agrees: one more tetrahedralisation (RefillCounts.RefillsAgree)
+            if (Counts.Check.Compares)  // until one agrees: one more tetrahedralisation (RefillCounts.Check)
             {
                 var fresh = Tetrahedralize(reference, tetrahedralizer, remaining);
-                Counts.RefillsAgree = mesh.HasTheTetrahedraOf(fresh);
-                if (!Counts.RefillsAgree)
-                {
-                    Counts.Resyncs++;
+                if (!Counts.Check.Record(mesh.HasTheTetrahedraOf(fresh)))
                     return fresh;  // trialRefills stays null: the commit is tetrahedralised, and the next trial derives from it
-                }
             }
             trialRefills = refills;
             return mesh;

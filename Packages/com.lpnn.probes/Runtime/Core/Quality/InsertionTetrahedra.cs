@@ -12,8 +12,9 @@ namespace Lpnn.Probes.Core.Quality
     ///   native call on Unity's main thread, issue 30). A derived round is checked against the tetrahedraliser's own
     ///   answer for the same probes (one more call) until one agrees; a round that disagrees (a tetrahedraliser that
     ///   breaks cospherical ties otherwise, as Unity's native one may, issue 31) takes the tetrahedraliser's answer, and
-    ///   the next round derives from it and is checked again (<see cref="Resyncs"/>; <see cref="MaxResyncs"/> of them
-    ///   before any agreement tetrahedralise every later round). A derivation that fails (an
+    ///   the next round derives from it and is checked again (<see cref="Check"/>, <see cref="DerivationCheck"/>'s rule;
+    ///   <see cref="DerivationCheck.MaxResyncs"/> disagreements before any agreement tetrahedralise every later round).
+    ///   A derivation that fails (an
     ///   undecided sign, a crack in the tetrahedraliser's tetrahedra) tetrahedralises that round, and the next round
     ///   derives from its answer.
     /// - <see cref="Mode.Tetrahedralised"/>: every round tetrahedralised (for comparison; with a tetrahedraliser that
@@ -32,13 +33,6 @@ namespace Lpnn.Probes.Core.Quality
         /// test cannot leak it into another's run).</summary>
         [ThreadStatic] internal static Mode Setting;
 
-        /// <summary>Disagreements with the tetrahedraliser, before any agreement, after which an order (and a batched
-        /// refinement, BatchedRefinementState.RefillCounts) stops deriving: a tetrahedraliser that breaks ties otherwise
-        /// disagrees nearly every time, and may agree by chance once few ties are left (a refinement of a small lattice:
-        /// 48 disagreements, then one agreement), so a run of disagreements is taken for that, a single one for a
-        /// degenerate case.</summary>
-        internal const int MaxResyncs = 3;
-
         /// <summary>Tests only: applied to every derived round's tetrahedra before use (null from it: the derivation failed).</summary>
         [ThreadStatic] internal static Func<int[], int[]> AlterDerivedForTests;
 
@@ -54,11 +48,8 @@ namespace Lpnn.Probes.Core.Quality
         /// <summary>Rounds derived, and rounds (or checks) tetrahedralised.</summary>
         internal int Derived { get; private set; }
         internal int Tetrahedralised { get; private set; }
-        /// <summary>Whether a derived round has had the tetrahedraliser's tetrahedra (false: not yet; later rounds are
-        /// not checked once one agrees).</summary>
-        internal bool Agrees { get; private set; }
-        /// <summary>Derived rounds that differed from the tetrahedraliser's answer, which replaced them.</summary>
-        internal int Resyncs { get; private set; }
+        /// <summary>The comparisons of derived rounds with the tetrahedraliser's answers (<see cref="DerivationCheck"/>).</summary>
+        internal DerivationCheck Check { get; } = new DerivationCheck();
 
         public InsertionTetrahedra(ReferenceLighting reference, ITetrahedralizer tetrahedralizer)
         {
@@ -71,17 +62,15 @@ namespace Lpnn.Probes.Core.Quality
         /// probes by the new batch.</summary>
         public int[] Of(int[] probes)
         {
-            if (_mode == Mode.Tetrahedralised || Resyncs >= MaxResyncs) return Tetrahedralize(probes);
+            if (_mode == Mode.Tetrahedralised || !Check.Derives) return Tetrahedralize(probes);
             int[] derived = Derive(probes);
-            if (derived != null && !Agrees)
+            if (derived != null && Check.Compares)
             {
                 int[] fresh = Tetrahedralize(probes);
                 double[] points = PlacementError.ProbePoints(_reference, probes);
-                Agrees = TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, fresh));
-                if (!Agrees)
+                if (!Check.Record(TetrahedralMesh.Build(points, derived).HasTheTetrahedraOf(TetrahedralMesh.Build(points, fresh))))
                 {
                     FallbackListener?.Invoke("a derived round differs from the tetrahedraliser's (re-synchronised from its answer)");
-                    Resyncs++;
                     return Synchronised(probes, fresh);
                 }
             }
