@@ -1,5 +1,4 @@
 using System;
-using System.Diagnostics;
 using System.Linq;
 using System.Numerics;
 using Lpnn.Probes.Core.Quality;
@@ -22,34 +21,6 @@ namespace Lpnn.Probes.Core.Tests
             BatchedRefinement.TrialListener = null;
         }
 
-        /// <summary>Counts the tetrahedralisations of whole probe sets (not those of a single star's link, asked by StarRefills).</summary>
-        private sealed class CountingTetrahedralizer : ITetrahedralizer
-        {
-            private readonly ITetrahedralizer _inner;
-            public int Calls;
-            public CountingTetrahedralizer(ITetrahedralizer inner) => _inner = inner;
-            public int[] Tetrahedralize(Vector3[] positions)
-            {
-                if (!new StackTrace().GetFrames().Any(f => f.GetMethod()?.DeclaringType == typeof(StarRefills))) Calls++;
-                return _inner.Tetrahedralize(positions);
-            }
-        }
-
-        private static ReferenceLighting Lattice(int nx, int ny, int nz)
-        {
-            var positions = QualityFixtures.Positions(QualityFixtures.Box(nx, ny, nz));
-            return ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(3.5f, 2.5f, 2f), 0.9f));
-        }
-
-        private static ReferenceLighting Cloud(int count, int seed)
-        {
-            var random = new Random(seed);
-            var positions = new Vector3[count];
-            for (int n = 0; n < count; n++)
-                positions[n] = new Vector3((float)(6 * random.NextDouble()), (float)(5 * random.NextDouble()), (float)(4 * random.NextDouble()));
-            return ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(3.5f, 2.5f, 2f), 0.9f));
-        }
-
         private static BatchedRefinementResult Refine(ReferenceLighting reference, Func<ITetrahedralizer> tetrahedralizer, string goal,
             bool remeasure, out int measured, out int candidates, out int calls)
         {
@@ -63,7 +34,7 @@ namespace Lpnn.Probes.Core.Tests
                 : BatchedRefinement.ToCount(reference, counting, seed, 12);
             measured = m;
             candidates = c;
-            calls = counting.Calls;
+            calls = counting.Whole;
             return result;
         }
 
@@ -73,7 +44,7 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase("cloud", "count")]
         public void KeepingFreshCostsGivesTheProbesOfMeasuringEveryCost(string which, string goal)
         {
-            var reference = which == "lattice" ? Lattice(7, 6, 5) : Cloud(240, 51);
+            var reference = which == "lattice" ? RefinementFixtures.Lattice(7, 6, 5) : RefinementFixtures.Cloud(240, 51);
             Func<ITetrahedralizer> tetrahedralizer = () => which == "lattice" ? BowyerWatsonDelaunay.TieBroken(reference) : new BowyerWatsonDelaunay();
             var kept = Refine(reference, tetrahedralizer, goal, false, out int measured, out int candidates, out int calls);
             var every = Refine(reference, tetrahedralizer, goal, true, out int measuredEvery, out int candidatesEvery, out int callsEvery);
@@ -90,7 +61,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheBoundaryIsEveryProbeOnAHullFace()
         {
-            var reference = Lattice(3, 3, 3);
+            var reference = RefinementFixtures.Lattice(3, 3, 3);
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
             var state = BatchedRefinementState.Evaluate(reference, BowyerWatsonDelaunay.TieBroken(reference), probes);
             bool[] boundary = state.BoundaryVertices(reference.Count);
