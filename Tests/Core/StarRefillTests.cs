@@ -1,6 +1,5 @@
 using System;
 using System.Collections.Generic;
-using System.Diagnostics;
 using System.Linq;
 using System.Numerics;
 using Lpnn.Probes.Core.Quality;
@@ -17,51 +16,6 @@ namespace Lpnn.Probes.Core.Tests
     [TestFixture]
     public class StarRefillTests
     {
-        /// <summary>Counts whole-set tetrahedralisations and those of a single star's link (asked by StarRefills) apart.</summary>
-        private sealed class CountingTetrahedralizer : ITetrahedralizer
-        {
-            private readonly ITetrahedralizer _inner;
-            private readonly Func<Vector3[], int[], int[]> _links;
-            public int Whole, Links;
-
-            /// <param name="links">Replaces a link's answer (null: the inner tetrahedraliser's is kept).</param>
-            public CountingTetrahedralizer(ITetrahedralizer inner, Func<Vector3[], int[], int[]> links = null)
-            {
-                _inner = inner;
-                _links = links;
-            }
-
-            public int[] Tetrahedralize(Vector3[] positions)
-            {
-                bool link = new StackTrace().GetFrames().Any(f => f.GetMethod()?.DeclaringType == typeof(StarRefills));
-                int[] tets = _inner.Tetrahedralize(positions);
-                if (!link)
-                {
-                    Whole++;
-                    return tets;
-                }
-                Links++;
-                return _links == null ? tets : _links(positions, tets);
-            }
-        }
-
-        /// <summary>An nx × ny × nz lattice (unit cells: every cell's corners cospherical) lit by two blobs.</summary>
-        private static ReferenceLighting Lattice(int nx, int ny, int nz)
-        {
-            var positions = QualityFixtures.Positions(QualityFixtures.Box(nx, ny, nz));
-            return ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(3.5f, 2.5f, 2f), 0.9f));
-        }
-
-        /// <summary>Random points in a 6 × 5 × 4 box (general position) lit by two blobs.</summary>
-        private static ReferenceLighting Cloud(int count, int seed)
-        {
-            var random = new Random(seed);
-            var positions = new Vector3[count];
-            for (int n = 0; n < count; n++)
-                positions[n] = new Vector3((float)(6 * random.NextDouble()), (float)(5 * random.NextDouble()), (float)(4 * random.NextDouble()));
-            return ReferenceLighting.Create(positions, QualityFixtures.BlobField(positions, new Vector3(1.5f, 1.5f, 1f), new Vector3(3.5f, 2.5f, 2f), 0.9f));
-        }
-
         /// <summary>The greedy independent set of the state's Delaunay graph in the given order of probes.</summary>
         private static int[] Independent(BatchedRefinementState state, IEnumerable<int> order)
         {
@@ -132,7 +86,7 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase(true, 3)]
         public void OnALatticeWithTiesTheRefillsAreTheTieBrokenTetrahedralisation(bool cornersFirst, int seed)
         {
-            var reference = Lattice(6, 5, 4);
+            var reference = RefinementFixtures.Lattice(6, 5, 4);
             AssertRefillsAreTheTetrahedralisation(reference, BowyerWatsonDelaunay.TieBroken(reference), Enumerable.Range(0, reference.Count).ToArray(),
                 cornersFirst, seed, out int linkCalls);
             // The box's corners are hull vertices, refilled from their links (a corner whose star is one tetrahedron, with
@@ -143,7 +97,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void OnALatticeSubsetWithTiesTheRefillsAreTheTieBrokenTetrahedralisation()
         {
-            var reference = Lattice(7, 6, 5);
+            var reference = RefinementFixtures.Lattice(7, 6, 5);
             int[] probes = Enumerable.Range(0, reference.Count).Where(p => new Random(p * 31 + 5).NextDouble() < 0.5).ToArray();
             AssertRefillsAreTheTetrahedralisation(reference, BowyerWatsonDelaunay.TieBroken(reference), probes, false, 4, out _);
         }
@@ -153,14 +107,14 @@ namespace Lpnn.Probes.Core.Tests
         [TestCase(200, 13)]
         public void InARandomCloudTheRefillsAreTheDelaunayTetrahedralisation(int count, int seed)
         {
-            var reference = Cloud(count, seed);
+            var reference = RefinementFixtures.Cloud(count, seed);
             AssertRefillsAreTheTetrahedralisation(reference, new BowyerWatsonDelaunay(), Enumerable.Range(0, count).ToArray(), false, seed, out _);
         }
 
         [Test]
         public void AHullVertexIsRefilledFromItsLinkAndTheHullShrinks()
         {
-            var reference = Cloud(150, 21);
+            var reference = RefinementFixtures.Cloud(150, 21);
             var tetrahedralizer = new CountingTetrahedralizer(new BowyerWatsonDelaunay());
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
             var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, probes);
@@ -184,7 +138,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void TheDerivedMeshIsTheMeshAssembledFromScratch()
         {
-            var reference = Lattice(6, 5, 4);
+            var reference = RefinementFixtures.Lattice(6, 5, 4);
             var tetrahedralizer = BowyerWatsonDelaunay.TieBroken(reference);
             var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, Enumerable.Range(0, reference.Count).ToArray());
             int[] candidates = Independent(state, Order(reference, state.Probes, true, 5));
@@ -202,7 +156,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void DerivedTetrahedraThatAreNotATetrahedralisationAreRefused()
         {
-            var reference = Cloud(150, 31);
+            var reference = RefinementFixtures.Cloud(150, 31);
             var tetrahedralizer = new BowyerWatsonDelaunay();
             var state = BatchedRefinementState.Evaluate(reference, tetrahedralizer, Enumerable.Range(0, reference.Count).ToArray());
             int[] candidates = Independent(state, Order(reference, state.Probes, false, 6));
@@ -227,7 +181,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ARefusedStarFallsBackToTheTetrahedralisation()
         {
-            var reference = Cloud(150, 41);
+            var reference = RefinementFixtures.Cloud(150, 41);
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
             double[] local = reference.Local;
             int lowest = probes.OrderBy(p => local[3 * p]).First();  // a hull vertex: refilled from its link
@@ -295,7 +249,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ARefinementOnALatticeKeepsTheSameProbesWithRefillsAsWithTetrahedralisations()
         {
-            var reference = Lattice(7, 6, 5);
+            var reference = RefinementFixtures.Lattice(7, 6, 5);
             int[] seed = Enumerable.Range(0, reference.Count).Where(p => p % 3 != 1).ToArray();
             AssertTheSameProbes(reference, () => BowyerWatsonDelaunay.TieBroken(reference),
                 t => BatchedRefinement.WithinTolerance(reference, t, seed, 0.02), true);
@@ -305,14 +259,14 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ARefinementOfARandomCloudKeepsTheSameProbesWithRefillsAsWithTetrahedralisations()
         {
-            var reference = Cloud(200, 51);
+            var reference = RefinementFixtures.Cloud(200, 51);
             AssertTheSameProbes(reference, () => new BowyerWatsonDelaunay(), t => BatchedRefinement.ToCount(reference, t, Enumerable.Range(0, 200).ToArray(), 15), true);
         }
 
         [Test]
         public void ATetrahedraliserThatBreaksTiesOtherwiseIsFollowedAtEveryTrial()
         {
-            var reference = Lattice(6, 5, 4);
+            var reference = RefinementFixtures.Lattice(6, 5, 4);
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
             var otherwise = new CountingTetrahedralizer(BowyerWatsonDelaunay.TieBroken(reference, otherwise: true));
             var state = BatchedRefinementState.Evaluate(reference, otherwise, probes);
@@ -344,7 +298,7 @@ namespace Lpnn.Probes.Core.Tests
             // The first trial is checked against a tetrahedraliser that breaks the lattice's ties otherwise (as a degenerate
             // star's refill may differ from the tetrahedraliser's): its answer replaces the trial, the commit is
             // tetrahedralised, and the next trial derives from that again and, checked against the same tie rule, agrees.
-            var reference = Lattice(6, 5, 4);
+            var reference = RefinementFixtures.Lattice(6, 5, 4);
             int[] probes = Enumerable.Range(0, reference.Count).ToArray();
             var same = new CountingTetrahedralizer(BowyerWatsonDelaunay.TieBroken(reference));
             var links = BowyerWatsonDelaunay.TieBroken(reference);  // a star's link as the refills expect it

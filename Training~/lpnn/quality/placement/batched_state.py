@@ -5,6 +5,7 @@ where it can change.
     state = evaluate(field, probes)                  # every point located (the seed)
     trial = trial_of(field, state, candidates)       # costs; located only where a candidate's weight reached
     state = without(field, state, removed, trial)    # located only where a removed probe was touched; no Qhull
+    boundary = boundary_vertices(state)              # probes whose measured costs a later round must re-measure
     mesh = derived_mesh(field, state, removed, refills)   # both meshes from the state's, not assembled afresh
 
 With a LeakWeighting (evaluate(field, probes, weighting)) every error the state holds, sums and compares is the weighted
@@ -226,6 +227,37 @@ def refilled(field: ReferenceField, state: MeshState, trial: Trial, removed: np.
     return np.concatenate([kept, fills[gone[stars(field, state, trial, fills)]]])
 
 
+def boundary_vertices(state: MeshState) -> np.ndarray:
+    """(N,) bool: the probes on a face with no tetrahedron across — the hull's, or a crack's. A fresh cost of any other
+    probe (measured, no Delaunay neighbour removed since) is the cost a new trial would measure, up to rounding: its
+    star, the points inside it, their old errors and its refill (a function of its link) are unchanged, and removing
+    other candidates leaves the hull it lies inside alone. A hull vertex's cost is not: its star's points that fall
+    outside the shrunken hull project onto a hull other removals elsewhere may have changed, and a point outside the hull
+    may have moved its nearest hull point onto its triangles (batched_refinement.py step 2)."""
+    on = np.zeros(state.errors.shape[0], dtype=bool)
+    rows, faces = np.nonzero(state.mesh.neighbours < 0)  # HULL or INNER_BOUNDARY
+    tets = state.tets
+    for j in range(4):  # the face opposite vertex `faces` holds the other three
+        on[tets[rows[faces != j], j]] = True
+    return on
+
+
+def removal_fills(field: ReferenceField, state: MeshState, removed: np.ndarray, trial: Trial | None) -> Fills | None:
+    """The `removed` probes' star refills: the round's trial's where it made them, the rest made now (a committed
+    candidate whose fresh cost was reused was not in the trial: batched_refinement.py step 2); None when the trial was
+    tetrahedralised by Qhull or a refill fails its checks (trial_fills.py)."""
+    if trial is not None and trial.fills is None:
+        return None
+    known = np.zeros(0, dtype=np.int64) if trial is None else trial.candidates
+    lacking = removed[~sorted_contains(removed, np.sort(known))]
+    if lacking.shape[0] == 0:
+        return trial.fills
+    made = star_fills(field, state, lacking)
+    if made is None or trial is None:
+        return made
+    return Fills(tets=np.concatenate([trial.fills.tets, made.tets]), owner=np.concatenate([trial.fills.owner, made.owner]))
+
+
 def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial: Trial | None = None,
             reuse: bool = False) -> MeshState:
     """The state of state.probes minus `removed`, re-evaluating only the points whose stencil touched a removed probe
@@ -233,21 +265,25 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     a round at 10^6 points); the old state is then only valid again after restore(new state). Exact: the tie-broken
     Delaunay is unique, so every tetrahedron outside the removed probes' stars survives, and a point outside the hull
     keeps its nearest hull point unless that point's triangle had a removed vertex (the new hull lies inside the old one
-    and keeps every triangle without a removed vertex). With the round's `trial` (removed among its candidates), the
-    tetrahedralisation comes from it instead of Qhull: derived from the state's mesh and the removed probes' refills
-    (derived_mesh) when the trial has them, else from refilled; a derived mesh refused goes to Qhull."""
+    and keeps every triangle without a removed vertex). The tetrahedralisation is derived from the state's mesh and the
+    removed probes' refills (removal_fills: the round's `trial`'s, or made for the removed it lacks) when they pass
+    derived_mesh's checks; else from the trial's Qhull tetrahedra when it has every removed probe (refilled); else Qhull."""
     affected = stencils_using(state, removed, state.touched)
     probes = np.setdiff1d(state.probes, removed, assume_unique=True)
-    if trial is not None and trial.fills is not None:  # the removed probes' refills are known: no new mesh to assemble
+    fills = removal_fills(field, state, removed, trial)
+    if fills is not None:  # the removed probes' refills are known: no new mesh to assemble
         gone = np.zeros(field.point_count, dtype=bool)
         gone[removed] = True
-        refills = trial.fills.tets[gone[trial.fills.owner]]
+        refills = fills.tets[gone[fills.owner]]
         mesh = derived_mesh(field, state, gone, refills)
         if mesh is not None:
             edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
                                                            mesh=mesh), reuse, edges)
         trial = None  # the same refills assembled another way would pass what derived_mesh refused: Qhull decides
+    if trial is not None and (trial.fills is not None
+                              or not sorted_contains(removed, np.sort(trial.candidates)).all()):
+        trial = None  # refilled needs the trial's Qhull tetrahedra around every removed probe
     tets = None if trial is None else refilled(field, state, trial, removed)
     if tets is not None and sorted_unique(tets.reshape(-1)).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does

@@ -18,7 +18,9 @@ namespace Lpnn.Probes.Core.Quality
     /// (costs not fresh — never measured, or a neighbour removed since — first; costs within <see cref="InsertionRanking.Tie"/>
     /// of each other: lower index), locked probes left
     /// out, at most |P| − 4; if the rest is flat, only the first unlocked probe whose removal alone leaves a solid set; (2) one trial
-    /// without them gives each its cost; (3) commit those within the
+    /// without them gives each its cost — but a candidate whose cost is fresh and that lies on no face without a tetrahedron
+    /// across keeps its cost and stays out of the trial (<see cref="BatchedRefinementState.BoundaryVertices"/>: the trial
+    /// would measure the same number up to rounding); (3) commit those within the
     /// <see cref="CountCommitFraction"/> (down to a count) or <see cref="ToleranceCommitFraction"/> (within a tolerance) quantile of all measured costs, cheapest first (none: the cheapest candidate once
     /// every cost is fresh), capped by the count, or the longest prefix that keeps the error sum within τ·N (nothing
     /// committed: with a tolerance and every cost fresh, stop; else go on); (4) their neighbours' costs go stale; the new set is evaluated, and with a tolerance an overshoot
@@ -135,10 +137,12 @@ namespace Lpnn.Probes.Core.Quality
                         break;
                     }
                     candidates = new[] { solid };
-                    remaining = BatchedRefinementState.ProbesWithout(current, candidates, n);
                 }
                 rounds++;
-                state.RemovalCosts(reference, tetrahedralizer, remaining, candidates, cost);
+                int[] measure = RemeasureFreshCostsForTests ? candidates : StaleOrOnTheBoundary(state, candidates, fresh, n);
+                TrialListener?.Invoke(candidates.Length, measure.Length);
+                if (measure.Length > 0)
+                    state.RemovalCosts(reference, tetrahedralizer, BatchedRefinementState.ProbesWithout(current, measure, n), measure, cost);
                 foreach (int c in candidates) fresh[c] = true;
                 bool settled = true;  // every unlocked probe's cost is fresh
                 foreach (int p in current) settled &= fresh[p] || locked[p];
@@ -175,6 +179,24 @@ namespace Lpnn.Probes.Core.Quality
                 cancel.ThrowIfCancellationRequested();  // a Cancel pressed in the progress call stops before the next round
             }
             return new BatchedRefinementResult(state.Probes, state.ErrorSum / n, rounds, stop);
+        }
+
+        /// <summary>Tests only: every candidate's cost measured in every trial, fresh or not (as before 2026-11-28; the
+        /// refinement must then keep the same probes). Per thread, so that a test cannot leak it into another's run.</summary>
+        [ThreadStatic] internal static bool RemeasureFreshCostsForTests;
+
+        /// <summary>Tests and benches only: told each round's count of candidates and of those whose cost the trial measured.</summary>
+        [ThreadStatic] internal static Action<int, int> TrialListener;
+
+        /// <summary>The candidates whose cost a trial must measure: not fresh, or a probe on the boundary
+        /// (<see cref="BatchedRefinementState.BoundaryVertices"/>), in the candidates' order.</summary>
+        private static int[] StaleOrOnTheBoundary(BatchedRefinementState state, int[] candidates, bool[] fresh, int n)
+        {
+            bool[] boundary = state.BoundaryVertices(n);
+            var measure = new List<int>(candidates.Length);
+            foreach (int c in candidates)
+                if (!fresh[c] || boundary[c]) measure.Add(c);
+            return measure.ToArray();
         }
 
         /// <summary>The greedy independent set by (cost, index) among the unlocked probes, costs that are not fresh (never

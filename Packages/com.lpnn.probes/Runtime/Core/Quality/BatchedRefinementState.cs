@@ -27,9 +27,12 @@ namespace Lpnn.Probes.Core.Quality
         internal TetrahedralMesh Mesh;  // the probes' tetrahedra (indices into Probes)
         internal RefillCounts Counts;  // shared by every state of one refinement
 
-        /// <summary>The last trial's refills (null: it was tetrahedralised), from which <see cref="Without"/> derives the
-        /// committed set's tetrahedra.</summary>
+        /// <summary>The last trial's refills (null: it was tetrahedralised, or none was made), from which <see cref="Without"/>
+        /// derives the committed set's tetrahedra.</summary>
         private StarRefills trialRefills;
+        /// <summary>Whether a trial was made on this set (<see cref="RemovalCosts"/>): a round whose candidates all kept
+        /// their fresh costs makes none, and its commit then refills the removed probes' stars itself.</summary>
+        private bool trialMade;
 
         /// <summary>Tests and the Apply bench's --no-refills only: every trial and commit tetrahedralises the remaining
         /// probes, as before the refills (the refinement must then keep the same probes). Per thread, so that a test cannot
@@ -79,6 +82,7 @@ namespace Lpnn.Probes.Core.Quality
             }
             var trialErrors = new double[n];
             var seen = Leaks == null ? null : new StencilLog();
+            trialMade = true;
             var trial = RefilledTrial(reference, tetrahedralizer, remaining, candidates, isCandidate) ?? Tetrahedralize(reference, tetrahedralizer, remaining);
             PlacementError.InterpolatePoints(reference, remaining, trial, attributed.ToArray(),
                 (int p, ref Stencil stencil, double[] interpolated) => trialErrors[p] = PointError(reference, p, interpolated),
@@ -184,22 +188,68 @@ namespace Lpnn.Probes.Core.Quality
                 Owners = (int[])Owners.Clone(), Touched = (int[])Touched.Clone(), Leaks = Leaks, Counts = Counts
             };
             TetrahedralMesh mesh = null;
-            if (trialRefills != null && AmongCandidates(removed, trialRefills.Candidates, n))
-            {
-                trialRefills.OfRemoved(gone, out int[] added, out int[] owners);
+            if (RemovalRefills(reference, tetrahedralizer, removed, gone, out int[] added, out int[] owners))
                 mesh = Derived(reference, gone, next.Probes, added, owners);
-            }
             Relocate(reference, next, mesh ?? Tetrahedralize(reference, tetrahedralizer, next.Probes), affected.ToArray());
             return next;
         }
 
-        private static bool AmongCandidates(int[] removed, int[] candidates, int n)
+        /// <summary>The refills of the <paramref name="removed"/> probes' stars (<paramref name="gone"/>: them, flagged per
+        /// point) and the probe each fills: the last trial's, and for the removed probes it did not refill (candidates that
+        /// kept their fresh costs, <see cref="BoundaryVertices"/>) refills made now — when the trial was not
+        /// tetrahedralised, or no trial was made and derived sets are trusted (<see cref="DerivationCheck.Agrees"/>). False
+        /// when the set must be tetrahedralised (after a disagreement the commit re-synchronises; a refill refused).</summary>
+        private bool RemovalRefills(ReferenceLighting reference, ITetrahedralizer tetrahedralizer, int[] removed, bool[] gone,
+            out int[] added, out int[] owners)
         {
-            var candidate = new bool[n];
-            foreach (int c in candidates) candidate[c] = true;
+            added = owners = null;
+            var lacking = new List<int>();
+            var inTrial = new bool[gone.Length];
+            if (trialRefills != null)
+                foreach (int c in trialRefills.Candidates) inTrial[c] = true;
             foreach (int r in removed)
-                if (!candidate[r]) return false;
+                if (!inTrial[r]) lacking.Add(r);
+            if (lacking.Count > 0)
+            {
+                bool trusted = trialMade ? trialRefills != null : Counts.Check.Agrees;
+                if (!trusted || ForceTetrahedralisation || !Counts.Check.Derives) return false;
+            }
+            else if (trialRefills == null) return false;
+            var parts = new List<StarRefills>();
+            if (trialRefills != null) parts.Add(trialRefills);
+            if (lacking.Count > 0)
+            {
+                int[] made = lacking.ToArray();
+                var refills = StarRefills.Of(reference, tetrahedralizer, Probes, Mesh, EdgeStart, EdgeTarget, made, out int linkCalls);
+                Counts.LinkTetrahedralisations += linkCalls;
+                if (refills == null) return false;
+                parts.Add(refills);
+            }
+            var allAdded = new List<int>();
+            var allOwners = new List<int>();
+            foreach (var part in parts)
+            {
+                part.OfRemoved(gone, out int[] partAdded, out int[] partOwners);
+                allAdded.AddRange(partAdded);
+                allOwners.AddRange(partOwners);
+            }
+            added = allAdded.ToArray();
+            owners = allOwners.ToArray();
             return true;
+        }
+
+        /// <summary>Per point, whether it is a probe on a face with no tetrahedron across (the hull's, or a crack's:
+        /// <see cref="TetrahedralMesh.HullFaces"/>). Any other probe's fresh cost (measured, no Delaunay neighbour removed
+        /// since) is what a new trial would measure, up to rounding: its star, the points in it, their old errors and its
+        /// refill (a function of its link) are unchanged, and other candidates' removals leave the hull it lies inside
+        /// alone. A boundary probe's is not: the points of its star that fall outside the shrunken hull project onto a
+        /// hull that removals elsewhere may have changed (<see cref="BatchedRefinement"/> step 2; Python
+        /// batched_state.boundary_vertices).</summary>
+        internal bool[] BoundaryVertices(int n)
+        {
+            var on = new bool[n];
+            foreach (int v in Mesh.HullFaces) on[Probes[v]] = true;
+            return on;
         }
 
         /// <summary>Interpolates <paramref name="points"/> (ascending, none a probe; null: every point that is not a probe)
