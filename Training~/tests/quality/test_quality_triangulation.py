@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lpnn.quality.metric.tet_geometry import orient_and_invert
-from lpnn.quality.metric.triangulation import tetrahedralize
+from lpnn.quality.metric.triangulation import HULL, corners_of_faces, tetrahedralize
 
 
 def test_a_cell_sized_tetrahedron_of_a_very_fine_grid_is_kept_and_a_flat_one_dropped() -> None:
@@ -43,3 +43,17 @@ def test_the_hull_test_against_every_point_answers_as_against_the_hull_vertices(
         expected = on_hull(mesh.points, faces)
         assert np.array_equal(on_hull(mesh.points, faces, every_point=True), expected)
         assert expected[:mesh.hull_faces.shape[0]].all() and not expected.all()
+
+
+def test_the_corners_of_flagged_faces_are_every_vertex_of_each_face() -> None:
+    """A tetrahedron with two hull faces puts all four of its vertices on the hull (each face holds the three vertices
+    other than the one it is opposite); a masked in-place `|=` over repeated rows would keep only the last face's."""
+    tets = np.array([[10, 11, 12, 13], [20, 21, 22, 23]])
+    faces = np.array([[True, True, False, False], [False, False, False, True]])
+    assert sorted(set(corners_of_faces(tets, faces).tolist())) == [10, 11, 12, 13, 20, 21, 22]
+    assert corners_of_faces(tets, np.zeros((2, 4), dtype=bool)).shape == (0,)
+
+
+def test_a_single_tetrahedron_has_every_vertex_on_its_hull() -> None:
+    mesh = tetrahedralize(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]))
+    assert sorted(set(corners_of_faces(mesh.tets, mesh.neighbours == HULL).tolist())) == [0, 1, 2, 3]

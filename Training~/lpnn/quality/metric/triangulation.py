@@ -210,6 +210,13 @@ def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nda
     return neighbours.reshape(count, 4), faces[boundary], boundary // 4
 
 
+def corners_of_faces(tets: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """The vertex ids (with repeats) of the faces flagged in `faces` (T, 4) bool, face j of a tetrahedron being the one
+    opposite its vertex j, as in `neighbours`: the hull's vertices are corners_of_faces(tets, neighbours == HULL)."""
+    rows, opposite = np.nonzero(faces)
+    return np.concatenate([tets[rows[opposite != j], j] for j in range(4)])
+
+
 HULL_TEST_BLOCK = 1 << 20  # face-vertex pairs per block of on_hull's test (8 MiB of distances)
 # Up to this many faces on_hull tests against every point rather than building the convex hull first: the test costs
 # ~7 ns a face and point, Qhull's 3-D hull ~0.15-0.3 us a point (measured on this machine, 600-20,000 points).

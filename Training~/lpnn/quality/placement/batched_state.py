@@ -34,7 +34,8 @@ from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
 from .trial_fills import Fills, star_fills
-from ..metric.triangulation import INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal
+from ..metric.triangulation import (INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal,
+                                    corners_of_faces)
 
 
 @dataclass(frozen=True)
@@ -235,10 +236,7 @@ def boundary_vertices(state: MeshState) -> np.ndarray:
     outside the shrunken hull project onto a hull other removals elsewhere may have changed, and a point outside the hull
     may have moved its nearest hull point onto its triangles (batched_refinement.py step 2)."""
     on = np.zeros(state.errors.shape[0], dtype=bool)
-    rows, faces = np.nonzero(state.mesh.neighbours < 0)  # HULL or INNER_BOUNDARY
-    tets = state.tets
-    for j in range(4):  # the face opposite vertex `faces` holds the other three
-        on[tets[rows[faces != j], j]] = True
+    on[corners_of_faces(state.tets, state.mesh.neighbours < 0)] = True  # HULL or INNER_BOUNDARY
     return on
 
 
@@ -280,11 +278,11 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
             edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
                                                            mesh=mesh), reuse, edges)
-        trial = None  # the same refills assembled another way would pass what derived_mesh refused: Qhull decides
-    if trial is not None and (trial.fills is not None
-                              or not sorted_contains(removed, np.sort(trial.candidates)).all()):
-        trial = None  # refilled needs the trial's Qhull tetrahedra around every removed probe
-    tets = None if trial is None else refilled(field, state, trial, removed)
+    # Refills refused (assembled another way they would pass what derived_mesh refused) or failed: Qhull decides, unless
+    # the trial was Qhull's itself and holds every removed probe (refilled).
+    qhull_trial = (trial is not None and trial.fills is None
+                   and bool(sorted_contains(removed, np.sort(trial.candidates)).all()))
+    tets = refilled(field, state, trial, removed) if qhull_trial else None
     if tets is not None and sorted_unique(tets.reshape(-1)).shape[0] != probes.shape[0]:
         tets = None  # cannot happen with a unique triangulation; Qhull decides if it does
     try:

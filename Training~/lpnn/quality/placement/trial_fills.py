@@ -33,7 +33,7 @@ from ...scenes.ranges import concatenated_ranges
 from .decimation.hole_wrap import wrap_hole_runs
 from ..metric.metric import ReferenceField
 from ..metric.tet_geometry import edge_frames, is_flat
-from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, lower_hull_tets
+from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, corners_of_faces, lower_hull_tets
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
 INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
@@ -70,7 +70,7 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     bounds = np.searchsorted(star_owner, position)
     ends = np.searchsorted(star_owner, position, side="right")
     on_surface = np.zeros(probes.shape[0], dtype=bool)
-    on_surface[tets[_faces_on_hull(mesh)]] = True
+    on_surface[corners_of_faces(tets, mesh.neighbours == HULL)] = True
     try:
         extreme = np.zeros(probes.shape[0], dtype=bool)
         extreme[ConvexHull(local).vertices] = True
@@ -112,15 +112,6 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
     return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
-
-
-def _faces_on_hull(mesh) -> np.ndarray:
-    """(T, 4) bool: the vertices of each tetrahedron that lie on a face of the convex hull (not a crack's)."""
-    on = np.zeros(mesh.tets.shape, dtype=bool)
-    rows, faces = np.nonzero(mesh.neighbours == HULL)
-    for j in range(4):  # the face opposite vertex `faces` holds the other three
-        on[rows, j] |= faces != j
-    return on
 
 
 def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

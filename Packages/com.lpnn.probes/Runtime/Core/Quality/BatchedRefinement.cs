@@ -185,7 +185,7 @@ namespace Lpnn.Probes.Core.Quality
         /// refinement must then keep the same probes). Per thread, so that a test cannot leak it into another's run.</summary>
         [ThreadStatic] internal static bool RemeasureFreshCostsForTests;
 
-        /// <summary>Tests and benches only: told each round's count of candidates and of those whose cost the trial measured.</summary>
+        /// <summary>Tests only: told each round's count of candidates and of those whose cost the trial measured.</summary>
         [ThreadStatic] internal static Action<int, int> TrialListener;
 
         /// <summary>The candidates whose cost a trial must measure: not fresh, or a probe on the boundary
