@@ -34,7 +34,7 @@ run() {
 }
 
 if want crops; then
-  # benchmarks.md "The speed/accuracy trade, every method"'s runs: ~600 s of rows for both sets with the code of 2026-11-27.
+  # benchmarks.md "The speed/accuracy trade, every method"'s runs: 325 s and 275 s with the code of 2026-11-28.
   run heldcrops "~5-8 min (14 crops of 702-1,071 points, every method)" \
     lpnn bench "$HELD_CROPS"/*.lpnncap --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/heldcrops"
   run valcrops "~5-8 min (10 crops of 729-1,343 points, every method)" \
@@ -44,7 +44,7 @@ fi
 if want level3; then
   # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~5 s (benchmarks.md "The speed/accuracy trade, every method").
   lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
-  run oa_dm1 "~2-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each)" \
+  run oa_dm1 "~1-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each; 49 s on 2026-11-28)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
 fi
 
@@ -52,12 +52,10 @@ if want level5; then
   # 136,512 points: the exact reference stopped at 2τ (its curve covers every budget from 1,365 probes and τ's answer,
   # ~650) took 678-693 s (benchmarks.md "References and scale-out"); run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
   # skipped by --refine-limit (636 s at τ alone, benchmarks.md "References and scale-out": ~1 hour for its 6 rows).
-  # Measured 2026-11-27: 2,188 s, of which the reference 678 s and insertion-refined's 20 % and 30 % rows 371 + 744 s.
-  # Since 2026-11-28 lpnn bench also runs the leak-aware reference where the geometry is known (its rows, and the
-  # default's ratios to it: quality.md §3.2), stopped at the same 2τ of its weighted error: not yet timed on a whole
-  # level (1.09x the leak-blind reference's CPU on a crop, benchmarks.md "The leak-aware default against a leak-aware
-  # yardstick"), so expect up to ~12-15 min more.
-  run ctf_compromise "~30-40 min (reference ~19 min stopped at 2τ, then the methods' 6 rows each)" \
+  # lpnn bench also runs the leak-aware reference where the geometry is known (its rows, and the default's ratios to
+  # it: quality.md §3.2), stopped at the same 2τ of its weighted error. Measured 2026-11-28: 3,933 s, of which the two
+  # references 821 + 746 s and the leak-aware default's 20 % and 30 % rows 208 + 1,590 s.
+  run ctf_compromise "~60-70 min (two references ~13 min each stopped at 2τ, then the methods' 6 rows each; the default's 30 % row ~27 min)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
     --out "$OUT/ctf_compromise"
 fi
@@ -88,6 +86,7 @@ if want table; then
     --given-yardstick "suspended at 1.3 m (held out)=4066" \
     --note "suspended at 1.3 m (held out):guided-exact-refined=skipped: its exact refinement took 636 s at τ on 136,512 points (benchmarks.md 'References and scale-out'), hours here" \
     --note "suspended at 1.3 m (held out):fast-reference=infeasible: hours and ~25 GB at 10⁶ points (benchmarks.md 'References and scale-out': ~23 kB a point)" \
+    --note "suspended at 1.3 m (held out):leak-aware-reference=infeasible: as the exact reference" \
     --note "suspended at 1.3 m (held out):blockwise-reference=not re-run (~2 hours on 2 processes, benchmarks.md 'References and scale-out'): its 4,066 probes at τ (landing at 1.20τ) are the † yardstick" \
     --note "ctf_compromise (validation):fast-reference=stopped at 2τ (lpnn bench --reference-stop 0.1): the full curve down to there" \
     --note "ctf_compromise (validation):guided-exact-refined=its τ answer alone took 636 s in benchmarks.md 'References and scale-out'" \

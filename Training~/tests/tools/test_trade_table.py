@@ -84,6 +84,9 @@ def test_the_trade_table_of_crops_a_level_without_reference_and_the_demo(tmp_pat
     assert _cells(lines, whole, "guided-refined")[-1].startswith("insertion-refined's answers (no guide above 32,768 points)")
     assert "skipped: hours at this size" in _cells(lines, whole, "guided-exact-refined")[-1]
     assert _cells(lines, whole, "fast-reference")[-1] == "not run: no reference (lpnn bench --no-reference)"
+    # Without references the leak-aware one is absent for that reason, not for the geometry; on the crops, for the latter.
+    assert _cells(lines, whole, "leak-aware-reference")[-1] == "not run: no reference (lpnn bench --no-reference)"
+    assert _cells(lines, "crops (3 captures)", "leak-aware-reference")[-1].startswith("not run: the capture's geometry")
     assert _cells(lines, whole, "blockwise-reference")[-1] == "not re-run: hours"  # a note says why instead of "not run"
     assert _cells(lines, whole, "uniform")[-1] == "not run"
     # make demo's answers at tau.
