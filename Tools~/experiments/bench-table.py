@@ -204,12 +204,10 @@ def _why_not_run(method: str, rows, failures) -> str:
     has_lpnn = any(r["method"] in LPNN_TIERS for r in rows)
     if method == "fast-reference" and "blockwise-reference" in yardsticks:
         return "not run: above lpnn bench's --full-reference-limit the blockwise reference is the yardstick"
-    if method == "fast-reference" and yardsticks == {"none"}:
+    if method in ("fast-reference", "leak-aware-reference") and yardsticks == {"none"}:
         return "not run: no reference (lpnn bench --no-reference)"
     if method == "guided-exact-refined" and (points > REFINE_LIMIT or yardsticks != {"fast-reference"}):
         return f"not run: above {REFINE_LIMIT:,} points (lpnn bench --refine-limit; each row decimates again)"
-    if method == "leak-aware-reference" and yardsticks == {"none"}:
-        return "not run: no reference (lpnn bench --no-reference)"
     if method == "leak-aware-reference":
         return "not run: the capture's geometry is not known here, or lpnn bench --leaks ignore"
     if method in LPNN_TIERS and not has_lpnn:
