@@ -34,7 +34,7 @@ from ...core.in_use_section import in_use_points
 from ...core.features import D14, Raycaster, scene_scale
 from .leak_rule import stencil_leaks
 from .location import Stencil, locate_local
-from .metric_kernel import IRRADIANCE, SMAPE, run_rows, stencil_errors
+from .metric_kernel import IRRADIANCE, SMAPE, run_rows, stencil_errors, stencil_irradiance_errors
 from .triangulation import Frame, Tetrahedralization, assembled, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
@@ -209,8 +209,12 @@ def stencil_point_errors(field: ReferenceField, indices: np.ndarray, others: np.
     POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
     floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
     errors = np.zeros(field.point_count)
-    run_rows(stencil_errors, others.shape[0], field.values(metric), indices, stencil.vertices, stencil.weights, others,
-             floor, IRRADIANCE if metric == "irradiance" else SMAPE, errors)
+    if metric == "irradiance" and stencil.vertices.shape[1] == 4:
+        run_rows(stencil_irradiance_errors, others.shape[0], field.values(metric), indices, stencil.vertices,
+                 stencil.weights, others, floor, errors)
+    else:
+        run_rows(stencil_errors, others.shape[0], field.values(metric), indices, stencil.vertices, stencil.weights,
+                 others, floor, IRRADIANCE if metric == "irradiance" else SMAPE, errors)
     return errors
 
 
