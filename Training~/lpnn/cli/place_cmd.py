@@ -289,8 +289,9 @@ def _place(args: argparse.Namespace, capture: Capture, pins: Pins | None = None)
                 close_removed()
             timing = (f"; {refined.rounds} refinement rounds; insertion and search {refined.selection_seconds:.1f} s, "
                       f"refinement {refined.refinement_seconds:.1f} s")
-            _write(args, capture, refined.indices, evaluate_placement(field, refined.indices), 0,
-                   "insertion refined in batches", {}, timing, pins=pins)
+            # The answer's fresh evaluation and the placement's remembered segments, when it made them, serve the report.
+            report = evaluate_placement(field, refined.indices, refined.evaluation, refined.segments)
+            _write(args, capture, refined.indices, report, 0, "insertion refined in batches", {}, timing, pins=pins)
             return 0
         elif args.method == "insertion":  # only the rounds the policy needs (InsertionOrder)
             update, close_bar = rounds_bar(f"{Path(args.capture).name}: insertion")

@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 
 from .features import Raycaster, _checked_distances, _checked_hits
+from .segments_kernel import unit_segments
 
 RAYS_PER_CAST = 1 << 20  # a batch: 10^6 floor rays go in one call; origins + directions + normals ~ 72 MB
 Progress = Callable[[str, int, int], None]  # (stage, rays done, rays of the stage), as the C# ProgressCallback
@@ -71,17 +72,22 @@ def segments_free(raycaster: Raycaster, starts: np.ndarray, ends: np.ndarray, st
     b = np.asarray(ends, dtype=np.float64).reshape(-1, 3)
     if a.shape != b.shape:
         raise ValueError(f"segment starts {list(a.shape)} and ends {list(b.shape)} differ in shape")
-    offsets = b - a
-    lengths = np.sqrt(np.sum(offsets * offsets, axis=1))
     free = np.ones(a.shape[0], dtype=bool)
-    cast = np.flatnonzero(lengths > 0.0)  # zero length: nothing to cross (and no direction to cast along)
-    if cast.shape[0] == 0:
+    if a.shape[0] == 0:
         return free
-    directions = offsets[cast] / lengths[cast, None]
+    a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
+    directions = np.empty_like(a)
+    lengths = np.empty(a.shape[0], dtype=np.float64)
+    unit_segments(a, b, directions, lengths)
+    cast = lengths > 0.0  # zero length: nothing to cross (and no direction to cast along)
+    if not cast.all():  # (rare: the leak checks never ask a point about itself) the segments to cast, gathered
+        if not cast.any():
+            return free
+        a, directions, lengths = a[cast], directions[cast], lengths[cast]
     own_ends = getattr(raycaster, "first_hit_distances", None)
     if own_ends is not None:
-        distances = _distances_to_own_ends(own_ends, a[cast], directions, lengths[cast], stage, progress)
+        distances = _distances_to_own_ends(own_ends, a, directions, lengths, stage, progress)
     else:
-        distances, _ = cast_in_batches(raycaster, a[cast], directions, float(lengths[cast].max()), stage, progress)
-    free[cast] = ~(distances <= lengths[cast])
+        distances, _ = cast_in_batches(raycaster, a, directions, float(lengths.max()), stage, progress)
+    free[cast] = ~(distances <= lengths)
     return free

@@ -130,14 +130,14 @@ def _checked_max_distances(max_distance: float | np.ndarray, count: int) -> np.n
 
 def _require_rays(origins: np.ndarray, directions: np.ndarray) -> None:
     """Finite origins and unit directions (Embree would silently scale distances by |d|)."""
-    bad_origin = ~np.isfinite(origins).all(axis=1)
-    if bad_origin.any():
-        first = int(np.flatnonzero(bad_origin)[0])
-        raise ValueError(f"ray {first} has a non-finite origin {origins[first].tolist()} "
-                         f"({int(bad_origin.sum()):,} such rays)")
-    lengths = np.linalg.norm(directions, axis=1)
-    not_unit = ~(np.abs(lengths - 1.0) <= 1e-6)  # also catches NaN
-    if not_unit.any():
-        first = int(np.flatnonzero(not_unit)[0])
-        raise ValueError(f"ray directions must be unit vectors: ray {first} has length {lengths[first]!r} "
-                         f"({int(not_unit.sum()):,} such rays)")
+    from .raycast_kernel import bad_rays  # numba, as the rays' other heavy imports, only when rays are cast
+
+    bad_origins, first_origin, not_unit, first_direction = bad_rays(np.ascontiguousarray(origins),
+                                                                    np.ascontiguousarray(directions))
+    if bad_origins:
+        raise ValueError(f"ray {first_origin} has a non-finite origin {origins[first_origin].tolist()} "
+                         f"({bad_origins:,} such rays)")
+    if not_unit:
+        length = float(np.linalg.norm(directions[first_direction]))
+        raise ValueError(f"ray directions must be unit vectors: ray {first_direction} has length {length!r} "
+                         f"({not_unit:,} such rays)")

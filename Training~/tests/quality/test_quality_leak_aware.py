@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -13,7 +15,8 @@ from lpnn.quality.placement import leak_aware
 from lpnn.quality.placement.leak_aware import LeakWeighting, leak_repaired
 from lpnn.quality.metric.leak_rule import SegmentVisibility, stencil_leaks
 from lpnn.quality.metric.leaks import leaking_points
-from lpnn.quality.metric.metric import MetricError, ReferenceField, mean_placement_error, point_errors
+from lpnn.quality.metric.metric import (MetricError, ReferenceField, evaluate_placement, evaluated, mean_placement_error,
+                                        point_errors)
 from lpnn.quality.placement.pins import PinError, Pins, pin_probes
 from lpnn.quality.placement.refined_insertion import refined_insertion
 
@@ -276,3 +279,45 @@ def test_a_headed_default_searches_from_its_head_and_meets_the_tolerance(rooms) 
         assert headed.seed_count >= head.shape[0]
         assert mean_placement_error(field, headed.indices) <= TOLERANCE
         assert headed.mean_error == pytest.approx(mean_placement_error(field, headed.indices))
+
+
+def _same_quality(a, b) -> None:
+    for name in ("irradiance", "smape"):
+        assert getattr(a, name).mean == getattr(b, name).mean and getattr(a, name).p95 == getattr(b, name).p95
+        np.testing.assert_array_equal(getattr(a, name).per_point, getattr(b, name).per_point)
+    assert a.probes == b.probes and a.leaking == b.leaking
+    assert a.in_use_error == b.in_use_error or (np.isnan(a.in_use_error) and np.isnan(b.in_use_error))
+
+
+@pytest.mark.parametrize("options", [{"tolerance": TOLERANCE}, {"budget": 0.1}])
+def test_the_answer_s_report_reuses_its_fresh_evaluation_and_remembered_segments(rooms, options) -> None:
+    """lpnn place reports the default's answer from the evaluation the placement made of it and through its remembered
+    segments: the report of a fresh evaluation, number for number, with few segments cast again."""
+    field, grid = rooms
+    walled = replace(field, geometry=WALLED)
+    placed = refined_insertion(walled, grid, leaks=WALLED, **options)
+    assert placed.evaluation is not None and placed.segments is not None
+    fresh = evaluated(walled, placed.indices)
+    np.testing.assert_array_equal(placed.evaluation.errors, fresh.errors)
+    assert placed.mean_error == fresh.mean_error == mean_placement_error(walled, placed.indices)
+    rays, asked = placed.segments.rays, placed.segments.asked
+    _same_quality(evaluate_placement(walled, placed.indices, placed.evaluation, placed.segments),
+                  evaluate_placement(walled, placed.indices))
+    # Most of the answer's segments were remembered: far fewer cast than asked.
+    assert 0 < placed.segments.asked - asked and placed.segments.rays - rays < (placed.segments.asked - asked) / 4
+    corners = _corners(walled)  # a placement that leaks: the remembered segments answer as fresh casts
+    leaky = evaluate_placement(walled, corners)
+    assert 0.0 < leaky.leaking < 1.0
+    _same_quality(evaluate_placement(walled, corners, None, placed.segments), leaky)
+    with pytest.raises(MetricError, match="another placement"):
+        evaluate_placement(walled, placed.indices[1:], placed.evaluation)
+    with pytest.raises(MetricError, match="remembered segments"):
+        evaluate_placement(walled, placed.indices, None, SegmentVisibility(OPEN, walled.world))
+
+
+def test_a_leak_blind_answer_brings_no_remembered_segments(rooms) -> None:
+    field, grid = rooms
+    placed = refined_insertion(field, grid, tolerance=TOLERANCE)
+    assert placed.segments is None
+    if placed.evaluation is not None:  # the refined set was checked afresh: its evaluation is the answer's
+        np.testing.assert_array_equal(placed.evaluation.errors, evaluated(field, placed.indices).errors)

@@ -10,6 +10,7 @@ from lpnn.scenes.bsp import read_bsp
 from lpnn.scenes.coords import METRES_PER_UNIT, quake_to_unity
 from lpnn.scenes.errors import BspError
 from lpnn.scenes.raycast import RAYS_PER_CHUNK, EmbreeRaycaster
+from lpnn.scenes.raycast_kernel import bad_rays
 from lpnn.scenes.solid import ON_PLANE, POINTS_PER_CHUNK, SolidTester
 from lpnn.scenes.surfaces import ray_geometry, select_ray_faces
 from synthetic_bsp import make_level
@@ -70,6 +71,25 @@ def test_bad_rays_are_refused_and_empty_geometry_misses() -> None:
     empty = EmbreeRaycaster(np.zeros((0, 3)), np.zeros((0, 3), dtype=int))
     distances, normals = empty.cast(np.zeros((2, 3)), unit([[0, 0, 1], [1, 0, 0]]), 10.0)
     assert np.isinf(distances).all() and normals.shape == (2, 3)
+
+
+def test_the_compiled_ray_check_refuses_the_rays_numpys_check_refuses() -> None:
+    """raycast_kernel.bad_rays against numpy's formulas: non-finite origins, directions off unit length by more than
+    1e-6 (either side of the border, NaN and inf included), counted and the first of each named."""
+    rng = np.random.default_rng(11)
+    origins = rng.uniform(-1e4, 1e4, size=(5000, 3))
+    directions = unit(rng.normal(size=(5000, 3)))
+    origins[[17, 900, 4000], [0, 2, 1]] = [np.nan, np.inf, -np.inf]
+    directions[[5, 6, 7, 3000]] *= np.array([1.0 + 2e-6, 1.0 - 2e-6, 1.0 + 5e-7, 0.0])[:, None]
+    directions[[8, 9]] = [[np.nan, 0.0, 1.0], [np.inf, 0.0, 0.0]]
+    bad_origin = ~np.isfinite(origins).all(axis=1)
+    not_unit = ~(np.abs(np.linalg.norm(directions, axis=1) - 1.0) <= 1e-6)
+    expected = (int(bad_origin.sum()), int(np.flatnonzero(bad_origin)[0]), int(not_unit.sum()),
+                int(np.flatnonzero(not_unit)[0]))
+    assert bad_rays(origins, directions) == expected == (3, 17, 5, 5)
+    assert bad_rays(origins[:0], directions[:0]) == (0, -1, 0, -1)
+    with pytest.raises(ValueError, match=r"ray 5 has length 1\.00000\d* \(5 such rays\)"):
+        EmbreeRaycaster(QUAD, QUAD_TRIANGLES).cast(np.zeros((5000, 3)), directions, 1.0)
 
 
 def test_each_ray_may_end_at_its_own_distance() -> None:

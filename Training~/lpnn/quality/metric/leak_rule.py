@@ -10,7 +10,7 @@ import numpy as np
 from ...core.features import Raycaster
 from ...core.integer_sets import sorted_unique_first_inverse
 from ...core.segments import segments_free
-from .leak_rule_kernel import NOT_WEIGHING, UNKNOWN, remember, stencil_looked_up
+from .leak_rule_kernel import UNKNOWN, blocked_rows, remember, stencil_looked_up
 from .metric_kernel import run_rows
 
 # Stencil weights at or below this are round-off (a point on a shared face gets weights within 1e-9 of zero), not light.
@@ -80,8 +80,9 @@ class SegmentVisibility:
         answers = np.empty(vertices.shape, dtype=np.int8)
         run_rows(stencil_looked_up, points.shape[0], self._partner, self._sees, points, probes, vertices, weights,
                  LEAK_MIN_WEIGHT, answers)
-        self.asked += int(np.count_nonzero(answers != NOT_WEIGHING))
         rows, columns = np.nonzero(answers == UNKNOWN)
         if rows.shape[0]:  # the segments not remembered
             answers[rows, columns] = self._cast(points[rows], probes[vertices[rows, columns]])
-        return (answers == 0).any(axis=1)
+        leaking = np.empty(points.shape[0], dtype=bool)
+        self.asked += int(blocked_rows(answers, leaking))
+        return leaking

@@ -52,3 +52,21 @@ def remember(partner, sees, following, starts, ends, seen):
         partner[row, slot] = ends[k]
         sees[row, slot] = seen[k]
         following[row] = (slot + 1) % slots
+
+
+@njit(cache=True)
+def blocked_rows(answers, blocked):
+    """blocked[i] = some answers[i, j] is 0 (a weighing probe hidden from point i); returns the number of segments
+    asked (answers other than NOT_WEIGHING). One pass over the answers instead of numpy's comparisons, reductions and
+    count (0.8 s of a 10^6-point leak-aware placement)."""
+    asked = 0
+    for i in range(answers.shape[0]):
+        hidden = False
+        for j in range(answers.shape[1]):
+            answer = answers[i, j]
+            if answer != NOT_WEIGHING:
+                asked += 1
+            if answer == 0:
+                hidden = True
+        blocked[i] = hidden
+    return asked

@@ -32,9 +32,9 @@ from ...core import sh as shmath
 from ...core.capture import Capture
 from ...core.in_use_section import in_use_points
 from ...core.features import D14, Raycaster, scene_scale
-from .leak_rule import stencil_leaks
+from .leak_rule import SegmentVisibility, stencil_leaks
 from .location import Stencil, locate_local
-from .metric_kernel import IRRADIANCE, SMAPE, run_rows, stencil_errors
+from .metric_kernel import IRRADIANCE, SMAPE, run_rows, stencil_errors, stencil_irradiance_errors
 from .triangulation import Frame, Tetrahedralization, assembled, checked_positions, tetrahedralize
 
 METRIC_EPSILON = 0.01
@@ -209,8 +209,12 @@ def stencil_point_errors(field: ReferenceField, indices: np.ndarray, others: np.
     POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
     floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
     errors = np.zeros(field.point_count)
-    run_rows(stencil_errors, others.shape[0], field.values(metric), indices, stencil.vertices, stencil.weights, others,
-             floor, IRRADIANCE if metric == "irradiance" else SMAPE, errors)
+    if metric == "irradiance" and stencil.vertices.shape[1] == 4:
+        run_rows(stencil_irradiance_errors, others.shape[0], field.values(metric), indices, stencil.vertices,
+                 stencil.weights, others, floor, errors)
+    else:
+        run_rows(stencil_errors, others.shape[0], field.values(metric), indices, stencil.vertices, stencil.weights,
+                 others, floor, IRRADIANCE if metric == "irradiance" else SMAPE, errors)
     return errors
 
 
@@ -245,14 +249,42 @@ def in_use_mean(field: ReferenceField, per_point: np.ndarray) -> float:
     return float(np.mean(np.asarray(per_point)[field.in_use]))
 
 
-def evaluate_placement(field: ReferenceField, probes: np.ndarray) -> PlacementQuality:
-    """Both metrics for one placement (one tetrahedralisation)."""
+@dataclass(frozen=True)
+class Evaluated:
+    """A placement located afresh (probe_stencil's checked probe indices, the other points and their stencils, the
+    coherent walk's) and its per-point irradiance errors (N,): what evaluate_placement would compute first."""
+
+    indices: np.ndarray
+    others: np.ndarray
+    stencil: Stencil
+    errors: np.ndarray
+
+    @property
+    def mean_error(self) -> float:
+        return float(np.mean(_checked_errors(self.errors)))
+
+
+def evaluated(field: ReferenceField, probes: np.ndarray) -> Evaluated:
+    """The placement `probes` located afresh and its irradiance errors (mean_error: mean_placement_error's number)."""
     indices, others, stencil = probe_stencil(field, probes, coherent=True)
-    irradiance = summarize(stencil_point_errors(field, indices, others, stencil, "irradiance"))
+    return Evaluated(indices, others, stencil, stencil_point_errors(field, indices, others, stencil, "irradiance"))
+
+
+def evaluate_placement(field: ReferenceField, probes: np.ndarray, known: Evaluated | None = None,
+                       segments: SegmentVisibility | None = None) -> PlacementQuality:
+    """Both metrics for one placement (one tetrahedralisation). `known`: `probes`' own evaluated() (a placement that
+    checked its answer afresh: refined_insertion), not computed again; `segments`: remembered segments of the field's
+    geometry between its points (the placement's own, leak_aware.LeakWeighting.remembering): the leak share asks them
+    first, the same answers with fewer rays."""
+    located = evaluated(field, probes) if known is None else known
+    if known is not None and not np.array_equal(known.indices, np.asarray(probes, dtype=np.int64)):
+        raise MetricError("the known evaluation is of another placement: evaluate this one afresh (known=None)")
+    indices, others, stencil = located.indices, located.others, located.stencil
+    irradiance = summarize(located.errors)
     return PlacementQuality(probes=int(indices.shape[0]), irradiance=irradiance,
                             smape=summarize(stencil_point_errors(field, indices, others, stencil, "smape")),
                             in_use_error=in_use_mean(field, irradiance.per_point),
-                            leaking=_leaking_share(field, indices, others, stencil))
+                            leaking=_leaking_share(field, indices, others, stencil, segments))
 
 
 def stencil_leaking(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
@@ -265,11 +297,19 @@ def stencil_leaking(field: ReferenceField, indices: np.ndarray, others: np.ndarr
     return leaking
 
 
-def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil) -> float:
+def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
+                   segments: SegmentVisibility | None = None) -> float:
     """The share of the points in use (all points when not known) that leak under this stencil (leaks.md); NaN
-    without the scene's geometry. Probes never leak."""
+    without the scene's geometry. Probes never leak. `segments`: remembered segments of field.geometry (the answers
+    of stencil_leaks, fewer rays)."""
     if field.geometry is None:
         return math.nan
-    leaking = stencil_leaking(field, indices, others, stencil, field.geometry)
+    if segments is None:
+        leaking = stencil_leaking(field, indices, others, stencil, field.geometry)
+    else:
+        if segments.raycaster is not field.geometry or segments.positions.shape[0] != field.point_count:
+            raise MetricError("the remembered segments must be of the field's own geometry and points")
+        leaking = np.zeros(field.point_count, dtype=bool)
+        leaking[others] = segments.stencil_leaks(others, indices, stencil.vertices, stencil.weights)
     counted = field.in_use if field.in_use is not None and field.in_use.any() else np.ones_like(leaking)
     return float(np.count_nonzero(leaking & counted)) / float(np.count_nonzero(counted))

@@ -99,6 +99,29 @@ def stencil_errors(values, probes, vertices, weights, rows, floor, metric, out):
                 out[point] = pairwise_sum(difference, width) / width
 
 
+@njit(cache=True, parallel=True)
+def stencil_irradiance_errors(values, probes, vertices, weights, rows, floor, out):
+    """stencil_errors(..., IRRADIANCE, out) for stencils of 4 probes, the same numbers: the blend is the same sum in
+    the same order, written out per probe so that one pass over a point's values blends and compares them (1.5x
+    faster than the general loop on 460,000 points of a 10^6-point level: the placement's most frequent call)."""
+    width = values.shape[1]
+    chunks = chunk_count(rows.shape[0])
+    for chunk in prange(chunks):
+        lo, hi = chunk_bounds(rows.shape[0], chunks, chunk)
+        difference = np.empty(width)
+        magnitude = np.empty(width)
+        for m in range(lo, hi):
+            point = rows[m]
+            s0, s1, s2, s3 = probes[vertices[m, 0]], probes[vertices[m, 1]], probes[vertices[m, 2]], probes[vertices[m, 3]]
+            w0, w1, w2, w3 = weights[m, 0], weights[m, 1], weights[m, 2], weights[m, 3]
+            for c in range(width):
+                i = (((0.0 + w0 * values[s0, c]) + w1 * values[s1, c]) + w2 * values[s2, c]) + w3 * values[s3, c]
+                r = values[point, c]
+                difference[c] = abs(i - r)
+                magnitude[c] = abs(i) + abs(r)
+            out[point] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
+
+
 @njit(cache=True, inline="always")
 def barycentric_into(points, tets, inverse, t, qx, qy, qz, lam):
     """lam[0..3] = the barycentric coordinates of (qx, qy, qz) in tetrahedron t, in `barycentric`'s arithmetic

@@ -44,7 +44,8 @@ from .batched_refinement import batched_refinement
 from .insertion import InsertionOrder
 from .methods import RECOMMENDED_REFINE  # re-exported: the refined tiers' seed factor
 from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
-from ..metric.metric import PRIMARY_METRIC, MetricError, ReferenceField, mean_placement_error
+from ..metric.leak_rule import SegmentVisibility
+from ..metric.metric import PRIMARY_METRIC, Evaluated, MetricError, ReferenceField, evaluated
 from .pins import Pins, checked_pinned_count, pinned_smallest
 from .policies import budget_count, place_tolerance
 
@@ -65,6 +66,11 @@ class RefinedPlacement:
     selection_seconds: float  # insertion rounds and the tolerance search
     refinement_seconds: float  # the seed's further rounds and the batched refinement
     rounds: int  # batched refinement rounds
+    # `indices` located and evaluated afresh when the answer was checked so (the tolerance path's refined set), else
+    # None; and the placement's remembered segments (leak-aware), None leak-blind: a report of this answer reuses both
+    # (metric.evaluate_placement(field, indices, evaluation, segments)).
+    evaluation: Evaluated | None = None
+    segments: SegmentVisibility | None = None
 
 
 def _rounded(value: float) -> int:
@@ -125,12 +131,15 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     if weighting is not None:
         seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds, None if pins is None else pins.blocked,
                              weighting.visibility)
+    evaluation = None
     if tolerance is None:
         refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
         # With leaks the refinement's mean is the weighted one, not the metric's.
         indices = refined.indices
-        error = refined.mean_error if weighting is None else mean_placement_error(field, indices)
+        if weighting is not None:
+            evaluation = evaluated(field, indices)
+        error = refined.mean_error if evaluation is None else evaluation.mean_error
     else:
         refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
                                      leaks=weighting)
@@ -141,11 +150,15 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
         # points; one, inside the hull on an interior edge, the walk calls outside and projects onto a hull triangle
         # 1.6 m away, where it leaks; plain error 0.0513 > tau; leaks.md). So the set's plain error is evaluated afresh
         # before it replaces the search's answer, as the C# core's RefinedSelection does.
-        fresh = (mean_placement_error(field, refined.indices)
-                 if refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
-                 else math.inf)
-        indices, error = (refined.indices, fresh) if fresh <= tolerance else (found.indices, found.mean_error)
+        checked = (evaluated(field, refined.indices)
+                   if refined.mean_error <= tolerance and (weighting is not None or refined.indices.shape[0] < target)
+                   else None)
+        if checked is not None and checked.mean_error <= tolerance:
+            indices, error, evaluation = refined.indices, checked.mean_error, checked
+        else:
+            indices, error = found.indices, found.mean_error
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
-                            rounds=refined.rounds)
+                            rounds=refined.rounds, evaluation=evaluation,
+                            segments=None if weighting is None else weighting.visibility)
