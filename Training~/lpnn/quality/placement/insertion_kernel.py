@@ -11,7 +11,8 @@ numpy's order of operations (metric_kernel's module text: a row sum is numpy's p
 (tests/quality/test_quality_insertion.py compares both metrics).
 A round keeps every other point that it did not insert, with its tetrahedron if that survived and its coordinates: five
 numpy passes over 10^6 points and their temporaries, carried_points' one (18 -> 6 ms a round on a validation capture of
-1,151,667 points, ~75 rounds in a tolerance search).
+1,151,667 points, ~75 rounds in a tolerance search); likewise the points walked again (broken tetrahedra, outside the
+hull: ~40 %), gathered and their locations written back by rows_of and located_again instead of four fancy indexings.
 Compiled with numba and cached on disk (core/cache.py).
 """
 
@@ -107,3 +108,24 @@ def carried_points(others, inside, is_added, survivor, local):
             coordinates[j, axis] = local[point, axis]
         j += 1
     return kept, cell, coordinates
+
+
+@njit(cache=True)
+def rows_of(source, rows):
+    """source[rows] for a 2-D `source`, C-contiguous (numpy's np.ascontiguousarray(source[rows]))."""
+    out = np.empty((rows.shape[0], source.shape[1]), dtype=source.dtype)
+    for j in range(rows.shape[0]):
+        for axis in range(source.shape[1]):
+            out[j, axis] = source[rows[j], axis]
+    return out
+
+
+@njit(cache=True)
+def located_again(rows, cell, walked, coordinates, found_cell, found_walked, found_coordinates):
+    """cell[rows], walked[rows], coordinates[rows] = found_cell, found_walked, found_coordinates, in place."""
+    for j in range(rows.shape[0]):
+        row = rows[j]
+        cell[row] = found_cell[j]
+        walked[row] = found_walked[j]
+        for k in range(coordinates.shape[1]):
+            coordinates[row, k] = found_coordinates[j, k]

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .batched_state import tet_keys
-from .insertion_kernel import carried_points
+from .insertion_kernel import carried_points, located_again, rows_of
 from ..metric.location import Stencil, keep_located, locate_cells, stencils_of_cells
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.triangulation import Tetrahedralization, tetrahedralize
@@ -94,8 +94,7 @@ def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, met
     walked, coordinates = keep_located(mesh, local, cell)  # kept cells, or the tie rule's around them
     again = np.flatnonzero(cell < 0)  # broken tetrahedra and points outside the hull
     if again.shape[0]:
-        cell[again], walked[again], coordinates[again] = locate_cells(mesh, np.ascontiguousarray(local[again]),
-                                                                   coherent=True)
+        located_again(again, cell, walked, coordinates, *locate_cells(mesh, rows_of(local, again), coherent=True))
     stencil = stencils_of_cells(mesh, local, cell, walked, coordinates)
     return _finished(field, probes, mesh, others, stencil, metric)
 
