@@ -13,7 +13,8 @@ from lpnn.core import sh as shmath
 from lpnn.quality.placement import insertion
 from lpnn.quality.placement.insertion import (EXACT, EXTREME_DIRECTIONS, TIE, InsertionOrder, extreme_points,
                                               guide_weights, insertion_batch, insertion_ranking, insertion_start,
-                                              largest_first, typical_tetrahedron)
+                                              largest_first, largest_first_head, median_deviations,
+                                              typical_tetrahedron)
 from lpnn.quality.placement.insertion_kernel import first_per_cell
 from lpnn.quality.metric.metric import POINT_ERRORS, MetricError, ReferenceField, placement_error, probe_stencil
 from lpnn.quality.placement.policies import budget_count, place_tolerance, prefix_selection
@@ -224,6 +225,42 @@ def test_largest_first_joins_values_within_tie_and_orders_them_by_index() -> Non
     # 2 and 2 - 0.4 TIE and 2 - 0.8 TIE chain into one run (each within TIE of the next larger), ordered by index;
     # 1 + 0.5 TIE and 1 likewise; 1 - 2 TIE is a run of its own.
     assert index[largest_first(values, index)].tolist() == [1, 5, 9, 3, 7, 0, 2]
+
+
+def test_the_head_of_largest_first_sorts_only_near_values_yet_equals_the_whole_sorts() -> None:
+    """largest_first_head(values, index, count) is largest_first(values, index)[:count]: on random values, on a chain of
+    values each within TIE of the next that straddles the count-th (the head must widen its margin until the chain
+    ends), with equal values, and with a NaN (the full sort)."""
+    rng = np.random.default_rng(7)
+    chain = 0.5 - np.arange(20_000) * 0.9 * TIE  # one run spanning 1.8e-5, far wider than the first margin
+    values = np.concatenate([rng.uniform(0.0, 1.0, 30_000), chain, np.full(500, 0.25)])
+    index = rng.permutation(values.shape[0])
+    for count in (1, 17, 9_000, 14_000, 25_000, values.shape[0] - 1, values.shape[0]):
+        np.testing.assert_array_equal(largest_first_head(values, index, count), largest_first(values, index)[:count],
+                                      err_msg=f"count {count}")
+    cut = int(np.sum(values > 0.5)) + 10_000  # mid-chain
+    head = largest_first_head(values, index, cut)
+    np.testing.assert_array_equal(head, largest_first(values, index)[:cut])
+    assert np.sort(index[head[-10_000:]]).tolist() == index[head[-10_000:]].tolist()  # the chain goes by index
+    with_nan = values.copy()
+    with_nan[3] = np.nan
+    np.testing.assert_array_equal(largest_first_head(with_nan, index, 9_000), largest_first(with_nan, index)[:9_000])
+
+
+@pytest.mark.parametrize("metric", ["irradiance", "smape"])
+def test_median_deviations_are_the_metrics_errors_bit_for_bit(medium_capture: Capture, metric: str) -> None:
+    """insertion_kernel.median_deviation gives POINT_ERRORS[metric] of the per-value median against every row, bit for
+    bit, on a room and on random values spanning 8 decades (rows with zeros and tiny values: the floor decides), on one
+    thread and on the parallel path (more than 2 x PARALLEL_ROWS rows)."""
+    field = ReferenceField.from_capture(medium_capture)
+    rng = np.random.default_rng(3)
+    wide = rng.uniform(-1.0, 1.0, (20_000, 42)) * 10.0 ** rng.uniform(-6, 2, (20_000, 1))
+    wide[:50] = 0.0
+    for values, scale in ((field.values(metric), field.scale), (wide, 0.7)):
+        median = np.median(values, axis=0)
+        expected = POINT_ERRORS[metric](np.broadcast_to(median[None, :], values.shape), values, scale)
+        got = median_deviations(values, median, scale, metric)
+        np.testing.assert_array_equal(got.view(np.int64), expected.view(np.int64))
 
 
 @pytest.mark.parametrize("head", [4, 5])

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .batched_state import tet_keys
+from .insertion_kernel import carried_points, located_again, rows_of
 from ..metric.location import Stencil, keep_located, locate_cells, stencils_of_cells
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.triangulation import Tetrahedralization, tetrahedralize
@@ -86,16 +87,14 @@ def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, met
     survivor = np.where(new_keys[by_key[position]] == old_keys, by_key[position], -1)  # old tetrahedron -> new
     is_added = np.zeros(field.point_count, dtype=bool)
     is_added[added] = True
-    staying = ~is_added[located.others]
-    others = located.others[staying]
-    before = located.inside[staying]
-    cell = np.where(before >= 0, survivor[np.maximum(before, 0)], -1)
-    local = np.ascontiguousarray(field.local[others])
+    # The others not added, each with its surviving tetrahedron (-1: broken or outside the hull) and local coordinates:
+    # one compiled pass (insertion_kernel.carried_points).
+    others, cell, local = carried_points(located.others, located.inside, is_added, survivor,
+                                         np.ascontiguousarray(field.local))
     walked, coordinates = keep_located(mesh, local, cell)  # kept cells, or the tie rule's around them
     again = np.flatnonzero(cell < 0)  # broken tetrahedra and points outside the hull
     if again.shape[0]:
-        cell[again], walked[again], coordinates[again] = locate_cells(mesh, np.ascontiguousarray(local[again]),
-                                                                   coherent=True)
+        located_again(again, cell, walked, coordinates, *locate_cells(mesh, rows_of(local, again), coherent=True))
     stencil = stencils_of_cells(mesh, local, cell, walked, coordinates)
     return _finished(field, probes, mesh, others, stencil, metric)
 
