@@ -203,11 +203,17 @@ def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = Fa
     return indices, others, stencil
 
 
+def error_floor(metric: str, scale: float) -> float:
+    """The floor the compiled per-point errors add to a point's denominator (POINT_ERRORS' own): 42 eps S for the
+    irradiance error (its sum over the 42 values), eps S for each SMAPE term."""
+    return (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * scale
+
+
 def stencil_point_errors(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
                          metric: str = PRIMARY_METRIC) -> np.ndarray:
     """Per-point errors (N,), 0 at the probes: metric_kernel.stencil_errors, the numbers of
     POINT_ERRORS applied to shmath.blend's interpolation, without (M, 42) temporaries."""
-    floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * field.scale
+    floor = error_floor(metric, field.scale)
     errors = np.zeros(field.point_count)
     if metric == "irradiance" and stencil.vertices.shape[1] == 4:
         run_rows(stencil_irradiance_errors, others.shape[0], field.values(metric), indices, stencil.vertices,

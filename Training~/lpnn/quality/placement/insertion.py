@@ -52,8 +52,8 @@ from ...core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ...core.spread import farthest_point_ranking, spread_weights
 from .insertion_kernel import TIE, first_per_cell, median_deviation  # TIE: defined beside its kernel, re-exported here
 from .insertion_state import Placed, located_set, mean_error, with_inserted
-from ..metric.metric import (LIGHT_VALUES, METRIC_EPSILON, PRIMARY_METRIC, MetricError, ReferenceField, checked_metric,
-                             probe_stencil, mean_placement_error, stencil_point_errors)
+from ..metric.metric import (PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, error_floor, probe_stencil,
+                             mean_placement_error, stencil_point_errors)
 from ..metric.metric_kernel import IRRADIANCE, SMAPE, run_rows
 from .pins import Pins, pinned_start
 
@@ -99,8 +99,7 @@ def typical_tetrahedron(field: ReferenceField, grid: EvaluationGrid, metric: str
 def median_deviations(values: np.ndarray, median: np.ndarray, scale: float, metric: str) -> np.ndarray:
     """(N,) POINT_ERRORS[metric](median broadcast to every row, values, scale), bit for bit, without its (N, 42)
     temporaries (insertion_kernel.median_deviation: 2.5 -> 0.2 s at 10^6 points)."""
-    # POINT_ERRORS' floor, computed as they (and metric.stencil_point_errors) compute it
-    floor = (LIGHT_VALUES * METRIC_EPSILON if metric == "irradiance" else METRIC_EPSILON) * scale
+    floor = error_floor(metric, scale)
     deviation = np.empty(values.shape[0])
     run_rows(median_deviation, values.shape[0], np.ascontiguousarray(values, dtype=np.float64),
              np.ascontiguousarray(median, dtype=np.float64), floor, IRRADIANCE if metric == "irradiance" else SMAPE,

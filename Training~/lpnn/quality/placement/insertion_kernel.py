@@ -84,7 +84,6 @@ def median_deviation(values, median, floor, metric, out):
                 out[p] = pairwise_sum(difference, width) / width
 
 
-
 @njit(cache=True)
 def carried_points(others, inside, is_added, survivor, local):
     """The points of `others` (ascending) not `is_added`, in order; for each, survivor[inside] where inside >= 0 (its
