@@ -303,6 +303,14 @@ def stencil_leaking(field: ReferenceField, indices: np.ndarray, others: np.ndarr
     return leaking
 
 
+def checked_segments(segments: SegmentVisibility, field: ReferenceField) -> SegmentVisibility:
+    """`segments` when they remember segments between `field`'s points (MetricError otherwise)."""
+    if segments.positions.shape[0] != field.point_count:
+        raise MetricError(f"the remembered segments are of {segments.positions.shape[0]:,} points, the field has "
+                          f"{field.point_count:,}: remember them for this field (LeakWeighting.remembering)")
+    return segments
+
+
 def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarray, stencil: Stencil,
                    segments: SegmentVisibility | None = None) -> float:
     """The share of the points in use (all points when not known) that leak under this stencil (leaks.md); NaN
@@ -313,9 +321,10 @@ def _leaking_share(field: ReferenceField, indices: np.ndarray, others: np.ndarra
     if segments is None:
         leaking = stencil_leaking(field, indices, others, stencil, field.geometry)
     else:
-        if segments.raycaster is not field.geometry or segments.positions.shape[0] != field.point_count:
-            raise MetricError("the remembered segments must be of the field's own geometry and points")
+        if segments.raycaster is not field.geometry:
+            raise MetricError("the remembered segments must come from the field's own geometry")
         leaking = np.zeros(field.point_count, dtype=bool)
-        leaking[others] = segments.stencil_leaks(others, indices, stencil.vertices, stencil.weights)
+        leaking[others] = checked_segments(segments, field).stencil_leaks(others, indices, stencil.vertices,
+                                                                          stencil.weights)
     counted = field.in_use if field.in_use is not None and field.in_use.any() else np.ones_like(leaking)
     return float(np.count_nonzero(leaking & counted)) / float(np.count_nonzero(counted))

@@ -25,8 +25,7 @@ from ...core.cache import use_project_cache_for_numba
 use_project_cache_for_numba()
 from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
-from ...core.features_kernel import pairwise_sum  # noqa: E402
-from ..metric.metric_kernel import IRRADIANCE, chunk_bounds, chunk_count  # noqa: E402
+from ..metric.metric_kernel import chunk_bounds, chunk_count, row_error  # noqa: E402
 
 # Errors (and guided keys, and cell sums) within this of each other count as equal, ties going to the lower point index
 # (quality.md §5.1; leak_aware.leak_repaired's per-cell choice too): two languages (or two summation orders) compute
@@ -62,8 +61,8 @@ def first_per_cell(cell, key, cell_count, tie):
 
 @njit(cache=True, parallel=True)
 def median_deviation(values, median, floor, metric, out):
-    """out[p] = POINT_ERRORS[metric](median, values[p]) for every row p (metric IRRADIANCE: sum|m - v| / (sum(|m| +
-    |v|) + floor); SMAPE: the mean of |m - v| / (|m| + |v| + floor)); rows in parallel slices (metric_kernel.run_rows)."""
+    """out[p] = POINT_ERRORS[metric](median, values[p]) for every row p (metric_kernel.row_error, the median in the
+    interpolation's place); rows in parallel slices (metric_kernel.run_rows)."""
     width = values.shape[1]
     chunks = chunk_count(values.shape[0])
     for chunk in prange(chunks):
@@ -71,17 +70,7 @@ def median_deviation(values, median, floor, metric, out):
         difference = np.empty(width)
         magnitude = np.empty(width)
         for p in range(lo, hi):
-            for c in range(width):
-                m, v = median[c], values[p, c]
-                if metric == IRRADIANCE:
-                    difference[c] = abs(m - v)
-                    magnitude[c] = abs(m) + abs(v)
-                else:
-                    difference[c] = abs(m - v) / (abs(m) + abs(v) + floor)
-            if metric == IRRADIANCE:
-                out[p] = pairwise_sum(difference, width) / (pairwise_sum(magnitude, width) + floor)
-            else:
-                out[p] = pairwise_sum(difference, width) / width
+            out[p] = row_error(median, values, p, floor, metric, difference, magnitude)
 
 
 @njit(cache=True)

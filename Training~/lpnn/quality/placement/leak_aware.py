@@ -34,7 +34,7 @@ import numpy as np
 from ...core.features import Raycaster
 from ..metric.leak_rule import SegmentVisibility, stencil_leaks
 from ..metric.location import Stencil
-from ..metric.metric import MetricError, ReferenceField, probe_stencil, stencil_point_errors
+from ..metric.metric import MetricError, ReferenceField, checked_segments, probe_stencil, stencil_point_errors
 from .insertion_kernel import TIE, first_per_cell
 from .policy_rules import LEAK_CHOICES
 
@@ -103,10 +103,7 @@ def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarra
     and `weights`, through the remembered segments when there are some (they must be of `field`'s points)."""
     if visibility is None:
         return stencil_leaks(field.world[others], field.world[indices], vertices, weights, raycaster)
-    if visibility.positions.shape[0] != field.point_count:
-        raise MetricError(f"the remembered segments are of {visibility.positions.shape[0]:,} points, the field has "
-                          f"{field.point_count:,}: remember them for this field (LeakWeighting.remembering)")
-    return visibility.stencil_leaks(others, indices, vertices, weights)
+    return checked_segments(visibility, field).stencil_leaks(others, indices, vertices, weights)
 
 
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
