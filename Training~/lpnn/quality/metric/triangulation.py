@@ -202,15 +202,44 @@ _OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i (op
 def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
     and their tetrahedra (H,)."""
+    from .removal_kernel import boundary_faces, face_vertices  # compiled (removal_kernel.py)
+
+    tets = np.ascontiguousarray(tets, dtype=np.int64)
     count = tets.shape[0]
-    faces = tets[:, _OPPOSITE].reshape(-1, 3)  # (4T, 3)
-    first, second = _face_pairs(face_keys(faces, points.shape[0]))
+    every_face = np.arange(4 * count, dtype=np.int64)
+    first, second = _matched_faces(tets, every_face, points.shape[0])
     neighbours = np.full(4 * count, HULL, dtype=np.int64)
     neighbours[first] = second // 4
     neighbours[second] = first // 4
-    boundary = np.flatnonzero(neighbours < 0)
-    neighbours[boundary[~on_hull(points, faces[boundary])]] = INNER_BOUNDARY
-    return neighbours.reshape(count, 4), faces[boundary], boundary // 4
+    boundary = boundary_faces(neighbours)
+    corners = face_vertices(tets, boundary)
+    neighbours[boundary[~_on_hull_of_boundary(points, corners, corners)]] = INNER_BOUNDARY
+    return neighbours.reshape(count, 4), corners, boundary // 4
+
+
+def _matched_faces(tets: np.ndarray, positions: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of faces `positions` (4 x tetrahedron + j, the face opposite vertex j) that are one triangle: through a
+    hash table of their keys (removal_kernel.paired_faces) when the vertex ids fit face_keys' packing, else by sorting
+    the keys; GeometryError when a face is in three tetrahedra."""
+    from .removal_kernel import face_vertices, paired_faces
+
+    if vertex_count < (1 << VERTEX_KEY_BITS):
+        first, second, manifold = paired_faces(tets, positions, VERTEX_KEY_BITS)
+        if not manifold:
+            raise GeometryError(NOT_A_MANIFOLD)
+    else:
+        first, second = _face_pairs(face_keys(face_vertices(tets, positions), vertex_count))
+    return positions[first], positions[second]
+
+
+def _on_hull_of_boundary(points: np.ndarray, faces: np.ndarray, boundary_corners: np.ndarray) -> np.ndarray:
+    """on_hull of `faces` (F, 3), some of a tetrahedralisation's boundary faces `boundary_corners` (H, 3): every vertex
+    of the hull is a corner of a boundary face, so the 3-D hull is built of those alone (the same hull vertices from
+    fewer points), or the faces are tested against every point when they are few."""
+    if faces.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    few = faces.shape[0] <= FEW_HULL_FACES
+    return on_hull(points, faces, every_point=few, outer=None if few else np.unique(boundary_corners))
 
 
 def corners_of_faces(tets: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -322,7 +351,7 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     added tetrahedra's faces and the kept faces left open are matched again. Raises GeometryError when they do not form
     a manifold."""
     # Compiled passes (removal_kernel.py; imported here: the module's other users need no numba).
-    from .removal_kernel import boundary_faces, copy_kept, face_vertices, paired_faces
+    from .removal_kernel import boundary_faces, copy_kept, face_vertices
 
     positions = checked_positions(world, "probe positions")
     local = old.frame.to_local(positions)
@@ -345,13 +374,7 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     neighbours[kept_count:] = HULL
     # Faces to match: the kept ones whose neighbour went, and every face of the added tetrahedra.
     open_faces = np.concatenate([opened[:open_count], 4 * kept_count + np.arange(4 * added.shape[0])])
-    if positions.shape[0] < (1 << VERTEX_KEY_BITS):
-        first, second, manifold = paired_faces(tets, open_faces, VERTEX_KEY_BITS)
-        if not manifold:
-            raise GeometryError(NOT_A_MANIFOLD)
-    else:
-        first, second = _face_pairs(face_keys(face_vertices(tets, open_faces), positions.shape[0]))
-    first, second = open_faces[first], open_faces[second]
+    first, second = _matched_faces(tets, open_faces, positions.shape[0])
     flat = neighbours.reshape(-1)
     flat[first], flat[second] = second // 4, first // 4
     # A face on the old hull stays on it (the probes left are a subset: no plane that held them all off is crossed
@@ -359,11 +382,7 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     boundary = boundary_faces(neighbours)
     test = boundary[~was_hull[boundary]]
     boundary_corners = face_vertices(tets, boundary)
-    if test.shape[0]:  # the hull's vertices are corners of boundary faces: its 3-D hull is built of those alone
-        few = test.shape[0] <= FEW_HULL_FACES
-        outer = None if few else np.unique(boundary_corners)
-        flat[test] = np.where(on_hull(local, face_vertices(tets, test), every_point=few, outer=outer), HULL,
-                              INNER_BOUNDARY)
+    flat[test] = np.where(_on_hull_of_boundary(local, face_vertices(tets, test), boundary_corners), HULL, INNER_BOUNDARY)
     return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets, neighbours=neighbours,
                               inverse=inverse, hull_faces=boundary_corners, hull_face_tets=boundary // 4)
 
