@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lpnn.quality.metric.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, SMALL_HULL_FACES, HullIndex,
+from lpnn.quality.metric.hull_projection import (HULL_TIE, PROJECTION_TOLERANCE, SMALL_HULL_FACES, WHOLE_SEARCH_PAIRS,
+                                                  HullIndex,
                                                  _is_projection, _nearest_among, every_triangle, lowest_owner_at_ties,
                                                  project_to_hull)
-from lpnn.quality.metric import location
+from lpnn.quality.metric import hull_projection, location
 from lpnn.quality.metric.triangulation import tetrahedralize
 
 
@@ -220,5 +221,33 @@ def test_small_hulls_searched_whole_give_the_tree_searchs_answer(offset: float, 
     assert np.count_nonzero(whole.face != tree.face) > 0  # exact ties: the raw searches differ
     expected = lowest_owner_at_ties(tri.points, tri.hull_faces, tri.hull_face_tets, query, tree)
     actual = project_to_hull(tri.points, tri.hull_faces, query, owners=tri.hull_face_tets)
+    _assert_same((expected.face, expected.weights, expected.anchor, expected.distance),
+                 (actual.face, actual.weights, actual.anchor, actual.distance))
+
+
+def test_few_points_outside_a_larger_hull_are_searched_whole_with_the_tree_searchs_answer(monkeypatch) -> None:
+    """Fewer than WHOLE_SEARCH_PAIRS point-triangle pairs outside a hull of more than SMALL_HULL_FACES triangles (a
+    refinement round's few points outside) are searched whole too: after the tie rule the same triangle, weights, anchor
+    and distance as the centroid tree's, bit for bit, on lattice points with exact ties."""
+    axes = [np.arange(14.0), np.arange(11.0), np.arange(8.0)]
+    lattice = 0.5 * np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    rng = np.random.default_rng(5)
+    probes = rng.choice(lattice.shape[0], 60, replace=False)
+    tri = tetrahedralize(lattice[probes])
+    faces = tri.hull_faces.shape[0]
+    assert faces > SMALL_HULL_FACES
+    query = tri.frame.to_local(np.delete(lattice, probes, axis=0))
+    query = np.ascontiguousarray(query[location.locate_cells(tri, np.ascontiguousarray(query))[0] < 0])
+    query = query[:WHOLE_SEARCH_PAIRS // faces]
+    assert query.shape[0] >= 20
+    tree = HullIndex(tri.points, tri.hull_faces).nearest(query)
+    whole = every_triangle(tri.points, tri.hull_faces, query)
+    assert np.count_nonzero(whole.face != tree.face) > 0  # exact ties: the raw searches differ
+    expected = lowest_owner_at_ties(tri.points, tri.hull_faces, tri.hull_face_tets, query, tree)
+    searched_whole = []
+    monkeypatch.setattr(hull_projection, "every_triangle",
+                        lambda *args: searched_whole.append(1) or every_triangle(*args))
+    actual = project_to_hull(tri.points, tri.hull_faces, query, owners=tri.hull_face_tets)
+    assert searched_whole == [1]
     _assert_same((expected.face, expected.weights, expected.anchor, expected.distance),
                  (actual.face, actual.weights, actual.anchor, actual.distance))

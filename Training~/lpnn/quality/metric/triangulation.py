@@ -181,6 +181,10 @@ def face_keys(faces: np.ndarray, vertex_count: int) -> np.ndarray:
     return np.unique(ordered, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
 
 
+NOT_A_MANIFOLD = ("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); report this probe set "
+                  "as a bug")
+
+
 def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The pairs of positions whose face keys are equal (each face in two tetrahedra); GeometryError when a face is in
     three. Either order of a pair does: both positions get the other's tetrahedron (so the faster unstable sort)."""
@@ -188,8 +192,7 @@ def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     sorted_keys = keys[order]
     same_as_next = sorted_keys[1:] == sorted_keys[:-1]
     if np.any(same_as_next[1:] & same_as_next[:-1]):
-        raise GeometryError("the tetrahedralisation is not a manifold (a face is shared by 3 tetrahedra); "
-                            "report this probe set as a bug")
+        raise GeometryError(NOT_A_MANIFOLD)
     return order[:-1][same_as_next], order[1:][same_as_next]
 
 
@@ -199,15 +202,44 @@ _OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i (op
 def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
     and their tetrahedra (H,)."""
+    from .removal_kernel import boundary_faces, face_vertices  # compiled (removal_kernel.py)
+
+    tets = np.ascontiguousarray(tets, dtype=np.int64)
     count = tets.shape[0]
-    faces = tets[:, _OPPOSITE].reshape(-1, 3)  # (4T, 3)
-    first, second = _face_pairs(face_keys(faces, points.shape[0]))
+    every_face = np.arange(4 * count, dtype=np.int64)
+    first, second = _matched_faces(tets, every_face, points.shape[0])
     neighbours = np.full(4 * count, HULL, dtype=np.int64)
     neighbours[first] = second // 4
     neighbours[second] = first // 4
-    boundary = np.flatnonzero(neighbours < 0)
-    neighbours[boundary[~on_hull(points, faces[boundary])]] = INNER_BOUNDARY
-    return neighbours.reshape(count, 4), faces[boundary], boundary // 4
+    boundary = boundary_faces(neighbours)
+    corners = face_vertices(tets, boundary)
+    neighbours[boundary[~_on_hull_of_boundary(points, corners, corners)]] = INNER_BOUNDARY
+    return neighbours.reshape(count, 4), corners, boundary // 4
+
+
+def _matched_faces(tets: np.ndarray, positions: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of faces `positions` (4 x tetrahedron + j, the face opposite vertex j) that are one triangle: through a
+    hash table of their keys (removal_kernel.paired_faces) when the vertex ids fit face_keys' packing, else by sorting
+    the keys; GeometryError when a face is in three tetrahedra."""
+    from .removal_kernel import face_vertices, paired_faces
+
+    if vertex_count < (1 << VERTEX_KEY_BITS):
+        first, second, manifold = paired_faces(tets, positions, VERTEX_KEY_BITS)
+        if not manifold:
+            raise GeometryError(NOT_A_MANIFOLD)
+    else:
+        first, second = _face_pairs(face_keys(face_vertices(tets, positions), vertex_count))
+    return positions[first], positions[second]
+
+
+def _on_hull_of_boundary(points: np.ndarray, faces: np.ndarray, boundary_corners: np.ndarray) -> np.ndarray:
+    """on_hull of `faces` (F, 3), some of a tetrahedralisation's boundary faces `boundary_corners` (H, 3): every vertex
+    of the hull is a corner of a boundary face, so the 3-D hull is built of those alone (the same hull vertices from
+    fewer points), or the faces are tested against every point when they are few."""
+    if faces.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    few = faces.shape[0] <= FEW_HULL_FACES
+    return on_hull(points, faces, every_point=few, outer=None if few else np.unique(boundary_corners))
 
 
 def corners_of_faces(tets: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -223,18 +255,22 @@ HULL_TEST_BLOCK = 1 << 20  # face-vertex pairs per block of on_hull's test (8 Mi
 FEW_HULL_FACES = 32
 
 
-def on_hull(points: np.ndarray, faces: np.ndarray, every_point: bool = False) -> np.ndarray:
+def on_hull(points: np.ndarray, faces: np.ndarray, every_point: bool = False,
+            outer: np.ndarray | None = None) -> np.ndarray:
     """(F,) bool: which boundary faces (F, 3), counter-clockwise seen from outside, lie on the convex hull of `points`
     (K, 3): no hull vertex beyond the face's plane by more than HULL_SUPPORT_TOLERANCE. The others are cracks
     (INNER_BOUNDARY). Tested against Qhull's hull vertices, or against every point (`every_point`, or when Qhull
     fails): the same answer — a plane's farthest point is a hull vertex — slower for many faces, faster for a few
-    (no hull to build: assembled_after_removal tests only the faces a removal opened)."""
+    (no hull to build: assembled_after_removal tests only the faces a removal opened). `outer`: indices of points among
+    which every vertex of the hull is (e.g. the corners of a tetrahedralisation's boundary faces), so the hull is built
+    of those alone: the same hull vertices, hence the same answer, from fewer points."""
     if faces.shape[0] == 0:
         return np.zeros(0, dtype=bool)
     extreme = points
     if not every_point:
+        candidates = points if outer is None else points[outer]
         try:
-            extreme = points[ConvexHull(points).vertices]
+            extreme = candidates[ConvexHull(candidates).vertices]
         except QhullError:
             pass
     a = points[faces[:, 0]]
@@ -314,38 +350,41 @@ def assembled_after_removal(old: Tetrahedralization, keep: np.ndarray, vertex_ma
     transform (the same vertices in the same order) and its neighbours across faces whose neighbour was kept; only the
     added tetrahedra's faces and the kept faces left open are matched again. Raises GeometryError when they do not form
     a manifold."""
+    # Compiled passes (removal_kernel.py; imported here: the module's other users need no numba).
+    from .removal_kernel import boundary_faces, copy_kept, face_vertices
+
     positions = checked_positions(world, "probe positions")
     local = old.frame.to_local(positions)
-    kept = np.flatnonzero(keep)
-    added = np.asarray(added, dtype=np.int64).reshape(-1, 4)
-    tets = np.concatenate([vertex_map[old.tets[kept]], added])
-    if np.any(tets < 0):
+    keep = np.ascontiguousarray(keep, dtype=bool)
+    added = np.ascontiguousarray(added, dtype=np.int64).reshape(-1, 4)
+    kept_count = int(np.count_nonzero(keep))
+    total = kept_count + added.shape[0]
+    tets = np.empty((total, 4), dtype=np.int64)
+    neighbours = np.empty((total, 4), dtype=np.int64)
+    inverse = np.empty((total, 3, 3))
+    was_hull = np.zeros(4 * total, dtype=bool)
+    opened = np.empty(4 * kept_count, dtype=np.int64)
+    open_count, bad = copy_kept(old.tets, old.neighbours, old.inverse, keep,
+                                np.ascontiguousarray(vertex_map, dtype=np.int64), HULL, tets, neighbours, inverse,
+                                was_hull, opened)
+    if bad or np.any(added < 0):
         raise GeometryError("a kept tetrahedron has a removed vertex: not a tetrahedralisation of the remaining probes")
-    inverse = np.concatenate([old.inverse[kept], edge_inverse(local, added)])
-    renumbered = np.full(old.tets.shape[0] + 1, -1, dtype=np.int64)  # old tetrahedron -> new (last slot: boundary)
-    renumbered[kept] = np.arange(kept.shape[0])
-    before = old.neighbours[kept]
-    neighbours = np.where(before >= 0, renumbered[np.where(before >= 0, before, -1)], before).reshape(-1)
-    neighbours = np.concatenate([neighbours, np.full(4 * added.shape[0], HULL, dtype=np.int64)])
+    tets[kept_count:] = added
+    inverse[kept_count:] = edge_inverse(local, added)
+    neighbours[kept_count:] = HULL
     # Faces to match: the kept ones whose neighbour went, and every face of the added tetrahedra.
-    open_faces = np.concatenate([np.flatnonzero(((before >= 0) & (neighbours[:before.size].reshape(before.shape) < 0))
-                                                .reshape(-1)), 4 * kept.shape[0] + np.arange(4 * added.shape[0])])
-    faces = tets[:, _OPPOSITE].reshape(-1, 3)
-    first, second = _face_pairs(face_keys(faces[open_faces], positions.shape[0]))
-    first, second = open_faces[first], open_faces[second]
-    neighbours[open_faces] = HULL
-    neighbours[first], neighbours[second] = second // 4, first // 4
+    open_faces = np.concatenate([opened[:open_count], 4 * kept_count + np.arange(4 * added.shape[0])])
+    first, second = _matched_faces(tets, open_faces, positions.shape[0])
+    flat = neighbours.reshape(-1)
+    flat[first], flat[second] = second // 4, first // 4
     # A face on the old hull stays on it (the probes left are a subset: no plane that held them all off is crossed
     # now); only the faces opened or left as cracks are tested, against every probe when they are few.
-    boundary = np.flatnonzero(neighbours < 0)
-    was_hull = np.zeros(neighbours.shape[0], dtype=bool)
-    was_hull[:before.size] = before.reshape(-1) == HULL
+    boundary = boundary_faces(neighbours)
     test = boundary[~was_hull[boundary]]
-    few = test.shape[0] <= FEW_HULL_FACES
-    neighbours[test] = np.where(on_hull(local, faces[test], every_point=few), HULL, INNER_BOUNDARY)
-    return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets,
-                              neighbours=neighbours.reshape(-1, 4), inverse=inverse, hull_faces=faces[boundary],
-                              hull_face_tets=boundary // 4)
+    boundary_corners = face_vertices(tets, boundary)
+    flat[test] = np.where(_on_hull_of_boundary(local, face_vertices(tets, test), boundary_corners), HULL, INNER_BOUNDARY)
+    return Tetrahedralization(frame=old.frame, world=positions, points=local, tets=tets, neighbours=neighbours,
+                              inverse=inverse, hull_faces=boundary_corners, hull_face_tets=boundary // 4)
 
 
 def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.ndarray,

@@ -32,6 +32,7 @@ from .leak_aware import LeakWeighting
 from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
+from ..metric.removal_kernel import count_marker, kept_tetrahedra, uses_every_vertex
 from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
 from .trial_fills import Fills, star_fills
 from ..metric.triangulation import (INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal,
@@ -161,20 +162,20 @@ def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, a
     state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh). None when they
     are not a tetrahedralisation of the remaining probes: a probe unused, not a manifold, or a new crack (a face without
     a tetrahedron across inside the hull: a refill that left part of a star empty; the state's cracks are kept)."""
-    kept_probe = ~removed[state.probes]
-    remaining = state.probes[kept_probe]
+    gone_probe = removed[state.probes]
+    remaining = state.probes[~gone_probe]
     vertex_map = np.full(state.probes.shape[0], -1, dtype=np.int64)
-    vertex_map[kept_probe] = np.arange(remaining.shape[0])
-    keep = ~removed[state.tets].any(axis=1)
+    vertex_map[~gone_probe] = np.arange(remaining.shape[0])
+    keep = np.empty(state.mesh.tets.shape[0], dtype=bool)
+    kept_tetrahedra(state.mesh.tets, gone_probe, keep)
     try:
         mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining],
                                        np.searchsorted(remaining, added))
     except GeometryError:
         return None
-    used = np.zeros(remaining.shape[0], dtype=bool)
-    used[mesh.tets.reshape(-1)] = True
-    cracks_before = np.count_nonzero(state.mesh.neighbours == INNER_BOUNDARY)
-    return mesh if used.all() and np.count_nonzero(mesh.neighbours == INNER_BOUNDARY) <= cracks_before else None
+    cracks_before = count_marker(state.mesh.neighbours, INNER_BOUNDARY)
+    return (mesh if uses_every_vertex(mesh.tets, remaining.shape[0])
+            and count_marker(mesh.neighbours, INNER_BOUNDARY) <= cracks_before else None)
 
 
 def tet_keys(tets: np.ndarray, probes: np.ndarray) -> np.ndarray:

@@ -71,9 +71,10 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     ends = np.searchsorted(star_owner, position, side="right")
     on_surface = np.zeros(probes.shape[0], dtype=bool)
     on_surface[corners_of_faces(tets, mesh.neighbours == HULL)] = True
-    try:
+    try:  # the hull's vertices are on its faces: its 3-D hull built of those probes alone (the same vertices, faster)
+        surface = np.flatnonzero(on_surface)
         extreme = np.zeros(probes.shape[0], dtype=bool)
-        extreme[ConvexHull(local).vertices] = True
+        extreme[surface[ConvexHull(local[surface]).vertices]] = True
     except QhullError:
         return None
     tie = field.frame.tie_heights(mesh.world)
