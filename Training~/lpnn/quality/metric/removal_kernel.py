@@ -1,5 +1,6 @@
 """Compiled passes of a tetrahedralisation after probes are removed (triangulation.assembled_after_removal,
-placement/batched_state.derived_mesh).
+placement/batched_state.derived_mesh); its face pairing and boundary listing serve every tetrahedralisation's adjacency
+(triangulation._adjacency) too.
 
 Batched refinement derives two meshes a round from the last one (~160 a placement on a 10^5-point level). As numpy
 array expressions each took ~15 passes over every tetrahedron (the kept rows gathered, their vertices and neighbours
