@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from lpnn.quality.metric import removal_kernel
+from lpnn.quality.metric.tet_geometry import OPPOSITE
 from lpnn.quality.metric.triangulation import (HULL, INNER_BOUNDARY, VERTEX_KEY_BITS, _face_pairs, face_keys, on_hull,
                                                tetrahedralize)
 
-FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # triangulation._OPPOSITE
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +30,7 @@ def test_hashed_face_pairs_are_the_sorted_keys_pairs(cloud_mesh) -> None:
     positions = np.random.default_rng(1).permutation(4 * tets.shape[0]).astype(np.int64)
     first, second, ok = removal_kernel.paired_faces(tets, positions, VERTEX_KEY_BITS)
     assert ok
-    expected = _face_pairs(face_keys(tets[:, FACES].reshape(-1, 3)[positions], cloud_mesh.point_count))
+    expected = _face_pairs(face_keys(tets[:, OPPOSITE].reshape(-1, 3)[positions], cloud_mesh.point_count))
     assert _pair_set(positions[first], positions[second]) == _pair_set(positions[expected[0]], positions[expected[1]])
     assert len(first) == np.count_nonzero(cloud_mesh.neighbours >= 0) // 2
     tripled = np.concatenate([tets, tets[:1]])
@@ -79,7 +79,7 @@ def test_faces_boundary_vertices_used_and_markers_counted_as_numpy_does(cloud_me
     mesh = cloud_mesh
     positions = np.array([0, 3, 6, 4 * mesh.tets.shape[0] - 1], dtype=np.int64)
     np.testing.assert_array_equal(removal_kernel.face_vertices(mesh.tets, positions),
-                                  mesh.tets[:, FACES].reshape(-1, 3)[positions])
+                                  mesh.tets[:, OPPOSITE].reshape(-1, 3)[positions])
     boundary = removal_kernel.boundary_faces(mesh.neighbours)
     np.testing.assert_array_equal(boundary, np.flatnonzero(mesh.neighbours < 0))
     np.testing.assert_array_equal(removal_kernel.face_vertices(mesh.tets, boundary), mesh.hull_faces)

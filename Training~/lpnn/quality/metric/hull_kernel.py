@@ -26,6 +26,7 @@ use_project_cache_for_numba()
 from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
 from .metric_kernel import chunk_bounds, chunk_count  # noqa: E402
+from .removal_kernel import sorted3  # noqa: E402
 
 
 @njit(cache=True)
@@ -144,24 +145,12 @@ def certified(query, anchor, distance, vertices, tolerance, out):
 
 
 @njit(cache=True)
-def _sorted3(a, b, c):
-    """(a, b, c) in ascending order, without an array (settle_ties runs this per point and candidate)."""
-    if a > b:
-        a, b = b, a
-    if b > c:
-        b, c = c, b
-    if a > b:
-        a, b = b, a
-    return a, b, c
-
-
-@njit(cache=True)
 def _before(faces, owners, f, g):
     """The tie rule's order of hull triangles: lower owning tetrahedron, then smaller sorted corners."""
     if owners[f] != owners[g]:
         return owners[f] < owners[g]
-    x0, x1, x2 = _sorted3(faces[f, 0], faces[f, 1], faces[f, 2])
-    y0, y1, y2 = _sorted3(faces[g, 0], faces[g, 1], faces[g, 2])
+    x0, x1, x2 = sorted3(faces[f, 0], faces[f, 1], faces[f, 2])
+    y0, y1, y2 = sorted3(faces[g, 0], faces[g, 1], faces[g, 2])
     if x0 != y0:
         return x0 < y0
     if x1 != y1:

@@ -20,8 +20,19 @@ from ...core.cache import use_project_cache_for_numba
 use_project_cache_for_numba()
 from numba import njit  # noqa: E402  (after the cache folder is chosen)
 
-# Face j of a tetrahedron: the vertices opposite vertex j, outward for a positive tetrahedron (triangulation._OPPOSITE).
-OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.int64)
+from .tet_geometry import OPPOSITE  # noqa: E402
+
+
+@njit(cache=True)
+def sorted3(a, b, c):
+    """(a, b, c) in ascending order, without an array (hull_kernel.settle_ties runs this per point and candidate)."""
+    if a > b:
+        a, b = b, a
+    if b > c:
+        b, c = c, b
+    if a > b:
+        a, b = b, a
+    return a, b, c
 
 
 @njit(cache=True)
@@ -154,15 +165,7 @@ def paired_faces(tets, positions, vertex_bits):
     for k in range(count):
         r = positions[k] // 4
         j = positions[k] % 4
-        a = tets[r, OPPOSITE[j, 0]]
-        b = tets[r, OPPOSITE[j, 1]]
-        c = tets[r, OPPOSITE[j, 2]]
-        if a > b:
-            a, b = b, a
-        if b > c:
-            b, c = c, b
-        if a > b:
-            a, b = b, a
+        a, b, c = sorted3(tets[r, OPPOSITE[j, 0]], tets[r, OPPOSITE[j, 1]], tets[r, OPPOSITE[j, 2]])
         key = (a << (2 * vertex_bits)) | (b << vertex_bits) | c
         h = np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(shift))
         while True:

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+# Face i of a tetrahedron: the vertices opposite vertex i, outward for a positive one (the tetrahedralisation's
+# neighbours, the compiled passes of removal_kernel.py and the fast reference number faces so).
+OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.int64)
+
 # A tetrahedron is flat when |6 x volume| <= this x |e1| |e2| |e3| (its edges from vertex 0). Relative to its own
 # edges, so it holds at any cell size and extent: an absolute 1e-14 on the unit-extent frame dropped every
 # tetrahedron of a grid with more than ~46,000 cells along an axis. The zero-volume ties a tetrahedraliser

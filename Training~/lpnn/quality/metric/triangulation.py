@@ -196,9 +196,6 @@ def _face_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return order[:-1][same_as_next], order[1:][same_as_next]
 
 
-_OPPOSITE = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])  # face i (opposite vertex i), outward for positive tets
-
-
 def _adjacency(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """neighbours (T, 4) (HULL / INNER_BOUNDARY where no tetrahedron is across), boundary faces (H, 3) oriented outward,
     and their tetrahedra (H,)."""

@@ -14,11 +14,9 @@ from .decimation import initial_mask
 from ...metric.hull_projection import HullIndex
 from ...metric.location import locate_local
 from ...metric.metric import POINT_ERRORS, ReferenceField
-from ...metric.tet_geometry import edge_frames
+from ...metric.tet_geometry import OPPOSITE, edge_frames
 from ...metric.triangulation import VERTEX_KEY_BITS, GeometryError, face_keys, tetrahedralize
 from .weighing import Weighing
-
-OPPOSITE_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
 
 @dataclass
@@ -183,7 +181,7 @@ class DecimationMesh:
         """
         n = self.field.point_count
         star_set = set(star.tolist())
-        faces = cavity[:, OPPOSITE_FACES].reshape(-1, 3)
+        faces = cavity[:, OPPOSITE].reshape(-1, 3)
         keys = face_keys(faces, n)
         _, first, counts = np.unique(keys, return_index=True, return_counts=True)
         cavity_keys = set(keys.tolist())

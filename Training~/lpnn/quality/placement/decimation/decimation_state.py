@@ -7,11 +7,11 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ....core import sh as shmath
-from .decimation_mesh import OPPOSITE_FACES, DecimationMesh, GlobalRemoval, LocalRemoval
+from .decimation_mesh import DecimationMesh, GlobalRemoval, LocalRemoval
 from .hole_wrap import wrap_holes
 from ...metric.hull_projection import HullProjection, nearest_on_candidates
 from ...metric.location import INSIDE_TOLERANCE, locate_local
-from ...metric.tet_geometry import barycentric_in, best_per_group, edge_frames, orient_and_invert, segment_pairs
+from ...metric.tet_geometry import OPPOSITE, barycentric_in, best_per_group, edge_frames, orient_and_invert, segment_pairs
 from ...metric.triangulation import GeometryError, face_keys, flatness, lower_hull, tetrahedralize
 
 VOLUME_TOLERANCE = 1e-9  # the hole's volume must equal the star's to this relative tolerance
@@ -250,7 +250,7 @@ class DecimationState(DecimationMesh):
         faces = tets[tets != v].reshape(-1, 3)
         keys = face_keys(faces, self.field.point_count)
         on_hull = np.fromiter((key in self.hull for key in keys.tolist()), dtype=bool, count=keys.shape[0])
-        cavity_keys = face_keys(cavity[:, OPPOSITE_FACES].reshape(-1, 3), self.field.point_count)
+        cavity_keys = face_keys(cavity[:, OPPOSITE].reshape(-1, 3), self.field.point_count)
         order = np.argsort(cavity_keys, kind="stable")
         found = order[np.minimum(np.searchsorted(cavity_keys[order], keys), order.shape[0] - 1)]
         apex = cavity[found // 4, found % 4]
