@@ -41,6 +41,9 @@ from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, corners_
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
 INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
+# A hull vertex's wrapped refill holding a tetrahedron this thin (6 x volume over its edges' product; a tetrahedron of
+# grid points is >= ~1e-2, float32 rounding's slivers ~1e-7) is left to Qhull: the two may pick different slivers.
+SLIVER_RELATIVE_VOLUME = 1e-5
 
 
 @dataclass(frozen=True)
@@ -100,9 +103,11 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     fill, volume6, kept = _oriented(local, out[concatenated_ranges(out_start[:-1][wrapped], counts[wrapped])])
     owner = owner[kept]
     filled = np.bincount(owner, volume6, minlength=count)
-    # A closed star's fill has its volume; a hull vertex's at most its volume (the hull loses the rest).
+    # A closed star's fill has its volume; a hull vertex's at most its volume (the hull loses the rest), and no sliver:
+    # where rounding left one (collinear probes on a hull face), the wrapping and Qhull's `Qt` may pick different ones.
     good = wrapped & np.where(extreme[position], filled <= star_volume * (1.0 + VOLUME_TOLERANCE),
                               np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume)
+    good &= ~(extreme[position] & (np.bincount(owner[_slivers(local, fill)], minlength=count) > 0))
     keep = good[owner]
     fill, owner = [fill[keep]], [owner[keep]]
     for k in np.flatnonzero(~good).tolist():  # holes the wrapping did not close: the lifted link
@@ -117,6 +122,14 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
     return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
+
+
+def _slivers(local: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """(T,) bool: the tetrahedra whose 6 x volume is at most SLIVER_RELATIVE_VOLUME x the product of their edges from
+    vertex 0 (kept by tet_geometry.is_flat, yet thin enough to be rounding's)."""
+    e1, e2, e3, det = edge_frames(local, tets)
+    product = np.sqrt(np.einsum("ij,ij->i", e1, e1) * np.einsum("ij,ij->i", e2, e2) * np.einsum("ij,ij->i", e3, e3))
+    return np.abs(det) <= SLIVER_RELATIVE_VOLUME * product
 
 
 def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
