@@ -107,7 +107,8 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     # where rounding left one (collinear probes on a hull face), the wrapping and Qhull's `Qt` may pick different ones.
     good = wrapped & np.where(extreme[position], filled <= star_volume * (1.0 + VOLUME_TOLERANCE),
                               np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume)
-    good &= ~(extreme[position] & (np.bincount(owner[_slivers(local, fill)], minlength=count) > 0))
+    at_vertex = np.flatnonzero(extreme[position][owner])  # the hull vertices' fills alone: a few per round
+    good &= np.bincount(owner[at_vertex[_slivers(local, fill[at_vertex])]], minlength=count) == 0
     keep = good[owner]
     fill, owner = [fill[keep]], [owner[keep]]
     for k in np.flatnonzero(~good).tolist():  # holes the wrapping did not close: the lifted link
