@@ -10,10 +10,10 @@ regular tetrahedra of the lifted link that lie in the star — the gift wrapping
 (decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex the wrapping lets a face of the
 star's boundary, too, end on the new hull (hole_wrap.HULL_VERTEX: the star minus the part the hull loses). For a hole
 the wrapping could not close, or a hull vertex with a point in a face's on-plane band that would make a sliver
-(hole_wrap._sliver_in_band), the lower hull of its lifted link, keeping the tetrahedra whose centroid lies in its star
+(hole_wrap._sliver_in_band) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted link, keeping the tetrahedra whose centroid lies in its star
 (the tetrahedra of Del(link) inside the star are exactly the refill: the star minus the part the hull loses is covered
 by the refill, which belongs to Del(link) too, and two tetrahedra of one triangulation do not overlap). Wrapping the
-hull vertices as well took the validation crops' lifted-link Qhull calls from 1,716 to 26 (benchmarks.md "Hull
+hull vertices as well took the validation crops' lifted-link Qhull calls from 1,716 to 161 (benchmarks.md "Hull
 vertices wrapped").
 One global Qhull call per round was ~30 % of the refinement's time on whole levels (benchmarks.md "Scale: whole
 levels"); the fills cost a fraction of it and give the same tetrahedra.
