@@ -27,7 +27,7 @@ from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
 # Below this many point-tetrahedron pairs, test them all; above, walk (the same cells: the tie rule settles a point on a
-# shared boundary either way). 200,000 before 2026-11-28: the refinement's trials on crops then tested ~0.4 ms a call
+# shared boundary either way). 200,000 before 2026-11-29: the refinement's trials on crops then tested ~0.4 ms a call
 # where the walk takes a fraction of it (benchmarks.md "Hull vertices wrapped, small locations walked").
 BRUTE_FORCE_PAIRS = 16_384
 WALK_STEP_LIMIT = 10_000

@@ -10,11 +10,11 @@ regular tetrahedra of the lifted link that lie in the star — the gift wrapping
 (decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex the wrapping lets a face of the
 star's boundary, too, end on the new hull (hole_wrap.HULL_VERTEX: the star minus the part the hull loses). For a hole
 the wrapping could not close, or a hull vertex with a point in a face's on-plane band that would make a sliver
-(hole_wrap._sliver_in_band) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted link, keeping the tetrahedra whose centroid lies in its star
-(the tetrahedra of Del(link) inside the star are exactly the refill: the star minus the part the hull loses is covered
-by the refill, which belongs to Del(link) too, and two tetrahedra of one triangulation do not overlap). Wrapping the
-hull vertices as well took the validation crops' lifted-link Qhull calls from 1,716 to 161 (benchmarks.md "Hull
-vertices wrapped").
+(hole_wrap._sliver_in_band) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted
+link, keeping the tetrahedra whose centroid lies in its star (the tetrahedra of Del(link) inside the star are exactly
+the refill: the star minus the part the hull loses is covered by the refill, which belongs to Del(link) too, and two
+tetrahedra of one triangulation do not overlap). Wrapping the hull vertices as well took the validation crops'
+lifted-link Qhull calls from 1,716 to 161 (benchmarks.md "Hull vertices wrapped, small locations walked").
 One global Qhull call per round was ~30 % of the refinement's time on whole levels (benchmarks.md "Scale: whole
 levels"); the fills cost a fraction of it and give the same tetrahedra.
 
@@ -36,7 +36,7 @@ from ...core.integer_sets import sorted_unique
 from ...scenes.ranges import concatenated_ranges
 from .decimation.hole_wrap import HULL_VERTEX, INTERIOR, ON_HULL, wrap_hole_runs
 from ..metric.metric import ReferenceField
-from ..metric.tet_geometry import edge_frames, is_flat
+from ..metric.tet_geometry import edge_frames, edge_product, is_flat
 from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, corners_of_faces, lower_hull_tets
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
@@ -111,7 +111,7 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     good &= np.bincount(owner[at_vertex[_slivers(local, fill[at_vertex])]], minlength=count) == 0
     keep = good[owner]
     fill, owner = [fill[keep]], [owner[keep]]
-    for k in np.flatnonzero(~good).tolist():  # holes the wrapping did not close: the lifted link
+    for k in np.flatnonzero(~good).tolist():  # holes not wrapped, hull vertices refused: the lifted link
         star = tets[star_rows[bounds[k]:ends[k]]]
         linked = _link_fill(local, tie, int(position[k]), star)
         if linked is None:
@@ -129,8 +129,7 @@ def _slivers(local: np.ndarray, tets: np.ndarray) -> np.ndarray:
     """(T,) bool: the tetrahedra whose 6 x volume is at most SLIVER_RELATIVE_VOLUME x the product of their edges from
     vertex 0 (kept by tet_geometry.is_flat, yet thin enough to be rounding's)."""
     e1, e2, e3, det = edge_frames(local, tets)
-    product = np.sqrt(np.einsum("ij,ij->i", e1, e1) * np.einsum("ij,ij->i", e2, e2) * np.einsum("ij,ij->i", e3, e3))
-    return np.abs(det) <= SLIVER_RELATIVE_VOLUME * product
+    return np.abs(det) <= SLIVER_RELATIVE_VOLUME * edge_product(e1, e2, e3)
 
 
 def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
