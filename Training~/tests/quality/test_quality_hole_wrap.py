@@ -7,7 +7,7 @@ import pytest
 
 from lpnn.quality.placement.decimation import decimation_state
 from lpnn.quality.placement.decimation.decimation_state import DecimationState
-from lpnn.quality.placement.decimation.hole_wrap import HOLE_WEIGHT, MAX_LINK, wrap_hole_runs, wrap_holes
+from lpnn.quality.placement.decimation.hole_wrap import HOLE_WEIGHT, HULL_VERTEX, MAX_LINK, wrap_hole_runs, wrap_holes
 from lpnn.quality.metric.metric_kernel import PARALLEL_ROWS
 from lpnn.quality.metric.metric import PRIMARY_METRIC, ReferenceField, placement_error
 from lpnn.quality.placement.decimation.reference_fast import fast_decimation
@@ -48,6 +48,27 @@ def test_wrapped_holes_are_the_tetrahedra_a_full_retetrahedralisation_creates(ji
     for v, hole in zip(vertices, holes):
         assert hole is not None, v
         assert set(map(tuple, np.sort(hole, axis=1).tolist())) == _new_tetrahedra_without(state, v), v
+
+
+@pytest.mark.parametrize("jitter, wrapped_at_least", [(0.0, 7), (0.2, 35)])
+def test_a_hull_vertex_s_wrapped_hole_is_what_a_full_retetrahedralisation_creates(jitter: float,
+                                                                                   wrapped_at_least: int) -> None:
+    """HULL_VERTEX: the star's boundary faces may end on the new hull too, so the wrapping keeps only the part of the star
+    the hull still holds. Each wrapped hole must be exactly the new tetrahedra; a hole it refuses (a lattice corner whose
+    link has a point in a face's on-plane band) is left to the caller's Qhull."""
+    rng = np.random.default_rng(3)
+    positions = box_grid(6, 5, 5, spacing=0.5) + rng.uniform(-jitter, jitter, (150, 3)) * 0.5
+    state = _state(positions + np.array([2.0e4, -1.0e3, 5.0e2]))  # far from the origin
+    vertices = [v for v in np.flatnonzero(state.alive).tolist() if state.extreme[v]]
+    stars = [state.tets[state._star_of(v)] for v in vertices]
+    star_start = np.concatenate([[0], np.cumsum([star.shape[0] for star in stars])])
+    out, out_start, counts = wrap_hole_runs(state.local, state.tie, np.asarray(vertices, dtype=np.int64),
+                                            np.concatenate(stars), star_start, np.full(len(vertices), HULL_VERTEX))
+    assert np.count_nonzero(counts > 0) >= wrapped_at_least
+    for k, v in enumerate(vertices):
+        if counts[k] > 0:
+            hole = out[out_start[k]:out_start[k] + counts[k]]
+            assert set(map(tuple, np.sort(hole, axis=1).tolist())) == _new_tetrahedra_without(state, v), v
 
 
 def test_a_hole_too_large_to_wrap_is_left_to_qhull_and_the_decimation_stays_exact() -> None:

@@ -76,11 +76,25 @@ def test_the_stars_refills_are_the_tetrahedralisation_of_the_remaining_probes(la
         assert all((owner, v) in neighbours for v in tet)
 
 
-def test_hull_corners_are_among_the_candidates_so_the_lifted_link_path_is_exercised(lattice_state) -> None:
+def test_hull_corners_are_among_the_candidates_and_most_are_wrapped_without_qhull(lattice_state, monkeypatch) -> None:
+    """The volume's corners are hull vertices: their stars are gift-wrapped too (hole_wrap.HULL_VERTEX), the lifted link's
+    Qhull call left to the holes the wrapping refuses (here 4 of the 8 corners: on the lattice a link point lies in a
+    face's on-plane band), and the refills, both ways, are Qhull's tetrahedralisation."""
     field, state = lattice_state
     candidates = _candidates(field, state, "corners first")
     corner = np.all((field.local == field.local.min(axis=0)) | (field.local == field.local.max(axis=0)), axis=1)
     assert np.count_nonzero(corner[candidates]) >= 2
+    lifted = []
+    original = trial_fills._link_fill
+    monkeypatch.setattr(trial_fills, "_link_fill", lambda *args: lifted.append(args[2]) or original(*args))
+    fills = star_fills(field, state, candidates)
+    corners = candidates[corner[candidates]]
+    assert fills is not None and corners.shape[0] == 8
+    # _link_fill gets positions in the probes; every one was a corner, and at least half the corners were wrapped.
+    lifted_points = state.probes[np.asarray(lifted, dtype=np.int64)]
+    assert set(lifted_points.tolist()) <= set(corners.tolist()) and len(lifted) <= 4
+    assert set(corners.tolist()) <= set(fills.owner.tolist())
+    assert _filled_tets(field, state, candidates, fills) == _qhull_tets(field, state, candidates)
 
 
 def test_without_the_gift_wrapping_the_lifted_link_alone_gives_the_same_tetrahedra(lattice_state, monkeypatch) -> None:

@@ -26,7 +26,10 @@ from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cel
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
-BRUTE_FORCE_PAIRS = 200_000  # below this many point-tetrahedron pairs, test them all
+# Below this many point-tetrahedron pairs, test them all; above, walk (the same cells: the tie rule settles a point on a
+# shared boundary either way). 200,000 before 2026-11-29: the refinement's trials on crops then tested ~0.4 ms a call
+# where the walk takes a fraction of it (benchmarks.md "Hull vertices wrapped, small locations walked").
+BRUTE_FORCE_PAIRS = 16_384
 WALK_STEP_LIMIT = 10_000
 FEW_STARTS = 64  # walks with at most this many starts find them in one pass over the tetrahedra, without a k-d tree
 # (a coherent walk starts once per parallel slice, <= 64: the tree over ~10^5 centroids cost ~25 ms a call, the pass ~2 ms)

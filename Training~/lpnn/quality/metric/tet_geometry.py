@@ -33,10 +33,14 @@ def edge_frames(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.nd
     return e1, e2, e3, np.einsum("ij,ij->i", e1, _cross(e2, e3))
 
 
+def edge_product(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray) -> np.ndarray:
+    """(T,) |e1| |e2| |e3|: the scale a tetrahedron's 6 x volume is compared with (is_flat)."""
+    return np.sqrt(np.einsum("ij,ij->i", e1, e1) * np.einsum("ij,ij->i", e2, e2) * np.einsum("ij,ij->i", e3, e3))
+
+
 def is_flat(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray, det: np.ndarray) -> np.ndarray:
     """(T,) True where the tetrahedron with edges e1, e2, e3 (T, 3) and 6 x signed volume det is flat."""
-    edge_product = np.sqrt(np.einsum("ij,ij->i", e1, e1) * np.einsum("ij,ij->i", e2, e2) * np.einsum("ij,ij->i", e3, e3))
-    return ~(np.abs(det) > FLAT_RELATIVE_VOLUME * edge_product)
+    return ~(np.abs(det) > FLAT_RELATIVE_VOLUME * edge_product(e1, e2, e3))
 
 
 def orient_and_invert(points: np.ndarray, tets: np.ndarray

@@ -6,11 +6,15 @@
 
 Why. A trial removes an independent set of candidates; their stars are disjoint and each is refilled by its own link
 (metric/triangulation.py: the tie-broken Delaunay is unique, so nothing outside the stars changes). The fills are the
-regular tetrahedra of the lifted link that lie in the star — for a probe that is not a vertex of the hull, the gift
-wrapping of the fast reference (decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex
-(or a hole the wrapping could not close), the lower hull of its lifted link, keeping the tetrahedra whose centroid lies
-in its star (the tetrahedra of Del(link) inside the star are exactly the refill: the star minus the part the hull loses
-is covered by the refill, which belongs to Del(link) too, and two tetrahedra of one triangulation do not overlap).
+regular tetrahedra of the lifted link that lie in the star — the gift wrapping of the fast reference
+(decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex the wrapping lets a face of the
+star's boundary, too, end on the new hull (hole_wrap.HULL_VERTEX: the star minus the part the hull loses). For a hole
+the wrapping could not close, or a hull vertex with a point in a face's on-plane band that would make a sliver
+(hole_wrap._sliver_in_band) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted
+link, keeping the tetrahedra whose centroid lies in its star (the tetrahedra of Del(link) inside the star are exactly
+the refill: the star minus the part the hull loses is covered by the refill, which belongs to Del(link) too, and two
+tetrahedra of one triangulation do not overlap). Wrapping the hull vertices as well took the validation crops'
+lifted-link Qhull calls from 1,716 to 161 (benchmarks.md "Hull vertices wrapped, small locations walked").
 One global Qhull call per round was ~30 % of the refinement's time on whole levels (benchmarks.md "Scale: whole
 levels"); the fills cost a fraction of it and give the same tetrahedra.
 
@@ -30,13 +34,16 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ...core.integer_sets import sorted_unique
 from ...scenes.ranges import concatenated_ranges
-from .decimation.hole_wrap import wrap_hole_runs
+from .decimation.hole_wrap import HULL_VERTEX, INTERIOR, ON_HULL, wrap_hole_runs
 from ..metric.metric import ReferenceField
-from ..metric.tet_geometry import edge_frames, is_flat
+from ..metric.tet_geometry import edge_frames, edge_product, is_flat
 from ..metric.triangulation import HULL, INNER_BOUNDARY, GeometryError, corners_of_faces, lower_hull_tets
 
 VOLUME_TOLERANCE = 1e-9  # an interior star's fills must have its volume to this relative tolerance
 INSIDE_TOLERANCE = 1e-9  # a fill's centroid is in the star when its barycentric weights are >= -this in a star tetrahedron
+# A hull vertex's wrapped refill holding a tetrahedron this thin (6 x volume over its edges' product; a tetrahedron of
+# grid points is >= ~1e-2, float32 rounding's slivers ~1e-7) is left to Qhull: the two may pick different slivers.
+SLIVER_RELATIVE_VOLUME = 1e-5
 
 
 @dataclass(frozen=True)
@@ -82,26 +89,29 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     candidate_at = np.zeros(probes.shape[0], dtype=np.int64)  # position -> the candidate's place in `candidates`
     candidate_at[position] = np.arange(count)
     star_volume = np.bincount(candidate_at[star_owner], np.abs(edge_frames(local, tets[star_rows])[3]), minlength=count)
-    inside = np.flatnonzero(~extreme[position])
-    # The inside candidates' stars as one array (each star's rows in star_rows' order) and their wraps as runs of one
-    # array: no list of small arrays per candidate (~2,500 a round on whole levels).
-    sizes = ends[inside] - bounds[inside]
-    star_start = np.zeros(inside.shape[0] + 1, dtype=np.int64)
+    # Every candidate's star as one array (each star's rows in star_rows' order) and their wraps as runs of one array:
+    # no list of small arrays per candidate (~2,500 a round on whole levels).
+    sizes = ends - bounds
+    star_start = np.zeros(count + 1, dtype=np.int64)
     np.cumsum(sizes, out=star_start[1:])
-    out, out_start, counts = wrap_hole_runs(local, tie, position[inside], tets[star_rows[concatenated_ranges(bounds[inside], sizes)]],
-                                            star_start, on_surface[position[inside]])
+    hull = np.where(extreme[position], HULL_VERTEX, np.where(on_surface[position], ON_HULL, INTERIOR))
+    out, out_start, counts = wrap_hole_runs(local, tie, position, tets[star_rows[concatenated_ranges(bounds, sizes)]],
+                                            star_start, hull)
     wrapped = counts > 0
-    closed = inside[wrapped]
+    closed = np.flatnonzero(wrapped)
     owner = np.repeat(closed, counts[wrapped])
     fill, volume6, kept = _oriented(local, out[concatenated_ranges(out_start[:-1][wrapped], counts[wrapped])])
     owner = owner[kept]
     filled = np.bincount(owner, volume6, minlength=count)
-    good = np.zeros(count, dtype=bool)
-    good[closed] = True
-    good &= np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume
+    # A closed star's fill has its volume; a hull vertex's at most its volume (the hull loses the rest), and no sliver:
+    # where rounding left one (collinear probes on a hull face), the wrapping and Qhull's `Qt` may pick different ones.
+    good = wrapped & np.where(extreme[position], filled <= star_volume * (1.0 + VOLUME_TOLERANCE),
+                              np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume)
+    at_vertex = np.flatnonzero(extreme[position][owner])  # the hull vertices' fills alone: a few per round
+    good &= np.bincount(owner[at_vertex[_slivers(local, fill[at_vertex])]], minlength=count) == 0
     keep = good[owner]
     fill, owner = [fill[keep]], [owner[keep]]
-    for k in np.flatnonzero(~good).tolist():  # hull vertices, holes the wrapping did not close: the lifted link
+    for k in np.flatnonzero(~good).tolist():  # holes not wrapped, hull vertices refused: the lifted link
         star = tets[star_rows[bounds[k]:ends[k]]]
         linked = _link_fill(local, tie, int(position[k]), star)
         if linked is None:
@@ -113,6 +123,13 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
     return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
+
+
+def _slivers(local: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """(T,) bool: the tetrahedra whose 6 x volume is at most SLIVER_RELATIVE_VOLUME x the product of their edges from
+    vertex 0 (kept by tet_geometry.is_flat, yet thin enough to be rounding's)."""
+    e1, e2, e3, det = edge_frames(local, tets)
+    return np.abs(det) <= SLIVER_RELATIVE_VOLUME * edge_product(e1, e2, e3)
 
 
 def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

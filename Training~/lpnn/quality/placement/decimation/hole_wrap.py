@@ -16,6 +16,12 @@ is unique): the same result as one Qhull call per probe, ~10x faster. A hole fai
 uses Qhull) when a face has no link point on its inner side, a face is shared by three tetrahedra,
 or it does not close within the size limits; the caller also checks the hole's volume.
 
+On the hull (the `hull` code of each hole): a probe on the hull's surface (ON_HULL) may leave faces the
+wrapping makes with nothing beyond them, which lie on the hull. A vertex of the hull (HULL_VERTEX, batched
+refinement's trials only: placement/trial_fills.py) may leave boundary faces so too, where the hull loses
+its corner: the wrapping then gives the part of the star the new hull keeps. Such a face is refused
+(Qhull decides) when a link point in its on-plane band would make a tetrahedron tet_geometry.is_flat keeps.
+
 Heights are taken relative to v (|x - v|^2 + tie-break: the same lifting up to an affine function),
 so the keys keep their precision: on grids competing keys differ only by the tie-break, about 1e-5
 of the squared spacing. The loops are compiled with numba (cached on disk after the first run, in the project's cache folder):
@@ -32,8 +38,12 @@ use_project_cache_for_numba()
 from numba import njit, prange  # noqa: E402  (after the cache folder is chosen)
 
 from ...metric.metric_kernel import chunk_bounds, chunk_count, run_rows  # noqa: E402
+from ...metric.tet_geometry import FLAT_RELATIVE_VOLUME  # noqa: E402
 
 ON_PLANE = 1e-9  # |dist| <= this x |n|^1.5 (a spacing^3 scale): the point lies on the face's plane
+# A hull vertex's face with no apex is a hull face unless a point of its on-plane band makes a tetrahedron is_flat keeps
+# (_sliver_in_band): this fraction of is_flat's threshold, so rounding in the two arithmetics cannot tell them apart.
+SLIVER_MARGIN = 0.1
 MAX_LINK = 96  # larger links go to Qhull
 MAX_FACES = 8 * MAX_LINK  # faces a hole may register (a closed hole of d points has < 4d)
 
@@ -103,6 +113,11 @@ def _collect_link(star: np.ndarray, v: int, link: np.ndarray) -> int:
 
 DEGENERATE_FACE = -2  # _lowest_apex: the face {a, b, c} has no area
 
+# Where the probe whose hole is wrapped lies (_wrap_one's `hull`, wrap_hole_runs' `hull` codes).
+INTERIOR = 0  # inside the hull: the hole is closed
+ON_HULL = 1  # on the hull's surface, not a vertex of it: a face the wrapping makes may be a hull face
+HULL_VERTEX = 2  # a vertex of the hull: a face of the star's boundary may be one too
+
 
 @njit(cache=True)
 def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int) -> int:
@@ -139,10 +154,42 @@ def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int) -
 
 
 @njit(cache=True)
-def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_hull: bool, out: np.ndarray) -> int:
+def _length(x: np.ndarray, i: int, j: int) -> float:
+    return np.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2 + (x[j, 2] - x[i, 2]) ** 2)
+
+
+@njit(cache=True)
+def _sliver_in_band(x: np.ndarray, d: int, a: int, b: int, c: int) -> bool:
+    """Whether a link point other than a, b, c lies within _lowest_apex's ON_PLANE band of face (a, b, c)'s plane (so it
+    was skipped) yet makes with the face a tetrahedron tet_geometry.is_flat keeps: 6 x volume above SLIVER_MARGIN x
+    FLAT_RELATIVE_VOLUME x the smallest product of three edges meeting at one of its corners (the product is_flat uses
+    depends on the corner listed first). A point on the plane up to rounding makes a flat one, which both ways drop."""
+    e1 = x[b] - x[a]
+    e2 = x[c] - x[a]
+    n0 = e1[1] * e2[2] - e1[2] * e2[1]
+    n1 = e1[2] * e2[0] - e1[0] * e2[2]
+    n2 = e1[0] * e2[1] - e1[1] * e2[0]
+    floor = ON_PLANE * (n0 * n0 + n1 * n1 + n2 * n2) ** 0.75
+    ab, ac, bc = _length(x, a, b), _length(x, a, c), _length(x, b, c)
+    for p in range(d):
+        if p == a or p == b or p == c:
+            continue
+        volume6 = abs(n0 * (x[p, 0] - x[a, 0]) + n1 * (x[p, 1] - x[a, 1]) + n2 * (x[p, 2] - x[a, 2]))
+        if volume6 > floor:
+            continue
+        ap, bp, cp = _length(x, a, p), _length(x, b, p), _length(x, c, p)
+        smallest = min(ab * ac * ap, ab * bc * bp, ac * bc * cp, ap * bp * cp)
+        if volume6 > SLIVER_MARGIN * FLAT_RELATIVE_VOLUME * smallest:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, hull: int, out: np.ndarray) -> int:
     """Fill `out` with the hole tetrahedra of probe v (star (S, 4), global ids); returns their count,
-    or -1 when wrapping failed. on_hull: v lies on the hull (not a vertex of it), so a face the
-    wrapping creates may have nothing on its far side (it lies on the hull)."""
+    or -1 when wrapping failed. hull: INTERIOR, ON_HULL (v lies on the hull, not a vertex of it: a face the
+    wrapping creates may have nothing on its far side, it lies on the hull) or HULL_VERTEX (a boundary face may
+    have nothing on v's side too: the hull loses v's corner there, module text)."""
     # Link points (local numbering), coordinates relative to v and heights.
     link = np.empty(MAX_LINK, dtype=np.int64)
     d = _collect_link(star, v, link)
@@ -191,7 +238,11 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, on_h
         best = _lowest_apex(x, h, d, a, b, c)
         if best == DEGENERATE_FACE:
             return -1
-        if best < 0 and on_hull and head > boundary_faces:
+        if best < 0 and hull == HULL_VERTEX and _sliver_in_band(x, d, a, b, c):
+            # A point in the band _lowest_apex skips may be the apex of a sliver the lower hull keeps (its flatness is
+            # tet_geometry.is_flat's, not the band's): the caller's Qhull decides.
+            return -1
+        if best < 0 and (hull == HULL_VERTEX or (hull == ON_HULL and head > boundary_faces)):
             seen[here] = 2  # a face of the hull: nothing on its far side
             continue
         if best < 0 or made == out.shape[0]:
@@ -231,7 +282,7 @@ HOLE_WEIGHT = 32
 
 @njit(cache=True, parallel=True)
 def _wrap_all(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tets: np.ndarray,
-              star_start: np.ndarray, on_hull: np.ndarray, out: np.ndarray, out_start: np.ndarray,
+              star_start: np.ndarray, hull: np.ndarray, out: np.ndarray, out_start: np.ndarray,
               counts: np.ndarray) -> None:
     """counts[k] = _wrap_one's count for hole k, its tetrahedra in out[out_start[k]:]; holes in parallel slices (each
     hole alone: the same tetrahedra however the holes are sliced)."""
@@ -240,22 +291,24 @@ def _wrap_all(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tet
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(holes, chunks, chunk)
         for k in range(lo, hi):
-            counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]], on_hull[k],
+            counts[k] = _wrap_one(local, tie, vertices[k], star_tets[star_start[k]:star_start[k + 1]], hull[k],
                                   out[out_start[k]:out_start[k + 1]])
 
 
 def wrap_hole_runs(local: np.ndarray, tie: np.ndarray, vertices: np.ndarray, star_tets: np.ndarray,
-                   star_start: np.ndarray, on_hull: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   star_start: np.ndarray, hull: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """wrap_holes with the stars given as one array: hole k's star is star_tets[star_start[k]:star_start[k + 1]]
-    (star_start (H + 1,)), on_hull (H,) bool. Returns out, out_start (H + 1,) and counts (H,): hole k's tetrahedra are
-    out[out_start[k]:out_start[k] + counts[k]] (counts[k] 0: wrapping failed), without a list of arrays per hole."""
+    (star_start (H + 1,)); hull (H,): each probe's INTERIOR, ON_HULL or HULL_VERTEX (a bool array: ON_HULL where True).
+    Returns out, out_start (H + 1,) and counts (H,): hole k's tetrahedra are out[out_start[k]:out_start[k] + counts[k]]
+    (counts[k] 0: wrapping failed), without a list of arrays per hole. A hull vertex's wrapping gives the tetrahedra of
+    its star that remain inside the new hull; the caller checks their volume is at most the star's."""
     vertices = np.ascontiguousarray(vertices, dtype=np.int64)
     star_start = np.ascontiguousarray(star_start, dtype=np.int64)
     out_start = 2 * star_start  # room for 2S tetrahedra per hole of S boundary faces; more fails to Qhull
     out = np.empty((int(out_start[-1]), 4), dtype=np.int64)
     counts = np.zeros(vertices.shape[0], dtype=np.int64)
     run_rows(_wrap_all, vertices.shape[0] * HOLE_WEIGHT, local, tie, vertices,
-             np.ascontiguousarray(star_tets, dtype=np.int64), star_start, np.ascontiguousarray(on_hull, dtype=np.bool_),
+             np.ascontiguousarray(star_tets, dtype=np.int64), star_start, np.ascontiguousarray(hull, dtype=np.int64),
              out, out_start, counts)
     return out, out_start, counts
 
