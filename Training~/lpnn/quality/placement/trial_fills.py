@@ -10,7 +10,7 @@ regular tetrahedra of the lifted link that lie in the star — the gift wrapping
 (decimation/hole_wrap.py, ~10x faster than one Qhull call per probe); for a hull vertex the wrapping lets a face of the
 star's boundary, too, end on the new hull (hole_wrap.HULL_VERTEX: the star minus the part the hull loses). For a hole
 the wrapping could not close, or a hull vertex with a point in a face's on-plane band that would make a sliver
-(hole_wrap._sliver_in_band) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted
+(hole_wrap.SLIVER_IN_BAND) or whose wrapped refill holds one (SLIVER_RELATIVE_VOLUME), the lower hull of its lifted
 link, keeping the tetrahedra whose centroid lies in its star (the tetrahedra of Del(link) inside the star are exactly
 the refill: the star minus the part the hull loses is covered by the refill, which belongs to Del(link) too, and two
 tetrahedra of one triangulation do not overlap). Wrapping the hull vertices as well took the validation crops'
@@ -105,8 +105,7 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
     filled = np.bincount(owner, volume6, minlength=count)
     # A closed star's fill has its volume; a hull vertex's at most its volume (the hull loses the rest), and no sliver:
     # where rounding left one (collinear probes on a hull face), the wrapping and Qhull's `Qt` may pick different ones.
-    good = wrapped & np.where(extreme[position], filled <= star_volume * (1.0 + VOLUME_TOLERANCE),
-                              np.abs(filled - star_volume) <= VOLUME_TOLERANCE * star_volume)
+    good = wrapped & _volume_fits(filled, star_volume, extreme[position])
     at_vertex = np.flatnonzero(extreme[position][owner])  # the hull vertices' fills alone: a few per round
     good &= np.bincount(owner[at_vertex[_slivers(local, fill[at_vertex])]], minlength=count) == 0
     keep = good[owner]
@@ -116,13 +115,17 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
         linked = _link_fill(local, tie, int(position[k]), star)
         if linked is None:
             return None
-        volume = float(linked[1].sum())
-        if volume > star_volume[k] * (1.0 + VOLUME_TOLERANCE) or (
-                not extreme[position[k]] and abs(volume - star_volume[k]) > VOLUME_TOLERANCE * star_volume[k]):
+        if not _volume_fits(float(linked[1].sum()), star_volume[k], extreme[position[k]]):
             return None
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
     return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
+
+
+def _volume_fits(filled, star, at_vertex):
+    """Whether a refill's volume `filled` checks out against its star's `star` (arrays or numbers alike): an interior
+    star's (or one on a flat part of the hull) to VOLUME_TOLERANCE, a hull vertex's (`at_vertex`) at most the star's."""
+    return np.where(at_vertex, filled <= star * (1.0 + VOLUME_TOLERANCE), np.abs(filled - star) <= VOLUME_TOLERANCE * star)
 
 
 def _slivers(local: np.ndarray, tets: np.ndarray) -> np.ndarray:

@@ -42,7 +42,7 @@ from ...metric.tet_geometry import FLAT_RELATIVE_VOLUME  # noqa: E402
 
 ON_PLANE = 1e-9  # |dist| <= this x |n|^1.5 (a spacing^3 scale): the point lies on the face's plane
 # A hull vertex's face with no apex is a hull face unless a point of its on-plane band makes a tetrahedron is_flat keeps
-# (_sliver_in_band): this fraction of is_flat's threshold, so rounding in the two arithmetics cannot tell them apart.
+# (_kept_sliver): this fraction of is_flat's threshold, so rounding in the two arithmetics cannot tell them apart.
 SLIVER_MARGIN = 0.1
 MAX_LINK = 96  # larger links go to Qhull
 MAX_FACES = 8 * MAX_LINK  # faces a hole may register (a closed hole of d points has < 4d)
@@ -112,6 +112,7 @@ def _collect_link(star: np.ndarray, v: int, link: np.ndarray) -> int:
 
 
 DEGENERATE_FACE = -2  # _lowest_apex: the face {a, b, c} has no area
+SLIVER_IN_BAND = -3  # _lowest_apex: no apex, but a point its band skipped would make a sliver is_flat keeps
 
 # Where the probe whose hole is wrapped lies (_wrap_one's `hull`, wrap_hole_runs' `hull` codes).
 INTERIOR = 0  # inside the hull: the hole is closed
@@ -120,9 +121,27 @@ HULL_VERTEX = 2  # a vertex of the hull: a face of the star's boundary may be on
 
 
 @njit(cache=True)
-def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int) -> int:
+def _length(x: np.ndarray, i: int, j: int) -> float:
+    return np.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2 + (x[j, 2] - x[i, 2]) ** 2)
+
+
+@njit(cache=True)
+def _kept_sliver(x: np.ndarray, a: int, b: int, c: int, p: int, volume6: float) -> bool:
+    """Whether (a, b, c, p), of 6 x volume `volume6`, is a tetrahedron tet_geometry.is_flat keeps: above SLIVER_MARGIN x
+    FLAT_RELATIVE_VOLUME x the smallest product of three edges meeting at one of its corners (the product is_flat uses
+    depends on the corner listed first). A point on the face's plane up to rounding makes a flat one, which both drop."""
+    ab, ac, bc = _length(x, a, b), _length(x, a, c), _length(x, b, c)
+    ap, bp, cp = _length(x, a, p), _length(x, b, p), _length(x, c, p)
+    smallest = min(ab * ac * ap, ab * bc * bp, ac * bc * cp, ap * bp * cp)
+    return volume6 > SLIVER_MARGIN * FLAT_RELATIVE_VOLUME * smallest
+
+
+@njit(cache=True)
+def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int, band_slivers: bool) -> int:
     """The link point on the positive side of face (a, b, c) whose lifted point lies lowest above the
-    face's lifted plane (the regular-triangulation apex); -1 when none, DEGENERATE_FACE for a flat face."""
+    face's lifted plane (the regular-triangulation apex); -1 when none, DEGENERATE_FACE for a flat face.
+    band_slivers: when there is none, SLIVER_IN_BAND if a point the ON_PLANE band skipped would make with the face a
+    tetrahedron is_flat keeps (_kept_sliver)."""
     e1 = x[b] - x[a]
     e2 = x[c] - x[a]
     n0 = e1[1] * e2[2] - e1[2] * e2[1]
@@ -138,50 +157,22 @@ def _lowest_apex(x: np.ndarray, h: np.ndarray, d: int, a: int, b: int, c: int) -
     alpha, beta = (db * g22 - dc * g12) / gram, (dc * g11 - db * g12) / gram
     floor = ON_PLANE * gram ** 0.75
     best, best_key = -1, np.inf
+    sliver = False
     for p in range(d):
         if p == a or p == b or p == c:
             continue
         e30, e31, e32 = x[p, 0] - x[a, 0], x[p, 1] - x[a, 1], x[p, 2] - x[a, 2]
         distance = n0 * e30 + n1 * e31 + n2 * e32
         if distance <= floor:
+            if band_slivers and not sliver and distance >= -floor:
+                sliver = _kept_sliver(x, a, b, c, p, abs(distance))
             continue
         rise = h[p] - h[a] - alpha * (e1[0] * e30 + e1[1] * e31 + e1[2] * e32) \
             - beta * (e2[0] * e30 + e2[1] * e31 + e2[2] * e32)
         key = rise / distance
         if key < best_key:
             best, best_key = p, key
-    return best
-
-
-@njit(cache=True)
-def _length(x: np.ndarray, i: int, j: int) -> float:
-    return np.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2 + (x[j, 2] - x[i, 2]) ** 2)
-
-
-@njit(cache=True)
-def _sliver_in_band(x: np.ndarray, d: int, a: int, b: int, c: int) -> bool:
-    """Whether a link point other than a, b, c lies within _lowest_apex's ON_PLANE band of face (a, b, c)'s plane (so it
-    was skipped) yet makes with the face a tetrahedron tet_geometry.is_flat keeps: 6 x volume above SLIVER_MARGIN x
-    FLAT_RELATIVE_VOLUME x the smallest product of three edges meeting at one of its corners (the product is_flat uses
-    depends on the corner listed first). A point on the plane up to rounding makes a flat one, which both ways drop."""
-    e1 = x[b] - x[a]
-    e2 = x[c] - x[a]
-    n0 = e1[1] * e2[2] - e1[2] * e2[1]
-    n1 = e1[2] * e2[0] - e1[0] * e2[2]
-    n2 = e1[0] * e2[1] - e1[1] * e2[0]
-    floor = ON_PLANE * (n0 * n0 + n1 * n1 + n2 * n2) ** 0.75
-    ab, ac, bc = _length(x, a, b), _length(x, a, c), _length(x, b, c)
-    for p in range(d):
-        if p == a or p == b or p == c:
-            continue
-        volume6 = abs(n0 * (x[p, 0] - x[a, 0]) + n1 * (x[p, 1] - x[a, 1]) + n2 * (x[p, 2] - x[a, 2]))
-        if volume6 > floor:
-            continue
-        ap, bp, cp = _length(x, a, p), _length(x, b, p), _length(x, c, p)
-        smallest = min(ab * ac * ap, ab * bc * bp, ac * bc * cp, ap * bp * cp)
-        if volume6 > SLIVER_MARGIN * FLAT_RELATIVE_VOLUME * smallest:
-            return True
-    return False
+    return SLIVER_IN_BAND if best < 0 and sliver else best
 
 
 @njit(cache=True)
@@ -235,12 +226,10 @@ def _wrap_one(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray, hull
         here = _find_face(faces, count, a, b, c)
         if seen[here] >= 2:
             continue  # closed meanwhile
-        best = _lowest_apex(x, h, d, a, b, c)
-        if best == DEGENERATE_FACE:
-            return -1
-        if best < 0 and hull == HULL_VERTEX and _sliver_in_band(x, d, a, b, c):
-            # A point in the band _lowest_apex skips may be the apex of a sliver the lower hull keeps (its flatness is
-            # tet_geometry.is_flat's, not the band's): the caller's Qhull decides.
+        best = _lowest_apex(x, h, d, a, b, c, hull == HULL_VERTEX)
+        if best == DEGENERATE_FACE or best == SLIVER_IN_BAND:
+            # SLIVER_IN_BAND: a point in the band _lowest_apex skips may be the apex of a sliver the lower hull keeps (its
+            # flatness is tet_geometry.is_flat's, not the band's): the caller's Qhull decides.
             return -1
         if best < 0 and (hull == HULL_VERTEX or (hull == ON_HULL and head > boundary_faces)):
             seen[here] = 2  # a face of the hull: nothing on its far side
