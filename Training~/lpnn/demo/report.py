@@ -34,7 +34,7 @@ def table(result: DemoResult) -> str:
     lines = [f"{result.level}: {n:,} evaluation points at {result.capture.cell_size:g} m ({held})",
              in_use_line(result),
              "import: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()),
-             f"placement kernels compiled before timing: {result.compile_seconds:.2f} s (numba; near 0 once cached)",
+             f"import and placement kernels compiled before timing: {result.compile_seconds:.2f} s (numba; near 0 once cached)",
              "",
              f"Tolerance policy: fewest probes with mean irradiance error <= {result.tolerance:g}",
              f"{'method':<22}{'label':<36}{'probes':>8}{'% pts':>7}{'x ref':>7}{'x unif':>7}{'mean err':>10}{'p95 err':>9}"

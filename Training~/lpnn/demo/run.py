@@ -34,7 +34,6 @@ from ..quality.placement.policies import SelectionForCount, place_tolerance, pre
 from ..quality.placement.decimation.reference_fast import fast_decimation
 from ..quality.placement.leak_aware import LeakWeighting, leaks_to_avoid
 from ..quality.placement.refined_insertion import refined_insertion
-from ..quality.placement.warmup import compile_placement_kernels
 
 Log = Callable[[str], None]
 PRIMARY = DEFAULT_METHOD  # the package's default (Unity: Method = Insertion, refined): probes.json
@@ -69,7 +68,7 @@ class DemoResult:
     # the dilution by the air.
     every_point: Capture | None = None
     every_point_default: MethodResult | None = None
-    compile_seconds: float = 0.0  # numba's compilation of the placement kernels, before any method is timed
+    compile_seconds: float = 0.0  # numba's compilation of the import's and placement's kernels, before anything is timed
 
 
 def held_out_in_card(card: Any, level: str) -> bool | None:
@@ -118,7 +117,10 @@ def curve_counts(point_count: int, samples: int = 24) -> np.ndarray:
 
 
 def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str, float], held_out: bool | None,
-             tolerance: float = DEFAULT_TOLERANCE, log: Log = print, every_point: Capture | None = None) -> DemoResult:
+             tolerance: float = DEFAULT_TOLERANCE, log: Log = print, every_point: Capture | None = None,
+             compile_seconds: float = 0.0) -> DemoResult:
+    """Every method on the imported `capture`, timed. `compile_seconds`: the warm-up the caller ran before the import
+    (quality/placement/warmup.py), reported apart so that no method's time holds numba's compilation."""
     field_ = field_with_geometry(capture)  # with the level's surfaces: every method's leaks are reported
     grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
     n = capture.point_count
@@ -128,8 +130,7 @@ def run_demo(capture: Capture, level: str, scorer: Any, import_seconds: dict[str
     scores = scorer.score_capture(capture, level)
     inference = time.perf_counter() - start
     result = DemoResult(level, capture, held_out, import_seconds, scores, tolerance)
-    log("compiling the placement kernels (once per checkout; cached)")
-    result.compile_seconds = compile_placement_kernels()  # warm-up: numba compiles on a checkout's first run
+    result.compile_seconds = compile_seconds
 
     log(f"placing: {BY_NAME[PRIMARY].label} ({PRIMARY}, the package's default), tolerance {tolerance:g}")
     result.methods["insertion-refined"] = _default_placement(capture, tolerance, field_, grid)

@@ -69,12 +69,14 @@ def _nearest_among(query: np.ndarray, corners: np.ndarray, candidates: np.ndarra
     q = np.ascontiguousarray(query, dtype=np.float64)
     c = np.ascontiguousarray(corners, dtype=np.float64)
     usable = np.ascontiguousarray(allowed if use_allowed else np.zeros(1, dtype=bool))
-    rows = max(1, CHUNK_PAIRS // max(candidates.shape[1], 1))  # candidates may be a broadcast view: copy in slices
+    # Candidates may be a broadcast view: copied in slices, always writable (a one-row slice of a view is contiguous but
+    # read-only, and numba compiles read-only arrays as another type: ~1 s the warm-up would not have done).
+    rows = max(1, CHUNK_PAIRS // max(candidates.shape[1], 1))
     for start in range(0, m, rows):
         part = slice(start, min(start + rows, m))
         block = q[part]
         run_rows(nearest_among, block.shape[0] * max(1, candidates.shape[1] // 8), block, c,
-                 np.ascontiguousarray(candidates[part], dtype=np.int64), usable, use_allowed, face[part], weights[part],
+                 np.require(candidates[part], np.int64, ["C", "W"]), usable, use_allowed, face[part], weights[part],
                  anchor[part], distance[part])
     return face, weights, anchor, distance
 

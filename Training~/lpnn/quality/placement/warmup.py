@@ -1,11 +1,12 @@
-"""Compiles the default placement's kernels before anything is timed.
+"""Compiles the default placement's kernels (and, by making its room's capture, the import's) before anything is timed.
 
 numba compiles each loop on its first call in a checkout and caches the machine code (core/cache.py); a placement that
 runs first in a fresh checkout would otherwise count ~10 s of compilation as its own time (`make demo` on a fresh clone:
 the default's selection 11.8 s, 0.3 s on the second run). `compile_placement_kernels` places probes in a small
 synthetic room with the default, leak-aware through the room's own walls (leaks.md: the remembered segments' loops
-too), which calls every kernel the default calls with the same argument types, and returns the seconds it took (near 0
-once cached).
+too), and projects points onto a hull larger than the room's placement reaches, which calls every kernel the default
+calls with the same argument types (tests/quality/test_quality_warmup.py lists any it misses on a level), and returns
+the seconds it took (near 0 once cached).
 """
 
 from __future__ import annotations
@@ -17,11 +18,15 @@ import numpy as np
 from ...core.analytic_scene import AnalyticScene
 from ...core.grid import EvaluationGrid
 from ...scenes.raycast_kernel import bad_rays
+from ..metric.hull_projection import project_to_hull
 from ..metric.metric import ReferenceField
+from ..metric.triangulation import tetrahedralize
 from .refined_insertion import refined_insertion
 
 WARM_UP_TOLERANCE = 0.05
 WARM_UP_CELL = 0.5  # ~1,000 points: large enough that point location walks instead of testing every tetrahedron
+WARM_UP_HULL_PROBES = 200  # a random cloud's hull: ~100 triangles, more than SMALL_HULL_FACES
+WARM_UP_OUTSIDE_POINTS = 400  # x ~100 triangles: more pairs than WHOLE_SEARCH_PAIRS
 
 
 def compile_placement_kernels() -> float:
@@ -34,4 +39,16 @@ def compile_placement_kernels() -> float:
                       leaks=scene.raycaster)
     # The room's raycaster is analytic: the Embree raycaster's ray check, which a level's leak checks call, apart.
     bad_rays(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]))
+    _project_outside_a_hull()
     return time.perf_counter() - start
+
+
+def _project_outside_a_hull() -> None:
+    """Point location's projection onto a hull of more than SMALL_HULL_FACES triangles for more than WHOLE_SEARCH_PAIRS
+    pairs (the centroid tree, the certificate and the tie rule's loops), which the room's small placement never
+    reaches but a level's points outside the probes' hull do (hull_projection.py)."""
+    rng = np.random.default_rng(0)
+    mesh = tetrahedralize(rng.uniform(-1.0, 1.0, (WARM_UP_HULL_PROBES, 3)))
+    directions = rng.normal(size=(WARM_UP_OUTSIDE_POINTS, 3))
+    outside = 3.0 * directions / np.linalg.norm(directions, axis=1, keepdims=True)
+    project_to_hull(mesh.points, mesh.hull_faces, outside, owners=mesh.hull_face_tets)
