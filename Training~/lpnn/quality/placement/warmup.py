@@ -25,8 +25,8 @@ from .refined_insertion import refined_insertion
 
 WARM_UP_TOLERANCE = 0.05
 WARM_UP_CELL = 0.5  # ~1,000 points: large enough that point location walks instead of testing every tetrahedron
-WARM_UP_HULL_PROBES = 200  # a random cloud's hull: ~100 triangles, more than SMALL_HULL_FACES
-WARM_UP_OUTSIDE_POINTS = 400  # x ~100 triangles: more pairs than WHOLE_SEARCH_PAIRS
+WARM_UP_HULL_PROBES = 200  # a random cloud's hull: 82 triangles, more than SMALL_HULL_FACES (32)
+WARM_UP_OUTSIDE_POINTS = 400  # x 82 triangles: ~33,000 pairs, more than WHOLE_SEARCH_PAIRS (16,384)
 
 
 def compile_placement_kernels() -> float:
