@@ -15,7 +15,9 @@ only up to --refine-limit points (20,000). Writes DIR/bench.csv and per capture
 DIR/<capture>.error.png and DIR/<capture>.time.png.
 
 Captures are benchmarked side by side on --workers local processes or on the Dask cluster at --scheduler
-(lpnn/core/engine.py; the same rows, in capture order; the times are each worker's). Long runs lose nothing:
+(lpnn/core/engine.py; the same rows, in capture order; the times are each worker's). Each process first runs every
+method once on a synthetic room, not counted (quality/bench/warmup.py), so no capture's time holds numba's compilation
+or the loading of its cache. Long runs lose nothing:
 bench.csv is rewritten (atomically) as each capture finishes, a method or capture that fails (or whose
 worker keeps dying) is reported (DIR/failures.csv: capture, method, reason; and on the console) and the run
 goes on; the exit code is 1 when anything failed. The blockwise reference (an hour or more on a level of 10^5-10^6
@@ -30,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -188,7 +191,26 @@ def bench_one(task: BenchTask) -> Any:
         geometry = capture_raycaster(capture)[0]
         if geometry is None and task.config.leaks == "avoid" and task.config.wants("insertion-refined"):
             print(f"{task.path.stem}: insertion-refined: {NO_GEOMETRY}", file=sys.stderr, flush=True)
+        _warm_up_once(task.config, scorer)
         return bench_capture(task.path.stem, capture, task.config, scorer, geometry=geometry)
+
+
+_warmed_up = False  # in this process (each worker warms itself up once)
+
+
+def _warm_up_once(config: Any, scorer: Any) -> None:
+    """The first capture of a process would count numba's compilation (or the loading of its cache) and the scorer's
+    graph optimisation as its methods' time: every method runs once on a synthetic room first (placement/warmup.py)."""
+    global _warmed_up
+    if _warmed_up:
+        return
+    from ..quality.bench.warmup import warm_up_bench
+
+    start = time.perf_counter()
+    warm_up_bench(config, scorer)
+    _warmed_up = True
+    print(f"warm-up (every method on a synthetic room, not counted): {time.perf_counter() - start:.1f} s", file=sys.stderr,
+          flush=True)
 
 
 def figure_stems(files: list[Path]) -> list[str]:
