@@ -200,7 +200,8 @@ _warmed_up = False  # in this process (each worker warms itself up once)
 
 def _warm_up_once(config: Any, scorer: Any) -> None:
     """The first capture of a process would count numba's compilation (or the loading of its cache) and the scorer's
-    graph optimisation as its methods' time: every method runs once on a synthetic room first (placement/warmup.py)."""
+    graph optimisation as its methods' time: every method runs once on a synthetic room first
+    (quality/bench/warmup.py)."""
     global _warmed_up
     if _warmed_up:
         return
@@ -209,8 +210,8 @@ def _warm_up_once(config: Any, scorer: Any) -> None:
     start = time.perf_counter()
     warm_up_bench(config, scorer)
     _warmed_up = True
-    print(f"warm-up (every method on a synthetic room, not counted): {time.perf_counter() - start:.1f} s", file=sys.stderr,
-          flush=True)
+    print(f"warm-up (every method on a synthetic room, not counted): {time.perf_counter() - start:.1f} s",
+          file=sys.stderr, flush=True)
 
 
 def figure_stems(files: list[Path]) -> list[str]:

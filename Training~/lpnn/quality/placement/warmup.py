@@ -52,4 +52,3 @@ def _project_outside_a_hull() -> None:
     directions = rng.normal(size=(WARM_UP_OUTSIDE_POINTS, 3))
     outside = 3.0 * directions / np.linalg.norm(directions, axis=1, keepdims=True)
     project_to_hull(mesh.points, mesh.hull_faces, outside, owners=mesh.hull_face_tets)
-
