@@ -316,18 +316,26 @@ def tetrahedralize(world: np.ndarray, frame: Frame | None = None, ids: np.ndarra
     local = used_frame.to_local(positions)
     _check_not_duplicate(local, positions)
     _check_not_flat(local)
-    # Flat tetrahedra (vertical facets that slipped through, or Qt's in a merged facet) dropped (a crack where they were
-    # inside: module text), the rest oriented positively and inverted.
     if ids is not None and np.shape(ids) != (count,):
         raise GeometryError(f"ids need one point index per probe position ({count:,}), got shape {list(np.shape(ids))}")
-    tets, inverse, _, _ = orient_and_invert(local, numbered(lower_hull_tets(used_frame.lifted(positions)), ids))
+    return tetrahedralized_from(used_frame, positions, local, lower_hull_tets(used_frame.lifted(positions)), ids)
+
+
+def tetrahedralized_from(frame: Frame, positions: np.ndarray, local: np.ndarray, lower: np.ndarray,
+                         ids: np.ndarray | None = None) -> Tetrahedralization:
+    """tetrahedralize's answer from the lower hull's tetrahedra `lower` (T, 4) of the lifted positions (K, 3) (`local`:
+    theirs in `frame`), in any order and orientation: Qhull's, or derived by insertion (regular_insertion.py)."""
+    count = positions.shape[0]
+    # Flat tetrahedra (vertical facets that slipped through, or Qt's in a merged facet) dropped (a crack where they were
+    # inside: module text), the rest oriented positively and inverted.
+    tets, inverse, _, _ = orient_and_invert(local, numbered(lower, ids))
     used = np.zeros(count, dtype=bool)
     used[tets.reshape(-1)] = True
     if not np.all(used):
         missing = int(np.flatnonzero(~used)[0])
         raise GeometryError(f"probe {missing} at {positions[missing].tolist()} was dropped by the tetrahedralisation "
                             f"({int(np.count_nonzero(~used))} probes dropped); it is (nearly) a duplicate of another probe")
-    return _assembled(used_frame, positions, local, tets, inverse)
+    return _assembled(frame, positions, local, tets, inverse)
 
 
 def assembled(world: np.ndarray, frame: Frame, tets: np.ndarray) -> Tetrahedralization:
@@ -391,3 +399,14 @@ def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.
         inverse = edge_inverse(local, tets)
     return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,
                               inverse=inverse, hull_faces=hull_faces, hull_face_tets=hull_face_tets)
+
+
+def with_vertices_reordered(mesh: Tetrahedralization, order: np.ndarray) -> Tetrahedralization:
+    """The same tetrahedralisation with vertex i the old vertex order[i] (`order` a permutation of its vertices): the
+    same tetrahedra, rows, corner order, neighbours and hull, so the numbering and orientation by point index
+    (tet_numbering) are kept — what tetrahedralize gives the reordered positions with their point indices."""
+    position = np.empty(order.shape[0], dtype=np.int64)
+    position[order] = np.arange(order.shape[0])
+    return Tetrahedralization(frame=mesh.frame, world=mesh.world[order], points=mesh.points[order],
+                              tets=position[mesh.tets], neighbours=mesh.neighbours, inverse=mesh.inverse,
+                              hull_faces=position[mesh.hull_faces], hull_face_tets=mesh.hull_face_tets)

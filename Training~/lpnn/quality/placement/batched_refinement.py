@@ -80,7 +80,7 @@ from .leak_aware import LeakWeighting
 from ..metric.metric import MetricError, ReferenceField
 from .policies import checked_tolerance
 from .refinement_kernel import sequential_greedy
-from ..metric.triangulation import flatness
+from ..metric.triangulation import Tetrahedralization, flatness
 
 COUNT_COMMIT_FRACTION = 0.05  # down to a count: commit candidates within this quantile of the measured costs
 TOLERANCE_COMMIT_FRACTION = 0.1  # within a tolerance: the same, a larger quantile (module text)
@@ -142,14 +142,16 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
                        tolerance: float | None = None, fraction: float | None = None,
                        keep: np.ndarray | None = None, progress: Callable[[int, int], None] | None = None,
                        trace: Callable[[dict[str, Any]], None] | None = None,
-                       leaks: LeakWeighting | None = None) -> BatchedRefinement:
+                       leaks: LeakWeighting | None = None,
+                       seed_mesh: Tetrahedralization | None = None) -> BatchedRefinement:
     """Decimate `seed` (point indices or a mask, >= 4 points not in one plane) by the rounds of the module text: down
     to `count` probes, or (with `tolerance`) as far as the mean irradiance error stays <= tolerance; exactly one of
     the two. A seed whose error already exceeds the tolerance is returned as it is (stop_reason says so). `keep`:
     point indices never removed (e.g. the bounds corners a Unity volume keeps). `trace` gets every round's inputs and
     decisions (the golden file's generator certifies them: Tools~/golden/make_batched_refinement_golden.py). `progress` gets (probes removed, probes the seed has beyond the goal) after every round.
     `leaks` (leak_aware.py): every error summed — costs, tolerance, mean_error — is the leak-weighted one; its segments
-    are remembered for the whole call (a fresh memo unless `leaks` brings one: LeakWeighting.remembering)."""
+    are remembered for the whole call (a fresh memo unless `leaks` brings one: LeakWeighting.remembering). `seed_mesh`:
+    the seed's tetrahedralisation (vertex i its i-th smallest point) when the caller derived it (refined_insertion)."""
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
@@ -163,7 +165,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     start = time.perf_counter()
     if leaks is not None and leaks.visibility is None:
         leaks = leaks.remembering(field)
-    state = evaluate(field, np.flatnonzero(mask), leaks)
+    state = evaluate(field, np.flatnonzero(mask), leaks, seed_mesh)
     if tau is not None and state.error_sum > limit:  # nothing within the tolerance to start from: the caller's answer
         return BatchedRefinement(indices=state.probes.copy(), mean_error=state.error_sum / n, rounds=0,
                                  stop_reason="the seed exceeds the tolerance", seconds=time.perf_counter() - start)

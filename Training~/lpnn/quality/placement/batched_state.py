@@ -101,10 +101,12 @@ def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray |
     return Located(points=others, errors=errors, owners=owners, touched=touched, probes=indices, mesh=tri)
 
 
-def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None) -> MeshState:
-    """Every point evaluated (the seed); with a `weighting`, leaking points' errors weighted from now on."""
+def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting | None = None,
+             mesh: Tetrahedralization | None = None) -> MeshState:
+    """Every point evaluated (the seed); with a `weighting`, leaking points' errors weighted from now on. `mesh`: the
+    sorted probes' tetrahedralisation when it is known (insertion_tetrahedra.InsertionTetrahedra.of_superset)."""
     n = field.point_count
-    located = evaluated_at(field, probes, None, weighting=weighting)
+    located = evaluated_at(field, probes, None, weighting=weighting, mesh=mesh)
     owners = np.full((n, 4), -1, dtype=np.int64)
     touched = np.full((n, 4), -1, dtype=np.int64)
     owners[located.points], touched[located.points] = located.owners, located.touched

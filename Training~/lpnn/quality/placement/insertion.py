@@ -10,7 +10,8 @@ are somewhat wrong outranks one bad point), up to ceil(INSERTION_GROWTH x curren
 round; repeat until every point is a probe or exactly interpolated (the rest then follow by index). The insertion order is
 the ranking: any budget is its prefix, and the tolerance policy searches its prefixes as for every
 other ranking. One point per tetrahedron per round keeps a round's insertions spread out (each
-fixes a different cell); a round costs one tetrahedralisation and one point location, so the whole
+fixes a different cell); a round costs one tetrahedralisation (derived from the last round's: insertion_tetrahedra.py)
+and one point location, so the whole
 ranking costs about log(N / 4) / log(1 + growth) of them (~60 rounds for 1,000 points, ~1 s).
 Chosen on 8 crops of training levels (none held out; tolerance 0.05, budgets 5 and 20 %): ordering
 cells by summed rather than largest error cut the probes needed for the tolerance by 0-21 % (median
@@ -52,10 +53,12 @@ from ...core.selection import TETRAHEDRON_POINTS, ensure_tetrahedron
 from ...core.spread import farthest_point_ranking, spread_weights
 from .insertion_kernel import TIE, first_per_cell, median_deviation  # TIE: defined beside its kernel, re-exported here
 from .insertion_state import Placed, located_set, mean_error, with_inserted
+from .insertion_tetrahedra import InsertionTetrahedra
 from ..metric.metric import (PRIMARY_METRIC, MetricError, ReferenceField, checked_metric, error_floor, probe_stencil,
                              mean_placement_error, stencil_point_errors)
 from ..metric.metric_kernel import IRRADIANCE, SMAPE, run_rows
 from .pins import Pins, pinned_start
+from ..metric.triangulation import Tetrahedralization, tetrahedralize
 
 INSERTION_GROWTH = 0.1  # points inserted per round, as a fraction of the current probes (module text)
 TYPICAL_FRACTION = 0.1  # candidates of the starting tetrahedron: this fraction nearest the median lighting
@@ -270,6 +273,7 @@ class InsertionOrder:
         # from the last one, the tolerance search's mean_error from any of them.
         self._placed: list[tuple[int, Placed]] = []
         self.rounds = 0
+        self.tetrahedra = InsertionTetrahedra()  # the rounds' and the search's tetrahedralisations, derived (§5.1 step 6)
 
     @property
     def point_count(self) -> int:
@@ -288,7 +292,7 @@ class InsertionOrder:
             # insertion_batch's round, located incrementally (insertion_state.py)
             if self._placed:
                 done, placed = self._placed[-1]
-                located = with_inserted(self._field, placed, self._order[done:], self._metric)
+                located = with_inserted(self._field, placed, self._order[done:], self._metric, self.tetrahedra)
             else:
                 located = located_set(self._field, self._order, self._metric)
             self._placed = (self._placed + [(self._order.shape[0], located.placed())])[-KEPT_ROUNDS:]
@@ -317,7 +321,18 @@ class InsertionOrder:
         if not rounds or count > self._order.shape[0] or not np.array_equal(ordered, np.sort(self._order[:count])):
             return mean_placement_error(self._field, ordered, self._metric)
         done, placed = rounds[-1]
-        return mean_error(self._field, with_inserted(self._field, placed, self._order[done:count], self._metric))
+        return mean_error(self._field, with_inserted(self._field, placed, self._order[done:count], self._metric,
+                                                     self.tetrahedra))
+
+    def mesh_of(self, probes: np.ndarray) -> Tetrahedralization:
+        """The tetrahedralisation of the sorted point indices `probes` (e.g. a selection's seed), its vertex i probes[i]:
+        derived from the last kept round whose probes they all hold (InsertionTetrahedra.of_superset), else Qhull's."""
+        held = np.zeros(self._field.point_count, dtype=bool)
+        held[probes] = True
+        for _, placed in reversed(self._placed):
+            if held[placed.probes].all():
+                return self.tetrahedra.of_superset(self._field, placed.mesh, placed.probes, probes)
+        return tetrahedralize(self._field.world[probes], self._field.frame, probes)
 
     def selection(self) -> Callable[[int], np.ndarray]:
         """K -> the first K points completed to a tetrahedron (sorted), as policies.prefix_selection(grid,

@@ -31,6 +31,7 @@ import numpy as np
 
 from .batched_state import tet_keys
 from .insertion_kernel import carried_points, located_again, rows_of
+from .insertion_tetrahedra import InsertionTetrahedra
 from ..metric.location import Stencil, keep_located, locate_cells, stencils_of_cells
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.triangulation import Tetrahedralization, tetrahedralize
@@ -72,13 +73,16 @@ def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> Locat
     return _finished(field, ordered, mesh, others, stencil, metric)
 
 
-def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str) -> LocatedSet:
+def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str,
+                  tetrahedra: InsertionTetrahedra | None = None) -> LocatedSet:
     """`located` with the points `added` (none of them probes yet) made probes: walked only where needed (module
-    text)."""
+    text). `tetrahedra`: the order's InsertionTetrahedra, which derives the new tetrahedralisation from located.mesh
+    (None: Qhull)."""
     # Probes in insertion order (positions in `probes`); the tetrahedra are numbered by point index (tet_numbering),
     # as metric.probe_stencil numbers them, whatever the order.
     probes = np.concatenate([located.probes, np.asarray(added, dtype=np.int64)])
-    mesh = tetrahedralize(field.world[probes], field.frame, probes)
+    mesh = (tetrahedralize(field.world[probes], field.frame, probes) if tetrahedra is None
+            else tetrahedra.of(field, located.mesh, probes))
     ordered = np.sort(probes)
     old_keys = tet_keys(located.probes[located.mesh.tets], ordered)
     new_keys = tet_keys(probes[mesh.tets], ordered)

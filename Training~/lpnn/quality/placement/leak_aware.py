@@ -34,8 +34,10 @@ import numpy as np
 from ...core.features import Raycaster
 from ..metric.leak_rule import SegmentVisibility, stencil_leaks
 from ..metric.location import Stencil
-from ..metric.metric import MetricError, ReferenceField, checked_segments, probe_stencil, stencil_point_errors
+from ..metric.metric import MetricError, ReferenceField, checked_segments, probe_mesh, stencil_point_errors
+from ..metric.triangulation import Tetrahedralization
 from .insertion_kernel import TIE, first_per_cell
+from .insertion_tetrahedra import InsertionTetrahedra
 from .policy_rules import LEAK_CHOICES
 
 NO_GEOMETRY = ("leaks cannot be checked for this capture (the tools cannot load its geometry): the placement is the "
@@ -109,13 +111,25 @@ def _stencil_leaks(field: ReferenceField, indices: np.ndarray, others: np.ndarra
 def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
                   rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None,
                   visibility: SegmentVisibility | None = None) -> np.ndarray:
+    """leak_repaired_with_mesh's probes, each round tetrahedralised (module text of leak_repaired_with_mesh)."""
+    return leak_repaired_with_mesh(field, probes, raycaster, rounds, blocked, visibility)[0]
+
+
+def leak_repaired_with_mesh(field: ReferenceField, probes: np.ndarray, raycaster: Raycaster,
+                            rounds: int = REPAIR_ROUNDS, blocked: np.ndarray | None = None,
+                            visibility: SegmentVisibility | None = None, mesh: Tetrahedralization | None = None,
+                            tetrahedra: InsertionTetrahedra | None = None
+                            ) -> tuple[np.ndarray, Tetrahedralization | None]:
     """`probes` (point indices) plus, in each of up to `rounds` rounds, the leaking point of largest error (ties, errors
     within TIE of the largest: the lower index) of every tetrahedron some leaking point lies in (outside the hull: the
     tetrahedron owning its hull triangle). A probe at a leaking point ends that point's leak, and its tetrahedron is
     split where it leaked worst. `blocked` ((N,) bool, e.g. Pins.blocked): points that never become a probe; a leaking
     one is passed over (module text). Stops early when no point that may become a probe leaks. `visibility`: remembered
     segments of `raycaster` between the field's points (LeakWeighting.remembering), shared with the refinement that
-    follows. Sorted point indices."""
+    follows. `mesh`: the tetrahedralisation of the sorted `probes` when it is known; `tetrahedra` (the insertion order's
+    InsertionTetrahedra): each round's new probes inserted into the last round's tetrahedra instead of tetrahedralising
+    them (quality.md §5.1 step 6). Sorted point indices, and their tetrahedralisation when `tetrahedra` derived it or
+    `mesh` was it (else None)."""
     if int(rounds) < 0:
         raise MetricError(f"leak repair rounds {rounds!r} must be >= 0")
     if blocked is not None and np.shape(blocked) != (field.point_count,):
@@ -124,10 +138,11 @@ def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaste
         raise MetricError("the remembered segments must come from the raycaster the repair is given")
     current = np.sort(np.asarray(probes, dtype=np.int64))
     for _ in range(int(rounds)):
-        indices, others, stencil = probe_stencil(field, current, coherent=True)
+        indices, others, located, stencil = probe_mesh(field, current, coherent=True, mesh=mesh)
         leaking = _stencil_leaks(field, indices, others, stencil.vertices, stencil.weights, raycaster, visibility)
         if blocked is not None:
             leaking &= ~np.asarray(blocked, dtype=bool)[others]
+        mesh = located
         if not leaking.any():
             break
         errors = stencil_point_errors(field, indices, others, stencil)
@@ -136,5 +151,7 @@ def leak_repaired(field: ReferenceField, probes: np.ndarray, raycaster: Raycaste
         # light is even are round-off (~1e-15) whose last bits hang on the arithmetic's order, so an exact comparison
         # would let rounding pick the probe, and the C# core picked another (oa_koth1: quality.md §5.1).
         first = first_per_cell(cells, np.ascontiguousarray(errors[points]), int(cells.max()) + 1, TIE)
-        current = np.union1d(current, points[first])
-    return current
+        repaired = np.union1d(current, points[first])
+        mesh = None if tetrahedra is None else tetrahedra.of_superset(field, located, indices, repaired)
+        current = repaired
+    return current, mesh

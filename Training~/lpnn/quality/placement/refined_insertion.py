@@ -43,7 +43,7 @@ from ...core.grid import EvaluationGrid
 from .batched_refinement import batched_refinement
 from .insertion import InsertionOrder
 from .methods import RECOMMENDED_REFINE  # re-exported: the refined tiers' seed factor
-from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired
+from .leak_aware import LEAK_WEIGHT, REPAIR_ROUNDS, LeakWeighting, leak_repaired_with_mesh
 from ..metric.leak_rule import SegmentVisibility
 from ..metric.metric import PRIMARY_METRIC, Evaluated, MetricError, ReferenceField, evaluated
 from .pins import Pins, checked_pinned_count, pinned_smallest
@@ -128,13 +128,16 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
     selection_seconds = time.perf_counter() - start
     start = time.perf_counter()
     seed = select((seed_count if tolerance is not None else budget_seed_count)(factor, target, n))
+    # The seed's tetrahedra and the repair's, derived from the insertion rounds' (quality.md §5.1 step 6).
+    seed_mesh = order.mesh_of(seed)
     if weighting is not None:
-        seed = leak_repaired(field, seed, weighting.raycaster, repair_rounds, None if pins is None else pins.blocked,
-                             weighting.visibility)
+        seed, seed_mesh = leak_repaired_with_mesh(field, seed, weighting.raycaster, repair_rounds,
+                                                  None if pins is None else pins.blocked, weighting.visibility,
+                                                  seed_mesh, order.tetrahedra)
     evaluation = None
     if tolerance is None:
         refined = batched_refinement(field, seed, count=target, keep=keep, progress=refinement_progress,
-                                     leaks=weighting)
+                                     leaks=weighting, seed_mesh=seed_mesh)
         # With leaks the refinement's mean is the weighted one, not the metric's.
         indices = refined.indices
         if weighting is not None:
@@ -142,7 +145,7 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
         error = refined.mean_error if evaluation is None else evaluation.mean_error
     else:
         refined = batched_refinement(field, seed, tolerance=tolerance, keep=keep, progress=refinement_progress,
-                                     leaks=weighting)
+                                     leaks=weighting, seed_mesh=seed_mesh)
         assert found is not None
         # Leak-aware: the weighted tolerance met is the goal, whatever the count; else fewer probes than the search's.
         # The refinement updates its errors incrementally, locating only the points a removal touched; the metric locates

@@ -1,0 +1,465 @@
+"""A tie-broken Delaunay tetrahedralisation grown by inserting points, without Qhull (quality.md §5.1 step 6).
+
+    tets, failure = inserted_tetrahedra(mesh, local, heights, first_new)   # (T, 4) positions, or None and why
+
+Bowyer–Watson on the points lifted to |x|^2 + h (h: each point's tie height, triangulation.Frame.tie_heights): a new
+point's cavity is the tetrahedra whose lifted hyperplane it lies below, and the hull faces it lies beyond or, in a hull
+face's plane, inside that face's power circle; it is re-triangulated from the point. A vertex at infinity closes the
+hull (one "infinite" tetrahedron per hull face), so points outside the hull grow it. The lifted points are in general
+position, so the result is the unique regular triangulation of the points: the set of tetrahedra the tie-broken Qhull
+call of triangulation.tetrahedralize returns, whatever the insertion order. The C# core's Quality.RegularInsertion, the
+same steps; what differs is the undecided sign:
+
+Every sign is computed in double with a bound on its rounding (UNDECIDED_FRACTION of the determinant's permanent); a
+sign within the bound is not decided here (the C# core computes it exactly with BigInteger, which compiled Python has
+not): the derivation is refused and the caller tetrahedralises with Qhull instead. Also refused: a true lifted tie, a
+new tetrahedron that is not positively oriented, a vertex the cavity would swallow, and a starting tetrahedralisation
+that is not one closed convex surface around a manifold (a crack a dropped flat tetrahedron left, triangulation.py).
+A point walks to its cavity from the last tetrahedron made (plain double; a scan of every tetrahedron where the walk
+stops beside it). Points go in ascending point index (grid order: each walk starts near the last point), which cannot
+change the answer, only the walks' length.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...core.cache import use_project_cache_for_numba
+from . import exact_predicates
+from .triangulation import HULL, Tetrahedralization
+
+use_project_cache_for_numba()
+from numba import njit, objmode  # noqa: E402  (after the cache folder is chosen)
+
+UNDECIDED_FRACTION = 1e-12  # a determinant within this x its permanent of 0 is not decided in double (C#: exactly)
+INFINITE = -1  # slot 3 of a hull face's infinite tetrahedron
+
+# Why a derivation was refused (kernel status codes; FAILURES names them).
+DONE, TIE, NO_CONFLICT, NOT_POSITIVE, NO_WAY_BACK, UNPAIRED, VANISHED, NOT_CLOSED, NOT_CONVEX = range(9)
+FAILURES = {
+    TIE: "a true tie (lifted points on one hyperplane)",
+    NO_CONFLICT: "no tetrahedron in conflict with the point",
+    NOT_POSITIVE: "a new tetrahedron flat or negative (the cavity not star-shaped)",
+    NO_WAY_BACK: "no way back from outside the cavity",
+    UNPAIRED: "a new face unpaired",
+    VANISHED: "a vertex would vanish",
+    NOT_CLOSED: "the starting tetrahedra not a closed manifold (a crack, or a face of three tetrahedra)",
+    NOT_CONVEX: "the starting hull not convex, or in pieces",
+}
+
+
+@njit(cache=True)
+def _orient(local, a, b, c, d):
+    """det[b - a, c - a, d - a] and its permanent (the sum of its expansion's absolute products)."""
+    ux, uy, uz = local[b, 0] - local[a, 0], local[b, 1] - local[a, 1], local[b, 2] - local[a, 2]
+    vx, vy, vz = local[c, 0] - local[a, 0], local[c, 1] - local[a, 1], local[c, 2] - local[a, 2]
+    wx, wy, wz = local[d, 0] - local[a, 0], local[d, 1] - local[a, 1], local[d, 2] - local[a, 2]
+    det = ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx)
+    permanent = (abs(ux) * (abs(vy * wz) + abs(vz * wy)) + abs(uy) * (abs(vz * wx) + abs(vx * wz))
+                 + abs(uz) * (abs(vx * wy) + abs(vy * wx)))
+    return det, permanent
+
+
+# The exact signs (exact_predicates, plain Python) through object mode: each in its own compiled function, as numba
+# cannot lower an object-mode block inside branches that reassign its output.
+@njit(cache=True)
+def _exact_orient(local, a, b, c, d):
+    with objmode(sign="int64"):
+        sign = exact_predicates.orient_sign(local, a, b, c, d)
+    return sign
+
+
+@njit(cache=True)
+def _exact_power(local, height, a, b, c, d, p):
+    with objmode(sign="int64"):
+        sign = exact_predicates.power_sign(local, height, a, b, c, d, p)
+    return sign
+
+
+@njit(cache=True)
+def _exact_power_in_plane(local, height, a, b, c, p):
+    with objmode(sign="int64"):
+        sign = exact_predicates.power_in_plane_sign(local, height, a, b, c, p)
+    return sign
+
+
+@njit(cache=True)
+def _orient_sign(local, a, b, c, d):
+    """The exact sign of det[b - a, c - a, d - a]: the double one where it is decided, 0 where every product of the
+    expansion is 0 (points in one axis-aligned plane), else computed exactly (exact_predicates)."""
+    det, permanent = _orient(local, a, b, c, d)
+    if abs(det) > UNDECIDED_FRACTION * permanent:
+        return 1 if det > 0.0 else -1
+    if permanent == 0.0:
+        return 0
+    return _exact_orient(local, a, b, c, d)
+
+
+@njit(cache=True)
+def _lifted_row(m, r, local, height, q, o):
+    """Row r of m: point q about point o, lifted (|q - o|^2 plus the difference of their tie heights)."""
+    dx, dy, dz = local[q, 0] - local[o, 0], local[q, 1] - local[o, 1], local[q, 2] - local[o, 2]
+    m[r, 0], m[r, 1], m[r, 2] = dx, dy, dz
+    m[r, 3] = dx * dx + dy * dy + dz * dz + (height[q] - height[o])
+
+
+@njit(cache=True)
+def _determinant_sign(m):
+    """The sign of the 4 x 4 determinant m (cofactors along the first row), or 2 within its rounding (undecided)."""
+    det, permanent = 0.0, 0.0
+    for col in range(4):
+        c0 = 1 if col == 0 else 0
+        c1 = 2 if col <= 1 else 1
+        c2 = 3 if col <= 2 else 2
+        minor = (m[1, c0] * (m[2, c1] * m[3, c2] - m[2, c2] * m[3, c1])
+                 - m[1, c1] * (m[2, c0] * m[3, c2] - m[2, c2] * m[3, c0])
+                 + m[1, c2] * (m[2, c0] * m[3, c1] - m[2, c1] * m[3, c0]))
+        absolute = (abs(m[1, c0]) * (abs(m[2, c1] * m[3, c2]) + abs(m[2, c2] * m[3, c1]))
+                    + abs(m[1, c1]) * (abs(m[2, c0] * m[3, c2]) + abs(m[2, c2] * m[3, c0]))
+                    + abs(m[1, c2]) * (abs(m[2, c0] * m[3, c1]) + abs(m[2, c1] * m[3, c0])))
+        det += (1.0 if col % 2 == 0 else -1.0) * m[0, col] * minor
+        permanent += abs(m[0, col]) * absolute
+    if abs(det) > UNDECIDED_FRACTION * permanent:
+        return 1 if det > 0.0 else -1
+    return 2
+
+
+@njit(cache=True)
+def _conflict(V, local, height, m, t, p):
+    """+1: p is in conflict with tetrahedron t (in its cavity), -1: not, 0: a true tie (p cospherical with t's corners in
+    the lifted sense, which the tie heights exclude)."""
+    a, b, c, d = V[t, 0], V[t, 1], V[t, 2], V[t, 3]
+    if d != INFINITE:  # below the lifted hyperplane of the positively oriented (a, b, c, d): a negative determinant
+        _lifted_row(m, 0, local, height, a, p)
+        _lifted_row(m, 1, local, height, b, p)
+        _lifted_row(m, 2, local, height, c, p)
+        _lifted_row(m, 3, local, height, d, p)
+        sign = _determinant_sign(m)
+        if sign == 2:
+            sign = _exact_power(local, height, a, b, c, d, p)
+        return -sign
+    side = _orient_sign(local, a, b, c, p)
+    if side != 0:
+        return side  # beyond the hull face (+1) or inside (-1)
+    # In the hull face's plane: inside its power circle (the lifted determinant of b - a, c - a, p - a and the normal).
+    _lifted_row(m, 0, local, height, b, a)
+    _lifted_row(m, 1, local, height, c, a)
+    _lifted_row(m, 2, local, height, p, a)
+    m[3, 0] = m[0, 1] * m[1, 2] - m[0, 2] * m[1, 1]
+    m[3, 1] = m[0, 2] * m[1, 0] - m[0, 0] * m[1, 2]
+    m[3, 2] = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
+    m[3, 3] = 0.0
+    sign = _determinant_sign(m)
+    if sign == 2:
+        sign = _exact_power_in_plane(local, height, a, b, c, p)
+    return sign
+
+
+@njit(cache=True)
+def _slot_of(N, t, neighbour):
+    for s in range(4):
+        if N[t, s] == neighbour:
+            return s
+    return -1
+
+
+@njit(cache=True)
+def _other_two(V, t, i, j):
+    """The two vertices of t other than slots i and j (one may be INFINITE), ascending, as one int64 key."""
+    x, y = -2, -2
+    for s in range(4):
+        if s != i and s != j:
+            if x == -2:
+                x = V[t, s]
+            else:
+                y = V[t, s]
+    lo, hi = min(x, y) + 1, max(x, y) + 1
+    return (lo << 32) | hi
+
+
+@njit(cache=True)
+def _grown(V, N, alive, mark, free, need):
+    """The structure's arrays with room for `need` tetrahedra."""
+    size = max(need, 2 * V.shape[0])
+    V2 = np.full((size, 4), -3, dtype=np.int64)
+    N2 = np.full((size, 4), -3, dtype=np.int64)
+    alive2 = np.zeros(size, dtype=np.bool_)
+    mark2 = np.full(size, -1, dtype=np.int64)
+    free2 = np.empty(size, dtype=np.int64)
+    V2[:V.shape[0]] = V
+    N2[:N.shape[0]] = N
+    alive2[:alive.shape[0]] = alive
+    mark2[:mark.shape[0]] = mark
+    free2[:free.shape[0]] = free
+    return V2, N2, alive2, mark2, free2
+
+
+@njit(cache=True)
+def _pair_by_keys(keys, owners, slots, N):
+    """Links the (tetrahedron, slot) pairs whose keys are equal, two by two; False unless every key occurs twice."""
+    order = np.argsort(keys, kind="mergesort")
+    if order.shape[0] % 2:
+        return False
+    for k in range(0, order.shape[0], 2):
+        i, j = order[k], order[k + 1]
+        if keys[i] != keys[j] or (k + 2 < order.shape[0] and keys[order[k + 2]] == keys[i]):
+            return False
+        N[owners[i], slots[i]] = owners[j]
+        N[owners[j], slots[j]] = owners[i]
+    return True
+
+
+@njit(cache=True)
+def _outward_face(V, t, s):
+    """The face of finite t opposite slot s, ordered so that t's fourth vertex is on its negative side."""
+    v0, v1, v2, v3 = V[t, 0], V[t, 1], V[t, 2], V[t, 3]
+    if s == 0:
+        return v1, v2, v3
+    if s == 1:
+        return v0, v3, v2
+    if s == 2:
+        return v0, v1, v3
+    return v0, v2, v1
+
+
+@njit(cache=True)
+def _assemble(tets, neighbours, local, vertex_count, capacity):
+    """The structure of a tetrahedralisation (positively oriented tets, their neighbours with HULL across hull faces) with
+    one infinite tetrahedron per hull face: (status, V, N, count)."""
+    T = tets.shape[0]
+    V = np.full((capacity, 4), -3, dtype=np.int64)
+    N = np.full((capacity, 4), -3, dtype=np.int64)
+    used = np.zeros(vertex_count, dtype=np.bool_)
+    hull_faces = 0
+    for t in range(T):
+        for s in range(4):
+            V[t, s] = tets[t, s]
+            used[tets[t, s]] = True
+            nb = neighbours[t, s]
+            if nb >= 0:
+                N[t, s] = nb
+            elif nb == HULL:
+                hull_faces += 1
+            else:
+                return NOT_CLOSED, V, N, 0
+    for v in range(vertex_count):
+        if not used[v]:
+            return NOT_CLOSED, V, N, 0
+    count = T
+    keys = np.empty(3 * hull_faces, dtype=np.int64)
+    owners = np.empty(3 * hull_faces, dtype=np.int64)
+    slots = np.empty(3 * hull_faces, dtype=np.int64)
+    k = 0
+    for t in range(T):
+        for s in range(4):
+            if neighbours[t, s] != HULL:
+                continue
+            a, b, c = _outward_face(V, t, s)
+            h = count
+            count += 1
+            V[h, 0], V[h, 1], V[h, 2], V[h, 3] = a, b, c, INFINITE
+            N[h, 3] = t
+            N[t, s] = h
+            for e in range(3):
+                keys[k], owners[k], slots[k] = _other_two(V, h, 3, e), h, e
+                k += 1
+    if not _pair_by_keys(keys, owners, slots, N):
+        return NOT_CLOSED, V, N, 0
+    # Convex: across every hull edge the other face's far corner is not beyond this face's plane; one surface.
+    if hull_faces == 0:
+        return NOT_CONVEX, V, N, 0
+    seen = np.zeros(count, dtype=np.bool_)
+    queue = np.empty(hull_faces, dtype=np.int64)
+    queue[0], seen[T] = T, True
+    head, tail = 0, 1
+    while head < tail:
+        h = queue[head]
+        head += 1
+        for e in range(3):
+            other = N[h, e]
+            far = V[other, _slot_of(N, other, h)]
+            if far == INFINITE:
+                return NOT_CLOSED, V, N, 0
+            if _orient_sign(local, V[h, 0], V[h, 1], V[h, 2], far) > 0:  # beyond the face's plane
+                return NOT_CONVEX, V, N, 0
+            if not seen[other]:
+                seen[other] = True
+                queue[tail] = other
+                tail += 1
+    if tail != hull_faces:
+        return NOT_CONVEX, V, N, 0
+    return DONE, V, N, count
+
+
+@njit(cache=True)
+def _locate(V, N, alive, count, local, last, p):
+    """A tetrahedron holding p or, outside the hull, an infinite one whose face p lies beyond: a walk across the faces p
+    lies beyond (plain double), from `last`; -1 when it does not end."""
+    t = last
+    if not alive[t]:
+        t = 0
+        while t < count and not alive[t]:
+            t += 1
+    if V[t, 3] == INFINITE:
+        t = N[t, 3]
+    limit = 4 * count + 64
+    for step in range(limit):
+        if V[t, 3] == INFINITE:
+            return t
+        nxt = -1
+        for k in range(4):
+            s = (k + step) & 3  # rotating the first face tried keeps a walk from cycling
+            a = p if s == 0 else V[t, 0]
+            b = p if s == 1 else V[t, 1]
+            c = p if s == 2 else V[t, 2]
+            d = p if s == 3 else V[t, 3]
+            det, _ = _orient(local, a, b, c, d)
+            if det < 0.0:
+                nxt = N[t, s]
+                break
+        if nxt < 0:
+            return t
+        t = nxt
+    return -1
+
+
+@njit(cache=True)
+def _insert_all(V, N, count, local, height, order):
+    """Inserts the vertices `order` one by one (module text): (status, failing vertex, V, N, count)."""
+    capacity = V.shape[0]
+    alive = np.zeros(capacity, dtype=np.bool_)
+    alive[:count] = True
+    mark = np.full(capacity, -1, dtype=np.int64)
+    free = np.empty(capacity, dtype=np.int64)
+    free_top = 0
+    kept = np.full(local.shape[0], -1, dtype=np.int64)
+    m = np.empty((4, 4))
+    cavity = np.empty(64, dtype=np.int64)
+    boundary_t = np.empty(64, dtype=np.int64)
+    boundary_s = np.empty(64, dtype=np.int64)
+    last = 0
+    for stamp in range(order.shape[0]):
+        p = order[stamp]
+        start = _locate(V, N, alive, count, local, last, p)
+        if start >= 0:
+            if _conflict(V, local, height, m, start, p) != 1:
+                start = -1
+        if start < 0:  # the walk stopped beside the point (within rounding of a face): scan for any conflict
+            for t in range(count):
+                if alive[t] and _conflict(V, local, height, m, t, p) == 1:
+                    start = t
+                    break
+        if start < 0:
+            return NO_CONFLICT, p, V, N, count
+        size = 1
+        cavity[0] = start
+        mark[start] = stamp
+        boundary = 0
+        k = 0
+        while k < size:
+            t = cavity[k]
+            k += 1
+            for j in range(4):
+                u = N[t, j]
+                if mark[u] == stamp:
+                    continue
+                state = _conflict(V, local, height, m, u, p)
+                if state == 0:
+                    return TIE, p, V, N, count
+                if state > 0:
+                    mark[u] = stamp
+                    if size == cavity.shape[0]:
+                        cavity = np.concatenate((cavity, np.empty(size, dtype=np.int64)))
+                    cavity[size] = u
+                    size += 1
+        for i in range(size):
+            t = cavity[i]
+            for j in range(4):
+                if mark[N[t, j]] != stamp:
+                    if boundary == boundary_t.shape[0]:
+                        boundary_t = np.concatenate((boundary_t, np.empty(boundary, dtype=np.int64)))
+                        boundary_s = np.concatenate((boundary_s, np.empty(boundary, dtype=np.int64)))
+                    boundary_t[boundary], boundary_s[boundary] = t, j
+                    boundary += 1
+        # Room for the new tetrahedra beyond the free ones.
+        if count + boundary > capacity:
+            V, N, alive, mark, free = _grown(V, N, alive, mark, free, count + boundary + 64)
+            capacity = V.shape[0]
+        made = np.empty(boundary, dtype=np.int64)
+        keys = np.empty(3 * boundary, dtype=np.int64)
+        owners = np.empty(3 * boundary, dtype=np.int64)
+        slots = np.empty(3 * boundary, dtype=np.int64)
+        for b in range(boundary):
+            t, j = boundary_t[b], boundary_s[b]
+            if free_top > 0:
+                free_top -= 1
+                fresh = free[free_top]
+            else:
+                fresh = count
+                count += 1
+            alive[fresh] = True
+            mark[fresh] = -1
+            for s in range(4):
+                V[fresh, s] = V[t, s]
+            V[fresh, j] = p
+            if V[fresh, 3] != INFINITE and _orient_sign(local, V[fresh, 0], V[fresh, 1], V[fresh, 2], V[fresh, 3]) != 1:
+                return NOT_POSITIVE, p, V, N, count
+            outside = N[t, j]
+            N[fresh, j] = outside
+            back = _slot_of(N, outside, t)
+            if back < 0:
+                return NO_WAY_BACK, p, V, N, count
+            N[outside, back] = fresh
+            made[b] = fresh
+            e = 0
+            for s in range(4):
+                if s != j:
+                    keys[3 * b + e], owners[3 * b + e], slots[3 * b + e] = _other_two(V, fresh, j, s), fresh, s
+                    e += 1
+        if not _pair_by_keys(keys, owners, slots, N):
+            return UNPAIRED, p, V, N, count
+        # Every vertex of the cavity must stay one (a regular triangulation may otherwise hide it).
+        for b in range(boundary):
+            for s in range(4):
+                if V[made[b], s] >= 0:
+                    kept[V[made[b], s]] = stamp
+        for i in range(size):
+            t = cavity[i]
+            for s in range(4):
+                if V[t, s] >= 0 and kept[V[t, s]] != stamp:
+                    return VANISHED, p, V, N, count
+            alive[t] = False
+            free[free_top] = t
+            free_top += 1
+        last = made[0]
+    finite = 0
+    for t in range(count):
+        if alive[t] and V[t, 3] != INFINITE:
+            finite += 1
+    out = np.empty((finite, 4), dtype=np.int64)
+    k = 0
+    for t in range(count):
+        if alive[t] and V[t, 3] != INFINITE:
+            out[k] = V[t]
+            k += 1
+    return DONE, -1, out, N, count
+
+
+def inserted_tetrahedra(mesh: Tetrahedralization, local: np.ndarray, heights: np.ndarray, order: np.ndarray
+                        ) -> tuple[np.ndarray | None, str | None]:
+    """The tetrahedra (T, 4, positions 0..P-1, positively oriented, in no particular order) of `mesh`'s probes (the first
+    mesh.point_count positions) and the new vertices `order` (positions, inserted in that order), or (None, why) when
+    the derivation is refused (module text). `local` (P, 3) and `heights` (P,): every position's local coordinates and
+    tie height, as triangulation.tetrahedralize lifts them."""
+    local = np.ascontiguousarray(local, dtype=np.float64)
+    heights = np.ascontiguousarray(heights, dtype=np.float64)
+    tets = np.ascontiguousarray(mesh.tets, dtype=np.int64)
+    capacity = 2 * tets.shape[0] + 8 * (local.shape[0] - mesh.point_count) + 4 * mesh.hull_faces.shape[0] + 64
+    status, V, N, count = _assemble(tets, np.ascontiguousarray(mesh.neighbours, dtype=np.int64), local,
+                                    mesh.point_count, capacity)
+    if status != DONE:
+        return None, FAILURES[status]
+    status, vertex, out, _, _ = _insert_all(V, N, count, local, heights, np.ascontiguousarray(order, dtype=np.int64))
+    if status != DONE:
+        return None, f"{FAILURES[status]} (vertex {vertex})"
+    return out, None

@@ -1,0 +1,207 @@
+"""Tetrahedra derived by inserting points (metric/regular_insertion.py, its exact signs, placement/insertion_tetrahedra.py):
+the set Qhull's tie-broken tetrahedralisation gives, numbered alike, wherever the derivation is not refused."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from lpnn.core.capture import Capture
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.metric import exact_predicates
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.metric.regular_insertion import UNDECIDED_FRACTION, _orient, _orient_sign, inserted_tetrahedra
+from lpnn.quality.metric.triangulation import (Frame, tetrahedralize, tetrahedralized_from, with_vertices_reordered)
+from lpnn.quality.placement import insertion_tetrahedra as module
+from lpnn.quality.placement.insertion import InsertionOrder
+from lpnn.quality.placement.insertion_tetrahedra import MAX_RESYNCS
+from lpnn.quality.placement.leak_aware import leak_repaired, leak_repaired_with_mesh
+
+from quality_support import WALLED, box_grid, room_capture
+
+
+def _derived_and_qhulls(world: np.ndarray, first: int):
+    """The tetrahedralisation of all of `world` derived from that of its first `first` rows, and Qhull's."""
+    frame = Frame.for_points(world)
+    ids = np.arange(world.shape[0])
+    start = tetrahedralize(world[:first], frame, ids[:first])
+    local = frame.to_local(world)
+    tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(first, world.shape[0]))
+    assert refusal is None, refusal
+    return tetrahedralized_from(frame, world, local, tets, ids), tetrahedralize(world, frame, ids)
+
+
+def _lattice(spacing: float, offset: float, seed: int) -> np.ndarray:
+    """A 9 x 8 x 6 lattice in random order, stored in float32 as captures store positions (a lattice's ties: points on
+    shared faces and cospherical sets, which only the tie heights break)."""
+    world = box_grid(9, 8, 6, spacing) + offset
+    return world.astype(np.float32).astype(np.float64)[np.random.default_rng(seed).permutation(world.shape[0])]
+
+
+@pytest.mark.parametrize("spacing, offset", [(1.0, 0.0), (1e-4, 0.0), (1e4, 0.0), (0.5, 1e4), (1.626, -3.3e3)])
+def test_a_lattice_grown_by_insertion_has_qhulls_tetrahedra_at_any_scale_and_far_from_the_origin(spacing: float,
+                                                                                               offset: float) -> None:
+    world = _lattice(spacing, offset, seed=4)
+    for first in (5, 40):  # nearly every point outside the first hull, then most of them
+        derived, qhull = _derived_and_qhulls(world, first)
+        np.testing.assert_array_equal(derived.tets, qhull.tets)
+        np.testing.assert_array_equal(derived.neighbours, qhull.neighbours)
+
+
+def test_a_random_cloud_grown_from_its_middle_outwards_has_qhulls_tetrahedra() -> None:
+    rng = np.random.default_rng(7)
+    world = rng.normal(size=(1500, 3))
+    world = world[np.argsort(np.linalg.norm(world, axis=1))]  # every new point outside the hull so far
+    derived, qhull = _derived_and_qhulls(world, 20)
+    np.testing.assert_array_equal(derived.tets, qhull.tets)
+
+
+def test_a_starting_hull_that_is_not_exactly_convex_is_refused_and_growing_from_fewer_points_gives_qhulls() -> None:
+    """Qhull's tetrahedra of 300 of these float32 lattice points have a hull vertex beyond another hull face's plane (by
+    rounding, checked exactly here): not a regular triangulation to grow. Grown from 5 points instead, the whole set's
+    tetrahedra are Qhull's again."""
+    world = _lattice(1.626, -3.3e3, seed=4)
+    frame = Frame.for_points(world)
+    start = tetrahedralize(world[:300], frame, np.arange(300))
+    local = frame.to_local(world)
+    beyond = [v for face in start.hull_faces for v in np.unique(start.hull_faces)
+              if exact_predicates.orient_sign(start.points, face[0], face[1], face[2], v) > 0]
+    assert beyond  # hull faces are counter-clockwise seen from outside: > 0 is beyond
+    tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(300, world.shape[0]))
+    assert tets is None and "not convex" in refusal
+    derived, qhull = _derived_and_qhulls(world, 5)
+    np.testing.assert_array_equal(derived.tets, qhull.tets)
+
+
+def test_a_crack_in_the_starting_tetrahedra_is_refused_not_derived() -> None:
+    world = _lattice(1.0, 0.0, seed=1)
+    frame = Frame.for_points(world)
+    start = tetrahedralize(world[:100], frame, np.arange(100))
+    cracked = type(start)(**{**start.__dict__, "neighbours": np.where(start.neighbours == start.neighbours.max(), -2,
+                                                                       start.neighbours)})
+    tets, refusal = inserted_tetrahedra(cracked, frame.to_local(world), frame.tie_heights(world), np.arange(100, 200))
+    assert tets is None and "closed manifold" in refusal
+
+
+def _integer_det(rows: list[list[int]]) -> int:
+    """Leibniz's formula in Python integers: an exact determinant computed independently of exact_predicates."""
+    size = len(rows)
+    total = 0
+    for permutation in itertools.permutations(range(size)):
+        inversions = sum(1 for i in range(size) for j in range(i + 1, size) if permutation[i] > permutation[j])
+        product = 1
+        for r, c in enumerate(permutation):
+            product *= rows[r][c]
+        total += -product if inversions % 2 else product
+    return total
+
+
+def _sign(value: int) -> int:
+    return (value > 0) - (value < 0)
+
+
+def test_signs_the_doubles_cannot_decide_are_exact() -> None:
+    """Points on a tilted plane or one unit of 2^-45 off it, coordinates up to 2^44 units (exact doubles, but their
+    products are not): the double evaluation is within its rounding bound, and the sign comes from the exact path."""
+    unit = 2.0 ** -45
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        b, c = rng.integers(-2**44, 2**44, 3), rng.integers(-2**44, 2**44, 3)
+        d = b + c + rng.integers(-1, 2, 3) * np.array([0, 0, 1])  # on the plane of 0, b, c, or one unit off it
+        points = np.array([[0, 0, 0], b, c, d], dtype=np.int64)
+        local = points.astype(np.float64) * unit
+        det, permanent = _orient(local, 0, 1, 2, 3)
+        assert abs(det) <= UNDECIDED_FRACTION * permanent  # undecided in double
+        expected = _sign(_integer_det([list(map(int, points[k] - points[0])) for k in (1, 2, 3)]))
+        assert _orient_sign(local, 0, 1, 2, 3) == expected == exact_predicates.orient_sign(local, 0, 1, 2, 3)
+
+
+def test_the_exact_power_sign_is_the_integer_determinants() -> None:
+    """Lifted rows (q - p, |q - p|^2 + h(q) - h(p)) of integer coordinates and heights: the exact sign equals the
+    integer determinant's, cospherical ties (0) included."""
+    rng = np.random.default_rng(5)
+    cube = np.array(list(itertools.product([0, 2], repeat=3)), dtype=np.int64)
+    for trial in range(60):
+        points = cube[rng.choice(8, 5, replace=False)] if trial % 2 else rng.integers(-6, 7, (5, 3))
+        heights = np.zeros(5, dtype=np.int64) if trial % 3 == 0 else rng.integers(-2, 3, 5)
+        rows = [list(map(int, points[q] - points[4])) + [int(((points[q] - points[4]) ** 2).sum() + heights[q]
+                                                           - heights[4])] for q in range(4)]
+        assert exact_predicates.power_sign(points.astype(np.float64), heights.astype(np.float64), 0, 1, 2, 3, 4) == \
+            _sign(_integer_det(rows))
+
+
+def test_reordered_vertices_are_what_tetrahedralize_gives_the_reordered_points() -> None:
+    world = _lattice(0.5, 10.0, seed=2)[:200]
+    frame = Frame.for_points(world)
+    ids = np.random.default_rng(0).permutation(5000)[:200]  # point indices in no particular order
+    mesh = tetrahedralize(world, frame, ids)
+    order = np.argsort(ids)
+    again = tetrahedralize(world[order], frame, ids[order])
+    reordered = with_vertices_reordered(mesh, order)
+    for name in ("world", "points", "tets", "neighbours", "inverse", "hull_faces", "hull_face_tets"):
+        np.testing.assert_array_equal(getattr(reordered, name), getattr(again, name), err_msg=name)
+
+
+def _field_and_grid(capture: Capture) -> tuple[ReferenceField, EvaluationGrid]:
+    return ReferenceField.from_capture(capture), EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+
+
+def test_an_orders_rounds_are_derived_after_one_check_and_rank_as_qhulls_rounds(medium_capture: Capture) -> None:
+    field, grid = _field_and_grid(medium_capture)
+    derived = InsertionOrder(field, grid)
+    tetrahedralised = InsertionOrder(field, grid)
+    tetrahedralised.tetrahedra.derive = False
+    np.testing.assert_array_equal(derived.prefix(500), tetrahedralised.prefix(500))
+    made = derived.tetrahedra
+    assert made.derived >= 20 and made.tetrahedralised == 1 and made.agrees and made.resyncs == 0 and not made.refusals
+    assert tetrahedralised.tetrahedra.derived == 0
+    seed = derived.selection()(300)
+    np.testing.assert_array_equal(derived.mesh_of(seed).tets, tetrahedralize(field.world[seed], field.frame, seed).tets)
+
+
+def test_a_derivation_that_differs_takes_qhulls_answer_and_after_three_every_round_is_qhulls(
+        monkeypatch, medium_capture: Capture) -> None:
+    field, grid = _field_and_grid(medium_capture)
+    real = module.inserted_tetrahedra
+    monkeypatch.setattr(module, "inserted_tetrahedra", lambda *a: (real(*a)[0][1:], None))  # one tetrahedron short
+    order = InsertionOrder(field, grid)
+    reference = InsertionOrder(field, grid)
+    reference.tetrahedra.derive = False
+    np.testing.assert_array_equal(order.prefix(400), reference.prefix(400))  # every round Qhull's
+    made = order.tetrahedra
+    assert made.resyncs == MAX_RESYNCS and made.derived == 0 and not made.agrees
+    assert made.tetrahedralised == reference.tetrahedra.tetrahedralised  # one call a round: the check's answer is used
+
+
+def test_a_refused_round_is_tetrahedralised_and_the_next_derives_again(monkeypatch, medium_capture: Capture) -> None:
+    field, grid = _field_and_grid(medium_capture)
+    real = module.inserted_tetrahedra
+    calls = []
+
+    def every_third_refused(*arguments):
+        calls.append(1)
+        return (None, "refused for the test") if len(calls) % 3 == 0 else real(*arguments)
+
+    monkeypatch.setattr(module, "inserted_tetrahedra", every_third_refused)
+    order = InsertionOrder(field, grid)
+    reference = InsertionOrder(field, grid)
+    reference.tetrahedra.derive = False
+    np.testing.assert_array_equal(order.prefix(500), reference.prefix(500))
+    made = order.tetrahedra
+    assert made.refusals and all(r == "refused for the test" for r in made.refusals)
+    assert made.derived == len(calls) - len(made.refusals) and made.derived > 10
+
+
+def test_the_leak_repair_with_derived_tetrahedra_keeps_the_same_probes_and_gives_their_tetrahedra() -> None:
+    capture = room_capture(2, (8.0, 2.5, 3.0), 0.5)
+    field, grid = _field_and_grid(capture)
+    order = InsertionOrder(field, grid)
+    seed = order.selection()(60)
+    plain = leak_repaired(field, seed, WALLED, rounds=3)
+    repaired, mesh = leak_repaired_with_mesh(field, seed, WALLED, rounds=3, mesh=order.mesh_of(seed),
+                                             tetrahedra=order.tetrahedra)
+    assert plain.shape[0] > seed.shape[0]  # the wall makes leaks to repair
+    np.testing.assert_array_equal(repaired, plain)
+    np.testing.assert_array_equal(mesh.tets, tetrahedralize(field.world[plain], field.frame, plain).tets)
