@@ -66,8 +66,12 @@ def test_a_starting_hull_that_is_not_exactly_convex_is_refused_and_growing_from_
     frame = Frame.for_points(world)
     start = tetrahedralize(world[:300], frame, np.arange(300))
     local = frame.to_local(world)
-    beyond = [v for face in start.hull_faces for v in np.unique(start.hull_faces)
-              if exact_predicates.orient_sign(start.points, face[0], face[1], face[2], v) > 0]
+    corners = np.unique(start.hull_faces)
+    a, b, c = (start.points[start.hull_faces[:, k]] for k in range(3))
+    heights = np.einsum("fk,vfk->vf", np.cross(b - a, c - a), start.points[corners][:, None, :] - a[None])
+    near = np.argwhere(heights > -1e-9)  # clearly behind every face elsewhere; only these are decided exactly
+    beyond = [(f, v) for v, f in near
+              if exact_predicates.orient_sign(start.points, *start.hull_faces[f], corners[v]) > 0]
     assert beyond  # hull faces are counter-clockwise seen from outside: > 0 is beyond
     tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(300, world.shape[0]))
     assert tets is None and "not convex" in refusal
