@@ -22,13 +22,14 @@ from lpnn.quality.placement.leak_aware import leak_repaired, leak_repaired_with_
 from quality_support import WALLED, box_grid, room_capture
 
 
-def _derived_and_qhulls(world: np.ndarray, first: int):
+def _derived_and_qhulls(world: np.ndarray, first: int, capacity: int | None = None):
     """The tetrahedralisation of all of `world` derived from that of its first `first` rows, and Qhull's."""
     frame = Frame.for_points(world)
     ids = np.arange(world.shape[0])
     start = tetrahedralize(world[:first], frame, ids[:first])
     local = frame.to_local(world)
-    tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(first, world.shape[0]))
+    tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(first, world.shape[0]),
+                                        capacity)
     assert refusal is None, refusal
     return tetrahedralized_from(frame, world, local, tets, ids), tetrahedralize(world, frame, ids)
 
@@ -50,12 +51,23 @@ def test_a_lattice_grown_by_insertion_has_qhulls_tetrahedra_at_any_scale_and_far
         np.testing.assert_array_equal(derived.neighbours, qhull.neighbours)
 
 
-def test_a_random_cloud_grown_from_its_middle_outwards_has_qhulls_tetrahedra() -> None:
+@pytest.mark.parametrize("capacity", [None, 1])  # 1: the structure grows from the starting mesh's own size
+def test_a_random_cloud_grown_from_its_middle_outwards_has_qhulls_tetrahedra(capacity: int | None) -> None:
     rng = np.random.default_rng(7)
     world = rng.normal(size=(1500, 3))
     world = world[np.argsort(np.linalg.norm(world, axis=1))]  # every new point outside the hull so far
-    derived, qhull = _derived_and_qhulls(world, 20)
+    derived, qhull = _derived_and_qhulls(world, 20, capacity)
     np.testing.assert_array_equal(derived.tets, qhull.tets)
+
+
+@pytest.mark.parametrize("order, message", [(np.array([5, 6]), "each new position"),
+                                            (np.array([4, 4, 5, 6, 7]), "each new position")])
+def test_bad_insertion_orders_are_refused_by_name(order: np.ndarray, message: str) -> None:
+    world = np.random.default_rng(0).random((8, 3))
+    frame = Frame.for_points(world)
+    start = tetrahedralize(world[:4], frame, np.arange(4))
+    with pytest.raises(ValueError, match=message):
+        inserted_tetrahedra(start, frame.to_local(world), frame.tie_heights(world), order)
 
 
 def test_a_starting_hull_that_is_not_exactly_convex_is_refused_and_growing_from_fewer_points_gives_qhulls() -> None:
@@ -74,13 +86,13 @@ def test_a_starting_hull_that_is_not_exactly_convex_is_refused_and_growing_from_
               if exact_predicates.orient_sign(start.points, *start.hull_faces[f], corners[v]) > 0]
     assert beyond  # hull faces are counter-clockwise seen from outside: > 0 is beyond
     tets, refusal = inserted_tetrahedra(start, local, frame.tie_heights(world), np.arange(300, world.shape[0]))
-    assert tets is None and "not convex" in refusal
+    assert tets is None and refusal == "the starting hull not convex"
     derived, qhull = _derived_and_qhulls(world, 5)
     np.testing.assert_array_equal(derived.tets, qhull.tets)
 
 
 def test_a_crack_in_the_starting_tetrahedra_is_refused_not_derived() -> None:
-    world = _lattice(1.0, 0.0, seed=1)
+    world = _lattice(1.0, 0.0, seed=1)[:200]
     frame = Frame.for_points(world)
     start = tetrahedralize(world[:100], frame, np.arange(100))
     cracked = type(start)(**{**start.__dict__, "neighbours": np.where(start.neighbours == start.neighbours.max(), -2,
@@ -136,6 +148,25 @@ def test_the_exact_power_sign_is_the_integer_determinants() -> None:
             _sign(_integer_det(rows))
 
 
+def test_the_exact_power_circle_sign_is_the_integer_determinants() -> None:
+    """power_in_plane_sign's rows (q - a, lifted) for q = b, c, p and the plane's normal, in integers: the sign of the
+    integer determinant, points in one tilted plane (inside, on and outside the power circle)."""
+    rng = np.random.default_rng(6)
+    u, v = np.array([1, 2, 0]), np.array([0, 1, 3])  # the plane spanned by u and v through a
+    for _ in range(60):
+        a = rng.integers(-5, 6, 3)
+        points = np.array([a + i * u + j * v for i, j in rng.integers(-3, 4, (4, 2))], dtype=np.int64)
+        heights = rng.integers(-2, 3, 4)
+        rows = []
+        for q in (1, 2, 3):
+            d = points[q] - points[0]
+            rows.append(list(map(int, d)) + [int((d ** 2).sum() + heights[q] - heights[0])])
+        normal = np.cross(points[1] - points[0], points[2] - points[0])
+        rows.append(list(map(int, normal)) + [0])
+        assert exact_predicates.power_in_plane_sign(points.astype(np.float64), heights.astype(np.float64),
+                                                    0, 1, 2, 3) == _sign(_integer_det(rows))
+
+
 def test_reordered_vertices_are_what_tetrahedralize_gives_the_reordered_points() -> None:
     world = _lattice(0.5, 10.0, seed=2)[:200]
     frame = Frame.for_points(world)
@@ -162,7 +193,11 @@ def test_an_orders_rounds_are_derived_after_one_check_and_rank_as_qhulls_rounds(
     assert made.derived >= 20 and made.tetrahedralised == 1 and made.agrees and made.resyncs == 0 and not made.refusals
     assert tetrahedralised.tetrahedra.derived == 0
     seed = derived.selection()(300)
+    before = made.derived
     np.testing.assert_array_equal(derived.mesh_of(seed).tets, tetrahedralize(field.world[seed], field.frame, seed).tets)
+    assert made.derived == before + 1 and not made.refusals  # derived, not Qhull's
+    with pytest.raises(ValueError, match="sorted"):
+        derived.mesh_of(seed[::-1])
 
 
 def test_a_derivation_that_differs_takes_qhulls_answer_and_after_three_every_round_is_qhulls(
@@ -204,8 +239,10 @@ def test_the_leak_repair_with_derived_tetrahedra_keeps_the_same_probes_and_gives
     order = InsertionOrder(field, grid)
     seed = order.selection()(60)
     plain = leak_repaired(field, seed, WALLED, rounds=3)
-    repaired, mesh = leak_repaired_with_mesh(field, seed, WALLED, rounds=3, mesh=order.mesh_of(seed),
-                                             tetrahedra=order.tetrahedra)
+    seed_mesh = order.mesh_of(seed)
+    before = order.tetrahedra.derived
+    repaired, mesh = leak_repaired_with_mesh(field, seed, WALLED, rounds=3, mesh=seed_mesh, tetrahedra=order.tetrahedra)
     assert plain.shape[0] > seed.shape[0]  # the wall makes leaks to repair
+    assert order.tetrahedra.derived > before and not order.tetrahedra.refusals  # the repair's rounds derived
     np.testing.assert_array_equal(repaired, plain)
     np.testing.assert_array_equal(mesh.tets, tetrahedralize(field.world[plain], field.frame, plain).tets)

@@ -1,6 +1,6 @@
 """A tie-broken Delaunay tetrahedralisation grown by inserting points, without Qhull (quality.md §5.1 step 6).
 
-    tets, failure = inserted_tetrahedra(mesh, local, heights, first_new)   # (T, 4) positions, or None and why
+    tets, refusal = inserted_tetrahedra(mesh, local, heights, order)   # (T, 4) positions, or None and why
 
 Bowyer–Watson on the points lifted to |x|^2 + h (h: each point's tie height, triangulation.Frame.tie_heights): a new
 point's cavity is the tetrahedra whose lifted hyperplane it lies below, and the hull faces it lies beyond or, in a hull
@@ -8,16 +8,20 @@ face's plane, inside that face's power circle; it is re-triangulated from the po
 hull (one "infinite" tetrahedron per hull face), so points outside the hull grow it. The lifted points are in general
 position, so the result is the unique regular triangulation of the points: the set of tetrahedra the tie-broken Qhull
 call of triangulation.tetrahedralize returns, whatever the insertion order. The C# core's Quality.RegularInsertion, the
-same steps; what differs is the undecided sign:
+same steps and refusals.
 
-Every sign is computed in double with a bound on its rounding (UNDECIDED_FRACTION of the determinant's permanent); a
-sign within the bound is not decided here (the C# core computes it exactly with BigInteger, which compiled Python has
-not): the derivation is refused and the caller tetrahedralises with Qhull instead. Also refused: a true lifted tie, a
-new tetrahedron that is not positively oriented, a vertex the cavity would swallow, and a starting tetrahedralisation
-that is not one closed convex surface around a manifold (a crack a dropped flat tetrahedron left, triangulation.py).
-A point walks to its cavity from the last tetrahedron made (plain double; a scan of every tetrahedron where the walk
-stops beside it). Points go in ascending point index (grid order: each walk starts near the last point), which cannot
-change the answer, only the walks' length.
+Every sign is computed in double with a bound on its rounding (UNDECIDED_FRACTION of the determinant's permanent);
+within the bound it is computed exactly (exact_predicates.py: Python's rationals, called from the compiled code through
+numba's object mode; C#: BigInteger), so only truly coplanar points (a lattice's axis-aligned planes: every product of
+the expansion 0) or a true lifted tie count as such. Refused, so that the caller tetrahedralises with Qhull instead: a
+true lifted tie, a new tetrahedron that is not positively oriented, a vertex the cavity would swallow, a new face
+that does not pair with exactly one other (C# pairs them by a dictionary, which would not notice a fourth), and a
+starting tetrahedralisation that is not one closed convex surface around a manifold: a crack a dropped flat
+tetrahedron left (triangulation.py; any INNER_BOUNDARY neighbour), a hull face's far corner exactly beyond another's
+plane (Qhull's merged facets can leave one, by rounding), or a hull in pieces. The starting Tetrahedralization's
+orientation and flatness are tetrahedralize's own (orient_and_invert), so they are not checked again. A point walks to
+its cavity from the last tetrahedron made (plain double; a scan of every tetrahedron where the walk stops beside it).
+The caller's order cannot change the answer, only the walks' length (InsertionTetrahedra inserts in grid order).
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ UNDECIDED_FRACTION = 1e-12  # a determinant within this x its permanent of 0 is 
 INFINITE = -1  # slot 3 of a hull face's infinite tetrahedron
 
 # Why a derivation was refused (kernel status codes; FAILURES names them).
-DONE, TIE, NO_CONFLICT, NOT_POSITIVE, NO_WAY_BACK, UNPAIRED, VANISHED, NOT_CLOSED, NOT_CONVEX = range(9)
+DONE, TIE, NO_CONFLICT, NOT_POSITIVE, NO_WAY_BACK, UNPAIRED, VANISHED, NOT_CLOSED, NOT_CONVEX, DISCONNECTED = range(10)
 FAILURES = {
     TIE: "a true tie (lifted points on one hyperplane)",
     NO_CONFLICT: "no tetrahedron in conflict with the point",
@@ -44,7 +48,8 @@ FAILURES = {
     UNPAIRED: "a new face unpaired",
     VANISHED: "a vertex would vanish",
     NOT_CLOSED: "the starting tetrahedra not a closed manifold (a crack, or a face of three tetrahedra)",
-    NOT_CONVEX: "the starting hull not convex, or in pieces",
+    NOT_CONVEX: "the starting hull not convex",
+    DISCONNECTED: "the starting hull in pieces (a crack inside)",
 }
 
 
@@ -277,7 +282,10 @@ def _assemble(tets, neighbours, local, vertex_count, capacity):
         head += 1
         for e in range(3):
             other = N[h, e]
-            far = V[other, _slot_of(N, other, h)]
+            slot = _slot_of(N, other, h)
+            if slot < 0:
+                return NOT_CLOSED, V, N, 0
+            far = V[other, slot]
             if far == INFINITE:
                 return NOT_CLOSED, V, N, 0
             if _orient_sign(local, V[h, 0], V[h, 1], V[h, 2], far) > 0:  # beyond the face's plane
@@ -287,7 +295,7 @@ def _assemble(tets, neighbours, local, vertex_count, capacity):
                 queue[tail] = other
                 tail += 1
     if tail != hull_faces:
-        return NOT_CONVEX, V, N, 0
+        return DISCONNECTED, V, N, 0
     return DONE, V, N, count
 
 
@@ -445,21 +453,30 @@ def _insert_all(V, N, count, local, height, order):
     return DONE, -1, out, N, count
 
 
-def inserted_tetrahedra(mesh: Tetrahedralization, local: np.ndarray, heights: np.ndarray, order: np.ndarray
-                        ) -> tuple[np.ndarray | None, str | None]:
+def inserted_tetrahedra(mesh: Tetrahedralization, local: np.ndarray, heights: np.ndarray, order: np.ndarray,
+                        capacity: int | None = None) -> tuple[np.ndarray | None, str | None]:
     """The tetrahedra (T, 4, positions 0..P-1, positively oriented, in no particular order) of `mesh`'s probes (the first
     mesh.point_count positions) and the new vertices `order` (positions, inserted in that order), or (None, why) when
     the derivation is refused (module text). `local` (P, 3) and `heights` (P,): every position's local coordinates and
-    tie height, as triangulation.tetrahedralize lifts them."""
+    tie height, as triangulation.tetrahedralize lifts them. `capacity`: tests only, the structure's first room in
+    tetrahedra (at least the mesh's, infinite ones included; it grows as needed)."""
     local = np.ascontiguousarray(local, dtype=np.float64)
     heights = np.ascontiguousarray(heights, dtype=np.float64)
+    order = np.ascontiguousarray(order, dtype=np.int64)
+    known, total = mesh.point_count, local.shape[0]
+    if local.shape != (total, 3) or heights.shape != (total,):
+        raise ValueError(f"local {list(local.shape)} and heights {list(heights.shape)} must give all {total:,} positions")
+    if order.shape != (total - known,) or not np.array_equal(np.sort(order), np.arange(known, total)):
+        raise ValueError(f"order must hold each new position {known:,}..{total - 1:,} once, got {order.shape[0]:,} values")
     tets = np.ascontiguousarray(mesh.tets, dtype=np.int64)
-    capacity = 2 * tets.shape[0] + 8 * (local.shape[0] - mesh.point_count) + 4 * mesh.hull_faces.shape[0] + 64
+    if capacity is None:
+        capacity = 2 * tets.shape[0] + 8 * (total - known) + 4 * mesh.hull_faces.shape[0] + 64
+    capacity = max(int(capacity), tets.shape[0] + mesh.hull_faces.shape[0])
     status, V, N, count = _assemble(tets, np.ascontiguousarray(mesh.neighbours, dtype=np.int64), local,
                                     mesh.point_count, capacity)
     if status != DONE:
         return None, FAILURES[status]
-    status, vertex, out, _, _ = _insert_all(V, N, count, local, heights, np.ascontiguousarray(order, dtype=np.int64))
+    status, vertex, out, _, _ = _insert_all(V, N, count, local, heights, order)
     if status != DONE:
         return None, f"{FAILURES[status]} (vertex {vertex})"
     return out, None

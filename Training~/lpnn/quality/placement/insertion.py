@@ -327,6 +327,9 @@ class InsertionOrder:
     def mesh_of(self, probes: np.ndarray) -> Tetrahedralization:
         """The tetrahedralisation of the sorted point indices `probes` (e.g. a selection's seed), its vertex i probes[i]:
         derived from the last kept round whose probes they all hold (InsertionTetrahedra.of_superset), else Qhull's."""
+        probes = np.asarray(probes, dtype=np.int64)
+        if np.any(probes[1:] <= probes[:-1]):
+            raise ValueError("mesh_of needs sorted, distinct point indices (a selection's)")
         held = np.zeros(self._field.point_count, dtype=bool)
         held[probes] = True
         for _, placed in reversed(self._placed):

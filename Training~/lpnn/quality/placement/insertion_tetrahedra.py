@@ -8,11 +8,12 @@ Why. A whole level's insertion rounds and tolerance search made ~75 Qhull calls 
 1.5 s of its 11 s, benchmarks.md "Scale: whole levels"); inserting a round's batch into the last round's tetrahedra
 (metric/regular_insertion.py) costs a few milliseconds and gives the same tetrahedra, numbered alike (tet_numbering:
 a function of the set), so the same rounds. The C# core's InsertionTetrahedra, the same rule:
-- A derivation that is refused (regular_insertion's reasons: an undecided sign, a crack in the last round's
-  tetrahedra, ...) tetrahedralises that round; the next derives from its answer.
-- Derived rounds are compared with Qhull's answer for the same probes until one agrees. A round that differs takes
-  Qhull's answer (a re-synchronisation) and the next derives again; after MAX_RESYNCS disagreements before any
-  agreement every later round is tetrahedralised (C#: DerivationCheck.MaxResyncs).
+- A derivation that is refused (regular_insertion's reasons: a crack in the last round's tetrahedra, a starting hull
+  that is not exactly convex, a true tie, ...) tetrahedralises that round; the next derives from its answer.
+- Derived rounds are compared with Qhull's answer for the same probes until one agrees; later ones are trusted, not
+  compared (a regular triangulation is unique: where Qhull's would differ, by a facet it merged, Qhull's is the one
+  off). A round that differs takes Qhull's answer (a re-synchronisation) and the next derives again; after MAX_RESYNCS
+  disagreements before any agreement every later round is tetrahedralised (C#: DerivationCheck.MaxResyncs).
 """
 
 from __future__ import annotations
@@ -42,8 +43,10 @@ class InsertionTetrahedra:
     def of(self, field: ReferenceField, last: Tetrahedralization | None, probes: np.ndarray) -> Tetrahedralization:
         """The tetrahedralisation of `probes` (point indices: `last`'s probes, in its vertex order, then the new ones),
         numbered by point index as triangulation.tetrahedralize numbers it. `last`: the previous round's (None: none)."""
+        if last is not None and last.point_count == probes.shape[0]:  # nothing new: the same probes in the same order
+            return last
         world = field.world[probes]
-        if not self.derive or self.resyncs >= MAX_RESYNCS or last is None or last.point_count >= probes.shape[0]:
+        if not self.derive or self.resyncs >= MAX_RESYNCS or last is None:
             return self._tetrahedralized(field, world, probes)
         local = field.frame.to_local(world)
         added = np.arange(last.point_count, probes.shape[0])
@@ -68,6 +71,8 @@ class InsertionTetrahedra:
         `last`'s vertices, in its vertex order), derived from `last` as a round is (of); its vertex i is probes[i], as
         triangulation.tetrahedralize(field.world[probes], field.frame, probes) gives it (metric.probe_mesh's `mesh`)."""
         added = np.setdiff1d(probes, last_probes)
+        if probes.shape[0] != last_probes.shape[0] + added.shape[0] or np.any(probes[1:] <= probes[:-1]):
+            raise ValueError("probes must be sorted, distinct and hold every one of last_probes")
         in_order = np.concatenate([np.asarray(last_probes, dtype=np.int64), added])
         return with_vertices_reordered(self.of(field, last, in_order), np.argsort(in_order, kind="stable"))
 
