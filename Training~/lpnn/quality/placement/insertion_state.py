@@ -2,7 +2,7 @@
 other point, carried from one round to the next.
 
     located = located_set(field, probes, metric)            # every other point located (the start)
-    located = with_inserted(field, located, batch, metric)  # walked again only where a tetrahedron broke
+    located = with_inserted(field, located, batch, metric, tetrahedra)  # walked again only where a tetrahedron broke
     mean = mean_error(field, located)                        # the placement's mean error (metric.mean_placement_error)
 
 Why only there. Inserting probes re-triangulates only the tetrahedra they break (metric/triangulation.py: the tie-broken
@@ -34,7 +34,7 @@ from .insertion_kernel import carried_points, located_again, rows_of
 from .insertion_tetrahedra import InsertionTetrahedra
 from ..metric.location import Stencil, keep_located, locate_cells, stencils_of_cells
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
-from ..metric.triangulation import Tetrahedralization, tetrahedralize
+from ..metric.triangulation import Tetrahedralization
 
 
 @dataclass(frozen=True)
@@ -74,15 +74,14 @@ def located_set(field: ReferenceField, probes: np.ndarray, metric: str) -> Locat
 
 
 def with_inserted(field: ReferenceField, located: Placed, added: np.ndarray, metric: str,
-                  tetrahedra: InsertionTetrahedra | None = None) -> LocatedSet:
+                  tetrahedra: InsertionTetrahedra) -> LocatedSet:
     """`located` with the points `added` (none of them probes yet) made probes: walked only where needed (module
     text). `tetrahedra`: the order's InsertionTetrahedra, which derives the new tetrahedralisation from located.mesh
-    (None: Qhull)."""
+    (with derive=False: Qhull's)."""
     # Probes in insertion order (positions in `probes`); the tetrahedra are numbered by point index (tet_numbering),
     # as metric.probe_stencil numbers them, whatever the order.
     probes = np.concatenate([located.probes, np.asarray(added, dtype=np.int64)])
-    mesh = (tetrahedralize(field.world[probes], field.frame, probes) if tetrahedra is None
-            else tetrahedra.of(field, located.mesh, probes))
+    mesh = tetrahedra.of(field, located.mesh, probes)
     ordered = np.sort(probes)
     old_keys = tet_keys(located.probes[located.mesh.tets], ordered)
     new_keys = tet_keys(probes[mesh.tets], ordered)

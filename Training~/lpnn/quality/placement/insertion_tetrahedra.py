@@ -48,7 +48,7 @@ class InsertionTetrahedra:
         world = field.world[probes]
         if not self.derive or self.resyncs >= MAX_RESYNCS or last is None:
             return self._tetrahedralized(field, world, probes)
-        local = field.frame.to_local(world)
+        local = field.local[probes]  # the field's own frame coordinates: tetrahedralize's to_local(world), row for row
         added = np.arange(last.point_count, probes.shape[0])
         order = added[np.argsort(probes[added], kind="stable")]  # grid order: short walks (the answer is the same)
         tets, refusal = inserted_tetrahedra(last, local, field.frame.tie_heights(world), order)
