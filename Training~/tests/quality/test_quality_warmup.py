@@ -12,7 +12,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-from lpnn.quality.placement.warmup import compile_placement_kernels
+import pytest
+
+from lpnn.quality.placement import warmup
+from lpnn.quality.placement.warmup import compile_placement_kernels, partner_process
+from lpnn.quality.placement.warmup_partner import compile_late_kernels
 
 TRAINING = Path(__file__).resolve().parents[2]
 
@@ -82,6 +86,30 @@ def test_the_warm_up_runs_the_default_and_reports_its_seconds() -> None:
     again = compile_placement_kernels()
     assert math.isfinite(first) and first > 0.0
     assert 0.0 < again <= first + 0.5  # compiled (or cached) by the first call: never slower than it
+
+
+def test_the_partner_runs_the_refinement_and_a_repair_derived_by_insertion() -> None:
+    """What it must reach before the warm-up does: the refinement's rounds (from every point of the room) and the leak
+    repair's (which adds probes where the sparse seed leaks)."""
+    work = compile_late_kernels()
+    assert work.refinement_rounds > 0
+    assert work.repaired > work.repair_seed
+
+
+def test_the_partner_is_stopped_when_the_block_ends() -> None:
+    with partner_process([sys.executable, "-c", "import time; time.sleep(60)"]) as process:
+        assert process is not None and process.poll() is None
+    assert process.poll() is not None
+
+
+def test_a_failing_partner_changes_nothing_and_one_core_has_none(monkeypatch: pytest.MonkeyPatch) -> None:
+    seconds = compile_placement_kernels(partner=[sys.executable, "-c", "raise SystemExit(3)"])
+    assert math.isfinite(seconds) and seconds > 0.0
+    monkeypatch.setattr(warmup.os, "cpu_count", lambda: 1)
+    with partner_process(warmup.PARTNER_COMMAND) as process:
+        assert process is None
+    with partner_process(None) as process:
+        assert process is None
 
 
 def test_a_level_imported_and_placed_after_the_warm_up_needs_no_other_kernel_variant(openarena_pak: Path) -> None:

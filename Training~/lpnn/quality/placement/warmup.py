@@ -6,12 +6,18 @@ the default's selection 11.8 s, 0.3 s on the second run). `compile_placement_ker
 synthetic room with the default, leak-aware through the room's own walls (leaks.md: the remembered segments' loops
 too), and projects points onto a hull larger than the room's placement reaches, which calls every kernel the default
 calls with the same argument types (tests/quality/test_quality_warmup.py lists any it misses on a level), and returns
-the seconds it took (near 0 once cached).
+the seconds it took (near 0 once cached). Beside it, on the other core, a partner process compiles the kernels it reaches
+last into numba's disk cache (warmup_partner.py): on a fresh checkout the warm-up took ~46 s alone and ~26 s so.
 """
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import time
+from contextlib import contextmanager
+from typing import Iterator, Sequence
 
 import numpy as np
 
@@ -27,23 +33,49 @@ WARM_UP_TOLERANCE = 0.05
 WARM_UP_CELL = 0.5  # ~1,000 points: large enough that point location walks instead of testing every tetrahedron
 WARM_UP_HULL_PROBES = 200  # a random cloud's hull: 82 triangles, more than SMALL_HULL_FACES (32)
 WARM_UP_OUTSIDE_POINTS = 400  # x 82 triangles: ~33,000 pairs, more than WHOLE_SEARCH_PAIRS (16,384)
+PARTNER_COMMAND = (sys.executable, "-m", "lpnn.quality.placement.warmup_partner")
+PARTNER_STOP_SECONDS = 5.0  # how long a stopped partner may take to exit before it is killed
 
 
-def compile_placement_kernels() -> float:
-    """Runs the default placement once on a synthetic room; the seconds it took."""
+def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -> float:
+    """Runs the default placement once on a synthetic room; the seconds it took. `partner`: the command of the process
+    compiling the late kernels beside it (module text; None: none)."""
     start = time.perf_counter()
-    scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
-    capture = scene.capture(name="warm-up")
-    field = ReferenceField.from_capture(capture)
-    refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), tolerance=WARM_UP_TOLERANCE,
-                      leaks=scene.raycaster)
-    # The room's raycaster is analytic: the Embree raycaster's ray check, which a level's leak checks call, apart.
-    bad_rays(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]))
-    _project_outside_a_hull()
+    with partner_process(partner):
+        scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
+        capture = scene.capture(name="warm-up")
+        field = ReferenceField.from_capture(capture)
+        refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids),
+                          tolerance=WARM_UP_TOLERANCE, leaks=scene.raycaster)
+        # The room's raycaster is analytic: the Embree raycaster's ray check, which a level's leak checks call, apart.
+        bad_rays(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]))
+        project_outside_a_hull()
     return time.perf_counter() - start
 
 
-def _project_outside_a_hull() -> None:
+@contextmanager
+def partner_process(command: Sequence[str] | None) -> Iterator[subprocess.Popen | None]:
+    """`command` running beside the block (its output discarded), stopped when the block ends: by then the warm-up has
+    called every kernel itself, so whatever the partner is still compiling is not needed, and a partner that failed
+    cost nothing but its core. None (no process) without a command or on a single core, where the two would share it."""
+    if command is None or (os.cpu_count() or 1) < 2:
+        yield None
+        return
+    process = subprocess.Popen(list(command), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    try:
+        yield process
+    finally:
+        if process.poll() is None:
+            process.terminate()
+            try:
+                process.wait(timeout=PARTNER_STOP_SECONDS)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def project_outside_a_hull() -> None:
     """Point location's projection onto a hull of more than SMALL_HULL_FACES triangles for more than WHOLE_SEARCH_PAIRS
     pairs (the centroid tree, the certificate and the tie rule's loops), which the room's small placement never
     reaches but a level's points outside the probes' hull do (hull_projection.py)."""

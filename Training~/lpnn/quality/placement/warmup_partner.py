@@ -1,0 +1,54 @@
+"""The warm-up's partner: a second process that compiles, first, the kernels the warm-up reaches last.
+
+numba compiles on one core, and the warm-up (warmup.compile_placement_kernels) reaches its kernels one after the other:
+the import's, insertion's rounds and tolerance search, the leak repair, the batched refinement, the hull projection. On a
+fresh checkout that took ~45 s on two cores, one of them idle. This process, started beside it on the other core, runs
+the same synthetic room's hull projection, a leak-weighted batched refinement from every point and a leak repair whose
+rounds are derived by insertion. Each kernel it compiles lands in numba's disk cache (core/cache.py), where the warm-up,
+reaching it later, loads it instead of compiling it (numba writes its cache files by rename: two processes may share
+it). The warm-up still calls every kernel itself, so what it compiles does not depend on this process, which it stops
+once it is done (`python -m lpnn.quality.placement.warmup_partner`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...core.analytic_scene import AnalyticScene
+from ..metric.metric import ReferenceField
+from ..metric.triangulation import tetrahedralize
+from .batched_refinement import batched_refinement
+from .insertion_tetrahedra import InsertionTetrahedra
+from .leak_aware import LeakWeighting, leak_repaired_with_mesh
+from .warmup import WARM_UP_CELL, WARM_UP_TOLERANCE, project_outside_a_hull
+
+REPAIR_SEED_STRIDE = 7  # the repair starts from every 7th point of the room: sparse enough that some points leak
+
+
+@dataclass(frozen=True)
+class PartnerWork:
+    """What the partner ran (its tests check that it reached the refinement's rounds and the repair's)."""
+
+    refinement_rounds: int
+    repair_seed: int
+    repaired: int
+
+
+def compile_late_kernels() -> PartnerWork:
+    """The warm-up's last stages on its room, in reverse order (module text)."""
+    scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
+    field = ReferenceField.from_capture(scene.capture(name="warm-up"))
+    project_outside_a_hull()
+    refined = batched_refinement(field, np.arange(field.point_count), tolerance=WARM_UP_TOLERANCE,
+                                 leaks=LeakWeighting(scene.raycaster))
+    seed = np.arange(0, field.point_count, REPAIR_SEED_STRIDE)
+    mesh = tetrahedralize(field.world[seed], field.frame, seed)
+    repaired, _ = leak_repaired_with_mesh(field, seed, scene.raycaster, mesh=mesh, tetrahedra=InsertionTetrahedra())
+    return PartnerWork(refinement_rounds=refined.rounds, repair_seed=int(seed.shape[0]),
+                       repaired=int(repaired.shape[0]))
+
+
+if __name__ == "__main__":
+    compile_late_kernels()
