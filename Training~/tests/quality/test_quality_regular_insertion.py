@@ -4,6 +4,7 @@ the set Qhull's tie-broken tetrahedralisation gives, numbered alike, wherever th
 from __future__ import annotations
 
 import itertools
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -102,7 +103,7 @@ def test_a_crack_in_the_starting_tetrahedra_is_refused_not_derived() -> None:
 
 
 def _integer_det(rows: list[list[int]]) -> int:
-    """Leibniz's formula in Python integers: an exact determinant computed independently of exact_predicates."""
+    """Leibniz's formula in Python integers (or rationals): an exact determinant computed independently of exact_predicates."""
     size = len(rows)
     total = 0
     for permutation in itertools.permutations(range(size)):
@@ -165,6 +166,40 @@ def test_the_exact_power_circle_sign_is_the_integer_determinants() -> None:
         rows.append(list(map(int, normal)) + [0])
         assert exact_predicates.power_in_plane_sign(points.astype(np.float64), heights.astype(np.float64),
                                                     0, 1, 2, 3) == _sign(_integer_det(rows))
+
+
+def _fraction_rows(local: np.ndarray, height: np.ndarray, rows: list[int], o: int) -> list[list[Fraction]]:
+    origin = [Fraction(float(v)) for v in local[o]]
+    lifted = []
+    for q in rows:
+        delta = [Fraction(float(v)) - origin[k] for k, v in enumerate(local[q])]
+        lifted.append(delta + [sum(d * d for d in delta) + Fraction(float(height[q])) - Fraction(float(height[o]))])
+    return lifted
+
+
+def test_the_exact_signs_of_doubles_of_every_scale_are_the_rational_determinants() -> None:
+    """Coordinates and tie heights of mixed binary exponents (2^-60 to 2^20, each its own), so that the scaling to one
+    common power of two (2^K, heights 2^2K) really moves them: every sign equals the determinant's in Python's
+    rationals, ties included (the fourth point in the plane of the others, the fifth on their sphere's lift)."""
+    rng = np.random.default_rng(11)
+
+    def dyadic(shape: tuple[int, ...]) -> np.ndarray:
+        return rng.integers(-2**20, 2**20, shape).astype(np.float64) * 2.0 ** rng.integers(-60, 1, shape)
+
+    for trial in range(120):
+        local = dyadic((5, 3))
+        if trial % 3 == 0:  # in the plane of points 0, 1, 2: exact in doubles when the sums are
+            local[3] = local[1] + local[2] - local[0]
+        heights = dyadic((5,)) if trial % 2 else np.zeros(5)
+        orient = _sign(_integer_det([[Fraction(float(v)) - Fraction(float(local[0, k])) for k, v in
+                                               enumerate(local[q])] for q in (1, 2, 3)]))
+        assert exact_predicates.orient_sign(local, 0, 1, 2, 3) == orient
+        power = _sign(_integer_det(_fraction_rows(local, heights, [0, 1, 2, 3], 4)))
+        assert exact_predicates.power_sign(local, heights, 0, 1, 2, 3, 4) == power
+        m = _fraction_rows(local, heights, [1, 2, 3], 0)
+        m.append([m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
+                  m[0][0] * m[1][1] - m[0][1] * m[1][0], Fraction(0)])
+        assert exact_predicates.power_in_plane_sign(local, heights, 0, 1, 2, 3) == _sign(_integer_det(m))
 
 
 def test_reordered_vertices_are_what_tetrahedralize_gives_the_reordered_points() -> None:
