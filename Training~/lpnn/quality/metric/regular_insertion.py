@@ -11,7 +11,7 @@ call of triangulation.tetrahedralize returns, whatever the insertion order. The 
 same steps and refusals.
 
 Every sign is computed in double with a bound on its rounding (UNDECIDED_FRACTION of the determinant's permanent);
-within the bound it is computed exactly (exact_predicates.py: Python's rationals, called from the compiled code through
+within the bound it is computed exactly (exact_predicates.py: Python's integers, called from the compiled code through
 numba's object mode; C#: BigInteger), so only truly coplanar points (a lattice's axis-aligned planes: every product of
 the expansion 0) or a true lifted tie count as such. Refused, so that the caller tetrahedralises with Qhull instead: a
 true lifted tie, a new tetrahedron that is not positively oriented, a vertex the cavity would swallow, a new face
