@@ -96,6 +96,14 @@ def test_the_partner_runs_the_refinement_and_a_repair_derived_by_insertion() -> 
     assert work.repaired > work.repair_seed
 
 
+def test_the_partner_command_runs_to_the_end() -> None:
+    """The command the warm-up starts (its output is discarded there, so a module renamed would only make the warm-up
+    slower, silently): it exits 0."""
+    environment = dict(os.environ, PYTHONPATH=str(TRAINING))
+    finished = subprocess.run(list(warmup.PARTNER_COMMAND), env=environment, capture_output=True, text=True, timeout=600)
+    assert finished.returncode == 0, finished.stderr[-2000:]
+
+
 def test_the_partner_is_stopped_when_the_block_ends() -> None:
     with partner_process([sys.executable, "-c", "import time; time.sleep(60)"]) as process:
         assert process is not None and process.poll() is None
