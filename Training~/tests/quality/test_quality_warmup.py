@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 
 from lpnn.quality.placement import warmup
-from lpnn.quality.placement.warmup import compile_placement_kernels, partner_process
+from lpnn.cli.main import main
+from lpnn.quality.placement.warmup import compile_placement_kernels, kernels_warm, partner_process, warm_up_marker
 from lpnn.quality.placement.warmup_partner import compile_late_kernels
 
 TRAINING = Path(__file__).resolve().parents[2]
@@ -118,6 +119,45 @@ def test_a_failing_partner_changes_nothing_and_one_core_has_none(monkeypatch: py
         assert process is None
     with partner_process(None) as process:
         assert process is None
+
+
+def test_the_marker_is_named_by_the_sources_and_an_edit_renames_it(tmp_path: Path) -> None:
+    """What numba's disk cache keys on (a source's path, size and modification time): the same sources give the same
+    name, an edited one (here only its modification time) another, so a warm-up of older sources does not count."""
+    package = tmp_path / "lpnn"
+    (package / "quality").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    kernel = package / "quality" / "kernel.py"
+    kernel.write_text("x = 1\n")
+    os.utime(kernel, ns=(1_000_000_000, 1_000_000_000))
+    first = warm_up_marker(package)
+    assert warm_up_marker(package) == first and not kernels_warm(package)
+    warmup._leave(first)
+    assert kernels_warm(package) and first.read_bytes() == b""
+    os.utime(kernel, ns=(2_000_000_000, 2_000_000_000))
+    assert warm_up_marker(package) != first and not kernels_warm(package)
+    first.unlink()
+
+
+def test_a_finished_warm_up_leaves_the_marker_of_this_checkout() -> None:
+    compile_placement_kernels(partner=None)
+    assert kernels_warm()
+    assert warm_up_marker().parent.name == warmup.MARKER_FOLDER
+
+
+def test_lpnn_place_warms_up_first_only_where_no_warm_up_finished(capture_files: list[Path], tmp_path: Path,
+                                                                   monkeypatch: pytest.MonkeyPatch,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    """The default method on a fresh checkout compiles before it places (so its printed times are the work's), and
+    says so; once a warm-up finished for these sources it does not."""
+    calls = []
+    monkeypatch.setattr(warmup, "compile_placement_kernels", lambda: calls.append(1) or 12.25)
+    for warm in (False, True):
+        monkeypatch.setattr(warmup, "kernels_warm", lambda warm=warm: warm)
+        assert main(["place", str(capture_files[0]), "--tolerance", "0.05", "--out", str(tmp_path / "p.json")]) == 0
+        err = capsys.readouterr().err
+        assert ("compiling the placement kernels first" in err and "compiled in 12.2 s" in err) == (not warm)
+    assert calls == [1]
 
 
 def test_a_level_imported_and_placed_after_the_warm_up_needs_no_other_kernel_variant(openarena_pak: Path) -> None:

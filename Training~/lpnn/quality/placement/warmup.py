@@ -7,21 +7,26 @@ synthetic room with the default, leak-aware through the room's own walls (leaks.
 too), and projects points onto a hull larger than the room's placement reaches, which calls every kernel the default
 calls with the same argument types (tests/quality/test_quality_warmup.py lists any it misses on a level), and returns
 the seconds it took (near 0 once cached). Beside it, on the other core, a partner process compiles the kernels it reaches
-last into numba's disk cache (warmup_partner.py): on a fresh checkout the warm-up took ~46 s alone and ~26 s so.
+last into numba's disk cache (warmup_partner.py): on a fresh checkout the warm-up took ~46 s alone and ~26 s so. A
+finished warm-up leaves a marker in numba's cache folder named by what that cache keys on (`warm_up_marker`), so that
+`lpnn place` warms up once per checkout before its first default placement instead of compiling inside it.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import subprocess
 import sys
 import time
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Iterator, Sequence
 
 import numpy as np
 
 from ...core.analytic_scene import AnalyticScene
+from ...core.cache import NUMBA_CACHE_ENV, project_cache_dir, use_project_cache_for_numba
 from ...core.grid import EvaluationGrid
 from ...scenes.raycast_kernel import bad_rays
 from ..metric.hull_projection import project_to_hull
@@ -35,6 +40,8 @@ WARM_UP_HULL_PROBES = 200  # a random cloud's hull: 82 triangles, more than SMAL
 WARM_UP_OUTSIDE_POINTS = 400  # x 82 triangles: ~33,000 pairs, more than WHOLE_SEARCH_PAIRS (16,384)
 PARTNER_COMMAND = (sys.executable, "-m", "lpnn.quality.placement.warmup_partner")
 PARTNER_STOP_SECONDS = 5.0  # how long a stopped partner may take to exit before it is killed
+MARKER_FOLDER = "lpnn-warm-ups"  # in numba's cache folder: one empty file per warmed-up state of the sources
+PACKAGE = Path(__file__).resolve().parents[2]  # lpnn/
 
 
 def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -> float:
@@ -50,7 +57,36 @@ def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -
         # The room's raycaster is analytic: the Embree raycaster's ray check, which a level's leak checks call, apart.
         bad_rays(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]))
         project_outside_a_hull()
+    _leave(warm_up_marker())
     return time.perf_counter() - start
+
+
+def warm_up_marker(package: Path = PACKAGE) -> Path:
+    """The marker a finished warm-up leaves (compile_placement_kernels), named by what numba's disk cache keys a
+    kernel on: its source file's path, size and modification time (here those of every module of `package`), and
+    numba's and Python's versions. Any source edited, another checkout, another numba: another name, so no marker."""
+    use_project_cache_for_numba()  # before numba is imported (core/cache.py)
+    import numba
+
+    digest = hashlib.sha256(f"{numba.__version__}\n{sys.version}\n{package}\n".encode())
+    for source in sorted(package.rglob("*.py")):
+        stat = source.stat()
+        digest.update(f"{source.relative_to(package).as_posix()} {stat.st_size} {stat.st_mtime_ns}\n".encode())
+    folder = Path(os.environ.get(NUMBA_CACHE_ENV) or project_cache_dir() / "numba")
+    return folder / MARKER_FOLDER / digest.hexdigest()[:32]
+
+
+def kernels_warm(package: Path = PACKAGE) -> bool:
+    """Whether a warm-up finished for these sources (warm_up_marker): their kernels are in numba's disk cache."""
+    return warm_up_marker(package).is_file()
+
+
+def _leave(marker: Path) -> None:
+    """Writes the empty marker by rename, so that a reader never sees half of it (none is ever more than empty)."""
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    partial = marker.with_name(f"{marker.name}.{os.getpid()}.tmp")
+    partial.write_bytes(b"")
+    os.replace(partial, marker)
 
 
 @contextmanager
