@@ -178,28 +178,48 @@ def _fraction_rows(local: np.ndarray, height: np.ndarray, rows: list[int], o: in
 
 
 def test_the_exact_signs_of_doubles_of_every_scale_are_the_rational_determinants() -> None:
-    """Coordinates and tie heights of mixed binary exponents (2^-60 to 2^20, each its own), so that the scaling to one
-    common power of two (2^K, heights 2^2K) really moves them: every sign equals the determinant's in Python's
-    rationals, ties included (the fourth point in the plane of the others, the fifth on their sphere's lift)."""
+    """Every sign equals the determinant's in Python's rationals, where the common power of two (2^K on coordinates,
+    2^2K on tie heights) is set by the coordinates (exponents 2^-60 to 2^20), or by the heights alone (integer
+    coordinates, heights of odd exponents down to 2^-79), and at true ties: a point in the plane of three others, five
+    corners of a cube on one sphere with equal heights, a square in a tilted plane on its own circle."""
     rng = np.random.default_rng(11)
 
-    def dyadic(shape: tuple[int, ...]) -> np.ndarray:
-        return rng.integers(-2**20, 2**20, shape).astype(np.float64) * 2.0 ** rng.integers(-60, 1, shape)
+    def dyadic(shape: tuple[int, ...], lowest: int = -60) -> np.ndarray:
+        return rng.integers(-2**20, 2**20, shape).astype(np.float64) * 2.0 ** rng.integers(lowest, 1, shape)
 
-    for trial in range(120):
-        local = dyadic((5, 3))
-        if trial % 3 == 0:  # in the plane of points 0, 1, 2: exact in doubles when the sums are
-            local[3] = local[1] + local[2] - local[0]
-        heights = dyadic((5,)) if trial % 2 else np.zeros(5)
-        orient = _sign(_integer_det([[Fraction(float(v)) - Fraction(float(local[0, k])) for k, v in
-                                               enumerate(local[q])] for q in (1, 2, 3)]))
+    cube = np.array(list(itertools.product([0, 2], repeat=3)), dtype=np.float64)
+    u, v = np.array([1.0, 2.0, 2.0]), np.array([2.0, 1.0, -2.0])  # perpendicular, both of length 3
+    ties = {"orient": 0, "power": 0, "circle": 0}
+    for trial in range(240):
+        kind = trial % 4
+        local, heights = dyadic((5, 3)), dyadic((5,)) if trial % 8 < 4 else np.zeros(5)
+        if kind == 1:  # integer coordinates: the heights alone set K
+            local = rng.integers(-50, 51, (5, 3)).astype(np.float64)
+            heights = rng.integers(-2**20, 2**20, 5).astype(np.float64) * 2.0 ** -rng.choice(np.arange(1, 80, 2), 5)
+        elif kind == 2:  # five corners of a cube (one sphere), equal heights: a power tie
+            scale = 2.0 ** int(rng.integers(-40, 10))
+            local = cube[rng.choice(8, 5, replace=False)] * scale + dyadic((1, 3))
+            heights = np.full(5, float(dyadic((1,))[0]))
+        elif kind == 3:  # a square in a tilted plane, then a fifth point: in-plane and orientation ties
+            scale = 2.0 ** int(rng.integers(-40, 10))
+            corner = dyadic((3,))
+            local = np.array([corner, corner + scale * u, corner + scale * v, corner + scale * (u + v),
+                              corner + scale * 2 * u], dtype=np.float64)
+            heights = np.full(5, float(dyadic((1,))[0]))
+        orient = _sign(_integer_det([[Fraction(float(value)) - Fraction(float(local[0, k])) for k, value in
+                                      enumerate(local[q])] for q in (1, 2, 3)]))
         assert exact_predicates.orient_sign(local, 0, 1, 2, 3) == orient
         power = _sign(_integer_det(_fraction_rows(local, heights, [0, 1, 2, 3], 4)))
         assert exact_predicates.power_sign(local, heights, 0, 1, 2, 3, 4) == power
         m = _fraction_rows(local, heights, [1, 2, 3], 0)
         m.append([m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
                   m[0][0] * m[1][1] - m[0][1] * m[1][0], Fraction(0)])
-        assert exact_predicates.power_in_plane_sign(local, heights, 0, 1, 2, 3) == _sign(_integer_det(m))
+        circle = _sign(_integer_det(m))
+        assert exact_predicates.power_in_plane_sign(local, heights, 0, 1, 2, 3) == circle
+        ties["orient"] += orient == 0
+        ties["power"] += power == 0
+        ties["circle"] += circle == 0
+    assert min(ties.values()) >= 20, ties  # the ties really occur
 
 
 def test_reordered_vertices_are_what_tetrahedralize_gives_the_reordered_points() -> None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -97,12 +98,20 @@ def test_the_partner_runs_the_refinement_and_a_repair_derived_by_insertion() -> 
     assert work.repaired > work.repair_seed
 
 
-def test_the_partner_command_runs_to_the_end() -> None:
+def test_the_partner_command_runs_to_the_end(tmp_path: Path) -> None:
     """The command the warm-up starts (its output is discarded there, so a module renamed would only make the warm-up
-    slower, silently): it exits 0."""
-    environment = dict(os.environ, PYTHONPATH=str(TRAINING))
-    finished = subprocess.run(list(warmup.PARTNER_COMMAND), env=environment, capture_output=True, text=True, timeout=600)
-    assert finished.returncode == 0, finished.stderr[-2000:]
+    slower, silently): with its stdin open, as the warm-up keeps it, it exits 0."""
+    errors = tmp_path / "stderr.txt"
+    with open(errors, "w") as stderr:
+        partner = subprocess.Popen(list(warmup.PARTNER_COMMAND), stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                                   stderr=stderr, env=dict(os.environ, PYTHONPATH=str(TRAINING)))
+        try:
+            code = partner.wait(timeout=600)
+        finally:
+            partner.stdin.close()
+            if partner.poll() is None:
+                partner.kill()
+    assert code == 0, errors.read_text()[-2000:]
 
 
 def test_the_partner_is_stopped_when_the_block_ends() -> None:
@@ -119,6 +128,28 @@ def test_a_failing_partner_changes_nothing_and_one_core_has_none(monkeypatch: py
         assert process is None
     with partner_process(None) as process:
         assert process is None
+    monkeypatch.setattr(warmup.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(warmup, "can_guard", lambda: False)  # the cache's files cannot be locked: no sharing
+    with partner_process(warmup.PARTNER_COMMAND) as process:
+        assert process is None
+
+
+def test_the_partner_stops_when_its_stdin_closes() -> None:
+    """So that it never outlives the warm-up's process, even one killed before it could stop the partner."""
+    script = ("import threading, time\n"
+              "from lpnn.quality.placement.warmup_partner import _stop_when_stdin_closes\n"
+              "threading.Thread(target=_stop_when_stdin_closes, daemon=True).start()\n"
+              "print('ready', flush=True)\n"
+              "time.sleep(120)\n")
+    partner = subprocess.Popen([sys.executable, "-c", script], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                               text=True, env=dict(os.environ, PYTHONPATH=str(TRAINING)))
+    try:
+        assert partner.stdout.readline().strip() == "ready"
+        partner.stdin.close()
+        assert partner.wait(timeout=60) == -signal.SIGTERM
+    finally:
+        if partner.poll() is None:
+            partner.kill()
 
 
 def test_the_marker_is_named_by_the_sources_and_an_edit_renames_it(tmp_path: Path) -> None:

@@ -6,7 +6,7 @@ of the exact one column by column (K on the coordinates, 2K on the lifted column
 multiple of the exact one and has its sign. Ties are left only where the points really are coplanar or cospherical (a
 lattice's planes). The C# core's ExactPredicates, the same determinants (in BigInteger); plain Python, called from the
 compiled insertion only when a sign is undecided — on lattice crops a few hundred times a placement, from the starting
-hull's convexity check (tilted planes through lattice points), where integers take a tenth of rationals' time.
+hull's convexity check (tilted planes through lattice points), where integers take a fifth of rationals' time.
 """
 
 from __future__ import annotations

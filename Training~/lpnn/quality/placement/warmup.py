@@ -7,9 +7,10 @@ synthetic room with the default, leak-aware through the room's own walls (leaks.
 too), and projects points onto a hull larger than the room's placement reaches, which calls every kernel the default
 calls with the same argument types (tests/quality/test_quality_warmup.py lists any it misses on a level), and returns
 the seconds it took (near 0 once cached). Beside it, on the other core, a partner process compiles the kernels it reaches
-last into numba's disk cache (warmup_partner.py): on a fresh checkout the warm-up took ~46 s alone and ~26 s so. A
-finished warm-up leaves a marker in numba's cache folder named by what that cache keys on (`warm_up_marker`), so that
-`lpnn place` warms up once per checkout before its first default placement instead of compiling inside it.
+last into numba's disk cache (warmup_partner.py; the cache's entries kept whole by core/cache_guard.py): in an empty
+cache the warm-up took 43.7 s alone and 27.3 s so. A finished warm-up leaves a marker in numba's cache folder
+(`warm_up_marker`), so that `lpnn place` warms up once per checkout before its first default placement instead of
+compiling inside it.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import numpy as np
 
 from ...core.analytic_scene import AnalyticScene
 from ...core.cache import NUMBA_CACHE_ENV, project_cache_dir, use_project_cache_for_numba
+from ...core.cache_guard import can_guard
 from ...core.grid import EvaluationGrid
 from ...scenes.raycast_kernel import bad_rays
 from ..metric.hull_projection import project_to_hull
@@ -62,13 +64,16 @@ def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -
 
 
 def warm_up_marker(package: Path = PACKAGE) -> Path:
-    """The marker a finished warm-up leaves (compile_placement_kernels), named by what numba's disk cache keys a
-    kernel on: its source file's path, size and modification time (here those of every module of `package`), and
-    numba's and Python's versions. Any source edited, another checkout, another numba: another name, so no marker."""
+    """The marker a finished warm-up leaves (compile_placement_kernels), named by the sources the warm-up compiled
+    (every module of `package`: its path, size and modification time), numba's and Python's versions and the host's
+    CPU. numba's own cache keys a kernel on its source's contents and the CPU, so the marker is stricter (a file only
+    touched renames it too): any source edited, another checkout, another numba or machine: another name, no marker."""
     use_project_cache_for_numba()  # before numba is imported (core/cache.py)
+    import llvmlite.binding
     import numba
 
-    digest = hashlib.sha256(f"{numba.__version__}\n{sys.version}\n{package}\n".encode())
+    machine = f"{llvmlite.binding.get_process_triple()} {llvmlite.binding.get_host_cpu_name()}"
+    digest = hashlib.sha256(f"{numba.__version__}\n{sys.version}\n{machine}\n{package}\n".encode())
     for source in sorted(package.rglob("*.py")):
         stat = source.stat()
         digest.update(f"{source.relative_to(package).as_posix()} {stat.st_size} {stat.st_mtime_ns}\n".encode())
@@ -82,26 +87,39 @@ def kernels_warm(package: Path = PACKAGE) -> bool:
 
 
 def _leave(marker: Path) -> None:
-    """Writes the empty marker by rename, so that a reader never sees half of it (none is ever more than empty)."""
-    marker.parent.mkdir(parents=True, exist_ok=True)
-    partial = marker.with_name(f"{marker.name}.{os.getpid()}.tmp")
-    partial.write_bytes(b"")
-    os.replace(partial, marker)
+    """Writes the empty marker by rename, so that a reader never sees half of it; a cache folder it cannot write to
+    (numba then caches elsewhere or not at all) leaves none, and the next `lpnn place` warms up again."""
+    try:
+        marker.parent.mkdir(parents=True, exist_ok=True)
+        partial = marker.with_name(f"{marker.name}.{os.getpid()}.tmp")
+        partial.write_bytes(b"")
+        os.replace(partial, marker)
+    except OSError:
+        pass
 
 
 @contextmanager
 def partner_process(command: Sequence[str] | None) -> Iterator[subprocess.Popen | None]:
-    """`command` running beside the block (its output discarded), stopped when the block ends: by then the warm-up has
-    called every kernel itself, so whatever the partner is still compiling is not needed, and a partner that failed
-    cost nothing but its core. None (no process) without a command or on a single core, where the two would share it."""
-    if command is None or (os.cpu_count() or 1) < 2:
+    """`command` running beside the block (its output discarded; this package on its PYTHONPATH), stopped when the
+    block ends: by then the warm-up has called every kernel itself, so whatever the partner is still compiling is not
+    needed, and a partner that failed cost nothing but its core. The partner also stops when its stdin closes, so it
+    never outlives this process. None (no process) without a command, on a single core (the two would share it),
+    where the cache's files cannot be locked (core/cache_guard.py) or the process cannot start."""
+    if command is None or (os.cpu_count() or 1) < 2 or not can_guard():
         yield None
         return
-    process = subprocess.Popen(list(command), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
+    path = os.environ.get("PYTHONPATH")
+    environment = dict(os.environ, PYTHONPATH=os.pathsep.join([str(PACKAGE.parent)] + ([path] if path else [])))
+    try:
+        process = subprocess.Popen(list(command), stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                                   stderr=subprocess.DEVNULL, env=environment)
+    except OSError:
+        yield None
+        return
     try:
         yield process
     finally:
+        process.stdin.close()
         if process.poll() is None:
             process.terminate()
             try:

@@ -2,16 +2,21 @@
 
 numba compiles on one core, and the warm-up (warmup.compile_placement_kernels) reaches its kernels one after the other:
 the import's, insertion's rounds and tolerance search, the leak repair, the batched refinement, the hull projection. On a
-fresh checkout that took ~45 s on two cores, one of them idle. This process, started beside it on the other core, runs
+fresh checkout that took 43.7 s on two cores, one of them idle. This process, started beside it on the other core, runs
 the same synthetic room's hull projection, a leak-weighted batched refinement from every point and a leak repair whose
 rounds are derived by insertion. Each kernel it compiles lands in numba's disk cache (core/cache.py), where the warm-up,
-reaching it later, loads it instead of compiling it (numba writes its cache files by rename: two processes may share
-it). The warm-up still calls every kernel itself, so what it compiles does not depend on this process, which it stops
-once it is done (`python -m lpnn.quality.placement.warmup_partner`).
+reaching it later, loads it instead of compiling it; core/cache_guard.py keeps each entry whole while both read and
+write the cache, and defers a stop until a save is done. The warm-up still calls every kernel itself, so what it
+compiles does not depend on this process, which it stops once it is done; it also stops when its stdin closes, so
+that it never outlives the warm-up's process (`python -m lpnn.quality.placement.warmup_partner`).
 """
 
 from __future__ import annotations
 
+import os
+import signal
+import sys
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,5 +55,14 @@ def compile_late_kernels() -> PartnerWork:
                        repaired=int(repaired.shape[0]))
 
 
+def _stop_when_stdin_closes() -> None:
+    """Reads stdin to its end (the warm-up's process closed it or died), then stops this process as the warm-up's
+    terminate does (SIGTERM, which cache_guard defers until a save is done)."""
+    while os.read(sys.stdin.fileno(), 4096):  # the raw descriptor: no buffer lock held at the interpreter's exit
+        pass
+    os.kill(os.getpid(), signal.SIGTERM)
+
+
 if __name__ == "__main__":
+    threading.Thread(target=_stop_when_stdin_closes, daemon=True).start()
     compile_late_kernels()
