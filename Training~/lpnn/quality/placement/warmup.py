@@ -8,7 +8,7 @@ too), and projects points onto a hull larger than the room's placement reaches, 
 calls with the same argument types (tests/quality/test_quality_warmup.py lists any it misses on a level), and returns
 the seconds it took (near 0 once cached). Beside it, on the other core, a partner process compiles the kernels it reaches
 last into numba's disk cache (warmup_partner.py; the cache's entries kept whole by core/cache_guard.py): in an empty
-cache the warm-up took 43.7 s alone and 27.3 s so. A finished warm-up leaves a marker in numba's cache folder
+cache the warm-up took 42.0 s alone and 27.8 s so. A finished warm-up leaves a marker in numba's cache folder
 (`warm_up_marker`), so that `lpnn place` warms up once per checkout before its first default placement instead of
 compiling inside it.
 """

@@ -2,7 +2,7 @@
 
 numba compiles on one core, and the warm-up (warmup.compile_placement_kernels) reaches its kernels one after the other:
 the import's, insertion's rounds and tolerance search, the leak repair, the batched refinement, the hull projection. On a
-fresh checkout that took 43.7 s on two cores, one of them idle. This process, started beside it on the other core, runs
+fresh checkout that took 42–44 s on two cores, one of them idle. This process, started beside it on the other core, runs
 the same synthetic room's hull projection, a leak-weighted batched refinement from every point and a leak repair whose
 rounds are derived by insertion. Each kernel it compiles lands in numba's disk cache (core/cache.py), where the warm-up,
 reaching it later, loads it instead of compiling it; core/cache_guard.py keeps each entry whole while both read and
