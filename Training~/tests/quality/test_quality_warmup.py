@@ -123,6 +123,8 @@ def test_the_partner_is_stopped_when_the_block_ends() -> None:
 def test_a_failing_partner_changes_nothing_and_one_core_has_none(monkeypatch: pytest.MonkeyPatch) -> None:
     seconds = compile_placement_kernels(partner=[sys.executable, "-c", "raise SystemExit(3)"])
     assert math.isfinite(seconds) and seconds > 0.0
+    with partner_process([str(TRAINING / "no-such-program")]) as process:  # cannot start: the warm-up alone
+        assert process is None
     monkeypatch.setattr(warmup.os, "cpu_count", lambda: 1)
     with partner_process(warmup.PARTNER_COMMAND) as process:
         assert process is None

@@ -113,7 +113,9 @@ def partner_process(command: Sequence[str] | None) -> Iterator[subprocess.Popen 
     try:
         process = subprocess.Popen(list(command), stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
                                    stderr=subprocess.DEVNULL, env=environment)
-    except OSError:
+    except OSError:  # e.g. no process can be started here: the warm-up alone
+        process = None
+    if process is None:
         yield None
         return
     try:
