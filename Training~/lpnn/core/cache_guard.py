@@ -52,13 +52,14 @@ def signals_deferred() -> Iterator[None]:
     """SIGINT and SIGTERM received during the block are recorded and raised again when it ends (then the handlers
     before it act: a KeyboardInterrupt, the process's end), so a save is never cut in half. Python's handlers run in
     the main thread whichever thread the signal reached, so a handler, not a thread's signal mask, holds them back.
-    Only the main thread can set handlers: elsewhere (a worker thread's save) the block runs as it is."""
+    Only the main thread can set handlers: elsewhere (a worker thread's save) the block runs as it is; and a signal
+    whose handler was not set from Python (getsignal None: a library's own, which could not be put back) is left alone."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     received: list[int] = []
     previous = {number: signal.signal(number, lambda caught, frame: received.append(caught))
-                for number in DEFERRED_SIGNALS}
+                for number in DEFERRED_SIGNALS if signal.getsignal(number) is not None}
     try:
         yield
     finally:

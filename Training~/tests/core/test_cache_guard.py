@@ -58,12 +58,33 @@ def test_a_writer_in_another_process_keeps_readers_out_until_it_is_done(tmp_path
 
 
 def test_a_stop_during_a_save_acts_when_the_save_is_done() -> None:
-    finished = []
-    with pytest.raises(KeyboardInterrupt):
+    """The handler in place before the block (here a recorder: another test may have changed SIGINT's) runs once the
+    block is done, not when the signal arrives, and is in place again afterwards."""
+    finished: list[bool] = []
+    caught: list[list[bool]] = []
+    recorder = lambda number, frame: caught.append(list(finished))  # noqa: E731 - what had finished when it ran
+    previous = signal.signal(signal.SIGINT, recorder)
+    try:
         with signals_deferred():
             os.kill(os.getpid(), signal.SIGINT)
-            for _ in range(1000):  # bytecodes enough for Python to run its handler, which only records it
+            for _ in range(1000):  # bytecodes enough for Python to run a handler, which only records the signal here
                 pass
+            assert caught == []
             finished.append(True)
-    assert finished == [True]
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        for _ in range(1000):
+            pass
+        assert caught == [[True]]
+        assert signal.getsignal(signal.SIGINT) is recorder
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_a_handler_python_did_not_set_is_left_alone(monkeypatch: pytest.MonkeyPatch) -> None:
+    """getsignal None (a library's handler installed outside Python) cannot be put back, so it is not replaced."""
+    replaced = []
+    real = signal.signal
+    monkeypatch.setattr(cache_guard.signal, "getsignal", lambda number: None)
+    monkeypatch.setattr(cache_guard.signal, "signal", lambda number, handler: replaced.append(number) or real(number, handler))
+    with signals_deferred():
+        pass
+    assert replaced == []
