@@ -27,6 +27,7 @@ from typing import Iterator, Sequence
 import numpy as np
 
 from ...core.analytic_scene import AnalyticScene
+from ...core.capture import Capture
 from ...core.cache import NUMBA_CACHE_ENV, project_cache_dir, use_project_cache_for_numba
 from ...core.cache_guard import can_guard
 from ...core.grid import EvaluationGrid
@@ -51,9 +52,7 @@ def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -
     compiling the late kernels beside it (module text; None: none)."""
     start = time.perf_counter()
     with partner_process(partner):
-        scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
-        capture = scene.capture(name="warm-up")
-        field = ReferenceField.from_capture(capture)
+        scene, capture, field = warm_up_room()
         refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids),
                           tolerance=WARM_UP_TOLERANCE, leaks=scene.raycaster)
         # The room's raycaster is analytic: the Embree raycaster's ray check, which a level's leak checks call, apart.
@@ -61,6 +60,13 @@ def compile_placement_kernels(partner: Sequence[str] | None = PARTNER_COMMAND) -
         project_outside_a_hull()
     _leave(warm_up_marker())
     return time.perf_counter() - start
+
+
+def warm_up_room() -> tuple[AnalyticScene, Capture, ReferenceField]:
+    """The synthetic room the warm-up and its partner place in (the same one: the same kernel argument types)."""
+    scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
+    capture = scene.capture(name="warm-up")
+    return scene, capture, ReferenceField.from_capture(capture)
 
 
 def warm_up_marker(package: Path = PACKAGE) -> Path:

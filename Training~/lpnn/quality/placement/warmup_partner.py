@@ -21,13 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.analytic_scene import AnalyticScene
-from ..metric.metric import ReferenceField
 from ..metric.triangulation import tetrahedralize
 from .batched_refinement import batched_refinement
 from .insertion_tetrahedra import InsertionTetrahedra
 from .leak_aware import LeakWeighting, leak_repaired_with_mesh
-from .warmup import WARM_UP_CELL, WARM_UP_TOLERANCE, project_outside_a_hull
+from .warmup import WARM_UP_TOLERANCE, project_outside_a_hull, warm_up_room
 
 REPAIR_SEED_STRIDE = 7  # the repair starts from every 7th point of the room: sparse enough that some points leak
 
@@ -43,8 +41,7 @@ class PartnerWork:
 
 def compile_late_kernels() -> PartnerWork:
     """The warm-up's last stages on its room, in reverse order (module text)."""
-    scene = AnalyticScene.random(1, cell_size=WARM_UP_CELL)
-    field = ReferenceField.from_capture(scene.capture(name="warm-up"))
+    scene, _, field = warm_up_room()
     project_outside_a_hull()
     refined = batched_refinement(field, np.arange(field.point_count), tolerance=WARM_UP_TOLERANCE,
                                  leaks=LeakWeighting(scene.raycaster))
