@@ -13,11 +13,12 @@ from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.metric import exact_predicates
 from lpnn.quality.metric.metric import ReferenceField
-from lpnn.quality.metric.regular_insertion import UNDECIDED_FRACTION, _orient, _orient_sign, inserted_tetrahedra
-from lpnn.quality.metric.triangulation import (Frame, tetrahedralize, tetrahedralized_from, with_vertices_reordered)
+from lpnn.quality.metric.regular_insertion import inserted_tetrahedra
+from lpnn.quality.metric.regular_predicates import UNDECIDED_FRACTION, orient, orient_sign
+from lpnn.quality.metric.triangulation import Frame, tetrahedralize, tetrahedralized_from
 from lpnn.quality.placement import insertion_tetrahedra as module
 from lpnn.quality.placement.insertion import InsertionOrder
-from lpnn.quality.placement.insertion_tetrahedra import MAX_RESYNCS
+from lpnn.quality.placement.insertion_tetrahedra import MAX_RESYNCS, with_vertices_reordered
 from lpnn.quality.placement.leak_aware import leak_repaired, leak_repaired_with_mesh
 
 from quality_support import WALLED, box_grid, room_capture
@@ -129,10 +130,10 @@ def test_signs_the_doubles_cannot_decide_are_exact() -> None:
         d = b + c + rng.integers(-1, 2, 3) * np.array([0, 0, 1])  # on the plane of 0, b, c, or one unit off it
         points = np.array([[0, 0, 0], b, c, d], dtype=np.int64)
         local = points.astype(np.float64) * unit
-        det, permanent = _orient(local, 0, 1, 2, 3)
+        det, permanent = orient(local, 0, 1, 2, 3)
         assert abs(det) <= UNDECIDED_FRACTION * permanent  # undecided in double
         expected = _sign(_integer_det([list(map(int, points[k] - points[0])) for k in (1, 2, 3)]))
-        assert _orient_sign(local, 0, 1, 2, 3) == expected == exact_predicates.orient_sign(local, 0, 1, 2, 3)
+        assert orient_sign(local, 0, 1, 2, 3) == expected == exact_predicates.orient_sign(local, 0, 1, 2, 3)
 
 
 def test_the_exact_power_sign_is_the_integer_determinants() -> None:

@@ -10,9 +10,8 @@ position, so the result is the unique regular triangulation of the points: the s
 call of triangulation.tetrahedralize returns, whatever the insertion order. The C# core's Quality.RegularInsertion, the
 same steps and refusals.
 
-Every sign is computed in double with a bound on its rounding (UNDECIDED_FRACTION of the determinant's permanent);
-within the bound it is computed exactly (exact_predicates.py: Python's integers, called from the compiled code through
-numba's object mode; C#: BigInteger), so only truly coplanar points (a lattice's axis-aligned planes: every product of
+Every sign is computed in double with a bound on its rounding and, within the bound, exactly (regular_predicates.py,
+exact_predicates.py: Python's integers through numba's object mode; C#: BigInteger), so only truly coplanar points (a lattice's axis-aligned planes: every product of
 the expansion 0) or a true lifted tie count as such. Refused, so that the caller tetrahedralises with Qhull instead: a
 true lifted tie, a new tetrahedron that is not positively oriented, a vertex the cavity would swallow, a new face
 that does not pair with exactly one other (C# pairs them by a dictionary, which would not notice a fourth), and a
@@ -29,14 +28,12 @@ from __future__ import annotations
 import numpy as np
 
 from ...core.cache import use_project_cache_for_numba
-from . import exact_predicates
+from .regular_predicates import INFINITE, conflict, orient, orient_sign
 from .triangulation import HULL, Tetrahedralization
 
 use_project_cache_for_numba()
-from numba import njit, objmode  # noqa: E402  (after the cache folder is chosen)
+from numba import njit  # noqa: E402  (after the cache folder is chosen)
 
-UNDECIDED_FRACTION = 1e-12  # a determinant within this x its permanent of 0 is not decided in double (C#: exactly)
-INFINITE = -1  # slot 3 of a hull face's infinite tetrahedron
 
 # Why a derivation was refused (kernel status codes; FAILURES names them).
 DONE, TIE, NO_CONFLICT, NOT_POSITIVE, NO_WAY_BACK, UNPAIRED, VANISHED, NOT_CLOSED, NOT_CONVEX, DISCONNECTED = range(10)
@@ -51,113 +48,6 @@ FAILURES = {
     NOT_CONVEX: "the starting hull not convex",
     DISCONNECTED: "the starting hull in pieces (a crack inside)",
 }
-
-
-@njit(cache=True)
-def _orient(local, a, b, c, d):
-    """det[b - a, c - a, d - a] and its permanent (the sum of its expansion's absolute products)."""
-    ux, uy, uz = local[b, 0] - local[a, 0], local[b, 1] - local[a, 1], local[b, 2] - local[a, 2]
-    vx, vy, vz = local[c, 0] - local[a, 0], local[c, 1] - local[a, 1], local[c, 2] - local[a, 2]
-    wx, wy, wz = local[d, 0] - local[a, 0], local[d, 1] - local[a, 1], local[d, 2] - local[a, 2]
-    det = ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx)
-    permanent = (abs(ux) * (abs(vy * wz) + abs(vz * wy)) + abs(uy) * (abs(vz * wx) + abs(vx * wz))
-                 + abs(uz) * (abs(vx * wy) + abs(vy * wx)))
-    return det, permanent
-
-
-# The exact signs (exact_predicates, plain Python) through object mode: each in its own compiled function, as numba
-# cannot lower an object-mode block inside branches that reassign its output.
-@njit(cache=True)
-def _exact_orient(local, a, b, c, d):
-    with objmode(sign="int64"):
-        sign = exact_predicates.orient_sign(local, a, b, c, d)
-    return sign
-
-
-@njit(cache=True)
-def _exact_power(local, height, a, b, c, d, p):
-    with objmode(sign="int64"):
-        sign = exact_predicates.power_sign(local, height, a, b, c, d, p)
-    return sign
-
-
-@njit(cache=True)
-def _exact_power_in_plane(local, height, a, b, c, p):
-    with objmode(sign="int64"):
-        sign = exact_predicates.power_in_plane_sign(local, height, a, b, c, p)
-    return sign
-
-
-@njit(cache=True)
-def _orient_sign(local, a, b, c, d):
-    """The exact sign of det[b - a, c - a, d - a]: the double one where it is decided, 0 where every product of the
-    expansion is 0 (points in one axis-aligned plane), else computed exactly (exact_predicates)."""
-    det, permanent = _orient(local, a, b, c, d)
-    if abs(det) > UNDECIDED_FRACTION * permanent:
-        return 1 if det > 0.0 else -1
-    if permanent == 0.0:
-        return 0
-    return _exact_orient(local, a, b, c, d)
-
-
-@njit(cache=True)
-def _lifted_row(m, r, local, height, q, o):
-    """Row r of m: point q about point o, lifted (|q - o|^2 plus the difference of their tie heights)."""
-    dx, dy, dz = local[q, 0] - local[o, 0], local[q, 1] - local[o, 1], local[q, 2] - local[o, 2]
-    m[r, 0], m[r, 1], m[r, 2] = dx, dy, dz
-    m[r, 3] = dx * dx + dy * dy + dz * dz + (height[q] - height[o])
-
-
-@njit(cache=True)
-def _determinant_sign(m):
-    """The sign of the 4 x 4 determinant m (cofactors along the first row), or 2 within its rounding (undecided)."""
-    det, permanent = 0.0, 0.0
-    for col in range(4):
-        c0 = 1 if col == 0 else 0
-        c1 = 2 if col <= 1 else 1
-        c2 = 3 if col <= 2 else 2
-        minor = (m[1, c0] * (m[2, c1] * m[3, c2] - m[2, c2] * m[3, c1])
-                 - m[1, c1] * (m[2, c0] * m[3, c2] - m[2, c2] * m[3, c0])
-                 + m[1, c2] * (m[2, c0] * m[3, c1] - m[2, c1] * m[3, c0]))
-        absolute = (abs(m[1, c0]) * (abs(m[2, c1] * m[3, c2]) + abs(m[2, c2] * m[3, c1]))
-                    + abs(m[1, c1]) * (abs(m[2, c0] * m[3, c2]) + abs(m[2, c2] * m[3, c0]))
-                    + abs(m[1, c2]) * (abs(m[2, c0] * m[3, c1]) + abs(m[2, c1] * m[3, c0])))
-        det += (1.0 if col % 2 == 0 else -1.0) * m[0, col] * minor
-        permanent += abs(m[0, col]) * absolute
-    if abs(det) > UNDECIDED_FRACTION * permanent:
-        return 1 if det > 0.0 else -1
-    return 2
-
-
-@njit(cache=True)
-def _conflict(V, local, height, m, t, p):
-    """+1: p is in conflict with tetrahedron t (in its cavity), -1: not, 0: a true tie (p cospherical with t's corners in
-    the lifted sense, which the tie heights exclude)."""
-    a, b, c, d = V[t, 0], V[t, 1], V[t, 2], V[t, 3]
-    if d != INFINITE:  # below the lifted hyperplane of the positively oriented (a, b, c, d): a negative determinant
-        _lifted_row(m, 0, local, height, a, p)
-        _lifted_row(m, 1, local, height, b, p)
-        _lifted_row(m, 2, local, height, c, p)
-        _lifted_row(m, 3, local, height, d, p)
-        sign = _determinant_sign(m)
-        if sign == 2:
-            sign = _exact_power(local, height, a, b, c, d, p)
-        return -sign
-    side = _orient_sign(local, a, b, c, p)
-    if side != 0:
-        return side  # beyond the hull face (+1) or inside (-1)
-    # In the hull face's plane: inside its power circle (the lifted determinant of b - a, c - a, p - a and the normal).
-    _lifted_row(m, 0, local, height, b, a)
-    _lifted_row(m, 1, local, height, c, a)
-    _lifted_row(m, 2, local, height, p, a)
-    m[3, 0] = m[0, 1] * m[1, 2] - m[0, 2] * m[1, 1]
-    m[3, 1] = m[0, 2] * m[1, 0] - m[0, 0] * m[1, 2]
-    m[3, 2] = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
-    m[3, 3] = 0.0
-    sign = _determinant_sign(m)
-    if sign == 2:
-        sign = _exact_power_in_plane(local, height, a, b, c, p)
-    return sign
 
 
 @njit(cache=True)
@@ -288,7 +178,7 @@ def _assemble(tets, neighbours, local, vertex_count, capacity):
             far = V[other, slot]
             if far == INFINITE:
                 return NOT_CLOSED, V, N, 0
-            if _orient_sign(local, V[h, 0], V[h, 1], V[h, 2], far) > 0:  # beyond the face's plane
+            if orient_sign(local, V[h, 0], V[h, 1], V[h, 2], far) > 0:  # beyond the face's plane
                 return NOT_CONVEX, V, N, 0
             if not seen[other]:
                 seen[other] = True
@@ -321,7 +211,7 @@ def _locate(V, N, alive, count, local, last, p):
             b = p if s == 1 else V[t, 1]
             c = p if s == 2 else V[t, 2]
             d = p if s == 3 else V[t, 3]
-            det, _ = _orient(local, a, b, c, d)
+            det, _ = orient(local, a, b, c, d)
             if det < 0.0:
                 nxt = N[t, s]
                 break
@@ -350,11 +240,11 @@ def _insert_all(V, N, count, local, height, order):
         p = order[stamp]
         start = _locate(V, N, alive, count, local, last, p)
         if start >= 0:
-            if _conflict(V, local, height, m, start, p) != 1:
+            if conflict(V, local, height, m, start, p) != 1:
                 start = -1
         if start < 0:  # the walk stopped beside the point (within rounding of a face): scan for any conflict
             for t in range(count):
-                if alive[t] and _conflict(V, local, height, m, t, p) == 1:
+                if alive[t] and conflict(V, local, height, m, t, p) == 1:
                     start = t
                     break
         if start < 0:
@@ -371,7 +261,7 @@ def _insert_all(V, N, count, local, height, order):
                 u = N[t, j]
                 if mark[u] == stamp:
                     continue
-                state = _conflict(V, local, height, m, u, p)
+                state = conflict(V, local, height, m, u, p)
                 if state == 0:
                     return TIE, p, V, N, count
                 if state > 0:
@@ -410,7 +300,7 @@ def _insert_all(V, N, count, local, height, order):
             for s in range(4):
                 V[fresh, s] = V[t, s]
             V[fresh, j] = p
-            if V[fresh, 3] != INFINITE and _orient_sign(local, V[fresh, 0], V[fresh, 1], V[fresh, 2], V[fresh, 3]) != 1:
+            if V[fresh, 3] != INFINITE and orient_sign(local, V[fresh, 0], V[fresh, 1], V[fresh, 2], V[fresh, 3]) != 1:
                 return NOT_POSITIVE, p, V, N, count
             outside = N[t, j]
             N[fresh, j] = outside

@@ -325,11 +325,10 @@ def tetrahedralized_from(frame: Frame, positions: np.ndarray, local: np.ndarray,
                          ids: np.ndarray | None = None) -> Tetrahedralization:
     """tetrahedralize's answer from the lower hull's tetrahedra `lower` (T, 4) of the lifted positions (K, 3) (`local`:
     theirs in `frame`), in any order and orientation: Qhull's, or derived by insertion (regular_insertion.py)."""
-    count = positions.shape[0]
     # Flat tetrahedra (vertical facets that slipped through, or Qt's in a merged facet) dropped (a crack where they were
     # inside: module text), the rest oriented positively and inverted.
     tets, inverse, _, _ = orient_and_invert(local, numbered(lower, ids))
-    used = np.zeros(count, dtype=bool)
+    used = np.zeros(positions.shape[0], dtype=bool)
     used[tets.reshape(-1)] = True
     if not np.all(used):
         missing = int(np.flatnonzero(~used)[0])
@@ -399,14 +398,3 @@ def _assembled(frame: Frame, positions: np.ndarray, local: np.ndarray, tets: np.
         inverse = edge_inverse(local, tets)
     return Tetrahedralization(frame=frame, world=positions, points=local, tets=tets, neighbours=neighbours,
                               inverse=inverse, hull_faces=hull_faces, hull_face_tets=hull_face_tets)
-
-
-def with_vertices_reordered(mesh: Tetrahedralization, order: np.ndarray) -> Tetrahedralization:
-    """The same tetrahedralisation with vertex i the old vertex order[i] (`order` a permutation of its vertices): the
-    same tetrahedra, rows, corner order, neighbours and hull, so the numbering and orientation by point index
-    (tet_numbering) are kept — what tetrahedralize gives the reordered positions with their point indices."""
-    position = np.empty(order.shape[0], dtype=np.int64)
-    position[order] = np.arange(order.shape[0])
-    return Tetrahedralization(frame=mesh.frame, world=mesh.world[order], points=mesh.points[order],
-                              tets=position[mesh.tets], neighbours=mesh.neighbours, inverse=mesh.inverse,
-                              hull_faces=position[mesh.hull_faces], hull_face_tets=mesh.hull_face_tets)

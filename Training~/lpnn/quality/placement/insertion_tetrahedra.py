@@ -22,7 +22,7 @@ import numpy as np
 
 from ..metric.metric import ReferenceField
 from ..metric.regular_insertion import inserted_tetrahedra
-from ..metric.triangulation import Tetrahedralization, tetrahedralize, tetrahedralized_from, with_vertices_reordered
+from ..metric.triangulation import Tetrahedralization, tetrahedralize, tetrahedralized_from
 
 MAX_RESYNCS = 3  # disagreements before any agreement after which every later round is tetrahedralised (module text)
 
@@ -79,3 +79,14 @@ class InsertionTetrahedra:
     def _tetrahedralized(self, field: ReferenceField, world: np.ndarray, probes: np.ndarray) -> Tetrahedralization:
         self.tetrahedralised += 1
         return tetrahedralize(world, field.frame, probes)
+
+
+def with_vertices_reordered(mesh: Tetrahedralization, order: np.ndarray) -> Tetrahedralization:
+    """The same tetrahedralisation with vertex i the old vertex order[i] (`order` a permutation of its vertices): the
+    same tetrahedra, rows, corner order, neighbours and hull, so the numbering and orientation by point index
+    (tet_numbering) are kept — what tetrahedralize gives the reordered positions with their point indices."""
+    position = np.empty(order.shape[0], dtype=np.int64)
+    position[order] = np.arange(order.shape[0])
+    return Tetrahedralization(frame=mesh.frame, world=mesh.world[order], points=mesh.points[order],
+                              tets=position[mesh.tets], neighbours=mesh.neighbours, inverse=mesh.inverse,
+                              hull_faces=position[mesh.hull_faces], hull_face_tets=mesh.hull_face_tets)
