@@ -161,6 +161,35 @@ def test_coherent_and_nearest_start_locations_agree_with_the_rule(walk_always, k
     assert np.count_nonzero(expected >= 0) > 0 and np.count_nonzero(expected < 0) > 0
 
 
+@pytest.mark.parametrize("kind,seed", [("random", 3), ("lattice", 3), ("coplanar", 3), ("cospherical", 3)]
+                         + [("ramp", seed) for seed in range(8)])
+def test_walks_from_given_starts_give_the_rule_s_stencils(walk_always, kind: str, seed: int) -> None:
+    """A caller's starts (batched refinement's refills) change no cell, weight or projection, wherever they are: here
+    random tetrahedra, far from most points."""
+    probes, points = _point_set(kind, seed)
+    tri = tetrahedralize(probes)
+    query = np.ascontiguousarray(tri.frame.to_local(points))
+    expected = _rule(tri, query)
+    start = np.random.default_rng(seed).integers(0, tri.tets.shape[0], query.shape[0])
+    started = location.locate_local(tri, query, start=start)
+    coherent = location.locate_local(tri, query, coherent=True)
+    np.testing.assert_array_equal(started.cell[expected >= 0], expected[expected >= 0])
+    np.testing.assert_array_equal(started.outside, expected < 0)
+    for name in ("cell", "vertices", "weights", "anchor"):
+        np.testing.assert_array_equal(getattr(started, name), getattr(coherent, name), err_msg=name)
+
+
+def test_walk_starts_must_be_one_tetrahedron_per_point(walk_always) -> None:
+    tri = _crack_mesh()
+    query = tri.frame.to_local(np.array([ABOVE_THE_SQUARE, BELOW_THE_SQUARE]) * 4.0 + np.array([10.0, 2.0, -3.0]))
+    with pytest.raises(ValueError, match="one tetrahedron per point"):
+        location.locate_local(tri, query, start=np.zeros(3, dtype=np.int64))
+    with pytest.raises(ValueError, match="outside the 8 tetrahedra"):
+        location.locate_local(tri, query, start=np.array([0, 8]))
+    with pytest.raises(ValueError, match="outside the 8 tetrahedra"):
+        location.locate_local(tri, query, start=np.array([-1, 0]))
+
+
 def test_the_ramps_of_the_property_test_have_cracks() -> None:
     """The ramp sets above exercise cracks (else they would test nothing new)."""
     cracked = [seed for seed in range(8) if np.any(tetrahedralize(_point_set("ramp", seed)[0]).neighbours == INNER_BOUNDARY)]

@@ -12,6 +12,7 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.metric import location
 from lpnn.quality.metric.triangulation import INNER_BOUNDARY, assembled
 from lpnn.quality.placement import batched_state, trial_fills
 from lpnn.quality.placement.batched_refinement import batched_refinement, greedy_independent_set
@@ -161,3 +162,36 @@ def test_the_mesh_derived_from_the_state_is_the_one_assembled_afresh_bit_for_bit
     assert batched_state.derived_mesh(field, state, removed, np.concatenate([fills.tets, fills.tets[:1]])) is None
     # A star left partly empty (one refill missing) leaves a crack inside the hull: not a tetrahedralisation either.
     assert batched_state.derived_mesh(field, state, removed, fills.tets[1:]) is None
+
+
+@pytest.mark.parametrize("order", ["corners first", "random"])
+def test_a_trial_located_from_its_refills_is_the_one_located_by_the_coherent_walk(lattice_state, order: str) -> None:
+    """trial_of starts each point's walk in the refill of the star it was in (batched_state.refill_starts): the start
+    lies in that star's refill, the located point lands in the same star's refill where it stays inside the hull, and
+    every array of the trial's evaluation is the coherent walk's."""
+    field, state = lattice_state
+    candidates = _candidates(field, state, order, seed=3)
+    fills = star_fills(field, state, candidates)
+    is_candidate = np.zeros(field.point_count, dtype=bool)
+    is_candidate[candidates] = True
+    mesh = batched_state.derived_mesh(field, state, is_candidate, fills.tets)
+    assert mesh is not None
+    attributed = batched_state.stencils_using(state, candidates, state.owners)
+    start = batched_state.refill_starts(mesh, fills.owner, attributed, state.owners, is_candidate)
+    base = mesh.tets.shape[0] - fills.tets.shape[0]
+    assert start.min() >= base  # every start is a refill
+    # The star each point was in: itself if a candidate, else the candidate its stencil weighed.
+    owners = state.owners[attributed]
+    held = np.where(owners >= 0, is_candidate[np.maximum(owners, 0)], False)
+    star_of = np.where(is_candidate[attributed], attributed, owners[np.arange(owners.shape[0]), np.argmax(held, axis=1)])
+    np.testing.assert_array_equal(fills.owner[start - base], star_of)
+    remaining = np.setdiff1d(state.probes, candidates)
+    started = batched_state.evaluated_at(field, remaining, attributed, mesh=mesh, start=start)
+    walked = batched_state.evaluated_at(field, remaining, attributed, mesh=mesh)
+    for name in ("errors", "owners", "touched", "probes"):
+        np.testing.assert_array_equal(getattr(started, name), getattr(walked, name), err_msg=name)
+    located = location.locate_local(mesh, field.local[attributed], start=start)
+    inside = ~located.outside  # outside the hull a cell is the owner of the hull triangle the point projects onto
+    assert np.count_nonzero(inside) > 0.5 * attributed.shape[0]
+    assert located.cell[inside].min() >= base
+    np.testing.assert_array_equal(fills.owner[located.cell[inside] - base], star_of[inside])

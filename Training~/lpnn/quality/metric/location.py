@@ -65,26 +65,24 @@ def _brute_force(tri: Tetrahedralization, query: np.ndarray) -> tuple[np.ndarray
     return best_cell, best_min
 
 
-def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
+def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, start: np.ndarray | None = None
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Visibility walk for all points at once. Returns cell (-1 = outside; on a shared boundary the tie rule's
     tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
     bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
     or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
-    from its nearest centroid)."""
+    from its nearest centroid), or, given `start` (M,), in tetrahedron start[m] (a caller that knows where each point
+    is near: the same cells, by the tie rule)."""
     m = query.shape[0]
-    if coherent:
-        chunks = chunk_count(m) if m else 0
-        first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
+    if start is not None:
+        start, coherent = np.ascontiguousarray(start, dtype=np.int64), False
+        if start.shape != (m,):
+            raise ValueError(f"{start.shape} walk starts for {m} points: give one tetrahedron per point")
+        if m and not (0 <= int(start.min()) and int(start.max()) < tri.tets.shape[0]):
+            raise ValueError(f"walk starts {int(start.min())}..{int(start.max())} outside the "
+                             f"{tri.tets.shape[0]} tetrahedra")
     else:
-        first = query
-    if first.shape[0] <= FEW_STARTS:
-        start = np.zeros(first.shape[0], dtype=np.int64)
-        nearest_centroids(tri.points, tri.tets, np.ascontiguousarray(first, dtype=np.float64), start)
-    else:
-        centroids = tri.points[tri.tets].mean(axis=1)
-        workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
-        start = np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
+        start = _nearest_starts(tri, query, coherent)
     result = np.empty(m, dtype=np.int64)
     resolved = np.empty(m, dtype=bool)
     coordinates = np.empty((m, 4))
@@ -96,17 +94,37 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False
     return result, resolved, coordinates
 
 
-def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False) -> Stencil:
+def _nearest_starts(tri: Tetrahedralization, query: np.ndarray, coherent: bool) -> np.ndarray:
+    """_walk's default starts: the tetrahedron whose centroid is nearest each point, or with `coherent` each parallel
+    slice's first point's."""
+    m = query.shape[0]
+    if coherent:
+        chunks = chunk_count(m) if m else 0
+        first = query[[chunk_bounds(m, chunks, c)[0] for c in range(chunks)]]
+    else:
+        first = query
+    if first.shape[0] <= FEW_STARTS:
+        start = np.zeros(first.shape[0], dtype=np.int64)
+        nearest_centroids(tri.points, tri.tets, np.ascontiguousarray(first, dtype=np.float64), start)
+        return start
+    centroids = tri.points[tri.tets].mean(axis=1)
+    workers = QUERY_WORKERS if first.shape[0] >= PARALLEL_QUERY else 1  # threads cost more than small queries take
+    return np.asarray(cKDTree(centroids).query(first, k=1, workers=workers)[1], dtype=np.int64).reshape(-1)
+
+
+def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False,
+                 start: np.ndarray | None = None) -> Stencil:
     """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
     (points in grid order, each near the previous one) starts each walk where the previous one ended
     instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
-    10^6 points): the same stencils, since a point on a boundary shared by several tetrahedra gets the tie rule's
-    (module text) wherever its walk arrived."""
+    10^6 points); `start` (M,), tetrahedra near each point (a batched refinement's refill of the star the point was
+    in), starts each walk there instead: the same stencils, since a point on a boundary shared by several tetrahedra
+    gets the tie rule's (module text) wherever its walk arrived."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
-    return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent))
+    return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent, start))
 
 
-def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
+def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False, start: np.ndarray | None = None
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The first half of locate_local for points (M, 3) in local coordinates: each one's tetrahedron (-1: outside the
     hull), whether the walk found it, and the walk's barycentric coordinates there (rows of other points undefined)."""
@@ -114,7 +132,7 @@ def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
         cell, smallest = _brute_force(tri, q)
         return np.where(smallest >= -INSIDE_TOLERANCE, cell, -1), np.zeros(m, dtype=bool), np.empty((m, 4))
-    cell, walked, coordinates = _walk(tri, q, coherent)
+    cell, walked, coordinates = _walk(tri, q, coherent, start)
     stuck = np.flatnonzero(~walked)  # numerically cycling walks, walks into a crack: rare, settle them exactly
     if stuck.shape[0]:
         fallback, smallest = _brute_force(tri, q[stuck])

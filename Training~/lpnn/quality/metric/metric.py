@@ -176,13 +176,14 @@ def checked_probes(field: ReferenceField, probes: np.ndarray) -> np.ndarray:
 
 
 def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False, points: np.ndarray | None = None,
-               tets: np.ndarray | None = None, mesh: Tetrahedralization | None = None
-               ) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
+               tets: np.ndarray | None = None, mesh: Tetrahedralization | None = None,
+               start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, Tetrahedralization, Stencil]:
     """probe_stencil plus the probes' tetrahedralisation (its vertices are positions in the checked probe indices).
     `points` (ascending point indices, none a probe): locate only those instead of every other point (batched
     refinement re-evaluates only the points whose stencil changed). `tets` (T, 4), positions in `probes`: the
     tetrahedralisation when it is already known (derived by batched refinement), instead of tetrahedralising again;
-    `mesh`: the same, already assembled (triangulation.assembled_after_removal)."""
+    `mesh`: the same, already assembled (triangulation.assembled_after_removal); `start`: a tetrahedron of `mesh` near
+    each of `points`, where its walk starts (location.locate_local)."""
     indices = checked_probes(field, probes)
     tri = (mesh if mesh is not None else tetrahedralize(field.world[indices], field.frame, indices) if tets is None
            else assembled(field.world[indices], field.frame, tets))
@@ -192,7 +193,7 @@ def probe_mesh(field: ReferenceField, probes: np.ndarray, coherent: bool = False
         others = np.flatnonzero(~is_probe)
     else:
         others = np.asarray(points, dtype=np.int64)
-    return indices, others, tri, locate_local(tri, field.local[others], coherent)
+    return indices, others, tri, locate_local(tri, field.local[others], coherent, start)
 
 
 def probe_stencil(field: ReferenceField, probes: np.ndarray, coherent: bool = False

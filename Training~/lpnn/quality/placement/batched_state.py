@@ -33,7 +33,7 @@ from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from ..metric.removal_kernel import count_marker, kept_tetrahedra, uses_every_vertex
-from .refinement_kernel import attributed_costs, rows_holding, stencil_ids
+from .refinement_kernel import attributed_costs, removed_probe_of, rows_holding, stencil_ids
 from .trial_fills import Fills, star_fills
 from ..metric.triangulation import (INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal,
                                     corners_of_faces)
@@ -85,13 +85,14 @@ class Located:
 
 def evaluated_at(field: ReferenceField, probes: np.ndarray, points: np.ndarray | None,
                  tets: np.ndarray | None = None, weighting: LeakWeighting | None = None,
-                 mesh: Tetrahedralization | None = None) -> Located:
+                 mesh: Tetrahedralization | None = None, start: np.ndarray | None = None) -> Located:
     """The sorted probes' tetrahedralisation (given by `tets`, global ids, or assembled as `mesh`, when known) and, at
     `points` (every other point when None), their errors (weighted by leaks with a `weighting`), owners and touched
-    ids."""
+    ids. `start`: a tetrahedron of `mesh` near each of `points` (refill_starts), where its location's walk starts."""
     ordered = np.sort(probes)
     local_tets = None if tets is None else np.searchsorted(ordered, tets)
-    indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets, mesh=mesh)
+    indices, others, tri, stencil = probe_mesh(field, ordered, coherent=True, points=points, tets=local_tets, mesh=mesh,
+                                               start=start)
     errors = stencil_point_errors(field, indices, others, stencil)
     if weighting is not None:
         errors = weighting.weighted(field, indices, others, stencil, errors)
@@ -113,6 +114,25 @@ def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting
     return MeshState(probes=located.probes, owners=owners, touched=touched, errors=located.errors,
                      error_sum=float(located.errors.sum()), edges=graph_edges(located.probes, located.mesh.tets),
                      mesh=located.mesh, weighting=weighting)
+
+
+def refill_starts(mesh: Tetrahedralization, refill_owner: np.ndarray, points: np.ndarray, ids: np.ndarray,
+                  gone: np.ndarray) -> np.ndarray:
+    """Where to start locating each of `points` (ascending, each removed (`gone`, (N,) bool) or with a removed probe in
+    its `ids` row: state.owners or state.touched) in `mesh`, whose last len(refill_owner) tetrahedra refill the removed
+    probes' stars (refill_owner: each one's removed probe, as derived_mesh assembles them): the first tetrahedron of the
+    refill of the star the point was in, which holds the point or lies next to the one that does, instead of a walk from
+    the previous point's tetrahedron across the stars between (on ctf_compromise ~4x the steps). A point whose removed
+    probe left no refill (a hull vertex whose star the hull lost) starts at the first refill tetrahedron. The start
+    changes no cell (location.py: the tie rule)."""
+    probe = np.empty(points.shape[0], dtype=np.int64)
+    removed_probe_of(points, ids, gone, probe)
+    owners, first = np.unique(refill_owner, return_index=True)
+    base = mesh.tets.shape[0] - refill_owner.shape[0]
+    if owners.shape[0] == 0:
+        return np.zeros(points.shape[0], dtype=np.int64)
+    at = np.minimum(np.searchsorted(owners, probe), owners.shape[0] - 1)
+    return base + np.where(owners[at] == probe, first[at], 0)
 
 
 def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -147,7 +167,8 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
         mesh = derived_mesh(field, state, is_candidate, fills.tets)
         if mesh is not None:
-            trial = evaluated_at(field, remaining, attributed, weighting=state.weighting, mesh=mesh)
+            trial = evaluated_at(field, remaining, attributed, weighting=state.weighting, mesh=mesh,
+                                 start=refill_starts(mesh, fills.owner, attributed, state.owners, is_candidate))
         else:
             fills = None
     if trial is None:
@@ -275,12 +296,14 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     if fills is not None:  # the removed probes' refills are known: no new mesh to assemble
         gone = np.zeros(field.point_count, dtype=bool)
         gone[removed] = True
-        refills = fills.tets[gone[fills.owner]]
+        refilling = gone[fills.owner]
+        refills = fills.tets[refilling]
         mesh = derived_mesh(field, state, gone, refills)
         if mesh is not None:
             edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
+            start = refill_starts(mesh, fills.owner[refilling], affected, state.touched, gone)
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
-                                                           mesh=mesh), reuse, edges)
+                                                           mesh=mesh, start=start), reuse, edges)
     # Refills refused (assembled another way they would pass what derived_mesh refused) or failed: Qhull decides, unless
     # the trial was Qhull's itself and holds every removed probe (refilled).
     qhull_trial = (trial is not None and trial.fills is None

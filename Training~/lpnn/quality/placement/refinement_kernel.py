@@ -86,3 +86,19 @@ def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
     hit = np.empty(ids.shape[0], dtype=bool)
     run_rows(_holding, ids.shape[0], ids, gone, hit)
     return np.flatnonzero(hit)
+
+
+@njit(cache=True)
+def removed_probe_of(rows, ids, gone, out):
+    """out[i] = rows[i] when it is itself removed (gone), else the first removed probe its `ids` row holds, else -1:
+    the star a re-evaluated point was in (batched_state.refill_starts)."""
+    for i in range(rows.shape[0]):
+        r = rows[i]
+        found = r if gone[r] else -1
+        k = 0
+        while found < 0 and k < ids.shape[1]:
+            v = ids[r, k]
+            if v >= 0 and gone[v]:
+                found = v
+            k += 1
+        out[i] = found
