@@ -162,6 +162,10 @@ def test_the_mesh_derived_from_the_state_is_the_one_assembled_afresh_bit_for_bit
     assert batched_state.derived_mesh(field, state, removed, np.concatenate([fills.tets, fills.tets[:1]])) is None
     # A star left partly empty (one refill missing) leaves a crack inside the hull: not a tetrahedralisation either.
     assert batched_state.derived_mesh(field, state, removed, fills.tets[1:]) is None
+    # A refill naming a removed probe is no tetrahedron of the remaining ones.
+    naming_a_removed = fills.tets.copy()
+    naming_a_removed[0, 0] = candidates[0]
+    assert batched_state.derived_mesh(field, state, removed, naming_a_removed) is None
 
 
 @pytest.mark.parametrize("order", ["corners first", "random"])

@@ -89,11 +89,15 @@ def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def removed_probe_of(rows, ids, gone, out):
-    """out[i] = rows[i] when it is itself removed (gone), else the first removed probe its `ids` row holds, else -1:
-    the star a re-evaluated point was in (batched_state.refill_starts)."""
-    for i in range(rows.shape[0]):
-        r = rows[i]
+def refill_start_rows(points, ids, gone, refill_owner, base, out):
+    """out[i] = base + the first f with refill_owner[f] == the removed probe of points[i] (itself when gone, else the
+    first removed probe its `ids` row holds), or `base` when that probe has no refill or there is none
+    (batched_state.refill_starts)."""
+    first = np.full(gone.shape[0], -1, dtype=np.int64)
+    for f in range(refill_owner.shape[0] - 1, -1, -1):
+        first[refill_owner[f]] = f
+    for i in range(points.shape[0]):
+        r = points[i]
         found = r if gone[r] else -1
         k = 0
         while found < 0 and k < ids.shape[1]:
@@ -101,4 +105,4 @@ def removed_probe_of(rows, ids, gone, out):
             if v >= 0 and gone[v]:
                 found = v
             k += 1
-        out[i] = found
+        out[i] = base + (first[found] if found >= 0 and first[found] >= 0 else 0)
