@@ -97,7 +97,7 @@ def test_the_compiled_walk_reaches_the_numpy_walks_cells(scene, count: int) -> N
 
 def test_the_walk_in_parallel_slices_reaches_each_points_cell(scene) -> None:
     """metric_kernel.walk runs chunk_count's slices in parallel, each coherent slice from its own first point's nearest
-    centroid: every point's cell is still the numpy walk's, in either mode (the tie rule makes it start-independent)."""
+    centroid: every point's cell is still the numpy walk's, in every mode (the tie rule makes it start-independent)."""
     field, select = scene
     tri = tetrahedralize(field.world[select(600)], field.frame)
     copies = 3 * PARALLEL_ROWS // field.point_count + 1  # every point several times, in both orders
@@ -105,8 +105,11 @@ def test_the_walk_in_parallel_slices_reaches_each_points_cell(scene) -> None:
     assert chunk_count(query.shape[0]) >= 3
     expected = _numpy_walk(tri, query)
     inside = np.flatnonzero(expected[0] >= 0)
-    for coherent in (False, True):
-        cell, resolved, coordinates = location._walk(tri, query, coherent)
+    # Starts given in runs (batched refinement's refill starts: the points of one star in a row), each run's walks
+    # continuing from the previous point's cell.
+    runs = np.repeat(np.random.default_rng(5).integers(0, tri.tets.shape[0], query.shape[0] // 7 + 1), 7)
+    for coherent, start in ((False, None), (True, None), (False, runs[:query.shape[0]])):
+        cell, resolved, coordinates = location._walk(tri, query, coherent, start)
         np.testing.assert_array_equal(cell, expected[0])
         np.testing.assert_array_equal(resolved, expected[1])
         np.testing.assert_array_equal(coordinates[inside], location.barycentric(tri, expected[0][inside], query[inside]))

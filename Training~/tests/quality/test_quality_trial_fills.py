@@ -180,14 +180,15 @@ def test_a_trial_located_from_its_refills_is_the_one_located_by_the_coherent_wal
     is_candidate[candidates] = True
     mesh = batched_state.derived_mesh(field, state, is_candidate, fills.tets)
     assert mesh is not None
-    attributed = batched_state.stencils_using(state, candidates, state.owners)
-    start = batched_state.refill_starts(mesh, fills.owner, attributed, state.owners, is_candidate)
+    attributed, star = batched_state.stencils_with_stars(state, candidates, state.owners)
+    start = batched_state.refill_starts(mesh, fills.owner, star, state.probes)
     base = mesh.tets.shape[0] - fills.tets.shape[0]
     assert start.min() >= base  # every start is a refill
     # The star each point was in: itself if a candidate, else the candidate its stencil weighed.
     owners = state.owners[attributed]
     held = np.where(owners >= 0, is_candidate[np.maximum(owners, 0)], False)
     star_of = np.where(is_candidate[attributed], attributed, owners[np.arange(owners.shape[0]), np.argmax(held, axis=1)])
+    np.testing.assert_array_equal(star, star_of)
     np.testing.assert_array_equal(fills.owner[start - base], star_of)
     remaining = np.setdiff1d(state.probes, candidates)
     started = batched_state.evaluated_at(field, remaining, attributed, mesh=mesh, start=start)

@@ -21,8 +21,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .hull_projection import project_to_hull
-from .metric_kernel import (chunk_bounds, chunk_count, inside_stencils, kept_cells, most_inside, nearest_centroids,
-                            outside_stencils, run_rows, walk)
+from .metric_kernel import (WALK_COHERENT, WALK_FROM_EACH_START, WALK_WITHIN_RUNS, chunk_bounds, chunk_count,
+                            inside_stencils, kept_cells, most_inside, nearest_centroids, outside_stencils, run_rows, walk)
 from .triangulation import PARALLEL_QUERY, QUERY_WORKERS, Tetrahedralization
 
 INSIDE_TOLERANCE = 1e-9  # coordinates >= -this count as inside; a smallest within this of 0 is a tie (module text)
@@ -71,18 +71,19 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, st
     tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
     bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
     or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
-    from its nearest centroid), or, given `start` (M,), in tetrahedron start[m] (a caller that knows where each point
-    is near: the same cells, by the tie rule)."""
+    from its nearest centroid), or, given `start` (M,), in tetrahedron start[m] where it differs from the previous
+    point's, else where the previous point's walk ended (a caller that knows where runs of points lie: the same cells,
+    by the tie rule)."""
     m = query.shape[0]
     if start is not None:
-        start, coherent = np.ascontiguousarray(start, dtype=np.int64), False
+        start, mode = np.ascontiguousarray(start, dtype=np.int64), WALK_WITHIN_RUNS
         if start.shape != (m,):
             raise ValueError(f"{start.shape} walk starts for {m} points: give one tetrahedron per point")
         if m and not (0 <= int(start.min()) and int(start.max()) < tri.tets.shape[0]):
             raise ValueError(f"walk starts {int(start.min())}..{int(start.max())} outside the "
                              f"{tri.tets.shape[0]} tetrahedra")
     else:
-        start = _nearest_starts(tri, query, coherent)
+        start, mode = _nearest_starts(tri, query, coherent), WALK_COHERENT if coherent else WALK_FROM_EACH_START
     result = np.empty(m, dtype=np.int64)
     resolved = np.empty(m, dtype=bool)
     coordinates = np.empty((m, 4))
@@ -90,7 +91,7 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, st
     # settled there). Leaving through a hull face: the point is beyond that face's plane, hence outside the hull; through
     # a crack (INNER_BOUNDARY) it may be in tetrahedra the walk cannot reach: unresolved, for the brute force.
     run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
-             WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, coherent)
+             WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, mode)
     return result, resolved, coordinates
 
 
@@ -117,9 +118,10 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     """Stencils for points given in the triangulation's local coordinates (M, 3). coherent=True
     (points in grid order, each near the previous one) starts each walk where the previous one ended
     instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
-    10^6 points); `start` (M,), tetrahedra near each point (a batched refinement's refill of the star the point was
-    in), starts each walk there instead: the same stencils, since a point on a boundary shared by several tetrahedra
-    gets the tie rule's (module text) wherever its walk arrived."""
+    10^6 points); `start` (M,), a tetrahedron near each point (a batched refinement's refill of the star the point was
+    in), starts each walk there where it differs from the previous point's and continues the previous walk where it
+    does not (points of one star in a row): the same stencils, since a point on a boundary shared by several
+    tetrahedra gets the tie rule's (module text) wherever its walk arrived."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent, start))
 

@@ -223,11 +223,17 @@ def nearest_centroids(points, tets, query, out):
                 out[q] = t
 
 
+# Where metric_kernel.walk starts each point's walk (its `mode`).
+WALK_FROM_EACH_START = 0  # start[m]
+WALK_COHERENT = 1  # start[c] for the first point of slice c, then where the previous point's walk ended
+WALK_WITHIN_RUNS = 2  # start[m] where it differs from start[m - 1] (or m begins a slice), else where the previous ended
+
+
 @njit(cache=True, parallel=True)
 def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tolerance, cell, resolved, coordinates,
-         coherent):
-    """The visibility walk of location.py for each query point from its start tetrahedron (coherent: start[c] for the
-    first point of slice c of chunk_count's slices, then the tetrahedron where the previous point's walk ended): cell[m]
+         mode):
+    """The visibility walk of location.py for each query point from its start tetrahedron (as `mode` says, one of the
+    WALK_ constants: a coherent walk starts the first point of each slice of chunk_count's slices at start[slice]): cell[m]
     is the first tetrahedron reached whose barycentric coordinates are all >= -inside_tolerance, or, when its smallest
     is within inside_tolerance of 0, the tetrahedron the tie rule gives (boundary_owner), and coordinates[m] the
     coordinates there (-1 when the walk leaves through a hull face: resolved, outside), resolved[m] False after
@@ -240,9 +246,9 @@ def walk(points, tets, inverse, neighbours, query, start, step_limit, inside_tol
         lam = np.empty(4)
         trial = np.empty(4)
         visited = np.empty(BOUNDARY_SEARCH_LIMIT, dtype=np.int64)
-        current = start[chunk] if coherent else 0
+        current = start[chunk] if mode == WALK_COHERENT else 0
         for m in range(lo, hi):
-            if not coherent:
+            if mode == WALK_FROM_EACH_START or (mode == WALK_WITHIN_RUNS and (m == lo or start[m] != start[m - 1])):
                 current = start[m]
             cell[m] = -1
             resolved[m] = False

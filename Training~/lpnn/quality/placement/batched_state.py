@@ -33,7 +33,7 @@ from ..metric.location import locate_local
 from ..metric.metric import ReferenceField, probe_mesh, stencil_point_errors
 from ..metric.metric_kernel import run_rows
 from ..metric.removal_kernel import count_marker, kept_tetrahedra, uses_every_vertex
-from .refinement_kernel import attributed_costs, refill_start_rows, rows_holding, stencil_ids
+from .refinement_kernel import attributed_costs, refill_start_rows, rows_holding_which, stencil_ids
 from .trial_fills import Fills, star_fills
 from ..metric.triangulation import (INNER_BOUNDARY, GeometryError, Tetrahedralization, assembled_after_removal,
                                     corners_of_faces)
@@ -116,27 +116,30 @@ def evaluate(field: ReferenceField, probes: np.ndarray, weighting: LeakWeighting
                      mesh=located.mesh, weighting=weighting)
 
 
-def refill_starts(mesh: Tetrahedralization, refill_owner: np.ndarray, points: np.ndarray, ids: np.ndarray,
-                  gone: np.ndarray) -> np.ndarray:
-    """Where to start locating each of `points` (ascending, each removed (`gone`, (N,) bool) or with a removed probe in
-    its `ids` row: state.owners or state.touched) in `mesh`, whose last len(refill_owner) tetrahedra refill the removed
-    probes' stars (refill_owner: each one's removed probe, as derived_mesh assembles them): the first tetrahedron of the
-    refill of the star the point was in, near the one that holds it, instead of a walk from the previous point's
-    tetrahedron across the stars between (ctf_compromise's refinement, leak-aware: its 158 locations took 0.35 s
-    instead of 0.80 s). A point whose removed probe left no refill (a hull vertex whose star the hull lost) starts at
-    the first refill tetrahedron. The start changes no cell (location.py: the tie rule)."""
-    start = np.empty(points.shape[0], dtype=np.int64)
+def refill_starts(mesh: Tetrahedralization, refill_owner: np.ndarray, star: np.ndarray, probes: np.ndarray
+                  ) -> np.ndarray:
+    """Where to start locating points in `mesh`, whose last len(refill_owner) tetrahedra refill removed probes' stars
+    (refill_owner: each one's removed probe, as derived_mesh assembles them), given the removed probe whose star each
+    point was in (`star`, stencils_with_stars; removed probes of the sorted `probes`, state.probes): the first
+    tetrahedron of that star's refill, near the one that holds the point, where the previous point's walk ended in
+    another star (location.locate_local's `start`: a run of points of one star continues from the previous point's
+    tetrahedron). A coherent walk crossed the stars between such runs (ctf_compromise's refinement, leak-aware: its 158
+    locations took 0.26 s instead of 0.80 s). A point whose removed probe left no refill (a hull vertex whose star the
+    hull lost) starts at the first refill tetrahedron. The start changes no cell (location.py: the tie rule)."""
+    start = np.empty(star.shape[0], dtype=np.int64)
     base = mesh.tets.shape[0] - refill_owner.shape[0]
-    refill_start_rows(np.ascontiguousarray(points, dtype=np.int64), ids, gone,
+    refill_start_rows(np.ascontiguousarray(star, dtype=np.int64), np.ascontiguousarray(probes, dtype=np.int64),
                       np.ascontiguousarray(refill_owner, dtype=np.int64), min(base, mesh.tets.shape[0] - 1), start)
     return start
 
 
-def stencils_using(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> np.ndarray:
-    """Points (ascending) whose `ids` rows (state.owners or state.touched) hold a removed probe, and the removed."""
+def stencils_with_stars(state: MeshState, removed: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points (ascending) whose `ids` rows (state.owners or state.touched) hold a removed probe, and the removed;
+    for each, the removed probe whose star it was in: itself when removed, else the first removed probe its row holds
+    (an independent set: a stencil's weighing probes hold at most one of them)."""
     gone = np.zeros(state.errors.shape[0], dtype=bool)
     gone[removed] = True
-    return rows_holding(ids, gone)
+    return rows_holding_which(ids, gone)
 
 
 @dataclass(frozen=True)
@@ -155,17 +158,17 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     weight reached plus its own new error; the trial is evaluated at those points only (no other point enters a
     cost). `candidates` must be independent in the state's Delaunay graph."""
     n = state.errors.shape[0]
-    attributed = stencils_using(state, candidates, state.owners)
+    attributed, star = stencils_with_stars(state, candidates, state.owners)
     is_candidate = np.zeros(n, dtype=bool)
     is_candidate[candidates] = True
     remaining = np.setdiff1d(state.probes, candidates, assume_unique=True)  # both sorted, distinct
     fills = star_fills(field, state, candidates)
     trial = None
     if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
-        mesh = derived_mesh(field, state, is_candidate, fills.tets)
+        mesh = derived_mesh(field, state, is_candidate, fills.tets, fills.positions)
         if mesh is not None:
             trial = evaluated_at(field, remaining, attributed, weighting=state.weighting, mesh=mesh,
-                                 start=refill_starts(mesh, fills.owner, attributed, state.owners, is_candidate))
+                                 start=refill_starts(mesh, fills.owner, star, state.probes))
         else:
             fills = None
     if trial is None:
@@ -175,25 +178,27 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets], fills=fills)
 
 
-def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, added: np.ndarray
-                 ) -> Tetrahedralization | None:
+def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, added: np.ndarray,
+                 added_positions: np.ndarray | None = None) -> Tetrahedralization | None:
     """The tetrahedralisation of state.probes without the `removed` ((N,) bool) probes: the state's tetrahedra without a
-    removed vertex, then `added` (global ids, positively oriented: the removed probes' refills), assembled from the
-    state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh). None when they
-    are not a tetrahedralisation of the remaining probes: a probe unused, not a manifold, or a new crack (a face without
-    a tetrahedron across inside the hull: a refill that left part of a star empty; the state's cracks are kept)."""
+    removed vertex, then `added` (global ids, positively oriented: the removed probes' refills; `added_positions`: the
+    same as positions in state.probes, when known — Fills.positions — which spares a binary search of every vertex),
+    assembled from the state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh).
+    None when they are not a tetrahedralisation of the remaining probes: a probe unused, not a manifold, or a new crack
+    (a face without a tetrahedron across inside the hull: a refill that left part of a star empty; the state's cracks
+    are kept)."""
     gone_probe = removed[state.probes]
     remaining = state.probes[~gone_probe]
     vertex_map = np.full(state.probes.shape[0], -1, dtype=np.int64)
     vertex_map[~gone_probe] = np.arange(remaining.shape[0])
     keep = np.empty(state.mesh.tets.shape[0], dtype=bool)
     kept_tetrahedra(state.mesh.tets, gone_probe, keep)
-    # Each point's position among the remaining probes (-1: none, which assembled_after_removal refuses): one pass over
-    # the points costs a tenth of a binary search of every refill vertex (ctf_compromise: 0.2 ms against 3 ms).
-    position = np.full(removed.shape[0], -1, dtype=np.int64)
-    position[remaining] = np.arange(remaining.shape[0])
-    try:
-        mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining], position[added])
+    if added_positions is None:
+        added_positions = np.searchsorted(state.probes, added)
+        if np.any(state.probes[np.minimum(added_positions, state.probes.shape[0] - 1)] != added):
+            return None  # a vertex that is no probe of the state
+    try:  # a removed probe's position maps to -1, which assembled_after_removal refuses
+        mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining], vertex_map[added_positions])
     except GeometryError:
         return None
     cracks_before = count_marker(state.mesh.neighbours, INNER_BOUNDARY)
@@ -277,7 +282,8 @@ def removal_fills(field: ReferenceField, state: MeshState, removed: np.ndarray, 
     made = star_fills(field, state, lacking)
     if made is None or trial is None:
         return made
-    return Fills(tets=np.concatenate([trial.fills.tets, made.tets]), owner=np.concatenate([trial.fills.owner, made.owner]))
+    return Fills(tets=np.concatenate([trial.fills.tets, made.tets]), owner=np.concatenate([trial.fills.owner, made.owner]),
+                 positions=np.concatenate([trial.fills.positions, made.positions]))
 
 
 def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial: Trial | None = None,
@@ -290,7 +296,7 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
     and keeps every triangle without a removed vertex). The tetrahedralisation is derived from the state's mesh and the
     removed probes' refills (removal_fills: the round's `trial`'s, or made for the removed it lacks) when they pass
     derived_mesh's checks; else from the trial's Qhull tetrahedra when it has every removed probe (refilled); else Qhull."""
-    affected = stencils_using(state, removed, state.touched)
+    affected, star = stencils_with_stars(state, removed, state.touched)
     probes = np.setdiff1d(state.probes, removed, assume_unique=True)
     fills = removal_fills(field, state, removed, trial)
     if fills is not None:  # the removed probes' refills are known: no new mesh to assemble
@@ -298,10 +304,10 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
         gone[removed] = True
         refilling = gone[fills.owner]
         refills = fills.tets[refilling]
-        mesh = derived_mesh(field, state, gone, refills)
+        mesh = derived_mesh(field, state, gone, refills, fills.positions[refilling])
         if mesh is not None:
             edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
-            start = refill_starts(mesh, fills.owner[refilling], affected, state.touched, gone)
+            start = refill_starts(mesh, fills.owner[refilling], star, state.probes)
             return _replaced(state, affected, evaluated_at(field, probes, affected, weighting=state.weighting,
                                                            mesh=mesh, start=start), reuse, edges)
     # Refills refused (assembled another way they would pass what derived_mesh refused) or failed: Qhull decides, unless

@@ -36,17 +36,21 @@ def sequential_greedy(ordered, edge_from, edge_to, size):
 
 
 @njit(cache=True, parallel=True)
-def _holding(ids, gone, hit):
+def _holding(ids, gone, hit, which):
+    """hit[r]: row r is gone or holds a gone id >= 0; then which[r] = r if gone, else the first gone id it holds
+    (other rows' `which` is left as it was)."""
     chunks = chunk_count(ids.shape[0])
     for chunk in prange(chunks):
         lo, hi = chunk_bounds(ids.shape[0], chunks, chunk)
         for r in range(lo, hi):
-            found = gone[r]
+            found = r if gone[r] else -1
             for k in range(ids.shape[1]):
                 v = ids[r, k]
-                if v >= 0 and gone[v]:
-                    found = True
-            hit[r] = found
+                if found < 0 and v >= 0 and gone[v]:
+                    found = v
+            hit[r] = found >= 0
+            if found >= 0:
+                which[r] = found
 
 
 @njit(cache=True)
@@ -83,26 +87,30 @@ def stencil_ids(indices, vertices, weights, touched, owners):
 
 def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
     """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself (rows scanned in parallel)."""
+    return rows_holding_which(ids, gone)[0]
+
+
+def rows_holding_which(ids: np.ndarray, gone: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """rows_holding's rows and, for each, the gone id it holds: the row itself when gone, else its first gone id."""
     hit = np.empty(ids.shape[0], dtype=bool)
-    run_rows(_holding, ids.shape[0], ids, gone, hit)
-    return np.flatnonzero(hit)
+    which = np.empty(ids.shape[0], dtype=np.int64)  # written at the hit rows only
+    run_rows(_holding, ids.shape[0], ids, gone, hit, which)
+    rows = np.flatnonzero(hit)
+    return rows, which[rows]
 
 
 @njit(cache=True)
-def refill_start_rows(points, ids, gone, refill_owner, base, out):
-    """out[i] = base + the first f with refill_owner[f] == the removed probe of points[i] (itself when gone, else the
-    first removed probe its `ids` row holds), or `base` when that probe has no refill or there is none
-    (batched_state.refill_starts)."""
-    first = np.full(gone.shape[0], -1, dtype=np.int64)
+def refill_start_rows(star, probes, refill_owner, base, out):
+    """out[i] = base + the first f with refill_owner[f] == star[i] (a removed probe of the sorted state `probes`), or
+    `base` when it has no refill (batched_state.refill_starts; the map from a probe to its first refill is as long as
+    the probes, not as the points)."""
+    first = np.full(probes.shape[0], -1, dtype=np.int64)
     for f in range(refill_owner.shape[0] - 1, -1, -1):
-        first[refill_owner[f]] = f
-    for i in range(points.shape[0]):
-        r = points[i]
-        found = r if gone[r] else -1
-        k = 0
-        while found < 0 and k < ids.shape[1]:
-            v = ids[r, k]
-            if v >= 0 and gone[v]:
-                found = v
-            k += 1
-        out[i] = base + (first[found] if found >= 0 and first[found] >= 0 else 0)
+        first[np.searchsorted(probes, refill_owner[f])] = f
+    last, row = -1, -1  # the points of one star come in runs: search each run's probe once
+    for i in range(star.shape[0]):
+        if star[i] != last:
+            last = star[i]
+            at = np.searchsorted(probes, last)
+            row = first[at] if at < probes.shape[0] and probes[at] == last else -1
+        out[i] = base + (row if row >= 0 else 0)

@@ -48,11 +48,13 @@ SLIVER_RELATIVE_VOLUME = 1e-5
 
 @dataclass(frozen=True)
 class Fills:
-    """Each candidate star's refill: tetrahedra (F, 4), global point ids, positively oriented, and the candidate whose
-    star each fills."""
+    """Each candidate star's refill: tetrahedra (F, 4), global point ids, positively oriented, the same as positions in
+    the state's probes (batched_state.derived_mesh maps those without a search), and the candidate whose star each
+    fills."""
 
     tets: np.ndarray
     owner: np.ndarray
+    positions: np.ndarray
 
 
 def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | None:
@@ -119,7 +121,8 @@ def star_fills(field: ReferenceField, state, candidates: np.ndarray) -> Fills | 
             return None
         fill.append(linked[0])
         owner.append(np.full(linked[0].shape[0], k, dtype=np.int64))
-    return Fills(tets=probes[np.concatenate(fill)], owner=probes[position[np.concatenate(owner)]])
+    positions = np.concatenate(fill)
+    return Fills(tets=probes[positions], owner=probes[position[np.concatenate(owner)]], positions=positions)
 
 
 def _volume_fits(filled, star, at_vertex):
