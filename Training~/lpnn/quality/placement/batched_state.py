@@ -127,9 +127,9 @@ def refill_starts(mesh: Tetrahedralization, refill_owner: np.ndarray, star: np.n
     locations took 0.26 s instead of 0.80 s). A point whose removed probe left no refill (a hull vertex whose star the
     hull lost) starts at the first refill tetrahedron. The start changes no cell (location.py: the tie rule)."""
     start = np.empty(star.shape[0], dtype=np.int64)
-    base = mesh.tets.shape[0] - refill_owner.shape[0]
+    base = min(mesh.tets.shape[0] - refill_owner.shape[0], mesh.tets.shape[0] - 1)  # no refill at all: the last one
     refill_start_rows(np.ascontiguousarray(star, dtype=np.int64), np.ascontiguousarray(probes, dtype=np.int64),
-                      np.ascontiguousarray(refill_owner, dtype=np.int64), min(base, mesh.tets.shape[0] - 1), start)
+                      np.ascontiguousarray(refill_owner, dtype=np.int64), base, start)
     return start
 
 
