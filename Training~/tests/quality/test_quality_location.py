@@ -190,6 +190,15 @@ def test_walk_starts_must_be_one_tetrahedron_per_point(walk_always) -> None:
         location.locate_local(tri, query, start=np.array([-1, 0]))
 
 
+def test_walk_starts_are_checked_where_the_brute_force_decides_too() -> None:
+    """Small problems skip the walk; a bad start is still an error, not ignored."""
+    tri = _crack_mesh()
+    query = tri.frame.to_local(np.array([ABOVE_THE_SQUARE, BELOW_THE_SQUARE]) * 4.0 + np.array([10.0, 2.0, -3.0]))
+    assert query.shape[0] * tri.tets.shape[0] <= location.BRUTE_FORCE_PAIRS
+    with pytest.raises(ValueError, match="outside the 8 tetrahedra"):
+        location.locate_local(tri, query, start=np.array([0, 9]))
+
+
 def test_the_ramps_of_the_property_test_have_cracks() -> None:
     """The ramp sets above exercise cracks (else they would test nothing new)."""
     cracked = [seed for seed in range(8) if np.any(tetrahedralize(_point_set("ramp", seed)[0]).neighbours == INNER_BOUNDARY)]

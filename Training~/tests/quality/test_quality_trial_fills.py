@@ -156,8 +156,13 @@ def test_the_mesh_derived_from_the_state_is_the_one_assembled_afresh_bit_for_bit
     fresh = assembled(field.world[remaining], field.frame, np.searchsorted(remaining, tets))
     derived = batched_state.derived_mesh(field, state, removed, fills.tets)
     assert derived is not None
+    # The refills' positions in the state's probes are their ids, and given they make the same mesh.
+    np.testing.assert_array_equal(state.probes[fills.positions], fills.tets)
+    by_positions = batched_state.derived_mesh(field, state, removed, fills.tets, fills.positions)
+    assert by_positions is not None
     for name in ("tets", "neighbours", "inverse", "hull_faces", "hull_face_tets", "points", "world"):
         np.testing.assert_array_equal(getattr(derived, name), getattr(fresh, name), err_msg=name)
+        np.testing.assert_array_equal(getattr(by_positions, name), getattr(fresh, name), err_msg=name)
     # A face shared by three tetrahedra (a refill listed twice) is not a manifold: no mesh, the round uses Qhull.
     assert batched_state.derived_mesh(field, state, removed, np.concatenate([fills.tets, fills.tets[:1]])) is None
     # A star left partly empty (one refill missing) leaves a crack inside the hull: not a tetrahedralisation either.
@@ -190,6 +195,15 @@ def test_a_trial_located_from_its_refills_is_the_one_located_by_the_coherent_wal
     star_of = np.where(is_candidate[attributed], attributed, owners[np.arange(owners.shape[0]), np.argmax(held, axis=1)])
     np.testing.assert_array_equal(star, star_of)
     np.testing.assert_array_equal(fills.owner[start - base], star_of)
+    owners, first = np.unique(fills.owner, return_index=True)  # the first refill of each star
+    np.testing.assert_array_equal(start - base, first[np.searchsorted(owners, star_of)])
+    # A star without a refill starts at the first refill; no refill at all, at the last tetrahedron.
+    without_first = fills.owner != fills.owner[0]
+    lacking = batched_state.refill_starts(mesh, fills.owner[without_first], star, state.probes)
+    shifted = mesh.tets.shape[0] - np.count_nonzero(without_first)
+    assert np.all(lacking[star == fills.owner[0]] == shifted) and np.any(star == fills.owner[0])
+    np.testing.assert_array_equal(batched_state.refill_starts(mesh, fills.owner[:0], star, state.probes),
+                                  np.full(star.shape[0], mesh.tets.shape[0] - 1))
     remaining = np.setdiff1d(state.probes, candidates)
     started = batched_state.evaluated_at(field, remaining, attributed, mesh=mesh, start=start)
     walked = batched_state.evaluated_at(field, remaining, attributed, mesh=mesh)
@@ -200,3 +214,20 @@ def test_a_trial_located_from_its_refills_is_the_one_located_by_the_coherent_wal
     assert np.count_nonzero(inside) > 0.5 * attributed.shape[0]
     assert located.cell[inside].min() >= base
     np.testing.assert_array_equal(fills.owner[located.cell[inside] - base], star_of[inside])
+
+
+def test_a_commit_s_refills_keep_their_positions_when_the_trial_s_and_new_ones_are_joined(lattice_state) -> None:
+    """removal_fills joins the trial's refills and those made for removed probes the trial left out: their positions in
+    the state's probes must stay aligned with their ids, or every commit's derived mesh would be refused (and Qhull
+    would silently take over)."""
+    field, state = lattice_state
+    candidates = _candidates(field, state, "random", seed=11)
+    trial = trial_of(field, state, candidates[: candidates.shape[0] // 2])
+    assert trial.fills is not None
+    joined = batched_state.removal_fills(field, state, candidates, trial)
+    assert joined is not None and joined.tets.shape[0] > trial.fills.tets.shape[0]
+    np.testing.assert_array_equal(state.probes[joined.positions], joined.tets)
+    gone = np.zeros(field.point_count, dtype=bool)
+    gone[candidates] = True
+    refilling = gone[joined.owner]
+    assert batched_state.derived_mesh(field, state, gone, joined.tets[refilling], joined.positions[refilling]) is not None

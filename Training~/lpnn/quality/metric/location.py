@@ -71,17 +71,12 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, st
     tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
     bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
     or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
-    from its nearest centroid), or, given `start` (M,), in tetrahedron start[m] where it differs from the previous
-    point's, else where the previous point's walk ended (a caller that knows where runs of points lie: the same cells,
-    by the tie rule)."""
+    from its nearest centroid), or, given `start` (M,; checked_starts), in tetrahedron start[m] where it differs from
+    the previous point's or m begins a parallel slice, else where the previous point's walk ended (a caller that knows
+    where runs of points lie)."""
     m = query.shape[0]
     if start is not None:
-        start, mode = np.ascontiguousarray(start, dtype=np.int64), WALK_WITHIN_RUNS
-        if start.shape != (m,):
-            raise ValueError(f"{start.shape} walk starts for {m} points: give one tetrahedron per point")
-        if m and not (0 <= int(start.min()) and int(start.max()) < tri.tets.shape[0]):
-            raise ValueError(f"walk starts {int(start.min())}..{int(start.max())} outside the "
-                             f"{tri.tets.shape[0]} tetrahedra")
+        start, mode = checked_starts(tri, start, m), WALK_WITHIN_RUNS
     else:
         start, mode = _nearest_starts(tri, query, coherent), WALK_COHERENT if coherent else WALK_FROM_EACH_START
     result = np.empty(m, dtype=np.int64)
@@ -93,6 +88,17 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, st
     run_rows(walk, m, tri.points, tri.tets, tri.inverse, tri.neighbours, np.ascontiguousarray(query), start,
              WALK_STEP_LIMIT, INSIDE_TOLERANCE, result, resolved, coordinates, mode)
     return result, resolved, coordinates
+
+
+def checked_starts(tri: Tetrahedralization, start: np.ndarray, count: int) -> np.ndarray:
+    """`start` as the walk's int64 starts: one tetrahedron of `tri` for each of `count` points (the compiled walk does
+    not check its indices)."""
+    start = np.ascontiguousarray(start, dtype=np.int64)
+    if start.shape != (count,):
+        raise ValueError(f"{start.shape} walk starts for {count} points: give one tetrahedron per point")
+    if count and not (0 <= int(start.min()) and int(start.max()) < tri.tets.shape[0]):
+        raise ValueError(f"walk starts {int(start.min())}..{int(start.max())} outside the {tri.tets.shape[0]} tetrahedra")
+    return start
 
 
 def _nearest_starts(tri: Tetrahedralization, query: np.ndarray, coherent: bool) -> np.ndarray:
@@ -120,8 +126,14 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     instead of at the nearest tetrahedron centroid (a k-d tree query per point, most of the time at
     10^6 points); `start` (M,), a tetrahedron near each point (a batched refinement's refill of the star the point was
     in), starts each walk there where it differs from the previous point's and continues the previous walk where it
-    does not (points of one star in a row): the same stencils, since a point on a boundary shared by several
-    tetrahedra gets the tie rule's (module text) wherever its walk arrived."""
+    does not (points of one star in a row). The same stencils whatever the start, since a point on a boundary shared
+    by several tetrahedra gets the tie rule's (module text) wherever its walk arrived — with one exception: a point
+    outside the hull by less than INSIDE_TOLERANCE in one tetrahedron's coordinates but more in a thinner hull
+    tetrahedron's is inside for the rule and the brute force, yet a walk leaving through the thin one's hull face calls
+    it outside (its weights then come from its projection onto the hull, which lies within that distance). That holds
+    for every start mode
+    alike; on the validation levels and crops no answer depends on it (the same probes files with coherent and
+    refill starts)."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent, start))
 
@@ -131,6 +143,8 @@ def locate_cells(tri: Tetrahedralization, q: np.ndarray, coherent: bool = False,
     """The first half of locate_local for points (M, 3) in local coordinates: each one's tetrahedron (-1: outside the
     hull), whether the walk found it, and the walk's barycentric coordinates there (rows of other points undefined)."""
     m = q.shape[0]
+    if start is not None:
+        start = checked_starts(tri, start, m)
     if m * tri.tets.shape[0] <= BRUTE_FORCE_PAIRS:
         cell, smallest = _brute_force(tri, q)
         return np.where(smallest >= -INSIDE_TOLERANCE, cell, -1), np.zeros(m, dtype=bool), np.empty((m, 4))

@@ -125,7 +125,8 @@ def refill_starts(mesh: Tetrahedralization, refill_owner: np.ndarray, star: np.n
     another star (location.locate_local's `start`: a run of points of one star continues from the previous point's
     tetrahedron). A coherent walk crossed the stars between such runs (ctf_compromise's refinement, leak-aware: its 158
     locations took 0.26 s instead of 0.80 s). A point whose removed probe left no refill (a hull vertex whose star the
-    hull lost) starts at the first refill tetrahedron. The start changes no cell (location.py: the tie rule)."""
+    hull lost) starts at the first refill tetrahedron, or at the last tetrahedron when there is none. The start changes
+    no cell but where location.locate_local says a walk's start can."""
     start = np.empty(star.shape[0], dtype=np.int64)
     base = min(mesh.tets.shape[0] - refill_owner.shape[0], mesh.tets.shape[0] - 1)  # no refill at all: the last one
     refill_start_rows(np.ascontiguousarray(star, dtype=np.int64), np.ascontiguousarray(probes, dtype=np.int64),

@@ -106,7 +106,9 @@ def refill_start_rows(star, probes, refill_owner, base, out):
     the probes, not as the points)."""
     first = np.full(probes.shape[0], -1, dtype=np.int64)
     for f in range(refill_owner.shape[0] - 1, -1, -1):
-        first[np.searchsorted(probes, refill_owner[f])] = f
+        at = np.searchsorted(probes, refill_owner[f])
+        if at < probes.shape[0] and probes[at] == refill_owner[f]:  # an owner that is no probe has no star to start in
+            first[at] = f
     last, row = -1, -1  # the points of one star come in runs: search each run's probe once
     for i in range(star.shape[0]):
         if star[i] != last:
