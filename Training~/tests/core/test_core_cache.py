@@ -39,9 +39,9 @@ def test_numba_worker_threads_sleep_between_loops_unless_the_user_chose_a_policy
     parallel kernel then runs under it; a policy already in the environment is left as it is."""
     code = ("import os\nfrom lpnn.quality.metric import metric_kernel\nimport numba\n"
             "print('POLICY', os.environ.get('OMP_WAIT_POLICY'))\n"
-            "import numpy as np\nhit = np.empty(3, dtype=bool)\n"
+            "import numpy as np\nhit = np.empty(3, dtype=bool)\nwhich = np.empty(3, dtype=np.int64)\n"
             "metric_kernel.run_rows(__import__('lpnn.quality.placement.refinement_kernel', fromlist=['_holding'])._holding,"
-            " 3, np.full((3, 4), -1), np.array([True, False, False]), hit)\nprint('HIT', hit.tolist())\n")
+            " 3, np.full((3, 4), -1), np.array([True, False, False]), hit, which)\nprint('HIT', hit.tolist())\n")
     env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
     done = _run(code, env)
     assert done.returncode == 0, done.stderr
