@@ -12,7 +12,7 @@ from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.placement import batched_refinement as batched_refinement_module
 from lpnn.quality.placement.batched_refinement import batched_refinement, cheapest_first, greedy_independent_set
 from lpnn.quality.metric.metric_kernel import run_rows
-from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_holding, rows_holding_which, stencil_ids
+from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_holding_which, stencil_ids
 from lpnn.quality.placement.batched_state import evaluate, refilled, restore, trial_of, without
 from lpnn.quality.placement.decimation.decimation import MINIMUM_PROBES
 from lpnn.quality.placement.insertion import InsertionOrder
@@ -286,15 +286,14 @@ def test_the_trials_compiled_attribution_and_stencil_rows_are_the_numpy_formulat
 
 
 def test_rows_holding_a_removed_probe_are_the_numpy_scans() -> None:
-    """refinement_kernel.rows_holding: the rows with a gone id among their >= 0 ids, or gone themselves."""
+    """refinement_kernel.rows_holding_which: the rows with a gone id among their >= 0 ids, or gone themselves."""
     rng = np.random.default_rng(8)
     ids = rng.integers(-1, 500, (500, 4))
     gone = rng.uniform(size=500) < 0.05
     expected = np.flatnonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).any(axis=1) | gone)
-    np.testing.assert_array_equal(rows_holding(ids, gone), expected)
-    # Which gone id: the row itself when gone, else its first gone id >= 0 (row by row, independently of the kernel).
     rows, which = rows_holding_which(ids, gone)
     np.testing.assert_array_equal(rows, expected)
+    # Which gone id: the row itself when gone, else its first gone id >= 0 (row by row, independently of the kernel).
     first = [r if gone[r] else next(int(v) for v in ids[r] if v >= 0 and gone[v]) for r in expected.tolist()]
     np.testing.assert_array_equal(which, first)
     assert np.count_nonzero(~gone[expected]) > 10 and np.count_nonzero(((ids >= 0) & gone[np.maximum(ids, 0)]).sum(axis=1) > 1)

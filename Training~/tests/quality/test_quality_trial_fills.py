@@ -154,22 +154,20 @@ def test_the_mesh_derived_from_the_state_is_the_one_assembled_afresh_bit_for_bit
     remaining = state.probes[~removed[state.probes]]
     tets = np.concatenate([state.tets[~removed[state.tets].any(axis=1)], fills.tets])
     fresh = assembled(field.world[remaining], field.frame, np.searchsorted(remaining, tets))
-    derived = batched_state.derived_mesh(field, state, removed, fills.tets)
-    assert derived is not None
-    # The refills' positions in the state's probes are their ids, and given they make the same mesh.
+    # The refills' positions in the state's probes (what derived_mesh takes) are their ids.
     np.testing.assert_array_equal(state.probes[fills.positions], fills.tets)
-    by_positions = batched_state.derived_mesh(field, state, removed, fills.tets, fills.positions)
-    assert by_positions is not None
+    derived = batched_state.derived_mesh(field, state, removed, fills.positions)
+    assert derived is not None
     for name in ("tets", "neighbours", "inverse", "hull_faces", "hull_face_tets", "points", "world"):
         np.testing.assert_array_equal(getattr(derived, name), getattr(fresh, name), err_msg=name)
-        np.testing.assert_array_equal(getattr(by_positions, name), getattr(fresh, name), err_msg=name)
     # A face shared by three tetrahedra (a refill listed twice) is not a manifold: no mesh, the round uses Qhull.
-    assert batched_state.derived_mesh(field, state, removed, np.concatenate([fills.tets, fills.tets[:1]])) is None
+    assert batched_state.derived_mesh(field, state, removed,
+                                      np.concatenate([fills.positions, fills.positions[:1]])) is None
     # A star left partly empty (one refill missing) leaves a crack inside the hull: not a tetrahedralisation either.
-    assert batched_state.derived_mesh(field, state, removed, fills.tets[1:]) is None
+    assert batched_state.derived_mesh(field, state, removed, fills.positions[1:]) is None
     # A refill naming a removed probe is no tetrahedron of the remaining ones.
-    naming_a_removed = fills.tets.copy()
-    naming_a_removed[0, 0] = candidates[0]
+    naming_a_removed = fills.positions.copy()
+    naming_a_removed[0, 0] = np.searchsorted(state.probes, candidates[0])
     assert batched_state.derived_mesh(field, state, removed, naming_a_removed) is None
 
 
@@ -183,7 +181,7 @@ def test_a_trial_located_from_its_refills_is_the_one_located_by_the_coherent_wal
     fills = star_fills(field, state, candidates)
     is_candidate = np.zeros(field.point_count, dtype=bool)
     is_candidate[candidates] = True
-    mesh = batched_state.derived_mesh(field, state, is_candidate, fills.tets)
+    mesh = batched_state.derived_mesh(field, state, is_candidate, fills.positions)
     assert mesh is not None
     attributed, star = batched_state.stencils_with_stars(state, candidates, state.owners)
     start = batched_state.refill_starts(mesh, fills.owner, star, state.probes)
@@ -230,4 +228,4 @@ def test_a_commit_s_refills_keep_their_positions_when_the_trial_s_and_new_ones_a
     gone = np.zeros(field.point_count, dtype=bool)
     gone[candidates] = True
     refilling = gone[joined.owner]
-    assert batched_state.derived_mesh(field, state, gone, joined.tets[refilling], joined.positions[refilling]) is not None
+    assert batched_state.derived_mesh(field, state, gone, joined.positions[refilling]) is not None

@@ -71,12 +71,12 @@ def _walk(tri: Tetrahedralization, query: np.ndarray, coherent: bool = False, st
     tetrahedron), a 'resolved' mask and the barycentric coordinates (M, 4) in the cell (those of `barycentric`, bit for
     bit; rows of points not inside a cell are undefined). Each walk starts in the tetrahedron whose centroid is nearest,
     or with `coherent` (points in grid order) where the previous point's walk ended (each parallel slice's first point
-    from its nearest centroid), or, given `start` (M,; checked_starts), in tetrahedron start[m] where it differs from
-    the previous point's or m begins a parallel slice, else where the previous point's walk ended (a caller that knows
-    where runs of points lie)."""
+    from its nearest centroid), or, given `start` (M,; checked by locate_cells: checked_starts), in tetrahedron start[m]
+    where it differs from the previous point's or m begins a parallel slice, else where the previous point's walk ended
+    (a caller that knows where runs of points lie)."""
     m = query.shape[0]
     if start is not None:
-        start, mode = checked_starts(tri, start, m), WALK_WITHIN_RUNS
+        mode = WALK_WITHIN_RUNS
     else:
         start, mode = _nearest_starts(tri, query, coherent), WALK_COHERENT if coherent else WALK_FROM_EACH_START
     result = np.empty(m, dtype=np.int64)
@@ -131,9 +131,8 @@ def locate_local(tri: Tetrahedralization, query: np.ndarray, coherent: bool = Fa
     outside the hull by less than INSIDE_TOLERANCE in one tetrahedron's coordinates but more in a thinner hull
     tetrahedron's is inside for the rule and the brute force, yet a walk leaving through the thin one's hull face calls
     it outside (its weights then come from its projection onto the hull, which lies within that distance). That holds
-    for every start mode
-    alike; on the validation levels and crops no answer depends on it (the same probes files with coherent and
-    refill starts)."""
+    for every start mode alike; on the validation levels and crops no answer depends on it (the same probes files with
+    coherent and refill starts)."""
     q = np.asarray(query, dtype=np.float64).reshape(-1, 3)
     return stencils_of_cells(tri, q, *locate_cells(tri, q, coherent, start))
 

@@ -6,7 +6,7 @@ where it can change.
     trial = trial_of(field, state, candidates)       # costs; located only where a candidate's weight reached
     state = without(field, state, removed, trial)    # located only where a removed probe was touched; no Qhull
     boundary = boundary_vertices(state)              # probes whose measured costs a later round must re-measure
-    mesh = derived_mesh(field, state, removed, refills)   # both meshes from the state's, not assembled afresh
+    mesh = derived_mesh(field, state, removed, fills.positions)   # both meshes from the state's, not assembled afresh
 
 With a LeakWeighting (evaluate(field, probes, weighting)) every error the state holds, sums and compares is the weighted
 one (leak_aware.py): a leaking point's error counts several times, in the costs and in the tolerance alike.
@@ -166,7 +166,7 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     fills = star_fills(field, state, candidates)
     trial = None
     if fills is not None:  # the state's tetrahedra outside the stars and the stars' refills: no Qhull (trial_fills.py)
-        mesh = derived_mesh(field, state, is_candidate, fills.tets, fills.positions)
+        mesh = derived_mesh(field, state, is_candidate, fills.positions)
         if mesh is not None:
             trial = evaluated_at(field, remaining, attributed, weighting=state.weighting, mesh=mesh,
                                  start=refill_starts(mesh, fills.owner, star, state.probes))
@@ -179,12 +179,11 @@ def trial_of(field: ReferenceField, state: MeshState, candidates: np.ndarray) ->
     return Trial(candidates=candidates, costs=total[candidates], tets=trial.probes[trial.mesh.tets], fills=fills)
 
 
-def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, added: np.ndarray,
-                 added_positions: np.ndarray | None = None) -> Tetrahedralization | None:
+def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, added: np.ndarray
+                 ) -> Tetrahedralization | None:
     """The tetrahedralisation of state.probes without the `removed` ((N,) bool) probes: the state's tetrahedra without a
-    removed vertex, then `added` (global ids, positively oriented: the removed probes' refills; `added_positions`: the
-    same as positions in state.probes, when known — Fills.positions — which spares a binary search of every vertex),
-    assembled from the state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh).
+    removed vertex, then `added` (positions in state.probes, positively oriented: the removed probes' refills,
+    Fills.positions — no search of each vertex among the remaining probes), assembled from the state's mesh (triangulation.assembled_after_removal: the same arrays as assembling them afresh).
     None when they are not a tetrahedralisation of the remaining probes: a probe unused, not a manifold, or a new crack
     (a face without a tetrahedron across inside the hull: a refill that left part of a star empty; the state's cracks
     are kept)."""
@@ -194,12 +193,8 @@ def derived_mesh(field: ReferenceField, state: MeshState, removed: np.ndarray, a
     vertex_map[~gone_probe] = np.arange(remaining.shape[0])
     keep = np.empty(state.mesh.tets.shape[0], dtype=bool)
     kept_tetrahedra(state.mesh.tets, gone_probe, keep)
-    if added_positions is None:
-        added_positions = np.searchsorted(state.probes, added)
-        if np.any(state.probes[np.minimum(added_positions, state.probes.shape[0] - 1)] != added):
-            return None  # a vertex that is no probe of the state
     try:  # a removed probe's position maps to -1, which assembled_after_removal refuses
-        mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining], vertex_map[added_positions])
+        mesh = assembled_after_removal(state.mesh, keep, vertex_map, field.world[remaining], vertex_map[added])
     except GeometryError:
         return None
     cracks_before = count_marker(state.mesh.neighbours, INNER_BOUNDARY)
@@ -305,7 +300,7 @@ def without(field: ReferenceField, state: MeshState, removed: np.ndarray, trial:
         gone[removed] = True
         refilling = gone[fills.owner]
         refills = fills.tets[refilling]
-        mesh = derived_mesh(field, state, gone, refills, fills.positions[refilling])
+        mesh = derived_mesh(field, state, gone, fills.positions[refilling])
         if mesh is not None:
             edges = edges_after_removal(state.edges, state.tets, state.mesh.neighbours, gone, refills)
             start = refill_starts(mesh, fills.owner[refilling], star, state.probes)

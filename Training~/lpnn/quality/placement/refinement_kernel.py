@@ -85,13 +85,9 @@ def stencil_ids(indices, vertices, weights, touched, owners):
                 owners[m, k] = v if weights[m, k] > 0.0 else -1
 
 
-def rows_holding(ids: np.ndarray, gone: np.ndarray) -> np.ndarray:
-    """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself (rows scanned in parallel)."""
-    return rows_holding_which(ids, gone)[0]
-
-
 def rows_holding_which(ids: np.ndarray, gone: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """rows_holding's rows and, for each, the gone id it holds: the row itself when gone, else its first gone id."""
+    """Rows r (ascending) where some ids[r, k] >= 0 is `gone`, or gone[r] itself (rows scanned in parallel), and for
+    each the gone id it holds: the row itself when gone, else its first gone id."""
     hit = np.empty(ids.shape[0], dtype=bool)
     which = np.empty(ids.shape[0], dtype=np.int64)  # written at the hit rows only
     run_rows(_holding, ids.shape[0], ids, gone, hit, which)
