@@ -22,7 +22,9 @@ from lpnn.quality.placement.policies import bounded_tolerance, budget_count
 from lpnn.quality.placement.decimation.reference_fast import fast_decimation
 from lpnn.quality.metric.triangulation import flatness
 
-from quality_support import MEDIUM_ROOM, box_grid, linear_sh, room_capture
+from lpnn.quality.placement.leak_aware import LeakWeighting
+
+from quality_support import MEDIUM_ROOM, WALLED, box_grid, linear_sh, room_capture, two_rooms
 
 
 def _sequential_greedy(vertices: np.ndarray, edges: np.ndarray, rank: np.ndarray) -> list[int]:
@@ -334,3 +336,51 @@ def test_costs_that_differ_by_rounding_give_the_same_answer(monkeypatch: pytest.
     rounded = batched_refinement(field, np.arange(field.point_count), **goal)
     np.testing.assert_array_equal(rounded.indices, plain.indices)
     assert rounded.rounds == plain.rounds
+
+
+def _removals(field: ReferenceField, seed: np.ndarray, **goal) -> tuple[list[int], np.ndarray]:
+    """The probes batched_refinement commits, in order, with settled_commits at fraction 0, and its answer."""
+    committed: list[int] = []
+
+    def trace(info: dict) -> None:
+        if "commit" in info:
+            committed.extend(info["commit"].tolist())
+
+    refined = batched_refinement(field, seed, fraction=0.0, settled_commits=True, trace=trace, **goal)
+    return committed, refined.indices
+
+
+@pytest.mark.parametrize("room", [1, 3])
+def test_settled_commits_one_at_a_time_remove_what_the_exact_greedy_removes(room: int) -> None:
+    """The batched machinery (trial costs, refills, derived meshes, the hull) against the independent exact greedy
+    (reference_fast): committing only in rounds that start with every cost fresh, one removal a round, must remove the
+    same probes in the same order from the same seed (rooms without tied costs) and stop at the same set, down to a
+    count and within a tolerance (benchmarks.md "where the whole-level gap to the exact greedy comes from")."""
+    capture = room_capture(room, MEDIUM_ROOM, 0.4)
+    field = _field(capture)
+    seed = _insertion(capture, field)(120)
+    greedy = fast_decimation(field, initial=seed, stop_above=0.1)
+    within, answer = _removals(field, seed, tolerance=0.05)
+    assert len(within) >= 60
+    assert within == greedy.removed[:len(within)].tolist()
+    np.testing.assert_array_equal(answer, greedy.prefix(answer.shape[0]))
+    assert point_errors(field, answer).mean() <= 0.05
+    count = answer.shape[0] + 10
+    down, kept = _removals(field, seed, count=count)
+    assert down == within[:len(down)] and kept.shape[0] == count
+    np.testing.assert_array_equal(kept, greedy.prefix(count))
+
+
+def test_settled_commits_leak_aware_hold_the_sets_the_exact_leak_aware_greedy_holds() -> None:
+    """Leak-weighted, on two rooms split by a wall (a lattice whose tied costs may swap two removals): at the batched
+    answer's count the set is the one the leak-aware exact greedy held at that count."""
+    field, grid = two_rooms()
+    seed = InsertionOrder(field, grid).selection()(150)
+    greedy = fast_decimation(field, initial=seed, stop_above=0.1, leaks=LeakWeighting(WALLED))
+    committed: list[int] = []
+    refined = batched_refinement(field, seed, tolerance=0.05, fraction=0.0, settled_commits=True,
+                                 leaks=LeakWeighting(WALLED),
+                                 trace=lambda info: committed.extend(info["commit"].tolist()) if "commit" in info else None)
+    assert len(committed) >= 100
+    np.testing.assert_array_equal(refined.indices, greedy.prefix(refined.indices.shape[0]))
+    assert refined.mean_error <= 0.05

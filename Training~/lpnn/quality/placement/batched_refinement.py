@@ -143,7 +143,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
                        keep: np.ndarray | None = None, progress: Callable[[int, int], None] | None = None,
                        trace: Callable[[dict[str, Any]], None] | None = None,
                        leaks: LeakWeighting | None = None,
-                       seed_mesh: Tetrahedralization | None = None) -> BatchedRefinement:
+                       seed_mesh: Tetrahedralization | None = None,
+                       settled_commits: bool = False) -> BatchedRefinement:
     """Decimate `seed` (point indices or a mask, >= 4 points not in one plane) by the rounds of the module text: down
     to `count` probes, or (with `tolerance`) as far as the mean irradiance error stays <= tolerance; exactly one of
     the two. A seed whose error already exceeds the tolerance is returned as it is (stop_reason says so). `keep`:
@@ -151,7 +152,12 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     decisions (the golden file's generator certifies them: Tools~/golden/make_batched_refinement_golden.py). `progress` gets (probes removed, probes the seed has beyond the goal) after every round.
     `leaks` (leak_aware.py): every error summed — costs, tolerance, mean_error — is the leak-weighted one; its segments
     are remembered for the whole call (a fresh memo unless `leaks` brings one: LeakWeighting.remembering). `seed_mesh`:
-    the seed's tetrahedralisation (vertex i its i-th smallest point) when the caller derived it (refined_insertion)."""
+    the seed's tetrahedralisation (vertex i its i-th smallest point) when the caller derived it (refined_insertion).
+    `settled_commits` (experiments; the default and the C# core never set it): commit only in a round that starts with
+    every unlocked probe's cost fresh, measuring the stale ones in the rounds between. Then the candidates are ranked by
+    their costs, so the first is the cheapest removal there is, and with `fraction` 0 the rounds remove exactly what the
+    exact greedy from the same seed removes (fast_decimation(initial=seed), up to tied costs): benchmarks.md "where the
+    whole-level gap to the exact greedy comes from" (Tools~/experiments/greedy-gap.py)."""
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
@@ -203,6 +209,8 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
             candidates = np.asarray(solid, dtype=np.int64)
             remaining = np.setdiff1d(probes, candidates, assume_unique=True)
         rounds += 1
+        # Every cost fresh before the trial: the candidates are ranked by cost, the first the cheapest removal there is.
+        settled_at_start = bool(np.all(fresh[probes] | locked[probes]))
         # Step 2 for the candidates whose cost can have changed; a fresh cost off the boundary is what the trial would
         # measure (batched_state.boundary_vertices), so it is kept and the trial spared its points.
         again = candidates if REMEASURE_FRESH_COSTS else candidates[~(fresh[candidates] & ~boundary_vertices(state)[candidates])]
@@ -215,6 +223,10 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         ordered = cheapest_first(candidates, cost)
         commit = ordered[cost[ordered] <= threshold + TIE]  # a cost tied with the threshold is within it
         settled = bool(np.all(fresh[probes] | locked[probes]))
+        if settled_commits:  # only a round that started with every cost fresh commits (or stops)
+            settled = settled_at_start
+            if not settled:
+                commit = commit[:0]
         if commit.shape[0] == 0 and settled:  # every cost is fresh: the cheapest candidate is the cheapest removal
             commit = ordered[:1]
         if count is not None:

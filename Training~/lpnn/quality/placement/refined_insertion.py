@@ -71,6 +71,7 @@ class RefinedPlacement:
     # (metric.evaluate_placement(field, indices, evaluation, segments)).
     evaluation: Evaluated | None = None
     segments: SegmentVisibility | None = None
+    seed: np.ndarray | None = None  # the seed's point indices (after the leak repair): what the refinement started from
 
 
 def _rounded(value: float) -> int:
@@ -164,4 +165,4 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
                             seed_count=int(seed.shape[0]), mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
                             rounds=refined.rounds, evaluation=evaluation,
-                            segments=None if weighting is None else weighting.visibility)
+                            segments=None if weighting is None else weighting.visibility, seed=seed)

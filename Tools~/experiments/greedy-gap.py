@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Where the default's distance from the exact greedy comes from, at a tolerance (benchmarks.md "Measured and not
+merged (2026-11-29, late): where the whole-level gap to the exact greedy comes from"): per capture and seed factor F,
+the default (`refined_insertion(..., refine=F)`), the exact greedy from the default's own seed
+(`fast_decimation(initial=seed)`), and the batched refinement from that seed at other commit fractions, with and
+without settled commits (`batched_refinement(..., settled_commits=True)`: commits only in rounds that start with every
+cost fresh; at fraction 0 the exact greedy's removals); with --reference also the exact greedy from every point.
+
+  PYTHONPATH=Training~ python Tools~/experiments/greedy-gap.py ctf_compromise.lpnncap --leaks ignore \\
+      [--factors 2,4] [--fractions 0.1,0.02,0.005,0] [--settled-fractions 0.1,0.002,0] [--reference]
+
+Leak-aware by default, as `lpnn place` (the seed then includes the leak repair's points, and every error summed is
+leak-weighted; a capture without its level's geometry runs leak-blind, said once). Prints one JSON line per
+measurement as it goes (probes at tau, rounds, seconds, one process), then a table per capture. Minutes to hours on
+whole levels (the exact greedy takes ~0.01-0.05 s a removal there); choose on validation levels only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+TOLERANCE = 0.05
+# The exact greedies stop once the mean error passes this multiple of tau: their tau answer is the curve's first
+# crossing or a later dip below, and none of the runs of the doc dipped back below tau past 1.2 tau.
+GREEDY_STOP = 1.2
+
+
+def _numbers(text: str) -> list[float]:
+    return [float(part) for part in text.split(",") if part.strip()]
+
+
+def _timed(function):
+    start = time.perf_counter()
+    result = function()
+    return result, time.perf_counter() - start
+
+
+def measure(path: Path, leaks: str, tolerance: float, factors: list[float], fractions: list[float],
+            settled_fractions: list[float], reference: bool, emit) -> None:
+    from lpnn.core.capture_file import read_capture
+    from lpnn.core.grid import EvaluationGrid
+    from lpnn.quality.metric.leaks import field_with_geometry
+    from lpnn.quality.placement.batched_refinement import batched_refinement
+    from lpnn.quality.placement.decimation.reference_fast import fast_decimation
+    from lpnn.quality.placement.leak_aware import LeakWeighting, leaks_to_avoid
+    from lpnn.quality.placement.refined_insertion import refined_insertion
+
+    capture = read_capture(path)
+    field = field_with_geometry(capture)
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    raycaster = leaks_to_avoid(field, leaks, warn=lambda text: print(f"{path.name}: {text}", file=sys.stderr))
+    mode = "leak-aware" if raycaster is not None else "leak-blind"
+
+    def weighting():  # a fresh weighting (and segment memo) per run, as each command makes its own
+        return None if raycaster is None else LeakWeighting(raycaster)
+
+    def greedy(initial) -> tuple[int | None, float]:
+        decimation, seconds = _timed(lambda: fast_decimation(field, initial=initial, stop_above=GREEDY_STOP * tolerance,
+                                                             leaks=weighting()))
+        return decimation.smallest_count_within(tolerance), seconds
+
+    base = {"capture": path.name, "points": field.point_count, "mode": mode, "tolerance": tolerance}
+    if reference:
+        probes, seconds = greedy(None)
+        emit({**base, "seed": "every point", "method": "exact greedy", "probes": probes, "seconds": round(seconds, 3)})
+    for factor in factors:
+        placed, seconds = _timed(lambda: refined_insertion(field, grid, tolerance=tolerance, refine=factor,
+                                                           leaks=raycaster))
+        seed = placed.seed
+        row = {**base, "seed": f"{factor:g} K0", "seed_points": int(seed.shape[0])}
+        emit({**row, "method": "default", "probes": int(placed.indices.shape[0]), "rounds": placed.rounds,
+              "seconds": round(seconds, 3)})
+        probes, seconds = greedy(seed)
+        emit({**row, "method": "exact greedy", "probes": probes, "seconds": round(seconds, 3)})
+        for settled, values in ((False, fractions), (True, settled_fractions)):
+            for fraction in values:
+                refined, seconds = _timed(lambda: batched_refinement(field, seed, tolerance=tolerance, fraction=fraction,
+                                                                     leaks=weighting(), settled_commits=settled))
+                emit({**row, "method": "batched, settled commits" if settled else "batched", "fraction": fraction,
+                      "probes": int(refined.indices.shape[0]), "rounds": refined.rounds, "seconds": round(seconds, 3)})
+
+
+def table(rows: list[dict]) -> str:
+    lines = ["capture | mode | seed | method | fraction | probes | rounds | seconds", "---|---|---|---|---|---|---|---"]
+    for row in rows:
+        lines.append(" | ".join(str(row.get(key, "")) for key in
+                                ("capture", "mode", "seed", "method", "fraction", "probes", "rounds", "seconds")))
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("captures", nargs="+", type=Path)
+    parser.add_argument("--leaks", choices=("avoid", "ignore"), default="avoid")
+    parser.add_argument("--tolerance", type=float, default=TOLERANCE)
+    parser.add_argument("--factors", default="2", help="seed factors F (seed: insertion's first F x K0 points)")
+    parser.add_argument("--fractions", default="0.1,0.02,0.005", help="commit fractions, batched from each seed")
+    parser.add_argument("--settled-fractions", default="0.1,0.002,0",
+                        help="commit fractions with settled commits (0: the exact greedy's removals, slowly)")
+    parser.add_argument("--reference", action="store_true", help="also the exact greedy from every point (slow)")
+    args = parser.parse_args(argv)
+    for path in args.captures:
+        if not path.is_file():
+            parser.error(f"no capture {path}")
+    rows: list[dict] = []
+
+    def emit(row: dict) -> None:
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+
+    for path in args.captures:
+        measure(path, args.leaks, args.tolerance, _numbers(args.factors), _numbers(args.fractions),
+                _numbers(args.settled_fractions), args.reference, emit)
+    print(table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,51 @@
+"""Tools~/experiments/greedy-gap.py: the default, the exact greedy from its seed and the batched refinement from that
+seed at other commit fractions, with and without settled commits."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from lpnn.core.analytic_scene import AnalyticScene
+from lpnn.core.capture_file import read_capture, write_capture
+from lpnn.core.grid import EvaluationGrid
+from lpnn.quality.metric.metric import ReferenceField
+from lpnn.quality.placement.decimation.reference_fast import fast_decimation
+from lpnn.quality.placement.policies import reference_tolerance
+from lpnn.quality.placement.refined_insertion import refined_insertion
+from tools_support import load_tool
+
+SCRIPT = "greedy-gap.py"
+
+
+def test_one_line_per_measurement_and_a_table(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "room.lpnncap"
+    write_capture(path, AnalyticScene.random(3, cell_size=0.4, room_size=(4.0, 2.5, 3.0)).capture(name="room"))
+    tool = load_tool(SCRIPT)
+    assert tool.main([str(path), "--leaks", "ignore", "--factors", "2", "--fractions", "0.1",
+                      "--settled-fractions", "0", "--reference"]) == 0
+    out = capsys.readouterr().out
+    rows = [json.loads(line) for line in out.splitlines() if line.startswith("{")]
+    assert [(row["seed"], row["method"], row.get("fraction")) for row in rows] == [
+        ("every point", "exact greedy", None), ("2 K0", "default", None), ("2 K0", "exact greedy", None),
+        ("2 K0", "batched", 0.1), ("2 K0", "batched, settled commits", 0.0)]
+    assert all(row["mode"] == "leak-blind" and row["seconds"] > 0 for row in rows)
+    # Independently: the reference's tau answer, the default's answer and seed, the exact greedy from that seed.
+    capture = read_capture(path)
+    field = ReferenceField.from_capture(capture)
+    assert rows[0]["probes"] == reference_tolerance(fast_decimation(field), 0.05).indices.shape[0]
+    placed = refined_insertion(field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), tolerance=0.05)
+    assert rows[1]["probes"] == placed.indices.shape[0] and rows[1]["seed_points"] == placed.seed.shape[0]
+    greedy = fast_decimation(field, initial=placed.seed).smallest_count_within(0.05)
+    assert rows[2]["probes"] == greedy
+    # The default's refinement is the batched one at 0.1 from its seed; settled commits at 0 are the exact greedy's.
+    assert rows[3]["probes"] == rows[1]["probes"]
+    assert rows[4]["probes"] == greedy and rows[4]["rounds"] > rows[3]["rounds"]
+    assert out.splitlines()[-1].startswith("room.lpnncap | leak-blind | 2 K0 | batched, settled commits | 0.0 |")
+
+
+def test_a_missing_capture_is_refused_by_name(tmp_path: Path) -> None:
+    with pytest.raises(SystemExit):
+        load_tool(SCRIPT).main([str(tmp_path / "missing.lpnncap")])
