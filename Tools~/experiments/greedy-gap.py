@@ -11,21 +11,25 @@ cost fresh; at fraction 0 the exact greedy's removals); with --reference also th
 
 Leak-aware by default, as `lpnn place` (the seed then includes the leak repair's points, and every error summed is
 leak-weighted; a capture without its level's geometry runs leak-blind, said once). Prints one JSON line per
-measurement as it goes (probes at tau, rounds, seconds, one process), then a table per capture. Minutes to hours on
-whole levels (the exact greedy takes ~0.01-0.05 s a removal there); choose on validation levels only.
+measurement as it goes (probes at tau, mean error — leak-aware, the batched and greedy rows' leak-weighted one, the
+default's plain —, stop reason, rounds, seconds, one process; the default's seconds are the whole placement's, its
+refinement's apart), then a table. Minutes to hours on whole levels (the exact greedy
+from a seed took 0.03 s a removal on ctf_compromise); choose on validation levels only.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time
 from pathlib import Path
 
 TOLERANCE = 0.05
-# The exact greedies stop once the mean error passes this multiple of tau: their tau answer is the curve's first
-# crossing or a later dip below, and none of the runs of the doc dipped back below tau past 1.2 tau.
+# The exact greedies stop once the mean error passes this multiple of tau (their last removals are the dearest): their
+# tau answer is the smallest count within tau up to there, so a dip back below tau after the curve passed 1.2 tau
+# would be missed (the project's benchmarks stop the reference at 2 tau: lpnn bench --reference-stop).
 GREEDY_STOP = 1.2
 
 
@@ -58,37 +62,40 @@ def measure(path: Path, leaks: str, tolerance: float, factors: list[float], frac
     def weighting():  # a fresh weighting (and segment memo) per run, as each command makes its own
         return None if raycaster is None else LeakWeighting(raycaster)
 
-    def greedy(initial) -> tuple[int | None, float]:
+    def greedy(initial) -> dict:
         decimation, seconds = _timed(lambda: fast_decimation(field, initial=initial, stop_above=GREEDY_STOP * tolerance,
                                                              leaks=weighting()))
-        return decimation.smallest_count_within(tolerance), seconds
+        probes = decimation.smallest_count_within(tolerance)
+        return {"method": "exact greedy", "probes": probes, "stop_reason": decimation.stop_reason,
+                "mean_error": None if probes is None else round(float(decimation.error_curve[probes]), 6),
+                "seconds": round(seconds, 3)}
 
     base = {"capture": path.name, "points": field.point_count, "mode": mode, "tolerance": tolerance}
     if reference:
-        probes, seconds = greedy(None)
-        emit({**base, "seed": "every point", "method": "exact greedy", "probes": probes, "seconds": round(seconds, 3)})
+        emit({**base, "seed": "every point", **greedy(None)})
     for factor in factors:
         placed, seconds = _timed(lambda: refined_insertion(field, grid, tolerance=tolerance, refine=factor,
                                                            leaks=raycaster))
         seed = placed.seed
         row = {**base, "seed": f"{factor:g} K0", "seed_points": int(seed.shape[0])}
-        emit({**row, "method": "default", "probes": int(placed.indices.shape[0]), "rounds": placed.rounds,
-              "seconds": round(seconds, 3)})
-        probes, seconds = greedy(seed)
-        emit({**row, "method": "exact greedy", "probes": probes, "seconds": round(seconds, 3)})
+        emit({**row, "method": "default", "probes": int(placed.indices.shape[0]),
+              "mean_error": round(placed.mean_error, 6), "rounds": placed.rounds, "seconds": round(seconds, 3),
+              "refinement_seconds": round(placed.refinement_seconds, 3)})
+        emit({**row, **greedy(seed)})
         for settled, values in ((False, fractions), (True, settled_fractions)):
             for fraction in values:
                 refined, seconds = _timed(lambda: batched_refinement(field, seed, tolerance=tolerance, fraction=fraction,
                                                                      leaks=weighting(), settled_commits=settled))
                 emit({**row, "method": "batched, settled commits" if settled else "batched", "fraction": fraction,
-                      "probes": int(refined.indices.shape[0]), "rounds": refined.rounds, "seconds": round(seconds, 3)})
+                      "probes": int(refined.indices.shape[0]), "mean_error": round(refined.mean_error, 6),
+                      "stop_reason": refined.stop_reason, "rounds": refined.rounds, "seconds": round(seconds, 3)})
 
 
 def table(rows: list[dict]) -> str:
-    lines = ["capture | mode | seed | method | fraction | probes | rounds | seconds", "---|---|---|---|---|---|---|---"]
+    keys = ("capture", "mode", "seed", "method", "fraction", "probes", "mean_error", "stop_reason", "rounds", "seconds")
+    lines = [" | ".join(keys), "|".join("---" for _ in keys)]
     for row in rows:
-        lines.append(" | ".join(str(row.get(key, "")) for key in
-                                ("capture", "mode", "seed", "method", "fraction", "probes", "rounds", "seconds")))
+        lines.append(" | ".join("" if row.get(key) is None else str(row[key]) for key in keys))
     return "\n".join(lines)
 
 
@@ -106,6 +113,15 @@ def main(argv: list[str] | None = None) -> int:
     for path in args.captures:
         if not path.is_file():
             parser.error(f"no capture {path}")
+    # Checked before any placement: a bad value would otherwise surface after minutes of work on a whole level.
+    if not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        parser.error(f"--tolerance {args.tolerance!r} must be a mean error > 0 (e.g. {TOLERANCE})")
+    for factor in _numbers(args.factors):
+        if not (math.isfinite(factor) and factor > 1):
+            parser.error(f"--factors: {factor!r} must be > 1 (the seed holds F x K0 points)")
+    for fraction in _numbers(args.fractions) + _numbers(args.settled_fractions):
+        if not 0 <= fraction <= 1:
+            parser.error(f"commit fraction {fraction!r} must be in [0, 1]")
     rows: list[dict] = []
 
     def emit(row: dict) -> None:

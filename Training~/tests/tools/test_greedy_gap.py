@@ -43,9 +43,21 @@ def test_one_line_per_measurement_and_a_table(tmp_path: Path, capsys: pytest.Cap
     # The default's refinement is the batched one at 0.1 from its seed; settled commits at 0 are the exact greedy's.
     assert rows[3]["probes"] == rows[1]["probes"]
     assert rows[4]["probes"] == greedy and rows[4]["rounds"] > rows[3]["rounds"]
-    assert out.splitlines()[-1].startswith("room.lpnncap | leak-blind | 2 K0 | batched, settled commits | 0.0 |")
+    assert rows[4]["stop_reason"] == "tolerance" and rows[4]["mean_error"] <= 0.05
+    assert out.splitlines()[-1].startswith(f"room.lpnncap | leak-blind | 2 K0 | batched, settled commits | 0.0 | {greedy} |")
 
 
-def test_a_missing_capture_is_refused_by_name(tmp_path: Path) -> None:
+@pytest.mark.parametrize("arguments, message", [
+    (["missing.lpnncap"], "no capture"),
+    (["room.lpnncap", "--fractions", "0.1,2"], "commit fraction 2.0 must be in [0, 1]"),
+    (["room.lpnncap", "--factors", "1"], "--factors: 1.0 must be > 1"),
+    (["room.lpnncap", "--tolerance", "0"], "--tolerance 0.0 must be a mean error > 0")])
+def test_bad_arguments_are_refused_by_name_before_any_work(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                           arguments: list[str], message: str) -> None:
+    write_capture(tmp_path / "room.lpnncap", AnalyticScene.random(1, cell_size=0.5, room_size=(2.0, 2.0, 2.0))
+                  .capture(name="room"))
     with pytest.raises(SystemExit):
-        load_tool(SCRIPT).main([str(tmp_path / "missing.lpnncap")])
+        load_tool(SCRIPT).main([str(tmp_path / arguments[0]), *arguments[1:]])
+    captured = capsys.readouterr()
+    assert message in captured.err and (arguments[0] in captured.err or arguments[0] == "room.lpnncap")
+    assert "{" not in captured.out  # nothing measured

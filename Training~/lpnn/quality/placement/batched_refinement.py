@@ -155,9 +155,12 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
     the seed's tetrahedralisation (vertex i its i-th smallest point) when the caller derived it (refined_insertion).
     `settled_commits` (experiments; the default and the C# core never set it): commit only in a round that starts with
     every unlocked probe's cost fresh, measuring the stale ones in the rounds between. Then the candidates are ranked by
-    their costs, so the first is the cheapest removal there is, and with `fraction` 0 the rounds remove exactly what the
-    exact greedy from the same seed removes (fast_decimation(initial=seed), up to tied costs): benchmarks.md "where the
-    whole-level gap to the exact greedy comes from" (Tools~/experiments/greedy-gap.py)."""
+    their costs, so the first is the cheapest removal there is, and with `fraction` 0 the rounds follow the exact greedy
+    from the same seed (fast_decimation(initial=seed)) wherever the trial costs are its exact removal costs (not where
+    a point weighs a candidate only with weight 0, module text), up to tied costs (which commit together here), until
+    an overshoot brings a probe back; and they stop at the greedy's first crossing of the tolerance, where its curve
+    may dip below it again later: benchmarks.md "where the whole-level gap to the exact greedy comes from"
+    (Tools~/experiments/greedy-gap.py)."""
     if (count is None) == (tolerance is None):
         raise MetricError("give exactly one of count (probes to keep) and tolerance (a mean error, e.g. 0.05)")
     tau = None if tolerance is None else checked_tolerance(tolerance)
@@ -210,7 +213,7 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
             remaining = np.setdiff1d(probes, candidates, assume_unique=True)
         rounds += 1
         # Every cost fresh before the trial: the candidates are ranked by cost, the first the cheapest removal there is.
-        settled_at_start = bool(np.all(fresh[probes] | locked[probes]))
+        settled_at_start = settled_commits and bool(np.all(fresh[probes] | locked[probes]))
         # Step 2 for the candidates whose cost can have changed; a fresh cost off the boundary is what the trial would
         # measure (batched_state.boundary_vertices), so it is kept and the trial spared its points.
         again = candidates if REMEASURE_FRESH_COSTS else candidates[~(fresh[candidates] & ~boundary_vertices(state)[candidates])]
