@@ -43,20 +43,14 @@ def _timed(function):
     return result, time.perf_counter() - start
 
 
-def measure(path: Path, leaks: str, tolerance: float, factors: list[float], fractions: list[float],
+def measure(name: str, field, grid, raycaster, tolerance: float, factors: list[float], fractions: list[float],
             settled_fractions: list[float], reference: bool, emit) -> None:
-    from lpnn.core.capture_file import read_capture
-    from lpnn.core.grid import EvaluationGrid
-    from lpnn.quality.metric.leaks import field_with_geometry
+    """The rows of one capture (`field`, its `grid`; `raycaster` the leaks to avoid, None: leak-blind) to `emit`."""
     from lpnn.quality.placement.batched_refinement import batched_refinement
     from lpnn.quality.placement.decimation.reference_fast import fast_decimation
-    from lpnn.quality.placement.leak_aware import LeakWeighting, leaks_to_avoid
+    from lpnn.quality.placement.leak_aware import LeakWeighting
     from lpnn.quality.placement.refined_insertion import refined_insertion
 
-    capture = read_capture(path)
-    field = field_with_geometry(capture)
-    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
-    raycaster = leaks_to_avoid(field, leaks, warn=lambda text: print(f"{path.name}: {text}", file=sys.stderr))
     mode = "leak-aware" if raycaster is not None else "leak-blind"
 
     def weighting():  # a fresh weighting (and segment memo) per run, as each command makes its own
@@ -70,7 +64,7 @@ def measure(path: Path, leaks: str, tolerance: float, factors: list[float], frac
                 "mean_error": None if probes is None else round(float(decimation.error_curve[probes]), 6),
                 "seconds": round(seconds, 3)}
 
-    base = {"capture": path.name, "points": field.point_count, "mode": mode, "tolerance": tolerance}
+    base = {"capture": name, "points": field.point_count, "mode": mode, "tolerance": tolerance}
     if reference:
         emit({**base, "seed": "every point", **greedy(None)})
     for factor in factors:
@@ -128,9 +122,18 @@ def main(argv: list[str] | None = None) -> int:
         rows.append(row)
         print(json.dumps(row), flush=True)
 
+    from lpnn.core.capture_file import read_capture
+    from lpnn.core.grid import EvaluationGrid
+    from lpnn.quality.metric.leaks import field_with_geometry
+    from lpnn.quality.placement.leak_aware import leaks_to_avoid
+
     for path in args.captures:
-        measure(path, args.leaks, args.tolerance, _numbers(args.factors), _numbers(args.fractions),
-                _numbers(args.settled_fractions), args.reference, emit)
+        capture = read_capture(path)
+        field = field_with_geometry(capture)
+        raycaster = leaks_to_avoid(field, args.leaks, warn=lambda text: print(f"{path.name}: {text}", file=sys.stderr))
+        measure(path.name, field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), raycaster,
+                args.tolerance, _numbers(args.factors), _numbers(args.fractions), _numbers(args.settled_fractions),
+                args.reference, emit)
     print(table(rows))
     return 0
 

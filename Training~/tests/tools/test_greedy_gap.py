@@ -8,11 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from lpnn.core.analytic_scene import AnalyticScene
+from lpnn.core.analytic_scene import AnalyticBoxRaycaster, AnalyticScene, AxisBox
 from lpnn.core.capture_file import read_capture, write_capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.metric.metric import ReferenceField
 from lpnn.quality.placement.decimation.reference_fast import fast_decimation
+from lpnn.quality.placement.leak_aware import LeakWeighting
 from lpnn.quality.placement.policies import reference_tolerance
 from lpnn.quality.placement.refined_insertion import refined_insertion
 from tools_support import load_tool
@@ -61,3 +62,27 @@ def test_bad_arguments_are_refused_by_name_before_any_work(tmp_path: Path, capsy
     captured = capsys.readouterr()
     assert message in captured.err and (arguments[0] in captured.err or arguments[0] == "room.lpnncap")
     assert "{" not in captured.out  # nothing measured
+
+
+def test_leak_aware_rows_weigh_the_leaks_of_a_walled_room() -> None:
+    """The leak-aware path (lpnn place's default where the geometry is known), on the analytic room with a wall: the
+    default's seed includes the leak repair's points, and the exact leak-weighted greedy from it is recomputed here."""
+    room = AnalyticScene.random(3, cell_size=0.5, room_size=(4.0, 2.5, 3.0))
+    rays = AnalyticBoxRaycaster(room.raycaster.room,
+                                room.raycaster.obstacles + (AxisBox(min=[0.1, -10.0, -10.0], max=[0.4, 10.0, 10.0]),))
+    capture = AnalyticScene(cell_size=room.cell_size, boxes=room.boxes, light_field=room.light_field,
+                            raycaster=rays).capture(name="walled")
+    field = ReferenceField.from_capture(capture)
+    grid = EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids)
+    rows: list[dict] = []
+    load_tool(SCRIPT).measure("walled", field, grid, rays, 0.05, [2.0], [0.1], [0.0], False, rows.append)
+    assert [(row["method"], row["mode"]) for row in rows] == [
+        ("default", "leak-aware"), ("exact greedy", "leak-aware"), ("batched", "leak-aware"),
+        ("batched, settled commits", "leak-aware")]
+    placed = refined_insertion(field, grid, tolerance=0.05, leaks=rays)
+    blind_seed = refined_insertion(field, grid, tolerance=0.05).seed
+    assert rows[0]["probes"] == placed.indices.shape[0] and rows[0]["seed_points"] == placed.seed.shape[0]
+    assert placed.seed.shape[0] > blind_seed.shape[0]  # the repair's points
+    greedy = fast_decimation(field, initial=placed.seed, stop_above=0.06, leaks=LeakWeighting(rays))
+    assert rows[1]["probes"] == greedy.smallest_count_within(0.05)
+    assert rows[3]["probes"] == rows[1]["probes"] and rows[3]["stop_reason"] == "tolerance"
