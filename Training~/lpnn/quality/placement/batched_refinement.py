@@ -225,11 +225,10 @@ def batched_refinement(field: ReferenceField, seed: np.ndarray, count: int | Non
         threshold = _commit_threshold(measured, fraction)
         ordered = cheapest_first(candidates, cost)
         commit = ordered[cost[ordered] <= threshold + TIE]  # a cost tied with the threshold is within it
-        settled = bool(np.all(fresh[probes] | locked[probes]))
-        if settled_commits:  # only a round that started with every cost fresh commits (or stops)
-            settled = settled_at_start
-            if not settled:
-                commit = commit[:0]
+        # With settled_commits only a round that started with every cost fresh commits (or stops).
+        settled = settled_at_start if settled_commits else bool(np.all(fresh[probes] | locked[probes]))
+        if settled_commits and not settled:
+            commit = commit[:0]
         if commit.shape[0] == 0 and settled:  # every cost is fresh: the cheapest candidate is the cheapest removal
             commit = ordered[:1]
         if count is not None:

@@ -61,7 +61,7 @@ BUDGET_SEED_CAP = 0.4
 class RefinedPlacement:
     indices: np.ndarray  # (K,) int64 point indices, sorted
     requested: int  # the budget's count, or the count the tolerance answer kept
-    seed_count: int  # points the refinement started from
+    seed: np.ndarray  # (S,) int64 point indices the refinement started from (after the leak repair)
     mean_error: float  # irradiance mean error of `indices`
     selection_seconds: float  # insertion rounds and the tolerance search
     refinement_seconds: float  # the seed's further rounds and the batched refinement
@@ -71,7 +71,11 @@ class RefinedPlacement:
     # (metric.evaluate_placement(field, indices, evaluation, segments)).
     evaluation: Evaluated | None = None
     segments: SegmentVisibility | None = None
-    seed: np.ndarray | None = None  # the seed's point indices (after the leak repair): what the refinement started from
+
+    @property
+    def seed_count(self) -> int:
+        """Points the refinement started from."""
+        return int(self.seed.shape[0])
 
 
 def _rounded(value: float) -> int:
@@ -162,7 +166,7 @@ def refined_insertion(field: ReferenceField, grid: EvaluationGrid, *, budget: fl
         else:
             indices, error = found.indices, found.mean_error
     return RefinedPlacement(indices=indices, requested=int(indices.shape[0]) if tolerance is not None else target,
-                            seed_count=int(seed.shape[0]), mean_error=float(error),
+                            seed=seed, mean_error=float(error),
                             selection_seconds=selection_seconds, refinement_seconds=time.perf_counter() - start,
                             rounds=refined.rounds, evaluation=evaluation,
-                            segments=None if weighting is None else weighting.visibility, seed=seed)
+                            segments=None if weighting is None else weighting.visibility)
