@@ -331,7 +331,7 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
     errors, pinned; `scores` for the methods that read them) and print one summary line (`what`: how it placed).
     quality None (--no-report): only `searched_error`, the tolerance search's mean error, if any. A pinned probe is
     written at its own (the artist's) position, not at the evaluation point it stands for (pins.md)."""
-    from ..core.in_use_section import capture_rule, in_use_text
+    from ..core.in_use_section import in_use_label, in_use_text
     import numpy as np
 
     from ..quality.placement.probes_file import write_probes_json
@@ -346,7 +346,7 @@ def _write(args: argparse.Namespace, capture: Capture, indices: np.ndarray, qual
         if quality.leaking == quality.leaking:  # NaN: the capture's geometry is not known here
             source.update(leaking=round(quality.leaking, 6))
         errors = (f"mean error {quality.irradiance.mean:.4g}, p95 {quality.irradiance.p95:.4g} "
-                  f"(SMAPE mean {quality.smape.mean:.4g}); in use ({capture_rule(capture)}): mean error "
+                  f"(SMAPE mean {quality.smape.mean:.4g}); in use ({in_use_label(capture)}): mean error "
                   f"{in_use_text(quality.in_use_error)}, leaking points {in_use_text(quality.leaking)}")
     elif searched_error is not None:
         source.update(mean_error=round(searched_error, 6))

@@ -26,6 +26,19 @@ def in_use_points(capture: Capture) -> np.ndarray | None:
     return None if section is None else np.asarray(section).reshape(-1) != 0
 
 
+def in_use_label(capture: Capture) -> str:
+    """Which points a report's "in use" figures are over, for its parenthesis: "reachable" or "band" for a capture that
+    holds only them; for an `all` capture (every point placed) the count and rule of its section, e.g. "12,345 points by
+    the reachable rule", so the air the placement also covered is not read as in use; "not recorded" without one."""
+    rule = capture_rule(capture)
+    if rule != "all":
+        return rule
+    mask = in_use_points(capture)
+    if mask is None:
+        return "not recorded"
+    return f"{int(mask.sum()):,} points by the {capture.source.get('in_use_report_rule', '?')} rule"
+
+
 def in_use_text(error: float) -> str:
     """An error at the points in use as reports print it: 4 decimals, "n/a" when not known."""
     return "n/a" if error != error else f"{error:.4f}"  # NaN: the capture cannot say which points are in use

@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from lpnn.core.analytic_scene import AnalyticScene
-from lpnn.core.in_use_section import IN_USE_SECTION, capture_rule, in_use_points, in_use_text
+from lpnn.core.in_use_section import IN_USE_SECTION, capture_rule, in_use_label, in_use_points, in_use_text
 from lpnn.quality.bench.results import CSV_COLUMNS, BenchConfig, rows_csv
 from lpnn.quality.bench.run import bench_capture
 from lpnn.quality.metric.metric import ReferenceField, evaluate_placement, point_errors
@@ -67,3 +67,16 @@ def test_dataset_info_names_the_rule_and_its_counts():
     marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
                      extra_sections={IN_USE_SECTION: mask})
     assert in_use_summary(marked) == "all points kept; 7 in use by the band rule (section in_use)"
+
+
+def test_reports_name_the_points_their_in_use_figures_are_over():
+    # An `all` capture places every point; its "in use" error is over the section's points only, and the label says
+    # how many and by which rule, so it is not read as the error over all of them (lpnn place's report).
+    old = _room()
+    assert in_use_label(old) == "not recorded"
+    assert in_use_label(replace(old, source={**old.source, "in_use": "reachable"})) == "reachable"
+    mask = np.zeros(old.point_count, dtype=np.uint8)
+    mask[:1234 % old.point_count] = 1
+    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
+                     extra_sections={IN_USE_SECTION: mask})
+    assert in_use_label(marked) == f"{int(mask.sum()):,} points by the band rule"

@@ -73,6 +73,7 @@ def test_place_writes_a_probes_file(capture_files: list[Path], tmp_path: Path, m
     assert all(tuple(np.float32(p).tolist()) in grid_points for p in document["positions"])
     printed = capsys.readouterr().out
     assert "kept" in printed and "mean error" in printed
+    assert "in use (not recorded): mean error n/a" in printed  # the fixture's captures hold no in-use section
 
 
 def test_place_without_a_source_places_by_refined_insertion(capture_files: list[Path], tmp_path: Path) -> None:
