@@ -26,15 +26,13 @@ import sys
 import time
 from pathlib import Path
 
+from lpnn.cli.arguments import numbers
+
 TOLERANCE = 0.05
 # The exact greedies stop once the mean error passes this multiple of tau (their last removals are the dearest): their
 # tau answer is the smallest count within tau up to there, so a dip back below tau after the curve passed 1.2 tau
 # would be missed (the project's benchmarks stop the reference at 2 tau: lpnn bench --reference-stop).
 GREEDY_STOP = 1.2
-
-
-def _numbers(text: str) -> list[float]:
-    return [float(part) for part in text.split(",") if part.strip()]
 
 
 def _timed(function):
@@ -98,9 +96,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("captures", nargs="+", type=Path)
     parser.add_argument("--leaks", choices=("avoid", "ignore"), default="avoid")
     parser.add_argument("--tolerance", type=float, default=TOLERANCE)
-    parser.add_argument("--factors", default="2", help="seed factors F (seed: insertion's first F x K0 points)")
-    parser.add_argument("--fractions", default="0.1,0.02,0.005", help="commit fractions, batched from each seed")
-    parser.add_argument("--settled-fractions", default="0.1,0.002,0",
+    parser.add_argument("--factors", type=numbers, default=numbers("2"), help="seed factors F (seed: insertion's first F x K0 points)")
+    parser.add_argument("--fractions", type=numbers, default=numbers("0.1,0.02,0.005"), help="commit fractions, batched from each seed")
+    parser.add_argument("--settled-fractions", type=numbers, default=numbers("0.1,0.002,0"),
                         help="commit fractions with settled commits (0: the exact greedy's removals, slowly)")
     parser.add_argument("--reference", action="store_true", help="also the exact greedy from every point (slow)")
     args = parser.parse_args(argv)
@@ -110,10 +108,10 @@ def main(argv: list[str] | None = None) -> int:
     # Checked before any placement: a bad value would otherwise surface after minutes of work on a whole level.
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
         parser.error(f"--tolerance {args.tolerance!r} must be a mean error > 0 (e.g. {TOLERANCE})")
-    for factor in _numbers(args.factors):
+    for factor in args.factors:
         if not (math.isfinite(factor) and factor > 1):
             parser.error(f"--factors: {factor!r} must be > 1 (the seed holds F x K0 points)")
-    for fraction in _numbers(args.fractions) + _numbers(args.settled_fractions):
+    for fraction in args.fractions + args.settled_fractions:
         if not 0 <= fraction <= 1:
             parser.error(f"commit fraction {fraction!r} must be in [0, 1]")
     rows: list[dict] = []
@@ -132,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
         field = field_with_geometry(capture)
         raycaster = leaks_to_avoid(field, args.leaks, warn=lambda text: print(f"{path.name}: {text}", file=sys.stderr))
         measure(path.name, field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), raycaster,
-                args.tolerance, _numbers(args.factors), _numbers(args.fractions), _numbers(args.settled_fractions),
+                args.tolerance, list(args.factors), list(args.fractions), list(args.settled_fractions),
                 args.reference, emit)
     print(table(rows))
     return 0

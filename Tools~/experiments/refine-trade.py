@@ -22,14 +22,12 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
+from lpnn.cli.arguments import numbers
+
 TOLERANCE = 0.05
 DEFAULT_FACTORS = "1.1,1.25,1.5,2"
 DEFAULT_BUDGETS = "0.01,0.05,0.1,0.2,0.3"
 DEFAULT_MODEL = Path(__file__).resolve().parents[2] / "Packages/com.lpnn.probes/Models/lpnn_default.onnx"
-
-
-def _numbers(text: str) -> list[float]:
-    return [float(part) for part in text.split(",") if part.strip()]
 
 
 def _fastest(function, repeats: int):
@@ -104,8 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("captures", nargs="+", type=Path)
     parser.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="default: the shipped model")
-    parser.add_argument("--factors", type=_numbers, default=_numbers(DEFAULT_FACTORS), help="seed factors > 1")
-    parser.add_argument("--budgets", type=_numbers, default=_numbers(DEFAULT_BUDGETS), help="budget fractions")
+    parser.add_argument("--factors", type=numbers, default=numbers(DEFAULT_FACTORS), help="seed factors > 1")
+    parser.add_argument("--budgets", type=numbers, default=numbers(DEFAULT_BUDGETS), help="budget fractions")
     parser.add_argument("--repeats", type=int, default=2, help="timed runs of each row and of the reference (fastest)")
     args = parser.parse_args(argv)
     if any(not (f > 1.0 and math.isfinite(f)) for f in args.factors):

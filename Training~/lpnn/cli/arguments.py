@@ -37,6 +37,15 @@ def tolerance(text: str) -> float:
     return value
 
 
+def numbers(text: str) -> tuple[float, ...]:
+    """argparse type: comma-separated numbers with '.' decimals, e.g. 2,4 (the experiment drivers' lists; each caller
+    checks its own range)."""
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if not parts:
+        raise argparse.ArgumentTypeError("give at least one number, e.g. 2,4")
+    return tuple(_number(p, "2,4") for p in parts)
+
+
 def fractions(text: str) -> tuple[float, ...]:
     """argparse type: comma-separated budget fractions, e.g. 0.1,0.2,0.3."""
     parts = [p.strip() for p in text.split(",") if p.strip()]

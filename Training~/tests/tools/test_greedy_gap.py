@@ -52,6 +52,7 @@ def test_one_line_per_measurement_and_a_table(tmp_path: Path, capsys: pytest.Cap
     (["missing.lpnncap"], "no capture"),
     (["room.lpnncap", "--fractions", "0.1,2"], "commit fraction 2.0 must be in [0, 1]"),
     (["room.lpnncap", "--factors", "1"], "--factors: 1.0 must be > 1"),
+    (["room.lpnncap", "--factors", "2,two"], "'two' is not a number (use '.' for decimals"),
     (["room.lpnncap", "--tolerance", "0"], "--tolerance 0.0 must be a mean error > 0")])
 def test_bad_arguments_are_refused_by_name_before_any_work(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                                            arguments: list[str], message: str) -> None:
