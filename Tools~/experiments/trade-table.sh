@@ -54,8 +54,9 @@ if want level5; then
   # skipped by --refine-limit (636 s at τ alone, benchmarks.md "References and scale-out": ~1 hour for its 6 rows).
   # lpnn bench also runs the leak-aware reference where the geometry is known (its rows, and the default's ratios to
   # it: quality.md §3.2), stopped at the same 2τ of its weighted error. Measured 2026-11-28: 3,933 s, of which the two
-  # references 821 + 746 s and the leak-aware default's 20 % and 30 % rows 208 + 1,590 s.
-  run ctf_compromise "~60-70 min (two references ~13 min each stopped at 2τ, then the methods' 6 rows each; the default's 30 % row ~27 min)" \
+  # references 821 + 746 s and the leak-aware default's 20 % and 30 % rows 208 + 1,590 s (the 30 % row ~1 min since
+  # 2026-11-29: benchmarks.md "A hull corner refilled by nothing").
+  run ctf_compromise "~35-45 min (two references ~13 min each stopped at 2τ, then the methods' 6 rows each)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
     --out "$OUT/ctf_compromise"
 fi

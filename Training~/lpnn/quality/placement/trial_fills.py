@@ -152,8 +152,14 @@ def _oriented(local: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarr
 def _link_fill(local: np.ndarray, tie: np.ndarray, v: int, star: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray] | None:
     """The regular tetrahedra of v's link whose centroid lies in v's star (module text), oriented, and their 6 x
-    volumes; None when Qhull cannot tetrahedralise the link."""
+    volumes; None when Qhull cannot tetrahedralise the link. A link of three probes (a hull vertex whose star is one
+    tetrahedron, e.g. a corner of a lattice) has no tetrahedra, and its refill is none: the hull loses the whole star
+    (the C# core's StarRefills.LinkFill, the same rule). Before 2026-11-29 Qhull refused the three points and the whole
+    round was tetrahedralised (ctf_compromise's 30 % budget, leak-aware: 571 s, now 60 s; benchmarks.md "A hull corner
+    refilled by nothing")."""
     link = sorted_unique(star[star != v])
+    if link.shape[0] < 4:
+        return np.zeros((0, 4), dtype=np.int64), np.zeros(0)
     relative = local[link] - local[v]
     lifted = np.concatenate([relative, (np.einsum("ij,ij->i", relative, relative) + tie[link])[:, None]], axis=1)
     try:

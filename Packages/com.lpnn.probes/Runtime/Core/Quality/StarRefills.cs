@@ -234,8 +234,8 @@ namespace Lpnn.Probes.Core.Quality
                 if (u != v) distinct.Add(u);
             var link = new int[distinct.Count];
             distinct.CopyTo(link);
-            // A star of one tetrahedron (a hull vertex with three neighbours): the hull loses all of it, nothing refills it.
-            // (trial_fills.py asks Qhull, which refuses three points, and the round tetrahedralises: the same tetrahedra.)
+            // A star of one tetrahedron (a hull vertex with three neighbours): the hull loses all of it, nothing refills it
+            // (trial_fills.py _link_fill, the same rule since 2026-11-29).
             if (link.Length < 4) return new int[0];
             calls++;
             var positions = new Vector3[link.Length];
