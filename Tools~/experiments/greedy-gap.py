@@ -96,8 +96,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("captures", nargs="+", type=Path)
     parser.add_argument("--leaks", choices=("avoid", "ignore"), default="avoid")
     parser.add_argument("--tolerance", type=float, default=TOLERANCE)
-    parser.add_argument("--factors", type=numbers, default=numbers("2"), help="seed factors F (seed: insertion's first F x K0 points)")
-    parser.add_argument("--fractions", type=numbers, default=numbers("0.1,0.02,0.005"), help="commit fractions, batched from each seed")
+    parser.add_argument("--factors", type=numbers, default=numbers("2"),
+                        help="seed factors F (seed: insertion's first F x K0 points)")
+    parser.add_argument("--fractions", type=numbers, default=numbers("0.1,0.02,0.005"),
+                        help="commit fractions, batched from each seed")
     parser.add_argument("--settled-fractions", type=numbers, default=numbers("0.1,0.002,0"),
                         help="commit fractions with settled commits (0: the exact greedy's removals, slowly)")
     parser.add_argument("--reference", action="store_true", help="also the exact greedy from every point (slow)")
