@@ -40,7 +40,7 @@ def _fastest(function, repeats: int):
     return result, best
 
 
-def measure(path: Path, scorer, factors: list[float], budgets: list[float], repeats: int) -> list[dict]:
+def measure(path: Path, scorer, factors: tuple[float, ...], budgets: tuple[float, ...], repeats: int) -> list[dict]:
     from lpnn.core.capture_file import read_capture
     from lpnn.quality.placement.lpnn_placement import lpnn_placement
     from lpnn.quality.metric.metric import ReferenceField, guarded_ratio, mean_placement_error
@@ -73,7 +73,7 @@ def measure(path: Path, scorer, factors: list[float], budgets: list[float], repe
     return rows
 
 
-def table(rows: list[dict], factors: list[float], budgets: list[float]) -> str:
+def table(rows: list[dict], factors: tuple[float, ...], budgets: tuple[float, ...]) -> str:
     from lpnn.quality.metric.metric import guarded_ratio
     from lpnn.recipe.evaluation import geometric_mean
 
@@ -107,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=2, help="timed runs of each row and of the reference (fastest)")
     args = parser.parse_args(argv)
     if any(not (f > 1.0 and math.isfinite(f)) for f in args.factors):
-        raise SystemExit(f"--factors {args.factors}: every factor must be > 1 (the seed holds F x K points)")
+        raise SystemExit(f"--factors {','.join(f'{f:g}' for f in args.factors)}: every factor must be > 1 (the seed holds F x K points)")
     if any(not (0.0 < b <= 1.0) for b in args.budgets) or args.repeats < 1:
         raise SystemExit("--budgets must be fractions in (0, 1] and --repeats >= 1")
 

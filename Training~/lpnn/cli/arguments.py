@@ -1,4 +1,5 @@
-"""Command-line argument types shared by `lpnn label`, `lpnn place` and `lpnn bench`.
+"""Command-line argument types shared by `lpnn label`, `lpnn place` and `lpnn bench` (and the experiment drivers' number
+lists, `numbers`).
 
 Light on purpose (argparse and math only): the commands register their options at `lpnn --help`
 time, before any heavy import. The rules themselves are `quality/placement/policy_rules.py`'s.

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import write_text_atomic
-from ..core.in_use_section import capture_rule, in_use_text
+from ..core.in_use_section import capture_rule, in_use_label, in_use_text
 from ..quality.metric.metric import guarded_ratio
 from ..quality.bench.plots import pyplot, save_png
 from ..quality.placement.methods import BY_NAME
@@ -92,8 +92,8 @@ def in_use_line(result: DemoResult) -> str:
     """Which points the demo places on (in-use.md)."""
     source = result.capture.source
     rule = capture_rule(result.capture)
-    if rule == "all":
-        return "points in use: all (every point of the volume)"
+    if rule == "all":  # every point placed; the section, when there is one, says which are in use
+        return f"points in use: {in_use_label(result.capture)} (every point of the volume placed)"
     return (f"points in use: {rule} ({result.capture.point_count:,} of {source.get('points_before_in_use', 0):,} "
             f"points within {source.get('in_use_band_height', 0):g} m above walkable floors"
             + (f", reached from the level's {source.get('in_use_seeds', 0)} spawns and items)" if rule == "reachable" else ")"))

@@ -76,7 +76,22 @@ def test_reports_name_the_points_their_in_use_figures_are_over():
     assert in_use_label(old) == "not recorded"
     assert in_use_label(replace(old, source={**old.source, "in_use": "reachable"})) == "reachable"
     mask = np.zeros(old.point_count, dtype=np.uint8)
-    mask[:1234 % old.point_count] = 1
+    mask[:34] = 1
     marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
                      extra_sections={IN_USE_SECTION: mask})
-    assert in_use_label(marked) == f"{int(mask.sum()):,} points by the band rule"
+    assert in_use_label(marked) == "34 points by the band rule"
+
+
+def test_the_demo_names_the_points_in_use_of_a_capture_that_placed_every_point():
+    from types import SimpleNamespace
+
+    from lpnn.demo.report import in_use_line
+
+    old = _room()
+    mask = np.zeros(old.point_count, dtype=np.uint8)
+    mask[:34] = 1
+    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "reachable"},
+                     extra_sections={IN_USE_SECTION: mask})
+    assert in_use_line(SimpleNamespace(capture=marked)) == (
+        "points in use: 34 points by the reachable rule (every point of the volume placed)")
+    assert in_use_line(SimpleNamespace(capture=old)) == "points in use: not recorded (every point of the volume placed)"
