@@ -25,6 +25,7 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import Sequence
 
 from lpnn.cli.arguments import numbers
 
@@ -41,8 +42,8 @@ def _timed(function):
     return result, time.perf_counter() - start
 
 
-def measure(name: str, field, grid, raycaster, tolerance: float, factors: list[float], fractions: list[float],
-            settled_fractions: list[float], reference: bool, emit) -> None:
+def measure(name: str, field, grid, raycaster, tolerance: float, factors: Sequence[float], fractions: Sequence[float],
+            settled_fractions: Sequence[float], reference: bool, emit) -> None:
     """The rows of one capture (`field`, its `grid`; `raycaster` the leaks to avoid, None: leak-blind) to `emit`."""
     from lpnn.quality.placement.batched_refinement import batched_refinement
     from lpnn.quality.placement.decimation.reference_fast import fast_decimation
@@ -132,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
         field = field_with_geometry(capture)
         raycaster = leaks_to_avoid(field, args.leaks, warn=lambda text: print(f"{path.name}: {text}", file=sys.stderr))
         measure(path.name, field, EvaluationGrid(cell_size=capture.cell_size, ids=capture.ids), raycaster,
-                args.tolerance, list(args.factors), list(args.fractions), list(args.settled_fractions),
+                args.tolerance, args.factors, args.fractions, args.settled_fractions,
                 args.reference, emit)
     print(table(rows))
     return 0

@@ -107,7 +107,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=2, help="timed runs of each row and of the reference (fastest)")
     args = parser.parse_args(argv)
     if any(not (f > 1.0 and math.isfinite(f)) for f in args.factors):
-        raise SystemExit(f"--factors {','.join(f'{f:g}' for f in args.factors)}: every factor must be > 1 (the seed holds F x K points)")
+        listed = ",".join(f"{f:g}" for f in args.factors)
+        raise SystemExit(f"--factors {listed}: every factor must be > 1 (the seed holds F x K points)")
     if any(not (0.0 < b <= 1.0) for b in args.budgets) or args.repeats < 1:
         raise SystemExit("--budgets must be fractions in (0, 1] and --repeats >= 1")
 

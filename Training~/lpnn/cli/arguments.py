@@ -8,6 +8,7 @@ time, before any heavy import. The rules themselves are `quality/placement/polic
 from __future__ import annotations
 
 import argparse
+from typing import Callable
 
 from ..quality.placement.policy_rules import DEFAULT_TOLERANCE, budget_problem, tolerance_problem
 
@@ -38,21 +39,23 @@ def tolerance(text: str) -> float:
     return value
 
 
+def _comma_separated(text: str, parse: Callable[[str], float], empty: str) -> tuple[float, ...]:
+    """The non-empty comma-separated entries of `text`, each read by `parse`; `empty`: the error when there is none."""
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if not parts:
+        raise argparse.ArgumentTypeError(empty)
+    return tuple(parse(p) for p in parts)
+
+
 def numbers(text: str) -> tuple[float, ...]:
     """argparse type: comma-separated numbers with '.' decimals, e.g. 2,4 (the experiment drivers' lists; each caller
     checks its own range)."""
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not parts:
-        raise argparse.ArgumentTypeError("give at least one number, e.g. 2,4")
-    return tuple(_number(p, "2,4") for p in parts)
+    return _comma_separated(text, lambda part: _number(part, "2,4"), "give at least one number, e.g. 2,4")
 
 
 def fractions(text: str) -> tuple[float, ...]:
     """argparse type: comma-separated budget fractions, e.g. 0.1,0.2,0.3."""
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not parts:
-        raise argparse.ArgumentTypeError("give at least one budget, e.g. 0.1,0.2,0.3")
-    return tuple(fraction(p) for p in parts)
+    return _comma_separated(text, fraction, "give at least one budget, e.g. 0.1,0.2,0.3")
 
 
 def add_policy_arguments(parser: argparse.ArgumentParser) -> None:

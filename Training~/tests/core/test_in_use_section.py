@@ -19,6 +19,14 @@ def _room():
     return AnalyticScene.random(5, cell_size=0.5, room_size=(2.5, 1.5, 2.0)).capture(name="room")
 
 
+def _all_marked(capture, in_use: int, rule: str):
+    """`capture` as an `all` capture whose section marks its first `in_use` points in use by `rule`."""
+    mask = np.zeros(capture.point_count, dtype=np.uint8)
+    mask[:in_use] = 1
+    return replace(capture, source={**capture.source, "in_use": "all", "in_use_report_rule": rule},
+                   extra_sections={IN_USE_SECTION: mask})
+
+
 def test_old_captures_say_nothing_filtered_ones_are_all_in_use_and_all_captures_read_their_section():
     old = _room()
     assert capture_rule(old) == "all" and in_use_points(old) is None
@@ -62,10 +70,7 @@ def test_dataset_info_names_the_rule_and_its_counts():
     assert "not recorded" in in_use_summary(old)
     reachable = replace(old, source={**old.source, "in_use": "reachable", "points_before_in_use": 5000})
     assert in_use_summary(reachable) == f"reachable: all {old.point_count:,} (of 5,000 valid points)"
-    mask = np.zeros(old.point_count, dtype=np.uint8)
-    mask[:7] = 1
-    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
-                     extra_sections={IN_USE_SECTION: mask})
+    marked = _all_marked(old, 7, "band")
     assert in_use_summary(marked) == "all points kept; 7 in use by the band rule (section in_use)"
 
 
@@ -75,10 +80,7 @@ def test_reports_name_the_points_their_in_use_figures_are_over():
     old = _room()
     assert in_use_label(old) == "not recorded"
     assert in_use_label(replace(old, source={**old.source, "in_use": "reachable"})) == "reachable"
-    mask = np.zeros(old.point_count, dtype=np.uint8)
-    mask[:34] = 1
-    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "band"},
-                     extra_sections={IN_USE_SECTION: mask})
+    marked = _all_marked(old, 34, "band")
     assert in_use_label(marked) == "34 points by the band rule"
 
 
@@ -88,10 +90,7 @@ def test_the_demo_names_the_points_in_use_of_a_capture_that_placed_every_point()
     from lpnn.demo.report import in_use_line
 
     old = _room()
-    mask = np.zeros(old.point_count, dtype=np.uint8)
-    mask[:34] = 1
-    marked = replace(old, source={**old.source, "in_use": "all", "in_use_report_rule": "reachable"},
-                     extra_sections={IN_USE_SECTION: mask})
+    marked = _all_marked(old, 34, "reachable")
     assert in_use_line(SimpleNamespace(capture=marked)) == (
         "points in use: 34 points by the reachable rule (every point of the volume placed)")
     assert in_use_line(SimpleNamespace(capture=old)) == "points in use: not recorded (every point of the volume placed)"

@@ -10,7 +10,8 @@ import pytest
 from lpnn.core.capture import Capture
 from lpnn.core.grid import EvaluationGrid
 from lpnn.quality.placement import batched_refinement as batched_refinement_module
-from lpnn.quality.placement.batched_refinement import batched_refinement, cheapest_first, greedy_independent_set
+from lpnn.quality.placement.batched_refinement import (BatchedRefinement, batched_refinement, cheapest_first,
+                                                           greedy_independent_set)
 from lpnn.quality.metric.metric_kernel import run_rows
 from lpnn.quality.placement.refinement_kernel import attributed_costs, rows_holding_which, stencil_ids
 from lpnn.quality.placement.batched_state import evaluate, refilled, restore, trial_of, without
@@ -338,8 +339,8 @@ def test_costs_that_differ_by_rounding_give_the_same_answer(monkeypatch: pytest.
     assert rounded.rounds == plain.rounds
 
 
-def _removals(field: ReferenceField, seed: np.ndarray, **goal) -> tuple[list[int], np.ndarray]:
-    """The probes batched_refinement commits, in order, with settled_commits at fraction 0, and its answer (a probe an
+def _removals(field: ReferenceField, seed: np.ndarray, **goal) -> tuple[list[int], BatchedRefinement]:
+    """The probes batched_refinement commits, in order, with settled_commits at fraction 0, and its result (a probe an
     overshoot brought back would still be listed: these tests' answers are checked against the greedy's sets too)."""
     committed: list[int] = []
 
@@ -347,8 +348,7 @@ def _removals(field: ReferenceField, seed: np.ndarray, **goal) -> tuple[list[int
         if "commit" in info:
             committed.extend(info["commit"].tolist())
 
-    refined = batched_refinement(field, seed, fraction=0.0, settled_commits=True, trace=trace, **goal)
-    return committed, refined.indices
+    return committed, batched_refinement(field, seed, fraction=0.0, settled_commits=True, trace=trace, **goal)
 
 
 @pytest.mark.parametrize("room", [1, 3])
@@ -361,16 +361,17 @@ def test_settled_commits_one_at_a_time_remove_what_the_exact_greedy_removes(room
     field = _field(capture)
     seed = _insertion(capture, field)(120)
     greedy = fast_decimation(field, initial=seed, stop_above=0.1)
-    within, answer = _removals(field, seed, tolerance=0.05)
+    within, refined = _removals(field, seed, tolerance=0.05)
+    answer = refined.indices
     assert len(within) >= 60
     assert within == greedy.removed[:len(within)].tolist()
     np.testing.assert_array_equal(answer, greedy.prefix(answer.shape[0]))
     assert answer.shape[0] == greedy.smallest_count_within(0.05)
     assert point_errors(field, answer).mean() <= 0.05
     count = answer.shape[0] + 10
-    down, kept = _removals(field, seed, count=count)
-    assert down == within[:len(down)] and kept.shape[0] == count
-    np.testing.assert_array_equal(kept, greedy.prefix(count))
+    down, counted = _removals(field, seed, count=count)
+    assert down == within[:len(down)] and counted.indices.shape[0] == count
+    np.testing.assert_array_equal(counted.indices, greedy.prefix(count))
 
 
 def test_settled_commits_leak_aware_hold_the_sets_the_exact_leak_aware_greedy_holds() -> None:
@@ -380,10 +381,7 @@ def test_settled_commits_leak_aware_hold_the_sets_the_exact_leak_aware_greedy_ho
     field, grid = two_rooms()
     seed = InsertionOrder(field, grid).selection()(150)
     greedy = fast_decimation(field, initial=seed, stop_above=0.1, leaks=LeakWeighting(WALLED))
-    committed: list[int] = []
-    refined = batched_refinement(field, seed, tolerance=0.05, fraction=0.0, settled_commits=True,
-                                 leaks=LeakWeighting(WALLED),
-                                 trace=lambda info: committed.extend(info["commit"].tolist()) if "commit" in info else None)
+    committed, refined = _removals(field, seed, tolerance=0.05, leaks=LeakWeighting(WALLED))
     assert len(committed) >= 100
     greedy_order = greedy.removed.tolist()
     differing = sum(set(committed[:k]) != set(greedy_order[:k]) for k in range(len(committed) + 1))
