@@ -223,7 +223,7 @@ namespace Lpnn.Probes.Core.Tests
             var settings = SelectionSettings.Budget(20);
             var selection = ProbeSelector.SelectFromPrefixes(grid, order.Count, k => order.Prefix(k), settings, null);
             var refined = RefinedSelection.Refine(grid, selection, k => order.Prefix(k), order.Count, settings, evaluator);
-            Assert.That(RefinedSelection.BudgetSeedCount(20, grid.Count), Is.EqualTo(64), "the minimum seed (3K = 60, 0.4 N = 56)");
+            Assert.That(RefinedSelection.BudgetSeedCount(20, grid.Count), Is.EqualTo(64), "the minimum seed (3K = 60, 0.5 N = 70)");
             int[] seed = order.Prefix(64).Take(64).ToArray();
             Assert.That(refined.Indices, Is.EqualTo(BatchedRefinement.ToCount(evaluator.Reference, evaluator.Tetrahedralizer, seed, 20).Indices));
             Assert.That(refined.Indices.Length, Is.EqualTo(20));
@@ -232,15 +232,20 @@ namespace Lpnn.Probes.Core.Tests
         }
 
         [Test]
-        public void ACountPolicySeedsThreeTimesItsCountUpToFourTenthsOfThePoints()
+        public void ACountPolicySeedsThreeTimesItsCountUpToHalfOfThePoints()
         {
-            // min(N, max(round(2K), min(round(3K), round(0.4 N)), 64)) at hand-computed points (the old rule, max(round(2K), 64), in the comments);
-            // the same points as Python's test_a_budget_seeds_three_times_its_count_up_to_four_tenths_of_the_points.
-            Assert.That(RefinedSelection.BudgetSeedCount(50, 1000), Is.EqualTo(150), "3K (old: 100)");
-            Assert.That(RefinedSelection.BudgetSeedCount(150, 1000), Is.EqualTo(400), "3K = 450 capped at 0.4 N (old: 300)");
-            Assert.That(RefinedSelection.BudgetSeedCount(250, 1000), Is.EqualTo(500), "2K above the cap");
+            // min(N, max(round(2K), min(round(3K), round(0.5 N)), 64)) at hand-computed points (the first rule, max(round(2K), 64), and the
+            // cap before 2026-11-29, 0.4 N, in the comments); the same points as Python's
+            // test_a_budget_seeds_three_times_its_count_up_to_half_of_the_points.
+            Assert.That(RefinedSelection.BudgetSeedCount(50, 1000), Is.EqualTo(150), "3K (first rule: 100)");
+            Assert.That(RefinedSelection.BudgetSeedCount(150, 1000), Is.EqualTo(450), "3K = 450 under 0.5 N (cap 0.4 N: 400)");
+            Assert.That(RefinedSelection.BudgetSeedCount(200, 1000), Is.EqualTo(500), "3K = 600 capped at 0.5 N (cap 0.4 N: 400)");
+            Assert.That(RefinedSelection.BudgetSeedCount(250, 1000), Is.EqualTo(500), "2K = the cap");
+            Assert.That(RefinedSelection.BudgetSeedCount(300, 1000), Is.EqualTo(600), "2K above the cap");
+            Assert.That(RefinedSelection.BudgetSeedCount(1, 3), Is.EqualTo(3), "every point: the floor of 64 exceeds N");
             Assert.That(RefinedSelection.BudgetSeedCount(21, 1000), Is.EqualTo(64), "3K = 63: the floor");
-            Assert.That(RefinedSelection.BudgetSeedCount(40, 100), Is.EqualTo(80), "0.4 N = 40 below 2K");
+            Assert.That(RefinedSelection.BudgetSeedCount(40, 100), Is.EqualTo(80), "0.5 N = 50 below 2K");
+            Assert.That(RefinedSelection.BudgetSeedCount(60, 301), Is.EqualTo(151), "3K = 180 capped at 0.5 N = 150.5, which rounds half up");
             Assert.That(RefinedSelection.BudgetSeedCount(60, 100), Is.EqualTo(100), "every point");
             Assert.That(RefinedSelection.BudgetSeedCount(67, 1343), Is.EqualTo(201), "a validation crop at 5 % (old: 134)");
             Assert.That(RefinedSelection.SeedCount(50, 1000), Is.EqualTo(100), "the tolerance policy keeps 2K");
@@ -249,7 +254,7 @@ namespace Lpnn.Probes.Core.Tests
         [Test]
         public void ASmallBudgetIsRefinedFromThreeTimesItsCountOfTheRanking()
         {
-            // 400 points, budget 30: the seed is the ranking's first 3K = 90 points (0.4 N = 160; the old rule seeded max(60, 64) = 64).
+            // 400 points, budget 30: the seed is the ranking's first 3K = 90 points (0.5 N = 200; the first rule seeded max(60, 64) = 64).
             var grid = QualityFixtures.Box(10, 8, 5);
             var positions = QualityFixtures.Positions(grid);
             var evaluator = new PlacementEvaluator(ReferenceLighting.Create(positions,

@@ -152,14 +152,19 @@ def test_at_a_budget_it_beats_the_insertion_prefix_and_nears_the_reference() -> 
         assert refined.mean_error < 1.3 * reference, seed
 
 
-def test_a_budget_seeds_three_times_its_count_up_to_four_tenths_of_the_points() -> None:
-    """refined_insertion's budget seed, min(N, max(round(F K), min(round(1.5 F K), round(0.4 N)), 64)), at hand-computed
-    points (the old rule, max(round(2K), 64), in the comments); the tolerance path keeps max(round(F K), 64)."""
-    assert budget_seed_count(2.0, 50, 1000) == 150  # 3K (old: 100)
-    assert budget_seed_count(2.0, 150, 1000) == 400  # 3K = 450 capped at 0.4 N (old: 300)
-    assert budget_seed_count(2.0, 250, 1000) == 500  # 2K above the cap
+def test_a_budget_seeds_three_times_its_count_up_to_half_of_the_points() -> None:
+    """refined_insertion's budget seed, min(N, max(round(F K), min(round(1.5 F K), round(0.5 N)), 64)), at hand-computed
+    points (the first rule, max(round(2K), 64), and the cap before 2026-11-29, 0.4 N, in the comments); the tolerance path
+    keeps max(round(F K), 64)."""
+    assert budget_seed_count(2.0, 50, 1000) == 150  # 3K (first rule: 100)
+    assert budget_seed_count(2.0, 150, 1000) == 450  # 3K = 450 under 0.5 N (cap 0.4 N: 400)
+    assert budget_seed_count(2.0, 200, 1000) == 500  # 3K = 600 capped at 0.5 N (cap 0.4 N: 400)
+    assert budget_seed_count(2.0, 250, 1000) == 500  # 2K = the cap
+    assert budget_seed_count(2.0, 300, 1000) == 600  # 2K above the cap
+    assert budget_seed_count(2.0, 1, 3) == 3  # every point: the floor of 64 exceeds N
     assert budget_seed_count(2.0, 21, 1000) == 64  # 3K = 63: the floor
-    assert budget_seed_count(2.0, 40, 100) == 80  # 0.4 N = 40 below 2K
+    assert budget_seed_count(2.0, 40, 100) == 80  # 0.5 N = 50 below 2K
+    assert budget_seed_count(2.0, 60, 301) == 151  # 3K = 180 capped at 0.5 N = 150.5, which rounds half up
     assert budget_seed_count(2.0, 60, 100) == 100  # every point
     assert budget_seed_count(1.5, 45, 1000) == 101  # 1.5 x 1.5 x 45 = 101.25 (the factor's own 67.5 -> 68)
     assert budget_seed_count(2.0, 67, 1343) == 201  # a validation crop at 5 % (q3dm6ish's sizes; old: 134)
@@ -167,8 +172,8 @@ def test_a_budget_seeds_three_times_its_count_up_to_four_tenths_of_the_points() 
 
 
 def test_refined_insertion_at_a_small_budget_refines_from_three_times_its_count(medium_capture: Capture) -> None:
-    """At 5 % of the medium room (616 points, K = 31) the seed is the insertion order's first 3K = 93 points (0.4 N =
-    246; the old rule seeded max(62, 64) = 64), refined down to K."""
+    """At 5 % of the medium room (616 points, K = 31) the seed is the insertion order's first 3K = 93 points (0.5 N =
+    308; the first rule seeded max(62, 64) = 64), refined down to K."""
     field = _field(medium_capture)
     grid = EvaluationGrid(cell_size=medium_capture.cell_size, ids=medium_capture.ids)
     assert (field.point_count, budget_count(0.05, field.point_count)) == (616, 31)

@@ -27,9 +27,10 @@ namespace Lpnn.Probes.Core.Quality
         /// error at 5 %, 1.04× with 3K; Documentation~/benchmarks.md "A wider seed for small budgets"). refined_insertion.py BUDGET_SEED_WIDENING.</summary>
         public const double BudgetSeedWidening = 1.5;
 
-        /// <summary>The wider seed stops growing at this share of the points, which 2K reaches at a 20 % budget: beyond it a wider
-        /// seed costs much time for little (3K: +57 % CPU at 20 %). refined_insertion.py BUDGET_SEED_CAP.</summary>
-        public const double BudgetSeedCap = 0.4;
+        /// <summary>The wider seed stops growing at this share of the points, which 2K reaches at a 25 % budget: beyond it a wider
+        /// seed costs much time for little (3K: +55 % CPU at 30 %; Documentation~/benchmarks.md "The budget seed's cap
+        /// re-chosen"). refined_insertion.py BUDGET_SEED_CAP.</summary>
+        public const double BudgetSeedCap = 0.5;
 
         /// <param name="selection">What the policy selected from <paramref name="prefix"/> (ProbeSelector.SelectFromPrefixes
         /// or SelectFromRanking with the same settings).</param>
@@ -97,9 +98,9 @@ namespace Lpnn.Probes.Core.Quality
         public static int SeedCount(int count, int candidates) =>
             Math.Min(candidates, Math.Max(Rounded(DefaultFactor * count), MinimumSeed));
 
-        /// <summary>A count policy's seed: min(N, max(round(F K), min(round(1.5 F K), round(0.4 N)), <see cref="MinimumSeed"/>)),
-        /// halves up (1.5 = <see cref="BudgetSeedWidening"/>, 0.4 = <see cref="BudgetSeedCap"/>): 3K for small budgets, at most
-        /// 0.4 N, never fewer than 2K.</summary>
+        /// <summary>A count policy's seed: min(N, max(round(F K), min(round(1.5 F K), round(0.5 N)), <see cref="MinimumSeed"/>)),
+        /// halves up (1.5 = <see cref="BudgetSeedWidening"/>, 0.5 = <see cref="BudgetSeedCap"/>): 3K for small budgets, at most
+        /// 0.5 N, never fewer than 2K.</summary>
         public static int BudgetSeedCount(int count, int candidates) =>
             Math.Min(candidates, Math.Max(SeedCount(count, candidates),
                 Math.Min(Rounded(BudgetSeedWidening * DefaultFactor * count), Rounded(BudgetSeedCap * candidates))));
