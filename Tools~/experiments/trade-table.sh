@@ -34,17 +34,17 @@ run() {
 }
 
 if want crops; then
-  # benchmarks.md "The speed/accuracy trade, every method"'s runs: 325 s and 275 s with the code of 2026-11-28.
-  run heldcrops "~5-8 min (14 crops of 702-1,071 points, every method)" \
+  # benchmarks.md "The speed/accuracy trade, every method"'s runs: 239 s and 200 s with the code of 2026-11-29.
+  run heldcrops "~3-6 min (14 crops of 702-1,071 points, every method)" \
     lpnn bench "$HELD_CROPS"/*.lpnncap --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/heldcrops"
-  run valcrops "~5-8 min (10 crops of 729-1,343 points, every method)" \
+  run valcrops "~3-6 min (10 crops of 729-1,343 points, every method)" \
     lpnn bench "$VAL_CROPS"/*.lpnncap --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/valcrops"
 fi
 
 if want level3; then
   # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~5 s (benchmarks.md "The speed/accuracy trade, every method").
   lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
-  run oa_dm1 "~1-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each; 49 s on 2026-11-28)" \
+  run oa_dm1 "~1-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each; 40 s on 2026-11-29)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
 fi
 
@@ -53,10 +53,10 @@ if want level5; then
   # ~650) took 678-693 s (benchmarks.md "References and scale-out"); run down to 4 probes it would add its dearest tail (35-40 % on crops). guided-exact-refined is
   # skipped by --refine-limit (636 s at τ alone, benchmarks.md "References and scale-out": ~1 hour for its 6 rows).
   # lpnn bench also runs the leak-aware reference where the geometry is known (its rows, and the default's ratios to
-  # it: quality.md §3.2), stopped at the same 2τ of its weighted error. Measured 2026-11-28: 3,933 s, of which the two
-  # references 821 + 746 s and the leak-aware default's 20 % and 30 % rows 208 + 1,590 s (the 30 % row ~1 min since
-  # 2026-11-29: benchmarks.md "A hull corner refilled by nothing").
-  run ctf_compromise "~35-45 min (two references ~13 min each stopped at 2τ, then the methods' 6 rows each)" \
+  # it: quality.md §3.2), stopped at the same 2τ of its weighted error. Measured 2026-11-29: 1,416 s, of which the two
+  # references 554 + 503 s and the leak-aware default's 20 % and 30 % rows 51 + 59 s (1,590 s at 30 % on 2026-11-28,
+  # before benchmarks.md "A hull corner refilled by nothing").
+  run ctf_compromise "~20-30 min (two references ~9 min each stopped at 2τ, then the methods' 6 rows each)" \
     lpnn bench "$CTF" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --reference-stop 0.1 \
     --out "$OUT/ctf_compromise"
 fi
@@ -66,7 +66,7 @@ if want level6; then
   # benchmarks.md "References and scale-out"), so τ rows only, without ratios; the table divides by benchmarks.md "References and scale-out"'s blockwise count (4,066). Not run: guided-exact-refined
   # (its exact refinement: 636 s at 10⁵ points, hours here). guided / guided-refined are insertion's / the default's
   # answers above 32,768 points (the bench reuses them) plus the inference.
-  run suspended "~10-15 min (τ only: ~1-2 min per method)" \
+  run suspended "~10-12 min (τ only: ~1-2 min per method; 621 s on 2026-11-29)" \
     lpnn bench "$SUSPENDED" --model "$MODEL" --no-budgets --tolerance "$TAU" --repeats 1 --no-reference \
     --methods insertion-refined,guided-refined,guided,insertion,network,network-topk,heuristic,apv,uniform,random \
     --out "$OUT/suspended"
