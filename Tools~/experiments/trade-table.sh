@@ -44,7 +44,7 @@ fi
 if want level3; then
   # The demo's level, every point (the demo itself keeps the 607 in use): the full reference ~5 s (benchmarks.md "The speed/accuracy trade, every method").
   lpnn scene import oa_dm1 --in-use all ${LEVEL3_CELL:+--cell "$LEVEL3_CELL"} --quiet --out "$OUT/oa_dm1.lpnncap" > /dev/null
-  run oa_dm1 "~1-4 min (1,272 points; the exact refinement's 6 rows ~5-15 s each; 40 s on 2026-11-29)" \
+  run oa_dm1 "~0.5-2 min (1,272 points; the exact refinement's 6 rows ~5-15 s each; 40 s on 2026-11-29)" \
     lpnn bench "$OUT/oa_dm1.lpnncap" --model "$MODEL" --budgets "$BUDGETS" --tolerance "$TAU" --repeats 1 --out "$OUT/oa_dm1"
 fi
 

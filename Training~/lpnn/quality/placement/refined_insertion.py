@@ -10,7 +10,7 @@
   budgets, at most 0.5 N, never fewer than 2K) (+ tetrahedron guarantee), decimated in batches down to K. The wider
   seed because 2K is too few points at small budgets (the validation crops: 1.08x the reference's error at 5 %, 1.04x
   with 3K), and the cap because from 25 % on 2K already holds 0.5 N and a wider seed there costs much time (3K:
-  +55 % at 30 %) for little (benchmarks.md "A wider seed for small budgets"; the cap 0.5 N since 2026-11-29, when the
+  +51 % CPU at 30 %) for little (benchmarks.md "A wider seed for small budgets"; the cap 0.5 N since 2026-11-29, when the
   crops' time at 20 % had room for it: "The budget seed's cap re-chosen").
 - tolerance tau: K0 = the tolerance search over the insertion order's prefixes (policies.place_tolerance); seed =
   its first round(F K0) points (at least MINIMUM_SEED), decimated in batches while the mean error stays <= tau; the

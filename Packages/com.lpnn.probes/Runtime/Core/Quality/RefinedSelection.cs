@@ -28,7 +28,7 @@ namespace Lpnn.Probes.Core.Quality
         public const double BudgetSeedWidening = 1.5;
 
         /// <summary>The wider seed stops growing at this share of the points, which 2K reaches at a 25 % budget: beyond it a wider
-        /// seed costs much time for little (3K: +55 % CPU at 30 %; Documentation~/benchmarks.md "The budget seed's cap
+        /// seed costs much time for little (3K: +51 % CPU at 30 %; Documentation~/benchmarks.md "The budget seed's cap
         /// re-chosen"). refined_insertion.py BUDGET_SEED_CAP.</summary>
         public const double BudgetSeedCap = 0.5;
 
