@@ -87,30 +87,31 @@ namespace Lpnn.Probes.Core.Placement
 
         // ---- What Apply runs, benchmarks.md "The C# core under Mono": the Apply rehearsal of the
         // default (insertion rounds read lazily, the tolerance search at τ = 0.05, the batched refinement) under Mono 6.8,
-        // 2026-11-28 on two idle cores (the per-point passes on both, the star refills), on two captures of the validation level
-        // ctf_compromise; stage wall seconds including the calls to Python's Qhull over a pipe, which stand in for Unity's
-        // tetrahedraliser (0.06 s a call at 10⁶ points). Each stage is priced by the line through the two rows (a fixed part
+        // 2026-11-29 on two idle cores (the medians of three runs), on two captures of the validation level ctf_compromise;
+        // stage wall seconds including the calls to Python's Qhull over a pipe, which stand in for Unity's tetrahedraliser
+        // (0.06 s a call at 10⁶ points). Each stage is priced by the line through the two rows (a fixed part
         // — the rounds' count hardly depends on the size — and a part per point).
 
         /// <summary>ctf_compromise, 136,512 points (benchmarks.md "The C# core under Mono").</summary>
         public const long SmallerMeasuredLevel = 136512;
         /// <summary>ctf_compromise at 0.8128 m, 1,151,667 points (benchmarks.md "The C# core under Mono"): beyond it the rates are extrapolated.</summary>
         public const long LargestMeasuredLevel = 1151667;
-        /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.5 + 4.5 s and 4.1 + 27.3 s.</summary>
-        private const double RoundsAtSmaller = 0.5 + 4.5, RoundsAtLargest = 4.1 + 27.3;
-        /// <summary>The tolerance search's evaluations (18 and 19): 4.2 s and 27.4 s.</summary>
-        private const double SearchAtSmaller = 4.2, SearchAtLargest = 27.4;
-        /// <summary>The batched refinement (3 tetrahedralisations each, the star refills): 9.2 s and 52.6 s.</summary>
-        private const double RefinementAtSmaller = 9.2, RefinementAtLargest = 52.6;
+        /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.5 + 3.9 s and 4.4 + 29.4 s.</summary>
+        private const double RoundsAtSmaller = 0.5 + 3.9, RoundsAtLargest = 4.4 + 29.4;
+        /// <summary>The tolerance search's evaluations (18 and 19): 4.0 s and 25.4 s.</summary>
+        private const double SearchAtSmaller = 4.0, SearchAtLargest = 25.4;
+        /// <summary>The batched refinement (3 tetrahedralisations each, the star refills): 8.3 s and 44.1 s.</summary>
+        private const double RefinementAtSmaller = 8.3, RefinementAtLargest = 44.1;
         /// <summary>The leak-aware refinement (the volume's default, Avoid light leaks): the leak repair of the seed plus the
         /// refinement in the C# leak-aware Apply of five validation levels (benchmarks.md "The C# core under Mono", "The
-        /// leak-aware Apply": 2026-11-28, Mono 6.8, Python's Qhull over a pipe for Unity's tetrahedraliser and a C# hierarchy
-        /// over the level's triangles for Unity's physics, two idle cores): q3dm6ish 0.1 + 1.9 s, fan 0.3 + 4.3 s, oa_koth1
-        /// 0.9 + 11.1 s, ctf_compromise 2.5 + 30.6 s and at 0.8128 m 18.6 + 237.8 s. Priced through all five (linearly between
-        /// them, in proportion below the smallest, along the last segment beyond the largest): a line through the two large
-        /// levels alone would charge its intercept to every small volume, where q3dm6ish's took 2.0 s.</summary>
+        /// leak-aware Apply": 2026-11-29, Mono 6.8, Python's Qhull over a pipe for Unity's tetrahedraliser and a C# hierarchy
+        /// over the level's triangles for Unity's physics, two idle cores, the medians of three runs): q3dm6ish 0.1 + 1.3 s,
+        /// fan 0.3 + 3.7 s, oa_koth1 0.8 + 10.0 s, ctf_compromise 2.4 + 26.4 s and at 0.8128 m 17.5 + 190.9 s. Priced through
+        /// all five (linearly between them, in proportion below the smallest, along the last segment beyond the largest): a
+        /// line through the two large levels alone would charge its intercept to every small volume, where q3dm6ish's took
+        /// 1.4 s.</summary>
         private static readonly long[] LeakAwarePoints = { 2100, 6940, 41931, SmallerMeasuredLevel, LargestMeasuredLevel };
-        private static readonly double[] LeakAwareSeconds = { 0.1 + 1.9, 0.3 + 4.3, 0.9 + 11.1, 2.5 + 30.6, 18.6 + 237.8 };
+        private static readonly double[] LeakAwareSeconds = { 0.1 + 1.3, 0.3 + 3.7, 0.8 + 10.0, 2.4 + 26.4, 17.5 + 190.9 };
 
         private static double PerPoint(double atSmaller, double atLargest) => (atLargest - atSmaller) / (LargestMeasuredLevel - SmallerMeasuredLevel);
         private static double Fixed(double atSmaller, double atLargest) => atSmaller - PerPoint(atSmaller, atLargest) * SmallerMeasuredLevel;
