@@ -130,6 +130,18 @@ namespace Lpnn.Probes.Core.Tests
             Assert.That(result.OutsidePoints, Is.EqualTo(outside));
             Assert.That(outside, Is.GreaterThan(300), "most points are outside this hull");
             Assert.That(result.Irradiance.Mean, Is.GreaterThan(0.01));
+            // The tolerance search's mean alone (no SMAPE, no percentile) is the same number, to the last bit.
+            Assert.That(PlacementError.IrradianceMean(reference, probeList, tets), Is.EqualTo(result.Irradiance.Mean));
+        }
+
+        [Test]
+        public void TheMeanAloneIsTheSummarysMean()
+        {
+            var values = new[] { 0.3, 1e-17, 0.1, 0.2, 1e-17, 0.0 };
+            Assert.That(ErrorSummary.MeanOf(values), Is.EqualTo(ErrorSummary.Of(values).Mean));
+            Assert.That(ErrorSummary.MeanOf(new[] { 1e16, 1.0, -1e16 }), Is.EqualTo(1.0 / 3), "compensated, as the summary's");
+            var error = Assert.Throws<PlacementErrorException>(() => ErrorSummary.MeanOf(new double[0]));
+            StringAssert.Contains("empty grid", error.Message);
         }
 
         [Test]

@@ -87,7 +87,8 @@ namespace Lpnn.Probes.Core.Placement
 
         // ---- What Apply runs, benchmarks.md "The C# core under Mono": the Apply rehearsal of the
         // default (insertion rounds read lazily, the tolerance search at τ = 0.05, the batched refinement) under Mono 6.8,
-        // 2026-11-29 on two idle cores (the medians of three runs), on two captures of the validation level ctf_compromise;
+        // 2026-11-29 on two idle cores (the medians of three runs; the search's evaluations measuring the irradiance mean
+        // alone), on two captures of the validation level ctf_compromise;
         // stage wall seconds including the calls to Python's Qhull over a pipe, which stand in for Unity's tetrahedraliser
         // (0.06 s a call at 10⁶ points). Each stage is priced by the line through the two rows (a fixed part
         // — the rounds' count hardly depends on the size — and a part per point).
@@ -96,12 +97,12 @@ namespace Lpnn.Probes.Core.Placement
         public const long SmallerMeasuredLevel = 136512;
         /// <summary>ctf_compromise at 0.8128 m, 1,151,667 points (benchmarks.md "The C# core under Mono"): beyond it the rates are extrapolated.</summary>
         public const long LargestMeasuredLevel = 1151667;
-        /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.5 + 3.9 s and 4.4 + 29.4 s.</summary>
-        private const double RoundsAtSmaller = 0.5 + 3.9, RoundsAtLargest = 4.4 + 29.4;
-        /// <summary>The tolerance search's evaluations (18 and 19): 4.0 s and 25.4 s.</summary>
-        private const double SearchAtSmaller = 4.0, SearchAtLargest = 25.4;
-        /// <summary>The batched refinement (3 tetrahedralisations each, the star refills): 8.3 s and 44.1 s.</summary>
-        private const double RefinementAtSmaller = 8.3, RefinementAtLargest = 44.1;
+        /// <summary>First stage (reference lighting, typical tetrahedron) + insertion rounds: 0.5 + 3.8 s and 4.2 + 29.3 s.</summary>
+        private const double RoundsAtSmaller = 0.5 + 3.8, RoundsAtLargest = 4.2 + 29.3;
+        /// <summary>The tolerance search's evaluations (18 and 19): 2.5 s and 11.3 s.</summary>
+        private const double SearchAtSmaller = 2.5, SearchAtLargest = 11.3;
+        /// <summary>The batched refinement (3 tetrahedralisations each, the star refills): 8.4 s and 44.9 s.</summary>
+        private const double RefinementAtSmaller = 8.4, RefinementAtLargest = 44.9;
         /// <summary>The leak-aware refinement (the volume's default, Avoid light leaks): the leak repair of the seed plus the
         /// refinement in the C# leak-aware Apply of five validation levels (benchmarks.md "The C# core under Mono", "The
         /// leak-aware Apply": 2026-11-29, Mono 6.8, Python's Qhull over a pipe for Unity's tetrahedraliser and a C# hierarchy

@@ -18,7 +18,16 @@ namespace Lpnn.Probes.Core.Quality
             if (values.Length == 0) throw new PlacementErrorException("no evaluation points: the error of an empty grid is undefined");
             var sorted = (double[])values.Clone();
             Array.Sort(sorted);
-            return new ErrorSummary { Mean = CompensatedSum(values) / values.Length, P95 = Percentile(sorted, PercentileRank) };
+            return new ErrorSummary { Mean = MeanOf(values), P95 = Percentile(sorted, PercentileRank) };
+        }
+
+        /// <summary>The <see cref="Mean"/> of <see cref="Of(double[])"/> alone, without the sort its percentile needs (the
+        /// tolerance search reads only the mean, many times).</summary>
+        public static double MeanOf(double[] values)
+        {
+            if (values == null) throw new ArgumentNullException(nameof(values));
+            if (values.Length == 0) throw new PlacementErrorException("no evaluation points: the error of an empty grid is undefined");
+            return CompensatedSum(values) / values.Length;
         }
 
         /// <summary>The summary over the points where <paramref name="mask"/> is true (e.g. the points in use,

@@ -32,6 +32,17 @@ namespace Lpnn.Probes.Core.Quality
             return new PlacementErrorResult(probes.Length, outsideCount, irradiance, smape);
         }
 
+        /// <summary>The irradiance error's mean of <see cref="Evaluate"/> (the same number), without the SMAPE and the
+        /// percentiles: what the tolerance search measures at each of its probe counts.</summary>
+        public static double IrradianceMean(ReferenceLighting reference, int[] probes, int[] tetrahedra)
+        {
+            if (reference == null) throw new ArgumentNullException(nameof(reference));
+            var irradiance = new double[reference.Count];
+            InterpolateOthers(reference, probes, tetrahedra, (int n, ref Stencil stencil, double[] interpolated) =>
+                irradiance[n] = PointErrorMetrics.Irradiance(interpolated, reference.Light, n * ReferenceLighting.LightValues, reference.SceneScale));
+            return ErrorSummary.MeanOf(irradiance);
+        }
+
         /// <summary>Receives one evaluation point that is not a probe: its stencil (probe-list indices, weights, cell) and
         /// its 42 interpolated values (a buffer reused for the thread's next point). Called on worker threads for several
         /// points at once (<see cref="ParallelChunks"/>), in no particular order: it may write only the point's own slots

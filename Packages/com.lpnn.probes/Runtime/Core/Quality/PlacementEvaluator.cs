@@ -24,6 +24,13 @@ namespace Lpnn.Probes.Core.Quality
             return PlacementError.Evaluate(Reference, probes, TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probes));
         }
 
-        public double MeanError(int[] probeIndices) => Evaluate(probeIndices).Irradiance.Mean;
+        /// <summary><see cref="Evaluate"/>'s irradiance mean, computed alone (the tolerance search's many evaluations need
+        /// no SMAPE or percentile).</summary>
+        public double MeanError(int[] probeIndices)
+        {
+            ProbeIndices.Check(probeIndices, Reference.Count);
+            return PlacementError.IrradianceMean(Reference, probeIndices,
+                TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probeIndices));
+        }
     }
 }
