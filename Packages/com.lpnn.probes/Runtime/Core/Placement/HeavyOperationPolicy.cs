@@ -216,7 +216,7 @@ namespace Lpnn.Probes.Core.Placement
         }
 
         /// <summary>The placement panel's line of what Apply will cost for the volume's <paramref name="points"/>, shown before
-        /// Apply is pressed: e.g. "Apply: about 35 s for 136,512 points (insertion rounds, the tolerance search and the
+        /// Apply is pressed: e.g. "Apply: about 15 s for 136,512 points (insertion rounds, the tolerance search and the
         /// refinement in batches; C# rates measured under Mono on real levels, Documentation~/benchmarks.md "The C# core under Mono")".
         /// <paramref name="previewKnown"/>: Apply writes the preview's selection as it is (no refinement).
         /// <paramref name="avoidLeaks"/>: the volume's Avoid light leaks — a refined method's refinement then avoids leaks, is
