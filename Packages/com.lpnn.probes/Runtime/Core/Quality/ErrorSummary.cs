@@ -14,11 +14,10 @@ namespace Lpnn.Probes.Core.Quality
         /// ("linear") 95th percentile.</summary>
         public static ErrorSummary Of(double[] values)
         {
-            if (values == null) throw new ArgumentNullException(nameof(values));
-            if (values.Length == 0) throw new PlacementErrorException("no evaluation points: the error of an empty grid is undefined");
+            double mean = MeanOf(values);  // refuses null and empty values first
             var sorted = (double[])values.Clone();
             Array.Sort(sorted);
-            return new ErrorSummary { Mean = MeanOf(values), P95 = Percentile(sorted, PercentileRank) };
+            return new ErrorSummary { Mean = mean, P95 = Percentile(sorted, PercentileRank) };
         }
 
         /// <summary>The <see cref="Mean"/> of <see cref="Of(double[])"/> alone, without the sort its percentile needs (the

@@ -18,19 +18,18 @@ namespace Lpnn.Probes.Core.Quality
         }
 
         /// <param name="probes">Evaluation point indices of the probes.</param>
-        public PlacementErrorResult Evaluate(int[] probes)
-        {
-            ProbeIndices.Check(probes, Reference.Count);
-            return PlacementError.Evaluate(Reference, probes, TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probes));
-        }
+        public PlacementErrorResult Evaluate(int[] probes) => PlacementError.Evaluate(Reference, probes, TetrahedraOf(probes));
 
         /// <summary><see cref="Evaluate"/>'s irradiance mean, computed alone (the tolerance search's many evaluations need
         /// no SMAPE or percentile).</summary>
-        public double MeanError(int[] probeIndices)
+        public double MeanError(int[] probeIndices) => PlacementError.IrradianceMean(Reference, probeIndices, TetrahedraOf(probeIndices));
+
+        /// <summary>The probes' tetrahedra, numbered by the tie rule (the probe indices checked first, so a bad index is named
+        /// before the tetrahedraliser sees it).</summary>
+        private int[] TetrahedraOf(int[] probes)
         {
-            ProbeIndices.Check(probeIndices, Reference.Count);
-            return PlacementError.IrradianceMean(Reference, probeIndices,
-                TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probeIndices));
+            ProbeIndices.Check(probes, Reference.Count);
+            return TetrahedronNumbering.Tetrahedralize(Tetrahedralizer, Reference, probes);
         }
     }
 }
